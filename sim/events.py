@@ -1,0 +1,225 @@
+"""The event log: the one window on a simulated controller.
+
+Everything the outside can see happen — a BREQ edge, a line loaded or calculated, a move
+starting, an M-variable write, a Trio process blocking — is an :class:`Event` appended to the
+controller's :class:`EventLog`. Tests, the REST and WebSocket API, traces and plots all read
+this one log.
+
+``seq`` counts from 1 per controller with no holes; ``t`` is simulated seconds (the
+``simpy.Environment``'s ``now``). The log is a bounded ring: it holds at least the last
+``capacity`` events, and a reader asking for older ones is told which range it lost
+(:class:`Gap`).
+
+The hot path is :meth:`EventLog.emit`: it stores a plain tuple in a preallocated ring and
+builds the frozen :class:`Event` value only when somebody reads it, so a stream of a million
+lines does not pay for objects nobody looks at.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable, Iterable, Iterator, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import simpy
+
+#: The event types of API.md and the fields each carries (beyond seq, t, type, controller).
+#: Controller kinds may emit further types; they document them here.
+EVENT_FIELDS: dict[str, tuple[str, ...]] = {
+    "breq": ("cs", "level"),
+    "line_loaded": ("cs", "n", "text", "words", "lines_ahead"),
+    "line_calculated": ("cs", "n"),
+    "move_start": ("cs|axis", "n|mtype"),
+    "move_end": ("cs|axis", "n|mtype"),
+    "mvar": ("name", "value", "sync"),
+    "program": ("cs|process", "state"),
+    "axis": ("axis", "mtype", "ntype"),
+    "process_buffer": ("process", "axis", "mtype"),
+    "process": ("process", "state", "line", "blocked_on"),
+    "terminal": ("locked",),
+    "terminal_reply": ("command", "reply", "error"),
+    "plc": ("plc", "state"),
+    "rti_overrun": ("over_s",),
+    "watchdog": ("reason",),
+    "reset": (),
+}
+
+
+@dataclass(frozen=True, slots=True)
+class Event:
+    """One observable change: sequence number, simulated time, type and fields."""
+
+    seq: int
+    t: float
+    type: str
+    fields: Mapping[str, Any]
+
+    def __getitem__(self, key: str) -> Any:
+        return self.fields[key]
+
+    def get(self, key: str, default: Any = None) -> Any:
+        return self.fields.get(key, default)
+
+    def matches(self, pattern: Mapping[str, Any]) -> bool:
+        """True when ``pattern["type"]`` (if given) and every other key equal this event's."""
+        for key, want in pattern.items():
+            if key == "type":
+                if self.type != want:
+                    return False
+            elif key not in self.fields or self.fields[key] != want:
+                return False
+        return True
+
+    def to_dict(self, controller: str | None = None) -> dict[str, Any]:
+        """The wire form: ``{"seq", "t", "type", "controller"?, ...fields}``."""
+        out: dict[str, Any] = {"seq": self.seq, "t": self.t, "type": self.type}
+        if controller is not None:
+            out["controller"] = controller
+        out.update(self.fields)
+        return out
+
+
+@dataclass(frozen=True, slots=True)
+class Gap:
+    """Events ``from_seq`` .. ``to_seq`` (inclusive) left the ring before being read."""
+
+    from_seq: int
+    to_seq: int
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"type": "gap", "from": self.from_seq, "to": self.to_seq}
+
+
+@dataclass(frozen=True, slots=True)
+class ReadResult:
+    """What :meth:`EventLog.read` returns: the events, a gap if any, and where to continue."""
+
+    events: list[Event]
+    gap: Gap | None
+    next: int
+
+
+Listener = Callable[[Event], None]
+
+
+class EventLog:
+    """Append-only, bounded, sequence-numbered log of one controller's events.
+
+    Args:
+        env: the controller's environment; its ``now`` stamps every event.
+        controller: the controller id, added to the wire form of each event.
+        capacity: how many of the newest events are held (at least 100 000 in the service).
+    """
+
+    def __init__(self, env: simpy.Environment, controller: str = "", capacity: int = 100_000):
+        if capacity < 1:
+            raise ValueError("capacity must be >= 1")
+        self._env = env
+        self.controller = controller
+        self.capacity = capacity
+        self._ring: list[tuple[int, float, str, dict[str, Any]] | None] = [None] * capacity
+        self._last = 0
+        self._listeners: list[Listener] = []
+        self._wakers: list[Callable[[], None]] = []
+
+    # -- writing -------------------------------------------------------------------------
+
+    def emit(self, type_: str, /, **fields: Any) -> int:
+        """Append an event stamped with the current simulated time; return its ``seq``."""
+        seq = self._last + 1
+        self._last = seq
+        rec = (seq, self._env.now, type_, fields)
+        self._ring[(seq - 1) % self.capacity] = rec
+        if self._listeners:
+            event = Event(*rec)
+            for listener in tuple(self._listeners):
+                listener(event)
+        if self._wakers:
+            wakers, self._wakers = self._wakers, []
+            for wake in wakers:
+                wake()
+        return seq
+
+    # -- reading -------------------------------------------------------------------------
+
+    @property
+    def last_seq(self) -> int:
+        """The newest ``seq`` (0 before the first event)."""
+        return self._last
+
+    @property
+    def first_seq(self) -> int:
+        """The oldest ``seq`` still held (``last_seq + 1`` when empty)."""
+        return max(1, self._last - self.capacity + 1) if self._last else 1
+
+    def read(
+        self,
+        since: int = 0,
+        types: Iterable[str] | None = None,
+        limit: int | None = None,
+    ) -> ReadResult:
+        """Events with ``seq > since``, oldest first, filtered by ``types``, at most ``limit``.
+
+        ``next`` is the ``since`` to pass to continue: after the last event returned, or — when
+        the type filter skipped events — after the last event examined.
+        """
+        since = max(0, since)
+        first = self.first_seq
+        gap = Gap(since + 1, first - 1) if since + 1 < first else None
+        start = max(since + 1, first)
+        wanted = frozenset(types) if types else None
+        out: list[Event] = []
+        cap = self.capacity
+        ring = self._ring
+        seq = start
+        nxt = since if gap is None else first - 1
+        while seq <= self._last:
+            if limit is not None and len(out) >= limit:
+                break
+            rec = ring[(seq - 1) % cap]
+            assert rec is not None
+            if wanted is None or rec[2] in wanted:
+                out.append(Event(*rec))
+            nxt = seq
+            seq += 1
+        return ReadResult(out, gap, nxt)
+
+    def events(self, *types: str) -> list[Event]:
+        """Every held event (of the given types, if any): the test's view of the log."""
+        return self.read(0, types or None).events
+
+    def __iter__(self) -> Iterator[Event]:
+        return iter(self.events())
+
+    def __len__(self) -> int:
+        return self._last - self.first_seq + 1
+
+    # -- subscribing ---------------------------------------------------------------------
+
+    def listen(self, listener: Listener) -> Callable[[], None]:
+        """Call ``listener`` synchronously with every new event; returns an unsubscribe."""
+        self._listeners.append(listener)
+
+        def unsubscribe() -> None:
+            if listener in self._listeners:
+                self._listeners.remove(listener)
+
+        return unsubscribe
+
+    def wake_on_next(self, wake: Callable[[], None]) -> None:
+        """Call ``wake()`` once, at the next emitted event (a cheap no-polling wake-up)."""
+        self._wakers.append(wake)
+
+    # -- export --------------------------------------------------------------------------
+
+    def to_jsonl(self, controller: str | None = None) -> str:
+        """The held log as JSON Lines, byte-identical for identical runs."""
+        name = self.controller if controller is None else controller
+        return "".join(
+            json.dumps(e.to_dict(name), separators=(",", ":"), sort_keys=False) + "\n"
+            for e in self.events()
+        )
+
+
+__all__ = ["EVENT_FIELDS", "Event", "EventLog", "Gap", "ReadResult"]
