@@ -128,6 +128,20 @@ class Controller:
         """Send one line to the controller's command line; the reply may come later."""
         raise NotImplementedError
 
+    # -- variables -------------------------------------------------------------------------
+
+    def get_variable(self, name: str) -> float:
+        """Read a variable by its controller name (PMAC ``I16``, ``P5``, ``M1``; Trio ``VR(5)``).
+
+        Raises:
+            sim.errors.NotFound: the kind has no such variable.
+        """
+        raise NotImplementedError
+
+    def set_variable(self, name: str, value: float) -> None:
+        """Write a variable at the current simulated instant (as an on-line command would)."""
+        raise NotImplementedError
+
     # -- life cycle ------------------------------------------------------------------------
 
     def reset(self) -> None:
