@@ -1,0 +1,26 @@
+"""Host models for what-if scenarios: programs on the PC that feed a controller.
+
+Pure SimPy processes (simpy + stdlib ``random``, seeded) that run on the controller's own
+environment and use only the controller's public methods and event log, as host software
+does. See :mod:`sim.hosts.pmac` (rotary-buffer writers) and :mod:`sim.hosts.trio` (move
+feeders); delays come from :mod:`sim.hosts.distributions`.
+"""
+
+from sim.hosts.distributions import Delay, empirical, fixed
+from sim.hosts.pmac import BreqInterruptHost, NaiveHost, PmacHost, PrPollingHost
+from sim.hosts.trio import BlindFeeder, Move, MovesBufferedFeeder, NtypeFeeder, TrioFeeder
+
+__all__ = [
+    "BlindFeeder",
+    "BreqInterruptHost",
+    "Delay",
+    "Move",
+    "MovesBufferedFeeder",
+    "NaiveHost",
+    "NtypeFeeder",
+    "PmacHost",
+    "PrPollingHost",
+    "TrioFeeder",
+    "empirical",
+    "fixed",
+]

@@ -1,0 +1,324 @@
+"""Host programs that stream a motion program into a Turbo PMAC rotary buffer.
+
+Each host is a SimPy process on the controller's own environment that calls only the
+controller's public methods (``load_lines``, ``rotary``, ``run``) and listens to its event log
+(``breq`` edges), exactly as host software sees the card. Three strategies from the manual's
+"Staying Ahead of Executing Line":
+
+* :class:`PrPollingHost` — asks ``PR`` (lines ahead) every poll period; below the low-water
+  mark it loads until the high-water mark ("get 1000 lines ahead, and then start again when the
+  program has caught up to within 500 lines").
+* :class:`BreqInterruptHost` — waits for the BREQ interrupt; after its interrupt latency the
+  service routine loads lines. BREQ rises when a loaded line leaves fewer than I17 lines ahead
+  and when execution leaves fewer than I16; the PC's interrupt controller is edge-triggered, so
+  an edge arriving while the routine runs (interrupts masked) is lost — a routine that loads
+  once and returns with BREQ still high gets no further interrupt (a *missed BREQ*). With
+  ``recheck_breq`` the routine keeps loading until BREQ reads low, the manual's safe pattern.
+* :class:`NaiveHost` — sends as fast as the link allows, retrying when the buffer is full.
+
+Hosts add their own events to the controller's log so a run can be explained afterwards
+(they are not controller events and never appear on a real card):
+
+* ``host_write`` — ``host``, ``cs``, ``lines`` (batch size), ``sent`` (lines sent so far),
+  ``lines_ahead`` after the write.
+* ``host_irq`` — ``host``, ``cs``, ``missed`` (bool), ``latency_s``: a BREQ edge serviced after
+  ``latency_s`` (``missed`` false) or lost while the interrupt was masked (``missed`` true).
+* ``host_done`` — ``host``, ``cs``, ``sent``: the whole program has been sent.
+"""
+
+from __future__ import annotations
+
+import random
+from collections.abc import Generator, Sequence
+from typing import Any
+
+from sim.errors import BufferFull
+from sim.hosts.distributions import Delay, fixed
+
+_ZERO = fixed(0.0)
+
+
+class PmacHost:
+    """Common part: the program to send, the write over the link, starting the program.
+
+    Args:
+        name: the host's name in ``host_*`` events.
+        controller: a PMAC controller (``load_lines``, ``rotary``, ``run``, ``env``, ``log``).
+        cs: coordinate system whose rotary buffer is fed.
+        lines: the whole program, in order.
+        rng: this host's seeded generator.
+        write_latency: time one write takes to reach the card (link + host overhead).
+        start_program: send ``&cs B0 R`` once the first fill is loaded (the host starts it).
+    """
+
+    def __init__(
+        self,
+        name: str,
+        controller: Any,
+        cs: int,
+        lines: Sequence[str],
+        rng: random.Random,
+        *,
+        write_latency: Delay = _ZERO,
+        start_program: bool = True,
+    ) -> None:
+        self.name = name
+        self.controller = controller
+        self.env = controller.env
+        self.log = controller.log
+        self.cs = cs
+        self.lines = list(lines)
+        self.rng = rng
+        self.write_latency = write_latency
+        self.start_program = start_program
+        self.sent = 0
+        self.writes = 0
+        self.done_t: float | None = None
+        self._started = False
+        self.process = None
+
+    @property
+    def remaining(self) -> int:
+        return len(self.lines) - self.sent
+
+    def start(self) -> None:
+        """Start the host's SimPy process."""
+        self.process = self.env.process(self._run())
+
+    def _run(self) -> Generator:  # pragma: no cover - overridden
+        raise NotImplementedError
+        yield
+
+    def write(self, count: int) -> Generator[Any, Any, Any]:
+        """Load up to ``count`` lines in one write after the link delay.
+
+        A batch that does not fit (``BufferFull``) is halved until it does; returns the
+        ``LoadResult`` or ``None`` when not even one line fits.
+        """
+        delay = self.write_latency.draw(self.rng)
+        if delay > 0:
+            yield self.env.timeout(delay)
+        count = min(count, self.remaining)
+        while count > 0:
+            batch = self.lines[self.sent : self.sent + count]
+            try:
+                res = self.controller.load_lines(self.cs, batch, first_seq=self.sent + 1)
+            except BufferFull:
+                count //= 2
+                continue
+            self.sent += count
+            self.writes += 1
+            self.log.emit(
+                "host_write",
+                host=self.name,
+                cs=self.cs,
+                lines=count,
+                sent=self.sent,
+                lines_ahead=res.lines_ahead,
+            )
+            if self.remaining == 0:
+                self._finish()
+            return res
+        return None
+
+    def start_program_once(self) -> None:
+        """``&cs B0 R`` the first time it is called (if this host starts the program)."""
+        if not self._started and self.start_program and self.sent:
+            self._started = True
+            self.controller.run(self.cs)
+
+    def _finish(self) -> None:
+        if self.done_t is None:
+            self.done_t = self.env.now
+            self.log.emit("host_done", host=self.name, cs=self.cs, sent=self.sent)
+
+    def lines_ahead(self) -> int:
+        """What ``PR`` answers: lines loaded but not yet calculated."""
+        rot = self.controller.rotary(self.cs)
+        return int(rot["lines_ahead"]) if rot else 0
+
+
+class PrPollingHost(PmacHost):
+    """Polls ``PR`` every ``poll_period_s``; refills from ``low_water`` up to ``high_water``.
+
+    Args:
+        poll_period_s: time between polls (measured from poll start to poll start).
+        pr_latency: round trip of the ``PR`` query; the count is read when the reply arrives.
+        lines_per_write: lines sent in one write while refilling.
+        high_water, low_water: refill starts at ``lines_ahead <= low_water`` and stops at
+            ``lines_ahead >= high_water`` (the manual's 1000 / 500).
+    """
+
+    def __init__(
+        self,
+        *args: Any,
+        poll_period_s: float,
+        pr_latency: Delay = _ZERO,
+        lines_per_write: int = 1,
+        high_water: int = 1000,
+        low_water: int = 500,
+        **kwargs: Any,
+    ) -> None:
+        super().__init__(*args, **kwargs)
+        if poll_period_s <= 0:
+            raise ValueError("poll_period_s must be > 0")
+        if not 0 <= low_water < high_water:
+            raise ValueError("need 0 <= low_water < high_water")
+        if lines_per_write < 1:
+            raise ValueError("lines_per_write must be >= 1")
+        self.poll_period_s = poll_period_s
+        self.pr_latency = pr_latency
+        self.lines_per_write = lines_per_write
+        self.high_water = high_water
+        self.low_water = low_water
+
+    def _run(self) -> Generator:
+        env = self.env
+        t0 = env.now
+        k = 0
+        while self.remaining > 0:
+            delay = self.pr_latency.draw(self.rng)
+            if delay > 0:
+                yield env.timeout(delay)
+            ahead = self.lines_ahead()
+            if ahead <= self.low_water:
+                while self.remaining > 0 and ahead < self.high_water:
+                    want = min(self.lines_per_write, self.high_water - ahead)
+                    res = yield from self.write(want)
+                    if res is None:
+                        break
+                    ahead = res.lines_ahead
+                self.start_program_once()
+            # next poll on the host's own period grid (no drift from t += dt)
+            k += 1
+            nxt = t0 + k * self.poll_period_s
+            while nxt <= env.now:
+                k += 1
+                nxt = t0 + k * self.poll_period_s
+            yield env.timeout(nxt - env.now)
+
+
+class BreqInterruptHost(PmacHost):
+    """Services BREQ interrupts: after ``latency`` loads ``lines_per_interrupt`` lines.
+
+    Args:
+        latency: interrupt latency, BREQ edge to the service routine's first write.
+        lines_per_interrupt: lines per write in the service routine.
+        recheck_breq: keep loading while BREQ still reads high (until ``lines_ahead`` >= I17);
+            without it the routine writes once and returns.
+        prefill: lines loaded before the program starts (``None``: load until BREQ reads low).
+    """
+
+    def __init__(
+        self,
+        *args: Any,
+        latency: Delay = _ZERO,
+        lines_per_interrupt: int = 1,
+        recheck_breq: bool = True,
+        prefill: int | None = None,
+        **kwargs: Any,
+    ) -> None:
+        super().__init__(*args, **kwargs)
+        if lines_per_interrupt < 1:
+            raise ValueError("lines_per_interrupt must be >= 1")
+        self.latency = latency
+        self.lines_per_interrupt = lines_per_interrupt
+        self.recheck_breq = recheck_breq
+        self.prefill = prefill
+        self.interrupts = 0
+        self.missed = 0
+        self._armed = False
+        self._edge_t: float | None = None
+        self._missed_at: list[float] = []
+        self._wake = None
+
+    def _on_event(self, ev: Any) -> None:
+        if ev.type != "breq" or ev.fields.get("cs") != self.cs or not ev.fields.get("level"):
+            return
+        if self._armed:
+            self._armed = False
+            self._edge_t = ev.t
+            if self._wake is not None and not self._wake.triggered:
+                self._wake.succeed()
+        else:
+            self._missed_at.append(ev.t)
+
+    def _flush_missed(self) -> None:
+        for t in self._missed_at:
+            self.missed += 1
+            self.log.emit(
+                "host_irq", host=self.name, cs=self.cs, missed=True, latency_s=self.env.now - t
+            )
+        self._missed_at.clear()
+
+    def _breq_high(self) -> bool:
+        rot = self.controller.rotary(self.cs)
+        return bool(rot and rot["breq"])
+
+    def _run(self) -> Generator:
+        env = self.env
+        unlisten = self.log.listen(self._on_event)
+        try:
+            # Before the program runs: fill the buffer (to I17 when prefill is None).
+            target = self.prefill
+            while self.remaining > 0:
+                n = self.lines_per_interrupt if target is None else min(
+                    self.lines_per_interrupt, target - self.sent
+                )
+                if n <= 0:
+                    break
+                res = yield from self.write(n)
+                if res is None or (target is None and not res.breq):
+                    break
+            self.start_program_once()
+            self._missed_at.clear()  # edges while pre-filling were not interrupts yet
+            self._armed = True
+            while self.remaining > 0:
+                self._wake = env.event()
+                yield self._wake
+                edge_t = self._edge_t if self._edge_t is not None else env.now
+                delay = self.latency.draw(self.rng)
+                if delay > 0:
+                    yield env.timeout(delay)
+                self.interrupts += 1
+                self.log.emit(
+                    "host_irq",
+                    host=self.name,
+                    cs=self.cs,
+                    missed=False,
+                    latency_s=env.now - edge_t,
+                )
+                while self.remaining > 0:
+                    res = yield from self.write(self.lines_per_interrupt)
+                    if res is None or not self.recheck_breq or not res.breq:
+                        break
+                self._flush_missed()
+                self._armed = True
+        finally:
+            unlisten()
+
+
+class NaiveHost(PmacHost):
+    """Sends ``lines_per_write`` lines per write back to back, as fast as the link allows.
+
+    Only the write latency paces it; a full buffer makes it wait one more write time and retry.
+    """
+
+    def __init__(self, *args: Any, lines_per_write: int = 1, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        if lines_per_write < 1:
+            raise ValueError("lines_per_write must be >= 1")
+        self.lines_per_write = lines_per_write
+
+    def _run(self) -> Generator:
+        env = self.env
+        while self.remaining > 0:
+            res = yield from self.write(self.lines_per_write)
+            self.start_program_once()
+            if res is None:
+                delay = self.write_latency.draw(self.rng)
+                # a zero-latency link still has to wait for the card to make room
+                yield env.timeout(delay if delay > 0 else 1e-4)
+
+
+__all__ = ["BreqInterruptHost", "NaiveHost", "PmacHost", "PrPollingHost"]
