@@ -1,0 +1,100 @@
+"""Errors on the wire: one table from the core's stable ``code`` to an HTTP status.
+
+Routes raise :class:`sim.errors.MotionSimError` subclasses (never ``HTTPException``); the
+handlers here turn them into ``{"code", "message", ...details}`` bodies. Request validation
+failures (malformed JSON, a missing or ill-typed field) become 422 ``validation_error`` bodies
+that name the field (``"field": "seconds"``) and carry pydantic's ``errors`` list.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from fastapi import FastAPI, Request
+from fastapi.exceptions import RequestValidationError
+from fastapi.responses import JSONResponse
+from starlette.exceptions import HTTPException as StarletteHTTPException
+
+from sim.errors import MotionSimError
+
+#: code -> HTTP status. The one place this mapping lives.
+STATUS_BY_CODE: dict[str, int] = {
+    "not_found": 404,
+    "buffer_full": 409,
+    "conflict": 409,
+    "watchdog": 409,
+    "parse_error": 422,
+    "validation_error": 422,
+}
+
+#: Status for a MotionSimError whose code is not in the table.
+DEFAULT_STATUS = 400
+
+_HTTP_CODES = {404: "not_found", 405: "method_not_allowed", 415: "unsupported_media_type"}
+
+
+def status_for(code: str) -> int:
+    return STATUS_BY_CODE.get(code, DEFAULT_STATUS)
+
+
+def _loc_to_field(loc: tuple[Any, ...] | list[Any]) -> str:
+    """``("body", "clock", "factor")`` -> ``"clock.factor"``; query/path keep their name."""
+    parts = [str(p) for p in loc]
+    if parts and parts[0] in ("body", "query", "path", "header", "cookie"):
+        parts = parts[1:]
+    return ".".join(parts) or "body"
+
+
+def validation_body(exc: RequestValidationError) -> dict[str, Any]:
+    """A 422 body naming the first offending field, with every error listed."""
+    errors = []
+    for err in exc.errors():
+        loc = tuple(err.get("loc", ()))
+        item = {"field": _loc_to_field(loc), "loc": list(loc), "message": err.get("msg", ""),
+                "type": err.get("type", "")}
+        errors.append(item)
+    if not errors:
+        return {"code": "validation_error", "message": "invalid request", "errors": []}
+    first = exc.errors()[0]
+    if first.get("type") == "json_invalid":
+        ctx = first.get("ctx") or {}
+        detail = ctx.get("error", "")
+        message = f"malformed JSON body{': ' + detail if detail else ''}"
+        field = "body"
+    else:
+        field = errors[0]["field"]
+        where = errors[0]["loc"][0] if errors[0]["loc"] else "body"
+        if field == "body":
+            message = f"request body: {errors[0]['message']}"
+        else:
+            message = f"{where} field {field!r}: {errors[0]['message']}"
+    return {"code": "validation_error", "message": message, "field": field, "errors": errors}
+
+
+async def _motionsim_error(_: Request, exc: Exception) -> JSONResponse:
+    assert isinstance(exc, MotionSimError)
+    return JSONResponse(exc.to_dict(), status_code=status_for(exc.code))
+
+
+async def _validation_error(_: Request, exc: Exception) -> JSONResponse:
+    assert isinstance(exc, RequestValidationError)
+    return JSONResponse(validation_body(exc), status_code=422)
+
+
+async def _http_error(_: Request, exc: Exception) -> JSONResponse:
+    assert isinstance(exc, StarletteHTTPException)
+    code = _HTTP_CODES.get(exc.status_code, "http_error")
+    message = exc.detail if isinstance(exc.detail, str) else str(exc.detail)
+    return JSONResponse({"code": code, "message": message}, status_code=exc.status_code,
+                        headers=getattr(exc, "headers", None))
+
+
+def install_error_handlers(app: FastAPI) -> None:
+    """Register the handlers on ``app``."""
+    app.add_exception_handler(MotionSimError, _motionsim_error)
+    app.add_exception_handler(RequestValidationError, _validation_error)
+    app.add_exception_handler(StarletteHTTPException, _http_error)
+
+
+__all__ = ["DEFAULT_STATUS", "STATUS_BY_CODE", "install_error_handlers", "status_for",
+           "validation_body"]

@@ -1,0 +1,77 @@
+"""The FastAPI application: ``create_app(settings)``.
+
+Builds the registry of controllers from the settings, includes every router found in
+``api/routes/`` (each module defining ``router``), installs the error handlers, and starts /
+stops the realtime clocks in the lifespan. No module-level app: ``uvicorn --factory
+api.main:create_app`` or ``motionsim serve``.
+"""
+
+from __future__ import annotations
+
+import importlib
+import pkgutil
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
+
+from fastapi import APIRouter, FastAPI
+
+import api.routes
+from api.errors import install_error_handlers
+from api.schemas.common import ERROR_RESPONSES
+from app import __version__
+from app.registry import Registry
+from app.service import build_registry
+from app.settings import Settings
+
+
+def discover_routers() -> list[tuple[str, APIRouter]]:
+    """``(module name, router)`` of every ``api.routes`` module that defines ``router``."""
+    found: list[tuple[str, APIRouter]] = []
+    for info in sorted(pkgutil.iter_modules(api.routes.__path__), key=lambda i: i.name):
+        if info.name.startswith("_"):
+            continue
+        module = importlib.import_module(f"{api.routes.__name__}.{info.name}")
+        router = getattr(module, "router", None)
+        if isinstance(router, APIRouter):
+            found.append((info.name, router))
+    return found
+
+
+def create_app(settings: Settings | None = None, registry: Registry | None = None) -> FastAPI:
+    """The service for ``settings`` (defaults if ``None``); ``registry`` overrides the one built.
+
+    ``app.state``: ``settings``, ``registry``, ``ready`` (``/health`` answers 200 when True;
+    ``motionsim serve`` sets it once every protocol listener accepts), ``listeners``.
+    """
+    settings = settings if settings is not None else Settings()
+    registry = registry if registry is not None else build_registry(settings)
+
+    @asynccontextmanager
+    async def lifespan(app: FastAPI) -> AsyncIterator[None]:
+        await registry.start()
+        try:
+            yield
+        finally:
+            for server in list(app.state.listeners):
+                server.close()
+            await registry.close()
+
+    app = FastAPI(
+        title="motionsim",
+        version=__version__,
+        summary="Discrete-event simulation of Turbo PMAC and Trio Motion Coordinator "
+                "program buffering",
+        lifespan=lifespan,
+        responses=ERROR_RESPONSES,
+    )
+    app.state.settings = settings
+    app.state.registry = registry
+    app.state.ready = True
+    app.state.listeners = []
+    install_error_handlers(app)
+    for _, router in discover_routers():
+        app.include_router(router)
+    return app
+
+
+__all__ = ["create_app", "discover_routers"]

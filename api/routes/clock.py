@@ -1,0 +1,82 @@
+"""``/controllers/{id}/clock``: read and steer a controller's simulated time."""
+
+from __future__ import annotations
+
+import asyncio
+import time
+
+from fastapi import APIRouter
+
+from api.deps import HandleDep
+from api.schemas.clock import AdvanceIn, ClockOut, ClockPatch, RunUntilIn, RunUntilOut
+from app.clock import VirtualClock
+from sim.errors import Conflict
+from sim.events import Event
+
+router = APIRouter(tags=["clock"])
+
+#: Wall seconds a realtime run-until may wait at most.
+RUN_UNTIL_WALL_CAP_S = 30.0
+
+
+@router.get("/controllers/{controller_id}/clock", response_model=ClockOut)
+def get_clock(handle: HandleDep) -> dict:
+    handle.ensure_running()
+    return handle.clock.to_dict()
+
+
+@router.patch("/controllers/{controller_id}/clock", response_model=ClockOut)
+async def patch_clock(body: ClockPatch, handle: HandleDep) -> dict:
+    await handle.set_clock(body.mode, factor=body.factor, paused=body.paused)
+    return handle.clock.to_dict()
+
+
+@router.post("/controllers/{controller_id}/clock/advance", response_model=ClockOut)
+def advance(body: AdvanceIn, handle: HandleDep) -> dict:
+    """Run a virtual clock forward (409 ``conflict`` on a realtime clock)."""
+    clock = handle.clock
+    if not isinstance(clock, VirtualClock):
+        raise Conflict("a realtime clock cannot be advanced; PATCH its mode to virtual first")
+    clock.advance(body.seconds)
+    return clock.to_dict()
+
+
+@router.post("/controllers/{controller_id}/clock/run-until", response_model=RunUntilOut)
+async def run_until(body: RunUntilIn, handle: HandleDep) -> dict:
+    """Wait for the first *new* event matching ``event``.
+
+    Virtual: runs the simulation until it is emitted (the clock stops at its instant) or
+    ``timeout_s`` simulated seconds pass. Realtime: waits for it, at most ``timeout_s`` of
+    simulated time and at most 30 s of wall time.
+    """
+    pattern = body.event.as_pattern()
+    clock = handle.clock
+    log = handle.controller.log
+    if isinstance(clock, VirtualClock):
+        matched = clock.run_until(log, pattern, body.timeout_s)
+        return {"matched": _wire(matched, handle.id), "clock": clock.to_dict()}
+    handle.ensure_running()
+    clock.sync()
+    loop = asyncio.get_running_loop()
+    found: asyncio.Future[Event] = loop.create_future()
+
+    def listener(event: Event) -> None:
+        if not found.done() and event.matches(pattern):
+            found.set_result(event)
+
+    unlisten = log.listen(listener)
+    try:
+        wall = body.timeout_s / clock.factor if not clock.paused else body.timeout_s
+        wall = min(wall, RUN_UNTIL_WALL_CAP_S)
+        end = time.monotonic() + wall
+        try:
+            matched = await asyncio.wait_for(found, timeout=max(0.0, end - time.monotonic()))
+        except TimeoutError:
+            matched = None
+    finally:
+        unlisten()
+    return {"matched": _wire(matched, handle.id), "clock": clock.to_dict()}
+
+
+def _wire(event: Event | None, controller: str) -> dict | None:
+    return None if event is None else event.to_dict(controller)

@@ -1,0 +1,40 @@
+"""Models shared by every resource: the error body, health."""
+
+from __future__ import annotations
+
+from pydantic import BaseModel, ConfigDict, Field
+
+
+class ErrorBody(BaseModel):
+    """Every error: a stable snake_case ``code``, a message for a person, and details.
+
+    Details by case: ``pmac_error`` (the controller's own ``ERRnnn``), ``field`` (validation),
+    ``index`` / ``line`` / ``column`` / ``text`` (parse errors), ``errors`` (every validation
+    problem found).
+    """
+
+    model_config = ConfigDict(extra="allow", json_schema_extra={
+        "examples": [{"code": "not_found", "message": "no controller 'x'; running: pmac, trio"}]})
+
+    code: str = Field(description="stable, snake_case: not_found, buffer_full, conflict, "
+                                  "parse_error, validation_error, watchdog")
+    message: str
+    pmac_error: str | None = Field(None, description="the controller's answer, e.g. ERR006")
+
+
+class Health(BaseModel):
+    """``ok`` once every listener accepts connections."""
+
+    status: str = Field(description="ok | starting")
+
+
+#: ``responses=`` for the app: the error body for the statuses every route may answer.
+ERROR_RESPONSES: dict[int | str, dict] = {
+    404: {"model": ErrorBody, "description": "unknown controller or resource (`not_found`)"},
+    409: {"model": ErrorBody,
+          "description": "state forbids it (`conflict`, `buffer_full`, `watchdog`)"},
+    422: {"model": ErrorBody,
+          "description": "bad field or program text (`validation_error`, `parse_error`)"},
+}
+
+__all__ = ["ERROR_RESPONSES", "ErrorBody", "Health"]

@@ -1,0 +1,39 @@
+"""Events on the wire: ``{"seq", "t", "type", "controller", ...fields}``."""
+
+from __future__ import annotations
+
+from pydantic import BaseModel, ConfigDict, Field
+
+
+class EventOut(BaseModel):
+    """One observable change. The fields beyond these depend on ``type`` (API.md's table)."""
+
+    model_config = ConfigDict(extra="allow", json_schema_extra={
+        "examples": [{"seq": 12, "t": 0.0125, "type": "breq", "controller": "pmac",
+                      "cs": 1, "level": True}]})
+
+    seq: int = Field(description="1, 2, 3 ... per controller")
+    t: float = Field(description="simulated seconds")
+    type: str
+    controller: str
+
+
+class GapOut(BaseModel):
+    """Events ``from`` .. ``to`` left the log's ring before they were read."""
+
+    model_config = ConfigDict(populate_by_name=True)
+
+    type: str = "gap"
+    from_: int = Field(alias="from")
+    to: int
+
+
+class EventsPage(BaseModel):
+    """Events with ``seq > since``; pass ``next`` as ``since`` to continue."""
+
+    events: list[EventOut]
+    next: int
+    gap: GapOut | None = Field(None, description="present when older events were lost")
+
+
+__all__ = ["EventOut", "EventsPage", "GapOut"]

@@ -1,0 +1,32 @@
+"""The terminal: the controller's own command line, one line per POST."""
+
+from __future__ import annotations
+
+from pydantic import BaseModel, ConfigDict, Field
+
+
+class TerminalIn(BaseModel):
+    model_config = ConfigDict(extra="forbid", json_schema_extra={
+        "examples": [{"command": "&1 B0 R"}, {"command": "PRINT MTYPE AXIS(0)"}]})
+
+    command: str = Field(max_length=4096, description="one line exactly as typed")
+
+
+class TerminalOut(BaseModel):
+    """``reply``: the data lines joined with ``\\r`` (no ACK); ``error``: the controller's error
+    (``ERR003``) — still HTTP 200; ``pending``: no reply yet, it will come as a
+    ``terminal_reply`` event."""
+
+    reply: str
+    error: str | None
+    pending: bool
+
+
+class TerminalState(BaseModel):
+    """A Trio terminal locked on a move that cannot be buffered, and the commands behind it."""
+
+    locked: bool
+    pending: list[str]
+
+
+__all__ = ["TerminalIn", "TerminalOut", "TerminalState"]

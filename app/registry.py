@@ -1,0 +1,252 @@
+"""The running controllers of one service, each with the clock that drives it.
+
+A :class:`ControllerHandle` is what routes, protocol listeners and scenarios hold: the
+simulated controller (routes call only its public methods), its clock, and the two ways in
+that respect the time model — :meth:`ControllerHandle.command` (the terminal, with API.md's
+timing rules) and :meth:`ControllerHandle.apply` (any other mutation, at the current instant).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import re
+from collections.abc import Callable, Iterator, Mapping
+from typing import Any, TypeVar
+
+from app.clock import ClockMode, RealtimeClock, VirtualClock, make_clock
+from app.kinds import kind_class
+from sim.controller import Controller, Port, Reply
+from sim.errors import Conflict, InvalidValue, NotFound
+
+T = TypeVar("T")
+
+#: Default simulated seconds a virtual clock may run forward waiting for a terminal reply
+#: (API.md: "if no reply comes within 1 s of simulated time ... pending"). A kind whose
+#: command line answers at the current instant and never moves the clock (Trio) sets the
+#: class attribute ``terminal_wait_s = 0``.
+TERMINAL_WAIT_S = 1.0
+
+#: Wall seconds a realtime terminal command waits for its reply before answering "pending".
+REALTIME_REPLY_CAP_S = 5.0
+
+_ID = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$")
+
+
+class ControllerHandle:
+    """One running controller in the service.
+
+    Attributes:
+        id: the controller's id (``"pmac"``).
+        kind: its kind (``"pmac"``, ``"trio"``, ...).
+        controller: the simulation object.
+        clock: the :class:`VirtualClock` or :class:`RealtimeClock` driving its environment.
+    """
+
+    def __init__(self, id: str, kind: str, controller: Controller,
+                 clock: VirtualClock | RealtimeClock) -> None:
+        self.id = id
+        self.kind = kind
+        self.controller = controller
+        self.clock = clock
+        self.realtime_reply_cap_s = REALTIME_REPLY_CAP_S
+
+    @property
+    def terminal_wait_s(self) -> float:
+        """Simulated seconds the terminal may wait for a reply (the kind's ``terminal_wait_s``)."""
+        return float(getattr(self.controller, "terminal_wait_s", TERMINAL_WAIT_S))
+
+    # -- the two ways in ---------------------------------------------------------------------
+
+    async def command(self, command: str, port: Port | None = None) -> Reply:
+        """Send one terminal line and return its :class:`Reply` per API.md's timing rules.
+
+        The environment is first brought to the current instant (realtime). A reply that is
+        done at once is returned as is. Otherwise, if the kind lets its terminal wait
+        (``terminal_wait_s > 0``, the PMAC answering in its background cycle): a virtual
+        clock steps the simulation until the reply (at most ``terminal_wait_s`` simulated);
+        a realtime clock awaits it (at most ``realtime_reply_cap_s`` wall). A reply still not
+        done is returned pending; the kind emits ``terminal_reply`` when it completes.
+        """
+        self.ensure_running()
+        port = port if port is not None else self.controller.rest_port
+        clock = self.clock
+        clock.sync()
+        reply = self.controller.terminal(command, port)
+        if reply.done:
+            clock.wake()
+            return reply
+        wait_s = self.terminal_wait_s
+        if isinstance(clock, VirtualClock):
+            if wait_s > 0 and not clock.paused:
+                clock.run_until_reply(reply, wait_s)
+            return reply
+        clock.wake()
+        if wait_s <= 0 or clock.paused:
+            return reply
+        done = asyncio.get_running_loop().create_future()
+
+        def _done(_: Reply) -> None:
+            if not done.done():
+                done.set_result(None)
+
+        reply.add_done_callback(_done)
+        cap = min(self.realtime_reply_cap_s, wait_s / clock.factor)
+        with contextlib.suppress(TimeoutError):
+            await asyncio.wait_for(done, timeout=cap)
+        return reply
+
+    def apply(self, fn: Callable[..., T], *args: Any, **kwargs: Any) -> T:
+        """Run a mutation (``fn(*args, **kwargs)``) at the current simulated instant.
+
+        A realtime environment is first run to the wall instant, and the clock is woken
+        afterwards because the mutation may have scheduled something sooner. Never moves a
+        virtual clock.
+        """
+        self.ensure_running()
+        self.clock.sync()
+        try:
+            return fn(*args, **kwargs)
+        finally:
+            self.clock.wake()
+
+    def open_port(self, name: str) -> Port:
+        """A new host port on the controller (one per TCP connection)."""
+        return self.apply(self.controller.open_port, name)
+
+    def close_port(self, port: Port) -> None:
+        """The host went away: the controller releases what the port held."""
+        self.apply(self.controller.close_port, port)
+
+    # -- clock -------------------------------------------------------------------------------
+
+    def ensure_running(self) -> None:
+        """Start a realtime clock's task if a loop runs and it is not started yet."""
+        if isinstance(self.clock, RealtimeClock) and not self.clock.running:
+            try:
+                asyncio.get_running_loop()
+            except RuntimeError:
+                return
+            self.clock.start()
+
+    async def set_clock(self, mode: ClockMode | None = None, *, factor: float | None = None,
+                        paused: bool | None = None) -> None:
+        """Change factor / paused, or switch between virtual and realtime at the current t."""
+        if mode is not None and mode != self.clock.mode:
+            old = self.clock
+            old.sync()
+            await old.stop()
+            new = make_clock(mode, self.controller.env,
+                             old.factor if factor is None else factor,
+                             old.paused if paused is None else paused)
+            self.clock = new
+            self.ensure_running()
+            return
+        self.clock.set(factor=factor, paused=paused)
+
+    async def close(self) -> None:
+        """Stop the clock's task."""
+        await self.clock.stop()
+
+    def to_dict(self) -> dict[str, Any]:
+        """The API's ``Controller``: id, kind, clock, merged with the kind's ``status()``."""
+        out: dict[str, Any] = {}
+        out.update(self.controller.status())
+        out.update({"id": self.id, "kind": self.kind, "clock": self.clock.to_dict()})
+        return out
+
+    def __repr__(self) -> str:
+        return f"<ControllerHandle {self.id} kind={self.kind} clock={self.clock.mode}>"
+
+
+class Registry:
+    """The running controllers by id.
+
+    Args:
+        log_capacity: events each controller's log holds (at least 100 000 in the service).
+    """
+
+    def __init__(self, *, log_capacity: int = 100_000) -> None:
+        self.log_capacity = log_capacity
+        self._handles: dict[str, ControllerHandle] = {}
+        self._started = False
+
+    def get(self, id: str) -> ControllerHandle:
+        """The handle of controller ``id``; raises :class:`NotFound`."""
+        try:
+            handle = self._handles[id]
+        except KeyError:
+            raise NotFound(f"no controller {id!r}; running: {', '.join(self._handles) or 'none'}",
+                           controller=id) from None
+        return handle
+
+    def __iter__(self) -> Iterator[ControllerHandle]:
+        return iter(list(self._handles.values()))
+
+    def __len__(self) -> int:
+        return len(self._handles)
+
+    def __contains__(self, id: object) -> bool:
+        return id in self._handles
+
+    def ids(self) -> list[str]:
+        return list(self._handles)
+
+    def _new_id(self, kind: str) -> str:
+        n = 1
+        while f"{kind}{n}" in self._handles:
+            n += 1
+        return f"{kind}{n}"
+
+    def add(
+        self,
+        kind: str,
+        id: str | None = None,
+        *,
+        clock: ClockMode = "realtime",
+        factor: float = 1.0,
+        paused: bool = False,
+        config: Mapping[str, Any] | None = None,
+    ) -> ControllerHandle:
+        """Create and register a controller; nothing changes if anything is invalid.
+
+        Raises:
+            InvalidValue: unknown kind, bad id, bad clock, config key the kind rejects.
+            Conflict: the id is taken.
+        """
+        cls = kind_class(kind)
+        if id is None:
+            id = self._new_id(kind)
+        elif not _ID.match(id):
+            raise InvalidValue(
+                f"controller id {id!r} must be 1-64 letters, digits, '_', '.', '-'", field="id")
+        if id in self._handles:
+            raise Conflict(f"a controller {id!r} already exists", controller=id)
+        controller = cls(id, dict(config or {}), log_capacity=self.log_capacity)
+        handle = ControllerHandle(id, kind, controller,
+                                  make_clock(clock, controller.env, factor, paused))
+        self._handles[id] = handle
+        if self._started:
+            handle.ensure_running()
+        return handle
+
+    async def remove(self, id: str) -> None:
+        """Stop and forget controller ``id``; raises :class:`NotFound`."""
+        handle = self.get(id)
+        del self._handles[id]
+        await handle.close()
+
+    async def start(self) -> None:
+        """Start every realtime clock (called from the app's lifespan)."""
+        self._started = True
+        for handle in self:
+            handle.ensure_running()
+
+    async def close(self) -> None:
+        """Stop every clock."""
+        self._started = False
+        for handle in self:
+            await handle.close()
+
+
+__all__ = ["REALTIME_REPLY_CAP_S", "TERMINAL_WAIT_S", "ControllerHandle", "Registry"]

@@ -1,0 +1,118 @@
+"""Service settings: what ``motionsim serve`` runs.
+
+Built once in ``app/cli.py`` (from defaults, ``MOTIONSIM_*`` environment variables, a
+``--config`` YAML/JSON file and the command-line options, later ones winning) and passed to
+``api.main.create_app(settings)``. Nothing here is created at import time.
+
+The config file has the same fields, e.g.::
+
+    host: 127.0.0.1
+    port: 8000
+    clock: {mode: virtual}
+    pmac_port: 1025          # 0 = disabled, "auto" = a free port (printed)
+    controllers:
+      - {id: pmac, kind: pmac, config: {i16: 5, i17: 10}}
+      - {id: trio, kind: trio, clock: {mode: realtime, factor: 10}}
+    plugins: [mypackage.kinds]   # modules imported first (they may register kinds)
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any, Literal
+
+import yaml
+from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic_settings import BaseSettings, SettingsConfigDict
+
+#: The PMAC Ethernet protocol's port, and the Trio command line's (telnet) port.
+DEFAULT_PMAC_PORT = 1025
+DEFAULT_TRIO_PORT = 23
+
+
+class ClockSpec(BaseModel):
+    """How a controller's simulated time is driven."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    mode: Literal["virtual", "realtime"] = "realtime"
+    factor: float = Field(1.0, gt=0, allow_inf_nan=False,
+                          description="speed-up: simulated seconds per wall second (realtime)")
+    paused: bool = False
+
+
+class ControllerSpec(BaseModel):
+    """One controller to create at start-up."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    id: str | None = None
+    kind: str
+    clock: ClockSpec | None = Field(None, description="default: the service's clock")
+    config: dict[str, Any] = Field(default_factory=dict)
+
+
+ProtocolPort = int | Literal["auto"]
+
+
+class Settings(BaseSettings):
+    """Everything ``motionsim serve`` needs.
+
+    ``controllers`` ``None`` means the embedded defaults: ``pmac`` (kind pmac) and ``trio``
+    (kind trio), skipping (with a warning) a kind that is not installed.
+    ``pmac_port`` / ``trio_port``: an int port, ``0`` = disabled, ``"auto"`` = a free port;
+    ``None`` = the default port (1025 / 23), skipped with one line if it cannot be bound.
+    """
+
+    model_config = SettingsConfigDict(env_prefix="MOTIONSIM_", extra="forbid")
+
+    host: str = "127.0.0.1"
+    port: int = Field(8000, ge=0, le=65535)
+    clock: ClockSpec = Field(default_factory=ClockSpec)
+    controllers: list[ControllerSpec] | None = None
+    pmac_port: ProtocolPort | None = None
+    trio_port: ProtocolPort | None = None
+    pmac_controller: str = "pmac"
+    trio_controller: str = "trio"
+    log_capacity: int = Field(100_000, ge=100_000,
+                              description="events each controller's log holds")
+    plugins: list[str] = Field(default_factory=list,
+                               description="modules imported at start (may register kinds)")
+
+    @field_validator("pmac_port", "trio_port")
+    @classmethod
+    def _port_range(cls, v: ProtocolPort | None) -> ProtocolPort | None:
+        if isinstance(v, int) and not 0 <= v <= 65535:
+            raise ValueError("port must be 0..65535 or 'auto'")
+        return v
+
+
+def load_config_file(path: str | Path) -> dict[str, Any]:
+    """Read a YAML (or JSON) settings file into a dict (validated by :class:`Settings`)."""
+    p = Path(path)
+    text = p.read_text(encoding="utf-8")
+    data = json.loads(text) if p.suffix == ".json" else yaml.safe_load(text)
+    if data is None:
+        return {}
+    if not isinstance(data, dict):
+        raise ValueError(f"{p}: expected a mapping of settings at the top level")
+    return data
+
+
+def build_settings(config_file: str | Path | None = None, **overrides: Any) -> Settings:
+    """Defaults < environment < config file < ``overrides`` (``None`` values are ignored)."""
+    data: dict[str, Any] = load_config_file(config_file) if config_file else {}
+    data.update({k: v for k, v in overrides.items() if v is not None})
+    return Settings(**data)
+
+
+__all__ = [
+    "DEFAULT_PMAC_PORT",
+    "DEFAULT_TRIO_PORT",
+    "ClockSpec",
+    "ControllerSpec",
+    "Settings",
+    "build_settings",
+    "load_config_file",
+]
