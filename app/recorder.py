@@ -1,0 +1,103 @@
+"""Wire transcript recorder: every byte of every TCP protocol session, with its times.
+
+``motionsim serve --record FILE`` gives the protocol servers (``api/pmac_ethernet``,
+``api/trio_terminal``) one :class:`Recorder`. Each session (one TCP connection) writes JSON
+Lines to ``FILE``::
+
+    {"kind": "header", "version": 1, "controllers": {"pmac": {"kind": "pmac", "config": {...}}}}
+    {"kind": "open",  "session": 1, "protocol": "pmac", "controller": "pmac", "t": 0.0, "wall": ...}
+    {"kind": "in",    "session": 1, "t": 0.0012, "wall": 1764072000.1, "data": "@\\u00bf..."}
+    {"kind": "out",   "session": 1, "t": 0.0015, "wall": 1764072000.1, "data": "1.947  \\r\\u0006"}
+    {"kind": "close", "session": 1, "t": 0.5, "wall": ...}
+
+``t`` is the controller's simulated time, ``wall`` the Unix time; ``data`` is the bytes as a
+latin-1 string (every byte value maps to one character, so it round-trips exactly and stays
+readable). ``app/replay.py`` reads the file back and replays it against a fresh controller.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import IO, Any
+
+
+@dataclass(frozen=True, slots=True)
+class Record:
+    """One line of a transcript."""
+
+    kind: str  # header | open | in | out | close
+    session: int = 0
+    t: float = 0.0
+    wall: float = 0.0
+    data: bytes = b""
+    fields: Mapping[str, Any] | None = None
+
+
+class Recorder:
+    """Appends session bytes to a JSON Lines transcript (flushed line by line).
+
+    Args:
+        path: the transcript file (truncated).
+        controllers: ``{id: {"kind": ..., "config": {...}}}`` of the controllers served, so
+            a replay can build fresh ones.
+    """
+
+    def __init__(
+        self, path: str | Path, controllers: Mapping[str, Mapping[str, Any]] | None = None
+    ) -> None:
+        self.path = Path(path)
+        self._file: IO[str] | None = self.path.open("w", encoding="utf-8")
+        self._next = 0
+        self._write({"kind": "header", "version": 1, "controllers": dict(controllers or {})})
+
+    def _write(self, obj: dict[str, Any]) -> None:
+        if self._file is None:
+            return
+        self._file.write(json.dumps(obj, separators=(",", ":")) + "\n")
+        self._file.flush()
+
+    def open_session(self, protocol: str, controller: str, t: float, peer: str = "") -> int:
+        """Start a session; returns its number."""
+        self._next += 1
+        self._write({"kind": "open", "session": self._next, "protocol": protocol,
+                     "controller": controller, "peer": peer, "t": t, "wall": time.time()})
+        return self._next
+
+    def record(self, session: int, direction: str, data: bytes, t: float) -> None:
+        """Bytes received (``"in"``) or sent (``"out"``) at simulated time ``t``."""
+        if data:
+            self._write({"kind": direction, "session": session, "t": t, "wall": time.time(),
+                         "data": data.decode("latin-1")})
+
+    def close_session(self, session: int, t: float) -> None:
+        self._write({"kind": "close", "session": session, "t": t, "wall": time.time()})
+
+    def close(self) -> None:
+        if self._file is not None:
+            self._file.close()
+            self._file = None
+
+
+def read_transcript(path: str | Path) -> Iterator[Record]:
+    """The records of a transcript, in order."""
+    with Path(path).open(encoding="utf-8") as f:
+        for n, line in enumerate(f, 1):
+            if not line.strip():
+                continue
+            try:
+                obj = json.loads(line)
+            except json.JSONDecodeError as exc:
+                raise ValueError(f"{path}:{n}: not JSON: {exc.msg}") from None
+            kind = obj.pop("kind", None)
+            if kind not in ("header", "open", "in", "out", "close"):
+                raise ValueError(f"{path}:{n}: unknown record kind {kind!r}")
+            data = obj.pop("data", "").encode("latin-1")
+            yield Record(kind, obj.pop("session", 0), obj.pop("t", 0.0), obj.pop("wall", 0.0),
+                         data, obj)
+
+
+__all__ = ["Record", "Recorder", "read_transcript"]
