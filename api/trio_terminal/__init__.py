@@ -1,0 +1,1 @@
+"""Trio command line over TCP: sans-I/O codec in protocol.py, asyncio server in server.py."""
