@@ -1,0 +1,566 @@
+"""Scenario files: what to simulate, validated before anything runs.
+
+A scenario names the controllers and their configuration, what each host sends (a program:
+inline lines, a file, or a generator such as "N linear moves of T ms on 4 axes"), the host
+strategies with their latency distributions, faults, how long to run (or an event to stop on)
+and the seed. Times in the file are milliseconds (``*_ms``) except ``duration_s``.
+
+Everything is checked up front: unknown fields, wrong types and impossible values (a negative
+latency, I16 above I17) are :class:`~app.scenarios.errors.ScenarioError`s naming the field and
+the line of the file, and nothing runs.
+
+Assumption (manual silent): I16 > I17 is refused. BREQ is set again below I16 lines ahead and
+held low from I17 up, so an I16 above I17 would re-raise BREQ while the buffer is "full".
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
+
+from app.scenarios.errors import ScenarioError, dotted
+from app.scenarios.source import load_yaml, locate, read_text
+
+NonNeg = Annotated[float, Field(ge=0, allow_inf_nan=False)]
+Pos = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+
+#: Default I16 / I17 of a Turbo PMAC (lines ahead; spec/pmac.md §1.2).
+PMAC_DEFAULTS = {"i16": 5, "i17": 10}
+
+
+class Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+# -- delays --------------------------------------------------------------------------------
+
+
+class DelaySpec(Strict):
+    """A latency distribution in ms: ``2`` (fixed), or ``{dist: normal, mean_ms: 2, sd_ms: 1}``.
+
+    ``dist``: ``fixed`` (``ms``), ``uniform`` (``low_ms``, ``high_ms``), ``normal`` (``mean_ms``,
+    ``sd_ms``; draws below 0 become 0), ``lognormal`` (``median_ms``, ``sigma``), ``empirical``
+    (``samples_ms`` or ``file``: one value in ms per line, or the first column of a CSV).
+    ``jitter_ms`` adds a uniform ±jitter to any of them.
+    """
+
+    dist: Literal["fixed", "uniform", "normal", "lognormal", "empirical"] = "fixed"
+    ms: NonNeg | None = None
+    low_ms: NonNeg | None = None
+    high_ms: NonNeg | None = None
+    mean_ms: NonNeg | None = None
+    sd_ms: NonNeg | None = None
+    median_ms: Pos | None = None
+    sigma: NonNeg | None = None
+    samples_ms: list[NonNeg] | None = None
+    file: str | None = None
+    jitter_ms: NonNeg = 0.0
+
+    @model_validator(mode="before")
+    @classmethod
+    def _number_is_fixed(cls, v: Any) -> Any:
+        if isinstance(v, int | float) and not isinstance(v, bool):
+            return {"dist": "fixed", "ms": v}
+        return v
+
+    @model_validator(mode="after")
+    def _fields_fit_dist(self, info: ValidationInfo) -> DelaySpec:
+        need = {
+            "fixed": ("ms",),
+            "uniform": ("low_ms", "high_ms"),
+            "normal": ("mean_ms", "sd_ms"),
+            "lognormal": ("median_ms", "sigma"),
+            "empirical": (),
+        }[self.dist]
+        allowed = set(need) | {"dist", "jitter_ms"}
+        if self.dist == "empirical":
+            allowed |= {"samples_ms", "file"}
+        for name in need:
+            if getattr(self, name) is None:
+                raise ValueError(f"dist {self.dist!r} needs {name}")
+        extra = [n for n in self.model_fields_set if n not in allowed]
+        if extra:
+            raise ValueError(f"{', '.join(sorted(extra))} not used by dist {self.dist!r}")
+        if self.dist == "uniform" and self.high_ms < self.low_ms:  # type: ignore[operator]
+            raise ValueError("high_ms must be >= low_ms")
+        if self.dist == "empirical":
+            if (self.samples_ms is None) == (self.file is None):
+                raise ValueError("empirical needs exactly one of samples_ms, file")
+            if self.file is not None:
+                base = (info.context or {}).get("base_dir")
+                samples = _read_samples(self.file, base)
+                object.__setattr__(self, "samples_ms", samples)
+        return self
+
+    def to_delay(self) -> Any:
+        """The :class:`sim.hosts.Delay` (seconds) this spec describes."""
+        from sim.hosts.distributions import Delay
+
+        ms = 1e-3
+        j = self.jitter_ms * ms
+        if self.dist == "fixed":
+            return Delay("fixed", self.ms * ms, jitter_s=j)  # type: ignore[operator]
+        if self.dist == "uniform":
+            return Delay("uniform", self.low_ms * ms, self.high_ms * ms, jitter_s=j)  # type: ignore[operator]
+        if self.dist == "normal":
+            return Delay("normal", self.mean_ms * ms, self.sd_ms * ms, jitter_s=j)  # type: ignore[operator]
+        if self.dist == "lognormal":
+            return Delay("lognormal", self.median_ms * ms, self.sigma, jitter_s=j)  # type: ignore[operator]
+        return Delay("empirical", values=tuple(v * ms for v in self.samples_ms or ()), jitter_s=j)
+
+
+def _read_samples(name: str, base_dir: Path | None) -> list[float]:
+    try:
+        text, path = read_text(name, base_dir)
+    except OSError as exc:
+        raise ValueError(f"cannot read samples file {name!r}: {exc.strerror}") from None
+    out: list[float] = []
+    for i, raw in enumerate(text.splitlines(), 1):
+        cell = raw.split(",")[0].strip()
+        if not cell or cell.startswith("#"):
+            continue
+        try:
+            v = float(cell)
+        except ValueError:
+            if not out:  # a CSV header
+                continue
+            raise ValueError(f"{path.name} line {i}: {cell!r} is not a number") from None
+        if not v >= 0:
+            raise ValueError(f"{path.name} line {i}: latency {v} must be >= 0")
+        out.append(v)
+    if not out:
+        raise ValueError(f"{path.name}: no samples")
+    return out
+
+
+# -- programs ------------------------------------------------------------------------------
+
+_AXES = "XYZABCUVW"
+
+
+class GenerateSpec(Strict):
+    """``moves`` LINEAR moves of ``move_ms`` each on ``axes`` axes (X Y Z A ...), ``step`` apart.
+
+    The program starts with ``header`` (default ``LINEAR``, ``ABS``, ``TA{move_ms}``, ``TS0``,
+    ``TM{move_ms}`` — TA no longer than TM, so each move takes TM).
+    """
+
+    moves: int = Field(ge=1, le=10_000_000)
+    move_ms: Pos
+    axes: int = Field(4, ge=1, le=len(_AXES))
+    step: float = 1.0
+    header: list[str] | None = None
+
+    def lines(self) -> list[str]:
+        t = _num(self.move_ms)
+        head = self.header if self.header is not None else [
+            "LINEAR", "ABS", f"TA{t}", "TS0", f"TM{t}"
+        ]
+        letters = _AXES[: self.axes]
+        body = [
+            " ".join(f"{a}{_num((k + 1) * self.step)}" for a in letters)
+            for k in range(self.moves)
+        ]
+        return [*head, *body]
+
+
+def _num(x: float) -> str:
+    return str(int(x)) if float(x).is_integer() else repr(float(x))
+
+
+class ProgramSpec(Strict):
+    """Exactly one of ``lines`` (inline), ``file`` (one line per line, ``;`` comments kept
+    out), or ``generate``."""
+
+    lines: list[str] | None = None
+    file: str | None = None
+    generate: GenerateSpec | None = None
+
+    @model_validator(mode="after")
+    def _one_source(self, info: ValidationInfo) -> ProgramSpec:
+        given = [n for n in ("lines", "file", "generate") if getattr(self, n) is not None]
+        if len(given) != 1:
+            raise ValueError("give exactly one of lines, file, generate")
+        if self.file is not None:
+            try:
+                text, _ = read_text(self.file, (info.context or {}).get("base_dir"))
+            except OSError as exc:
+                msg = f"cannot read program file {self.file!r}: {exc.strerror}"
+                raise ValueError(msg) from None
+            object.__setattr__(self, "lines", _program_lines(text))
+        return self
+
+    def to_lines(self) -> list[str]:
+        if self.generate is not None:
+            return self.generate.lines()
+        return list(self.lines or [])
+
+
+def _program_lines(text: str) -> list[str]:
+    out = []
+    for raw in text.splitlines():
+        line = raw.split(";", 1)[0].strip()
+        if line:
+            out.append(line)
+    return out
+
+
+# -- controllers ---------------------------------------------------------------------------
+
+
+class RotarySpec(Strict):
+    """``&cs DEFINE ROT size_words``."""
+
+    cs: int = Field(1, ge=1, le=16)
+    size_words: int = Field(ge=1)
+
+
+class RunSpec(Strict):
+    """Run Trio program ``program`` (on ``process``, or the next free one)."""
+
+    program: str
+    process: int | None = Field(None, ge=1)
+
+
+class ControllerSpec(Strict):
+    """One controller: ``kind``, initial ``config`` (the kind's own keys, e.g. ``i16``) and set-up.
+
+    PMAC: ``rotary`` buffers to define (highest CS first is done for you). Trio: ``axes``
+    parameters (``{0: {speed: 10}}``), ``programs`` (name -> BASIC text) and ``run``.
+    Both: ``variables`` (``P1``, ``VR(5)``) and ``setup`` terminal commands, at t = 0.
+    """
+
+    kind: Literal["pmac", "trio"]
+    config: dict[str, Any] = Field(default_factory=dict)
+    rotary: list[RotarySpec] = Field(default_factory=list)
+    variables: dict[str, float] = Field(default_factory=dict)
+    setup: list[str] = Field(default_factory=list)
+    axes: dict[int, dict[str, float]] = Field(default_factory=dict)
+    programs: dict[str, str] = Field(default_factory=dict)
+    run: list[RunSpec] = Field(default_factory=list)
+
+    @model_validator(mode="after")
+    def _kind_fields(self) -> ControllerSpec:
+        if self.kind == "pmac":
+            for name in ("axes", "programs", "run"):
+                if getattr(self, name):
+                    raise ValueError(f"{name} is for kind trio, not pmac")
+            cfg = {k.lower(): v for k, v in self.config.items()}
+            for key in ("i16", "i17"):
+                v = cfg.get(key, PMAC_DEFAULTS[key])
+                if isinstance(v, bool) or not isinstance(v, int) or v < 0:
+                    raise ValueError(f"config.{key} must be an integer >= 0 (lines), got {v!r}")
+            if cfg.get("i16", 5) > cfg.get("i17", 10):
+                raise ValueError(
+                    f"config.i16 = {cfg.get('i16', 5)} is above config.i17 = "
+                    f"{cfg.get('i17', 10)}: BREQ would be re-raised while the buffer is full"
+                )
+            css = [r.cs for r in self.rotary]
+            if len(css) != len(set(css)):
+                raise ValueError("rotary: one buffer per coordinate system")
+        elif self.rotary:
+            raise ValueError("rotary is for kind pmac, not trio")
+        return self
+
+    def i16_i17(self) -> tuple[int, int]:
+        cfg = {k.lower(): v for k, v in self.config.items()}
+        return int(cfg.get("i16", 5)), int(cfg.get("i17", 10))
+
+
+# -- hosts ---------------------------------------------------------------------------------
+
+
+class _Host(Strict):
+    name: str | None = None
+    controller: str | None = None
+
+
+class _PmacHost(_Host):
+    cs: int = Field(1, ge=1, le=16)
+    program: ProgramSpec
+    write_latency: DelaySpec = DelaySpec(ms=0)
+    start_program: bool = True
+
+
+class PrPollingSpec(_PmacHost):
+    """Polls ``PR`` every ``poll_period_ms``; refills from ``low_water`` to ``high_water``."""
+
+    type: Literal["pr_polling"]
+    poll_period_ms: Pos
+    pr_latency: DelaySpec = DelaySpec(ms=0)
+    lines_per_write: int = Field(1, ge=1)
+    high_water: int = Field(1000, ge=1)
+    low_water: int = Field(500, ge=0)
+
+    @model_validator(mode="after")
+    def _marks(self) -> PrPollingSpec:
+        if self.low_water >= self.high_water:
+            raise ValueError("low_water must be below high_water")
+        return self
+
+
+class BreqInterruptSpec(_PmacHost):
+    """Answers each BREQ interrupt after ``latency``, ``lines_per_interrupt`` lines per write."""
+
+    type: Literal["breq_interrupt"]
+    latency: DelaySpec = DelaySpec(ms=0)
+    lines_per_interrupt: int = Field(1, ge=1)
+    recheck_breq: bool = True
+    prefill: int | None = Field(None, ge=1)
+
+
+class NaiveSpec(_PmacHost):
+    """Sends back to back as fast as ``write_latency`` allows."""
+
+    type: Literal["naive"]
+    lines_per_write: int = Field(1, ge=1)
+
+
+class MoveSpec(Strict):
+    axis: int = Field(ge=0)
+    type: str = "MOVE"
+    args: list[float]
+
+
+class MovesSpec(Strict):
+    """Moves in program order: ``sequence`` of ``{axis, type, args}``, or ``per_axis``
+    distances interleaved like TN20's loop (move n of each axis in turn)."""
+
+    sequence: list[MoveSpec] | None = None
+    per_axis: dict[int, list[float]] | None = None
+    type: str = "MOVE"
+
+    @model_validator(mode="after")
+    def _one(self) -> MovesSpec:
+        if (self.sequence is None) == (self.per_axis is None):
+            raise ValueError("give exactly one of sequence, per_axis")
+        return self
+
+    def to_moves(self) -> list[Any]:
+        from sim.hosts.trio import Move, interleave
+
+        if self.per_axis is not None:
+            return interleave(self.per_axis, self.type)
+        return [Move(m.axis, m.type, tuple(m.args)) for m in self.sequence or []]
+
+
+class TrioFeederSpec(_Host):
+    """A host issuing moves: ``trio_blind``, ``trio_ntype`` (TN20 fix) or
+    ``trio_moves_buffered`` (waits until MOVES_BUFFERED < ``max_buffered``)."""
+
+    type: Literal["trio_blind", "trio_ntype", "trio_moves_buffered"]
+    moves: MovesSpec
+    process: int | None = Field(None, ge=0)
+    poll_period_ms: Pos = 1.0
+    max_buffered: int = Field(2, ge=1)
+
+
+HostSpec = Annotated[
+    PrPollingSpec | BreqInterruptSpec | NaiveSpec | TrioFeederSpec, Field(discriminator="type")
+]
+
+
+# -- faults --------------------------------------------------------------------------------
+
+
+class HostStallFault(Strict):
+    """Host ``host`` does nothing from ``at_ms`` for ``duration_ms`` (a busy PC)."""
+
+    type: Literal["host_stall"]
+    host: str
+    at_ms: NonNeg
+    duration_ms: Pos
+
+
+class TerminalFault(Strict):
+    """Send ``command`` to ``controller``'s terminal at ``at_ms`` (e.g. ``&1 A``, ``I16=1``)."""
+
+    type: Literal["terminal"]
+    controller: str | None = None
+    at_ms: NonNeg
+    command: str
+
+
+class SetVariableFault(Strict):
+    """Write variable ``name`` = ``value`` on ``controller`` at ``at_ms``."""
+
+    type: Literal["set_variable"]
+    controller: str | None = None
+    at_ms: NonNeg
+    name: str
+    value: float
+
+
+FaultSpec = Annotated[
+    HostStallFault | TerminalFault | SetVariableFault, Field(discriminator="type")
+]
+
+
+# -- the scenario --------------------------------------------------------------------------
+
+
+class Scenario(Strict):
+    """A what-if scenario. See ``examples/scenarios/`` for one of each kind."""
+
+    name: str = "scenario"
+    description: str = ""
+    seed: int = 0
+    duration_s: Pos = 10.0
+    stop_event: dict[str, Any] | None = None
+    controllers: dict[str, ControllerSpec] = Field(min_length=1)
+    hosts: list[HostSpec] = Field(default_factory=list)
+    faults: list[FaultSpec] = Field(default_factory=list)
+    params: dict[str, str] = Field(default_factory=dict)
+    metric: str = "time_starved_s"
+
+    @field_validator("controllers")
+    @classmethod
+    def _ids(cls, v: dict[str, ControllerSpec]) -> dict[str, ControllerSpec]:
+        for cid in v:
+            if not re.fullmatch(r"[A-Za-z0-9_.-]+", cid):
+                raise ValueError(f"controller id {cid!r}: letters, digits, _ . - only")
+        return v
+
+    @field_validator("stop_event")
+    @classmethod
+    def _stop_event(cls, v: dict[str, Any] | None) -> dict[str, Any] | None:
+        if v is not None and not isinstance(v.get("type"), str):
+            raise ValueError("stop_event needs a type")
+        return v
+
+    def host_names(self) -> list[str]:
+        return [h.name or f"{h.type}{i}" for i, h in enumerate(self.hosts)]
+
+    def host_controller(self, i: int) -> str:
+        return self.hosts[i].controller or next(iter(self.controllers))
+
+
+def _cross_checks(s: Scenario) -> list[tuple[tuple[Any, ...], str]]:
+    """Checks between fields: references to controllers and hosts, kinds matching hosts."""
+    problems: list[tuple[tuple[Any, ...], str]] = []
+    ids = list(s.controllers)
+    names = s.host_names()
+    if len(set(names)) != len(names):
+        problems.append((("hosts",), "host names must be unique"))
+    for i, h in enumerate(s.hosts):
+        if h.controller is None and len(ids) > 1:
+            problems.append((("hosts", i), "name the controller (there are several)"))
+            continue
+        cid = s.host_controller(i)
+        if cid not in s.controllers:
+            problems.append((("hosts", i, "controller"), f"no controller {cid!r}"))
+            continue
+        kind = s.controllers[cid].kind
+        want = "trio" if h.type.startswith("trio_") else "pmac"
+        if kind != want:
+            problems.append(
+                (("hosts", i, "type"), f"host type {h.type!r} needs a {want} controller")
+            )
+        elif want == "pmac":
+            css = {r.cs for r in s.controllers[cid].rotary}
+            if h.cs not in css:  # type: ignore[union-attr]
+                problems.append(
+                    (("hosts", i, "cs"), f"controller {cid!r} has no rotary buffer for &{h.cs}")  # type: ignore[union-attr]
+                )
+    for i, f in enumerate(s.faults):
+        if isinstance(f, HostStallFault):
+            if f.host not in names:
+                problems.append((("faults", i, "host"), f"no host {f.host!r}"))
+        elif f.controller is not None and f.controller not in s.controllers:
+            problems.append((("faults", i, "controller"), f"no controller {f.controller!r}"))
+        elif f.controller is None and len(ids) > 1:
+            problems.append((("faults", i), "name the controller (there are several)"))
+    return problems
+
+
+def parse_scenario(
+    data: Any,
+    *,
+    lines: dict[tuple[Any, ...], int] | None = None,
+    file: str | None = None,
+    base_dir: Path | None = None,
+) -> Scenario:
+    """Validate already-loaded data; errors name field and line (when ``lines`` is given)."""
+    lines = lines or {}
+    try:
+        scn = Scenario.model_validate(data, context={"base_dir": base_dir})
+    except ValidationError as exc:
+        errors = []
+        for e in exc.errors():
+            path, line = locate(data, e["loc"], lines)
+            msg = e["msg"].removeprefix("Value error, ")
+            path, line = _refine(path, line, msg, lines)
+            errors.append({"field": dotted(path), "line": line, "message": msg})
+        first = errors[0]
+        raise ScenarioError(
+            first["message"], file=file, line=first["line"], field=first["field"], errors=errors
+        ) from None
+    problems = _cross_checks(scn)
+    if problems:
+        errors = []
+        for path, msg in problems:
+            _, line = locate(data, path, lines)
+            errors.append({"field": dotted(path), "line": line, "message": msg})
+        first = errors[0]
+        raise ScenarioError(
+            first["message"], file=file, line=first["line"], field=first["field"], errors=errors
+        )
+    return scn
+
+
+def _refine(
+    path: tuple[Any, ...], line: int | None, msg: str, lines: dict[tuple[Any, ...], int]
+) -> tuple[tuple[Any, ...], int | None]:
+    """A model-level message that starts with a field (``config.i16 = 12 ...``) points there."""
+    m = re.match(r"([A-Za-z_][\w.]*)\b", msg)
+    if m and "." in m.group(1):
+        sub = (*path, *m.group(1).split("."))
+        if sub in lines:
+            return sub, lines[sub]
+    return path, line
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Read and validate a scenario file (YAML)."""
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise ScenarioError(f"cannot read scenario: {exc.strerror}", file=str(p)) from None
+    data, lines = load_yaml(text, str(p))
+    return parse_scenario(data, lines=lines, file=str(p), base_dir=p.parent)
+
+
+def loads_scenario(
+    text: str, *, file: str = "<scenario>", base_dir: Path | None = None
+) -> Scenario:
+    """Validate scenario YAML given as text."""
+    data, lines = load_yaml(text, file)
+    return parse_scenario(data, lines=lines, file=file, base_dir=base_dir)
+
+
+__all__ = [
+    "BreqInterruptSpec",
+    "ControllerSpec",
+    "DelaySpec",
+    "GenerateSpec",
+    "NaiveSpec",
+    "PrPollingSpec",
+    "ProgramSpec",
+    "Scenario",
+    "TrioFeederSpec",
+    "load_scenario",
+    "loads_scenario",
+    "parse_scenario",
+]
