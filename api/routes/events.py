@@ -26,7 +26,8 @@ router = APIRouter(tags=["events"])
 WS_BATCH = 256
 
 
-@router.get("/controllers/{controller_id}/events", response_model=EventsPage)
+@router.get("/controllers/{controller_id}/events", response_model=EventsPage,
+            response_model_exclude_unset=True)
 def get_events(
     handle: HandleDep,
     since: Annotated[int, Query(ge=0, description="return events with seq > since")] = 0,

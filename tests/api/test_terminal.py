@@ -1,0 +1,80 @@
+"""POST/GET /controllers/{id}/terminal: dispatch to the kind, with API.md's timing rules."""
+
+from __future__ import annotations
+
+import pytest
+
+pytestmark = pytest.mark.anyio
+
+
+async def test_virtual_terminal_runs_the_clock_to_the_reply_instant(api):
+    r = await api.post("/controllers/d/terminal", json={"command": "ECHO hello"})
+    assert r.status_code == 200
+    assert r.json() == {"reply": "hello", "error": None, "pending": False}
+    assert (await api.get("/controllers/d/clock")).json()["t"] == pytest.approx(0.0005)
+
+
+async def test_an_immediate_reply_does_not_move_the_clock(api):
+    r = await api.post("/controllers/d/terminal", json={"command": "NOW hi"})
+    assert r.json() == {"reply": "hi", "error": None, "pending": False}
+    assert (await api.get("/controllers/d/clock")).json()["t"] == 0.0
+
+
+async def test_controller_error_is_still_http_200(api):
+    r = await api.post("/controllers/d/terminal", json={"command": "BOGUS"})
+    assert r.status_code == 200
+    assert r.json() == {"reply": "", "error": "ERR003", "pending": False}
+
+
+async def test_no_reply_within_1s_simulated_is_pending_then_a_terminal_reply_event(api):
+    r = await api.post("/controllers/d/terminal", json={"command": "SLOW"})
+    assert r.json() == {"reply": "", "error": None, "pending": True}
+    assert (await api.get("/controllers/d/clock")).json()["t"] == pytest.approx(1.0)
+    r = await api.post("/controllers/d/clock/run-until",
+                       json={"event": {"type": "terminal_reply"}, "timeout_s": 5})
+    m = r.json()["matched"]
+    assert (m["command"], m["reply"], m["error"], m["t"]) == ("SLOW", "slow", None,
+                                                              pytest.approx(2.0))
+
+
+async def test_a_kind_whose_command_line_never_moves_the_clock_returns_pending_at_once(api):
+    await api.post("/controllers", json={"id": "c", "kind": "dummy_cmdline",
+                                         "clock": {"mode": "virtual"}})
+    r = await api.post("/controllers/c/terminal", json={"command": "ECHO x"})
+    assert r.json()["pending"] is True
+    assert (await api.get("/controllers/c/clock")).json()["t"] == 0.0
+
+
+async def test_port_state_persists_between_posts(api):
+    await api.post("/controllers/d/terminal", json={"command": "ADDR 3"})
+    r = await api.post("/controllers/d/terminal", json={"command": "ADDR ?"})
+    assert r.json()["reply"] == "3"
+
+
+async def test_halted_controller_is_409_watchdog(api):
+    r = await api.post("/controllers/d/terminal", json={"command": "HALT"})
+    assert r.status_code == 409
+    assert r.json()["code"] == "watchdog"
+
+
+async def test_get_terminal_state_defaults_to_unlocked(api):
+    r = await api.get("/controllers/d/terminal")
+    assert r.json() == {"locked": False, "pending": []}
+
+
+@pytest.mark.parametrize("body, field", [({}, "command"), ({"command": 5}, "command"),
+                                         ({"command": "x" * 5000}, "command")])
+async def test_bad_terminal_body_is_422(api, body, field):
+    r = await api.post("/controllers/d/terminal", json=body)
+    assert r.status_code == 422
+    assert r.json()["field"] == field
+
+
+async def test_realtime_terminal_awaits_the_reply(api):
+    await api.post("/controllers", json={"id": "rt", "kind": "dummy",
+                                         "clock": {"mode": "realtime", "factor": 1},
+                                         "config": {"reply_delay_s": 0.05}})
+    r = await api.post("/controllers/rt/terminal", json={"command": "ECHO later"})
+    assert r.json() == {"reply": "later", "error": None, "pending": False}
+    ev = (await api.get("/controllers/rt/events", params={"type": "terminal_reply"})).json()
+    assert ev["events"][0]["t"] >= 0.05

@@ -1,0 +1,44 @@
+"""Shared test fixtures: the ``dummy`` controller kinds and an in-process service.
+
+``api`` is an ``httpx.AsyncClient`` on the ASGI app (no sockets), with the lifespan running,
+serving one controller ``d`` of kind ``dummy`` on a virtual clock (ticks every 10 ms).
+"""
+
+from __future__ import annotations
+
+from collections.abc import AsyncIterator, Callable
+
+import httpx
+import pytest
+from fastapi import FastAPI
+
+import tests.dummy_kind  # noqa: F401  (registers the dummy kinds)
+from api.main import create_app
+from app.settings import Settings
+
+
+@pytest.fixture
+def anyio_backend() -> str:
+    return "asyncio"
+
+
+def dummy_settings(**overrides) -> Settings:
+    """Settings with one virtual ``dummy`` controller ``d`` unless ``controllers`` is given."""
+    data = {"controllers": [{"id": "d", "kind": "dummy", "clock": {"mode": "virtual"}}]}
+    data.update(overrides)
+    return Settings(**data)
+
+
+@pytest.fixture
+def make_app() -> Callable[..., FastAPI]:
+    return lambda **overrides: create_app(dummy_settings(**overrides))
+
+
+@pytest.fixture
+async def api(make_app) -> AsyncIterator[httpx.AsyncClient]:
+    app = make_app()
+    async with app.router.lifespan_context(app):
+        transport = httpx.ASGITransport(app=app)
+        async with httpx.AsyncClient(transport=transport, base_url="http://motionsim") as client:
+            client.app = app  # type: ignore[attr-defined]
+            yield client
