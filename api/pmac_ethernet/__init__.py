@@ -1,1 +1,1 @@
-"""PMAC Ethernet protocol (port 1025): sans-I/O codec in protocol.py, asyncio server in server.py."""
+"""PMAC Ethernet protocol (TCP 1025): sans-I/O codec (protocol.py), asyncio server (server.py)."""

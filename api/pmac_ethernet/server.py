@@ -243,7 +243,9 @@ async def serve_pmac(
     """
 
     async def on_connect(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
-        await _serve_connection(handle, reader, writer, recorder)
+        # the server shutting down cancels its connections: end quietly
+        with contextlib.suppress(asyncio.CancelledError):
+            await _serve_connection(handle, reader, writer, recorder)
 
     return await asyncio.start_server(on_connect, host, port)
 

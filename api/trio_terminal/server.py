@@ -149,7 +149,9 @@ async def serve_trio(handle: Any, host: str = "127.0.0.1", port: int = 23, *,
     """Listen for telnet sessions on ``handle``'s Trio command line (``port=0`` picks one)."""
 
     async def on_connect(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
-        await _serve_connection(handle, reader, writer, recorder, echo)
+        # the server shutting down cancels its connections: end quietly
+        with contextlib.suppress(asyncio.CancelledError):
+            await _serve_connection(handle, reader, writer, recorder, echo)
 
     return await asyncio.start_server(on_connect, host, port)
 
