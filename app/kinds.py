@@ -7,12 +7,17 @@ with :func:`register_kind`. Adding a third kind touches neither ``api/`` nor thi
 
 from __future__ import annotations
 
+import logging
 from importlib.metadata import entry_points
 
 from sim.controller import Controller
 from sim.errors import InvalidValue
 
 _registered: dict[str, type[Controller]] = {}
+#: Entry points that failed to load: kind -> why (a kind still being written is not fatal).
+_broken: dict[str, str] = {}
+
+log = logging.getLogger("motionsim.kinds")
 
 
 def register_kind(cls: type[Controller], name: str | None = None) -> type[Controller]:
@@ -25,9 +30,22 @@ def kinds() -> dict[str, type[Controller]]:
     """Every known kind: entry points first, then run-time registrations (which win)."""
     found: dict[str, type[Controller]] = {}
     for ep in entry_points(group="motionsim.kinds"):
-        found[ep.name] = ep.load()
+        try:
+            found[ep.name] = ep.load()
+        except Exception as exc:  # an installed kind that cannot be imported is "not installed"
+            why = f"{type(exc).__name__}: {exc}"
+            if _broken.get(ep.name) != why:
+                log.warning("controller kind %r (%s) cannot be loaded: %s", ep.name, ep.value, why)
+            _broken[ep.name] = why
+        else:
+            _broken.pop(ep.name, None)
     found.update(_registered)
     return found
+
+
+def broken_kinds() -> dict[str, str]:
+    """Kinds whose entry point failed to load at the last :func:`kinds` call, and why."""
+    return dict(_broken)
 
 
 def kind_class(name: str) -> type[Controller]:
@@ -36,10 +54,13 @@ def kind_class(name: str) -> type[Controller]:
     try:
         return known[name]
     except KeyError:
+        if name in _broken:
+            raise InvalidValue(f"controller kind {name!r} cannot be loaded: {_broken[name]}",
+                               field="kind") from None
         raise InvalidValue(
             f"unknown controller kind {name!r}; known kinds: {', '.join(sorted(known))}",
             field="kind",
         ) from None
 
 
-__all__ = ["kind_class", "kinds", "register_kind"]
+__all__ = ["broken_kinds", "kind_class", "kinds", "register_kind"]

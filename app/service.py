@@ -10,9 +10,8 @@ from __future__ import annotations
 
 import importlib
 import logging
-import warnings
 
-from app.kinds import kinds
+from app.kinds import broken_kinds, kinds
 from app.registry import Registry
 from app.settings import ControllerSpec, Settings
 
@@ -43,9 +42,9 @@ def build_registry(settings: Settings) -> Registry:
             if spec.kind in installed:
                 specs.append(spec)
             else:
-                msg = (f"controller kind {spec.kind!r} is not installed; "
+                why = broken_kinds().get(spec.kind, "not installed")
+                msg = (f"controller kind {spec.kind!r}: {why}; "
                        f"default controller {spec.id!r} skipped")
-                warnings.warn(msg, RuntimeWarning, stacklevel=2)
                 log.warning(msg)
     for spec in specs:
         clock = spec.clock or settings.clock

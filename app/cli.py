@@ -1,0 +1,205 @@
+"""The ``motionsim`` command.
+
+``motionsim serve`` runs the service: REST + WebSocket on ``--port``, the PMAC Ethernet protocol
+on ``--pmac-port`` and the Trio command line on ``--trio-port``. Settings come from defaults,
+``MOTIONSIM_*`` environment variables, ``--config FILE`` and the options, later ones winning;
+they are built here, once, and handed to ``api.main.create_app``.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import socket
+import sys
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+from pydantic import ValidationError
+
+from app import __version__
+
+cli = typer.Typer(
+    name="motionsim",
+    help="Simulate Turbo PMAC and Trio Motion Coordinator program buffering as a service. "
+         "Point your host software at it instead of the hardware.",
+    no_args_is_help=True,
+    add_completion=False,
+    rich_markup_mode=None,
+    pretty_exceptions_enable=False,
+)
+
+
+def _version(value: bool) -> None:
+    if value:
+        typer.echo(f"motionsim {__version__}")
+        raise typer.Exit()
+
+
+@cli.callback()
+def _root(
+    version: Annotated[bool, typer.Option("--version", callback=_version, is_eager=True,
+                                          help="Print the version and exit.")] = False,
+) -> None:
+    """Simulate Turbo PMAC and Trio Motion Coordinator program buffering as a service."""
+
+
+def _protocol_port(value: str | None, option: str) -> int | str | None:
+    if value is None:
+        return None
+    if value == "auto":
+        return "auto"
+    try:
+        port = int(value)
+    except ValueError:
+        raise typer.BadParameter(f"{value!r} is not a port number, 0 or 'auto'",
+                                 param_hint=option) from None
+    if not 0 <= port <= 65535:
+        raise typer.BadParameter(f"{port} is not in 0..65535", param_hint=option)
+    return port
+
+
+def _fail(message: str, code: int) -> typer.Exit:
+    typer.echo(f"motionsim: {message}", err=True)
+    return typer.Exit(code)
+
+
+@cli.command()
+def serve(
+    host: Annotated[str | None, typer.Option(metavar="HOST", help="Interface for every listener. "
+                                             "[default: 127.0.0.1]")] = None,
+    port: Annotated[int | None, typer.Option(
+        metavar="PORT",
+        help="REST + WebSocket port; 0 picks a free port (printed). [default: 8000]")] = None,
+    clock: Annotated[str | None, typer.Option(
+        metavar="realtime|virtual",
+        help="realtime: simulated time follows the wall clock × factor; virtual: time moves "
+             "only when a client advances it (tests). [default: realtime]")] = None,
+    factor: Annotated[float | None, typer.Option(
+        metavar="FACTOR",
+        help="Realtime speed-up: simulated seconds per wall second. [default: 1.0]")] = None,
+    pmac_port: Annotated[str | None, typer.Option(
+        metavar="PORT",
+        help="PMAC Ethernet protocol port for controller 'pmac'; 0 disables, 'auto' picks a "
+             "free port. [default: 1025, skipped if it cannot be bound]")] = None,
+    trio_port: Annotated[str | None, typer.Option(
+        metavar="PORT",
+        help="Trio command-line (telnet) port for controller 'trio'; 0 disables, 'auto' picks "
+             "a free port. [default: 23, skipped if it cannot be bound]")] = None,
+    config: Annotated[Path | None, typer.Option(
+        metavar="FILE", exists=True, dir_okay=False, readable=True,
+        help="YAML/JSON settings file: controllers, their kinds, clocks and initial "
+             "variables (see README).")] = None,
+    plugin: Annotated[list[str] | None, typer.Option(
+        metavar="MODULE",
+        help="Import this module first (it may register extra controller kinds). "
+             "Repeatable.")] = None,
+    record: Annotated[Path | None, typer.Option(
+        metavar="FILE",
+        help="Record every TCP protocol session's bytes to this JSON Lines file.")] = None,
+) -> None:
+    """Run the simulation service.
+
+    With no options: controllers 'pmac' and 'trio' on a realtime clock at factor 1, REST on
+    http://127.0.0.1:8000 (docs at /docs), PMAC Ethernet on 1025, Trio telnet on 23.
+    Prints one 'motionsim listening ...' line per listener.
+    """
+    import logging
+
+    from app.settings import build_settings, load_config_file
+
+    logging.basicConfig(level=logging.WARNING, format="motionsim: %(message)s")
+
+    if clock is not None and clock not in ("realtime", "virtual"):
+        raise typer.BadParameter("must be 'realtime' or 'virtual'", param_hint="--clock")
+    try:
+        file_data = load_config_file(config) if config else {}
+    except (OSError, ValueError) as exc:
+        raise _fail(f"cannot read {config}: {exc}", 2) from None
+    overrides: dict[str, Any] = {
+        "host": host, "port": port,
+        "pmac_port": _protocol_port(pmac_port, "--pmac-port"),
+        "trio_port": _protocol_port(trio_port, "--trio-port"),
+    }
+    if clock is not None or factor is not None:
+        clock_data = dict(file_data.get("clock") or {})
+        if clock is not None:
+            clock_data["mode"] = clock
+        if factor is not None:
+            clock_data["factor"] = factor
+        overrides["clock"] = clock_data
+    if plugin:
+        overrides["plugins"] = [*file_data.get("plugins", []), *plugin]
+    file_data.update({k: v for k, v in overrides.items() if v is not None})
+    try:
+        settings = build_settings(None, **file_data)
+    except ValidationError as exc:
+        errors = "; ".join(f"{'.'.join(map(str, e['loc']))}: {e['msg']}" for e in exc.errors())
+        raise _fail(f"invalid settings: {errors}", 2) from None
+
+    sock = socket.socket(socket.AF_INET6 if ":" in settings.host else socket.AF_INET)
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    try:
+        sock.bind((settings.host, settings.port))
+        sock.listen(2048)
+    except OSError as exc:
+        sock.close()
+        raise _fail(f"cannot listen on http://{settings.host}:{settings.port}: "
+                    f"{exc.strerror or exc}", 1) from None
+    sock.setblocking(False)
+    settings = settings.model_copy(update={"port": sock.getsockname()[1]})
+
+    from api.main import create_app
+    from sim.errors import MotionSimError
+
+    try:
+        app = create_app(settings)
+    except (MotionSimError, ImportError) as exc:
+        sock.close()
+        raise _fail(f"cannot start: {exc}", 2) from None
+
+    recorder = None
+    if record is not None:
+        from app.recorder import Recorder
+
+        recorder = Recorder(record, {h.id: {"kind": h.kind, "config": h.controller.config}
+                                     for h in app.state.registry})
+    code = asyncio.run(_serve(app, settings, sock, recorder))
+    if recorder is not None:
+        recorder.close()
+    if code:
+        raise typer.Exit(code)
+
+
+async def _serve(app: Any, settings: Any, sock: socket.socket, recorder: Any) -> int:
+    """Start the protocol listeners, then serve HTTP on ``sock``; the exit code."""
+    import uvicorn
+
+    from app.listeners import ListenerError, start_listeners
+
+    app.state.ready = False
+    kwargs = {"recorder": recorder} if recorder is not None else {}
+    try:
+        servers = await start_listeners(app.state.registry, settings,
+                                        out=lambda line: print(line, flush=True), **kwargs)
+    except ListenerError as exc:
+        print(f"motionsim: {exc}", file=sys.stderr, flush=True)
+        sock.close()
+        return 1
+    app.state.listeners.extend(servers)
+    app.state.ready = True
+    config = uvicorn.Config(app, log_level="warning", ws_per_message_deflate=False,
+                            lifespan="on", timeout_graceful_shutdown=2)
+    server = uvicorn.Server(config)
+    host = f"[{settings.host}]" if ":" in settings.host else settings.host
+    print(f"motionsim listening http://{host}:{settings.port}", flush=True)
+    await server.serve(sockets=[sock])
+    return 0 if server.started else 3
+
+
+def main() -> None:
+    """Console-script entry point."""
+    cli()
+
+
+__all__ = ["cli", "main", "serve"]
