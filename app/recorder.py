@@ -54,6 +54,14 @@ class Recorder:
         self._next = 0
         self._write({"kind": "header", "version": 1, "controllers": dict(controllers or {})})
 
+    @classmethod
+    def for_handles(cls, path: str | Path, handles: Any) -> Recorder:
+        """A recorder whose header describes ``handles`` (``ControllerHandle``s) for replay."""
+        return cls(path, {
+            h.id: {"kind": h.kind, "config": dict(getattr(h.controller, "config", {}) or {})}
+            for h in handles
+        })
+
     def _write(self, obj: dict[str, Any]) -> None:
         if self._file is None:
             return
