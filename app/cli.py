@@ -197,6 +197,19 @@ async def _serve(app: Any, settings: Any, sock: socket.socket, recorder: Any) ->
     return 0 if server.started else 3
 
 
+@cli.command()
+def replay(
+    file: Annotated[Path, typer.Argument(metavar="FILE", exists=True, dir_okay=False,
+                                         help="A transcript written by serve --record.")],
+) -> None:
+    """Replay a wire transcript against fresh controllers; exit 1 if any answer differs."""
+    from app.replay import main as replay_main
+
+    code = replay_main(file)
+    if code:
+        raise typer.Exit(code)
+
+
 def main() -> None:
     """Console-script entry point."""
     cli()
