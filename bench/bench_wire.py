@@ -1,0 +1,146 @@
+"""GETRESPONSE round trips per second over loopback, 1 and 10 concurrent connections.
+
+The server (``api.pmac_ethernet.server.serve_pmac``) runs in this process on a controller with a
+virtual clock — the real ``pmac`` kind when it is installed, otherwise a minimal stand-in that
+answers at once (the figure then measures the protocol path alone). The clients run in a
+separate process (asyncio, one task per connection, each sending ``GETRESPONSE "I16"`` and
+reading the reply before the next), as a host would. Prints the figures and writes
+``bench/results/wire.json``.
+
+    .venv/bin/python bench/bench_wire.py [--seconds 3] [--command I16]
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import json
+import multiprocessing as mp
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+
+def _client_process(port: int, connections: int, seconds: float, command: str, q) -> None:
+    from api.pmac_ethernet.protocol import getresponse
+
+    packet = getresponse(command)
+
+    async def one(stop_at: float, lat: list[float]) -> int:
+        reader, writer = await asyncio.open_connection("127.0.0.1", port)
+        n = 0
+        while time.perf_counter() < stop_at:
+            t0 = time.perf_counter()
+            writer.write(packet)
+            data = await reader.read(4096)
+            if not data:
+                break
+            while data[-1:] not in (b"\x06", b"\r"):
+                data += await reader.read(4096)
+            lat.append(time.perf_counter() - t0)
+            n += 1
+        writer.close()
+        return n
+
+    async def main() -> tuple[int, float, list[float]]:
+        lat: list[float] = []
+        start = time.perf_counter()
+        counts = await asyncio.gather(*(one(start + seconds, lat) for _ in range(connections)))
+        return sum(counts), time.perf_counter() - start, lat
+
+    total, elapsed, lat = asyncio.run(main())
+    lat.sort()
+    q.put({
+        "round_trips": total,
+        "seconds": elapsed,
+        "per_s": total / elapsed,
+        "latency_p50_us": lat[len(lat) // 2] * 1e6 if lat else None,
+        "latency_p99_us": lat[int(len(lat) * 0.99)] * 1e6 if lat else None,
+    })
+
+
+def _controller():
+    from app.kinds import kinds, register_kind
+    from app.registry import Registry
+    from sim.controller import Controller, Reply
+
+    registry = Registry()
+    if "pmac" in kinds():
+        try:
+            return registry.add("pmac", "pmac", clock="virtual"), "pmac"
+        except Exception as exc:  # noqa: BLE001 - fall back to the stand-in
+            print(f"pmac kind unusable ({exc}); using the stand-in", file=sys.stderr)
+
+    class Echo(Controller):
+        kind = "bench_echo"
+
+        def terminal(self, command, port=None):
+            reply = Reply(command)
+            reply.resolve("5", None, self.env.now)
+            return reply
+
+        def get_variable(self, name):
+            return {"I3": 2, "I6": 1}.get(name.upper(), 0)
+
+    register_kind(Echo)
+    return registry.add("bench_echo", "pmac", clock="virtual"), "stand-in (answers at once)"
+
+
+async def _serve_and_measure(args) -> dict:
+    from api.pmac_ethernet.server import serve_pmac
+
+    handle, kind = _controller()
+    with __import__("contextlib").suppress(Exception):
+        await handle.command("I3=2 I6=1")
+    server = await serve_pmac(handle, "127.0.0.1", 0)
+    port = server.sockets[0].getsockname()[1]
+    ctx = mp.get_context("spawn")
+    results = {"controller": kind, "command": args.command}
+    for connections in (1, 10):
+        q = ctx.Queue()
+        proc = ctx.Process(target=_client_process,
+                           args=(port, connections, args.seconds, args.command, q))
+        proc.start()
+        while proc.is_alive() and q.empty():
+            await asyncio.sleep(0.05)
+        res = q.get(timeout=30)
+        proc.join()
+        results[f"connections_{connections}"] = res
+        print(f"{connections:>2} connection(s): {res['per_s']:>9.0f} GETRESPONSE round trips/s "
+              f"(p50 {res['latency_p50_us']:.0f} µs, p99 {res['latency_p99_us']:.0f} µs)")
+    server.close()
+    await server.wait_closed()
+    results["sim_t_after_s"] = handle.controller.now
+    return results
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--seconds", type=float, default=3.0)
+    parser.add_argument("--command", default="I16")
+    args = parser.parse_args()
+    try:
+        import uvloop  # same loop uvicorn runs the service on
+
+        uvloop.install()
+        loop_name = "uvloop"
+    except ImportError:
+        loop_name = "asyncio"
+    print(f"bench_wire: server loop {loop_name}, clients in a separate process, "
+          f"{args.seconds:g} s per run")
+    results = asyncio.run(_serve_and_measure(args))
+    results.update({"loop": loop_name, "python": platform.python_version(),
+                    "cpus": os.cpu_count()})
+    out = ROOT / "bench" / "results" / "wire.json"
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(results, indent=2) + "\n")
+    print(f"wrote {out.relative_to(ROOT)}")
+
+
+if __name__ == "__main__":
+    main()
