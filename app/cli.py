@@ -180,13 +180,13 @@ async def _serve(app: Any, settings: Any, sock: socket.socket, recorder: Any) ->
     app.state.ready = False
     kwargs = {"recorder": recorder} if recorder is not None else {}
     try:
-        servers = await start_listeners(app.state.registry, settings,
+        listeners = await start_listeners(app.state.registry, settings,
                                         out=lambda line: print(line, flush=True), **kwargs)
     except ListenerError as exc:
         print(f"motionsim: {exc}", file=sys.stderr, flush=True)
         sock.close()
         return 1
-    app.state.listeners.extend(servers)
+    app.state.listeners.extend(listener.server for listener in listeners)
     app.state.ready = True
     config = uvicorn.Config(app, log_level="warning", ws_per_message_deflate=False,
                             lifespan="on", timeout_graceful_shutdown=2)

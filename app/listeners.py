@@ -49,6 +49,17 @@ class Protocol:
     controller_setting: str  # Settings field with the controller id
 
 
+@dataclass(frozen=True, slots=True)
+class Listener:
+    """A started protocol listener."""
+
+    protocol: str
+    controller: str
+    host: str
+    port: int
+    server: asyncio.AbstractServer
+
+
 PROTOCOLS: tuple[Protocol, ...] = (
     Protocol("pmac", "api.pmac_ethernet.server", "serve_pmac", DEFAULT_PMAC_PORT,
              "pmac_port", "pmac_controller"),
@@ -73,14 +84,14 @@ async def start_listeners(
     *,
     out: Callable[[str], None] = print,
     **serve_kwargs: Any,
-) -> list[asyncio.AbstractServer]:
-    """Start the protocol listeners ``settings`` asks for; returns the servers started.
+) -> list[Listener]:
+    """Start the protocol listeners ``settings`` asks for; returns those started.
 
     Raises:
         ListenerError: an explicitly requested port could not be bound or served (the servers
             already started are closed first).
     """
-    servers: list[asyncio.AbstractServer] = []
+    started: list[Listener] = []
     host = settings.host
     try:
         for protocol in PROTOCOLS:
@@ -110,14 +121,14 @@ async def start_listeners(
             except OSError as exc:
                 skip(f"cannot listen ({exc.strerror or exc})")
                 continue
-            servers.append(server)
             bound = server.sockets[0].getsockname()[1] if server.sockets else port
+            started.append(Listener(protocol.name, cid, host, bound, server))
             out(f"motionsim listening {protocol.name}://{host}:{bound} (controller {cid})")
     except BaseException:
-        for server in servers:
-            server.close()
+        for listener in started:
+            listener.server.close()
         raise
-    return servers
+    return started
 
 
-__all__ = ["PROTOCOLS", "ListenerError", "Protocol", "start_listeners"]
+__all__ = ["PROTOCOLS", "Listener", "ListenerError", "Protocol", "start_listeners"]

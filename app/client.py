@@ -1,0 +1,277 @@
+"""A small typed client for motionsim's REST API (sync, on httpx), for host authors' tests.
+
+    from app.client import MotionSimClient
+
+    with MotionSimClient("http://127.0.0.1:8000") as ms:
+        ms.create_controller("pmac", id="p", clock="virtual", config={"i16": 5, "i17": 10})
+        ms.terminal("p", "&1 DEFINE ROT 600")
+        ms.load_lines("p", 1, ["X10", "X20"])
+        ms.advance("p", 0.5)
+        for event in ms.events("p", types=["breq"]).events: ...
+
+Every error the service answers is raised as :class:`MotionSimHTTPError` with its ``status``,
+``code`` and the full JSON ``body`` (``pmac_error``, ``field``, ``line`` ...).
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterator, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+from urllib.parse import quote
+
+import httpx
+
+
+class MotionSimHTTPError(Exception):
+    """An error answer: ``status`` (HTTP), ``code`` (stable), ``body`` (the JSON error body)."""
+
+    def __init__(self, status: int, body: Mapping[str, Any]) -> None:
+        self.status = status
+        self.body = dict(body)
+        self.code = str(body.get("code", "error"))
+        self.message = str(body.get("message", ""))
+        super().__init__(f"{status} {self.code}: {self.message}")
+
+
+@dataclass(frozen=True, slots=True)
+class Clock:
+    mode: str
+    factor: float
+    paused: bool
+    t: float
+
+
+@dataclass(frozen=True, slots=True)
+class TerminalReply:
+    reply: str
+    error: str | None
+    pending: bool
+
+
+@dataclass(frozen=True, slots=True)
+class EventsPage:
+    events: list[dict[str, Any]]
+    next: int
+    gap: dict[str, Any] | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class RunUntilResult:
+    matched: dict[str, Any] | None
+    clock: Clock
+
+
+@dataclass(slots=True)
+class LinesAccepted:
+    accepted: int
+    lines_ahead: int
+    free_words: int
+    breq: bool
+    extra: dict[str, Any] = field(default_factory=dict)
+
+
+class MotionSimClient:
+    """REST client for one motionsim service.
+
+    Args:
+        base_url: e.g. ``http://127.0.0.1:8000``.
+        timeout: seconds per request (a realtime terminal command may wait up to ~5 s).
+    """
+
+    def __init__(self, base_url: str, *, timeout: float = 30.0,
+                 transport: httpx.BaseTransport | None = None) -> None:
+        self.base_url = base_url.rstrip("/")
+        #: protocol -> TCP port of the service's protocol listeners, when known (fixture).
+        self.ports: dict[str, int] = {}
+        self.http = httpx.Client(base_url=self.base_url, timeout=timeout, transport=transport,
+                                 trust_env=False)
+
+    @property
+    def url(self) -> str:
+        """The service's base URL."""
+        return self.base_url
+
+    # -- plumbing ----------------------------------------------------------------------------
+
+    def request(self, method: str, path: str, **kwargs: Any) -> Any:
+        """One request; the decoded JSON (None for 204); raises :class:`MotionSimHTTPError`."""
+        r = self.http.request(method, path, **kwargs)
+        if r.status_code >= 400:
+            try:
+                body = r.json()
+            except ValueError:
+                body = {"code": "http_error", "message": r.text}
+            raise MotionSimHTTPError(r.status_code, body)
+        if r.status_code == 204 or not r.content:
+            return None
+        return r.json()
+
+    def close(self) -> None:
+        self.http.close()
+
+    def __enter__(self) -> MotionSimClient:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    # -- service and controllers -------------------------------------------------------------
+
+    def health(self) -> bool:
+        try:
+            return self.http.get("/health").status_code == 200
+        except httpx.TransportError:
+            return False
+
+    def controllers(self) -> list[dict[str, Any]]:
+        return self.request("GET", "/controllers")
+
+    def controller(self, id: str) -> dict[str, Any]:
+        return self.request("GET", f"/controllers/{id}")
+
+    def create_controller(self, kind: str, *, id: str | None = None, clock: str = "virtual",
+                          factor: float = 1.0, config: Mapping[str, Any] | None = None
+                          ) -> dict[str, Any]:
+        body: dict[str, Any] = {"kind": kind, "clock": {"mode": clock, "factor": factor},
+                                "config": dict(config or {})}
+        if id is not None:
+            body["id"] = id
+        return self.request("POST", "/controllers", json=body)
+
+    def delete_controller(self, id: str) -> None:
+        self.request("DELETE", f"/controllers/{id}")
+
+    def reset(self, id: str) -> dict[str, Any]:
+        """The power cycle."""
+        return self.request("POST", f"/controllers/{id}/reset")
+
+    # -- clock -------------------------------------------------------------------------------
+
+    def clock(self, id: str) -> Clock:
+        return Clock(**self.request("GET", f"/controllers/{id}/clock"))
+
+    def set_clock(self, id: str, *, factor: float | None = None, paused: bool | None = None,
+                  mode: str | None = None) -> Clock:
+        body = {k: v for k, v in {"factor": factor, "paused": paused, "mode": mode}.items()
+                if v is not None}
+        return Clock(**self.request("PATCH", f"/controllers/{id}/clock", json=body))
+
+    def advance(self, id: str, seconds: float) -> Clock:
+        return Clock(**self.request("POST", f"/controllers/{id}/clock/advance",
+                                    json={"seconds": seconds}))
+
+    def run_until(self, id: str, type: str, timeout_s: float, **fields: Any) -> RunUntilResult:
+        """Run (virtual) or wait (realtime) for the first new event of ``type`` with ``fields``."""
+        out = self.request("POST", f"/controllers/{id}/clock/run-until",
+                           json={"event": {"type": type, **fields}, "timeout_s": timeout_s})
+        return RunUntilResult(out["matched"], Clock(**out["clock"]))
+
+    # -- events ------------------------------------------------------------------------------
+
+    def events(self, id: str, since: int = 0, types: Sequence[str] | None = None,
+               limit: int = 1000) -> EventsPage:
+        params: list[tuple[str, str | int]] = [("since", since), ("limit", limit)]
+        params += [("type", t) for t in types or ()]
+        out = self.request("GET", f"/controllers/{id}/events", params=params)
+        return EventsPage(out["events"], out["next"], out.get("gap"))
+
+    def all_events(self, id: str, types: Sequence[str] | None = None) -> list[dict[str, Any]]:
+        """Every held event, paging through."""
+        out: list[dict[str, Any]] = []
+        since = 0
+        while True:
+            page = self.events(id, since, types, limit=10_000)
+            out.extend(page.events)
+            if page.next == since:
+                return out
+            since = page.next
+
+    def subscribe(self, id: str, since: int = 0, types: Sequence[str] | None = None,
+                  timeout: float | None = None) -> Iterator[dict[str, Any]]:
+        """Events over the WebSocket: the backlog after ``since``, then live ones (and gaps)."""
+        from websockets.sync.client import connect
+
+        query = "&".join([f"since={since}"] + [f"type={quote(t)}" for t in types or ()])
+        url = self.base_url.replace("http", "ws", 1) + f"/controllers/{id}/events?{query}"
+        with connect(url, compression=None, open_timeout=10, proxy=None) as ws:
+            while True:
+                yield json.loads(ws.recv(timeout=timeout))
+
+    # -- terminal and variables --------------------------------------------------------------
+
+    def terminal(self, id: str, command: str) -> TerminalReply:
+        return TerminalReply(**self.request("POST", f"/controllers/{id}/terminal",
+                                            json={"command": command}))
+
+    def terminal_state(self, id: str) -> dict[str, Any]:
+        return self.request("GET", f"/controllers/{id}/terminal")
+
+    def get_variable(self, id: str, name: str) -> float:
+        return self.request("GET", f"/controllers/{id}/variables/{quote(name)}")["value"]
+
+    def set_variable(self, id: str, name: str, value: float) -> float:
+        return self.request("PUT", f"/controllers/{id}/variables/{quote(name)}",
+                            json={"value": value})["value"]
+
+    # -- PMAC --------------------------------------------------------------------------------
+
+    def coord(self, id: str, cs: int) -> dict[str, Any]:
+        return self.request("GET", f"/controllers/{id}/coord/{cs}")
+
+    def define_rotary(self, id: str, cs: int, size_words: int) -> Any:
+        return self.request("PUT", f"/controllers/{id}/coord/{cs}/rotary",
+                            json={"size_words": size_words})
+
+    def delete_rotary(self, id: str, cs: int) -> Any:
+        return self.request("DELETE", f"/controllers/{id}/coord/{cs}/rotary")
+
+    def load_lines(self, id: str, cs: int, lines: Sequence[str],
+                   first_seq: int | None = None) -> LinesAccepted:
+        body: dict[str, Any] = {"lines": list(lines)}
+        if first_seq is not None:
+            body["first_seq"] = first_seq
+        out = dict(self.request("POST", f"/controllers/{id}/coord/{cs}/rotary/lines", json=body))
+        known = {k: out.pop(k) for k in ("accepted", "lines_ahead", "free_words", "breq")}
+        return LinesAccepted(**known, extra=out)
+
+    def run(self, id: str, cs: int) -> Any:
+        return self.request("POST", f"/controllers/{id}/coord/{cs}/run")
+
+    def quit(self, id: str, cs: int) -> Any:
+        return self.request("POST", f"/controllers/{id}/coord/{cs}/quit")
+
+    def abort(self, id: str, cs: int) -> Any:
+        return self.request("POST", f"/controllers/{id}/coord/{cs}/abort")
+
+    # -- Trio --------------------------------------------------------------------------------
+
+    def axis(self, id: str, axis: int) -> dict[str, Any]:
+        return self.request("GET", f"/controllers/{id}/axes/{axis}")
+
+    def set_axis(self, id: str, axis: int, **params: float) -> dict[str, Any]:
+        return self.request("PATCH", f"/controllers/{id}/axes/{axis}", json=params)
+
+    def move(self, id: str, axis: int, type: str, args: Sequence[float],
+             process: int | None = None, wait: bool = False) -> dict[str, Any]:
+        body: dict[str, Any] = {"type": type, "args": list(args)}
+        if process is not None:
+            body["process"] = process
+        return self.request("POST", f"/controllers/{id}/axes/{axis}/moves", json=body,
+                            params={"wait": "true"} if wait else None)
+
+    def store_program(self, id: str, name: str, text: str) -> Any:
+        return self.request("PUT", f"/controllers/{id}/programs/{name}", content=text.encode(),
+                            headers={"content-type": "text/plain"})
+
+    def run_program(self, id: str, name: str, process: int | None = None) -> int:
+        body = {} if process is None else {"process": process}
+        return self.request("POST", f"/controllers/{id}/programs/{name}/run", json=body)["process"]
+
+    def processes(self, id: str) -> list[dict[str, Any]]:
+        return self.request("GET", f"/controllers/{id}/processes")
+
+
+__all__ = ["Clock", "EventsPage", "LinesAccepted", "MotionSimClient", "MotionSimHTTPError",
+           "RunUntilResult", "TerminalReply"]
