@@ -23,6 +23,7 @@ from pydantic import (
     BaseModel,
     ConfigDict,
     Field,
+    PrivateAttr,
     ValidationError,
     ValidationInfo,
     field_validator,
@@ -424,6 +425,29 @@ class Scenario(Strict):
     params: dict[str, str] = Field(default_factory=dict)
     metric: str = "time_starved_s"
 
+    _lines: dict[tuple[Any, ...], int] = PrivateAttr(default_factory=dict)
+    _file: str | None = PrivateAttr(None)
+    _base_dir: Path | None = PrivateAttr(None)
+    _raw: Any = PrivateAttr(None)
+
+    @property
+    def file(self) -> str | None:
+        return self._file
+
+    @property
+    def base_dir(self) -> Path | None:
+        return self._base_dir
+
+    @property
+    def raw(self) -> Any:
+        """The data as read from the file (sweeps override values in a copy of it)."""
+        return self._raw
+
+    def error_at(self, path: tuple[Any, ...], message: str) -> ScenarioError:
+        """A :class:`ScenarioError` for ``path`` (keys / indices), with its file line."""
+        fpath, line = locate(self._raw, path, self._lines)
+        return ScenarioError(message, file=self._file, line=line, field=dotted(fpath))
+
     @field_validator("controllers")
     @classmethod
     def _ids(cls, v: dict[str, ControllerSpec]) -> dict[str, ControllerSpec]:
@@ -516,6 +540,7 @@ def parse_scenario(
         raise ScenarioError(
             first["message"], file=file, line=first["line"], field=first["field"], errors=errors
         )
+    scn._lines, scn._file, scn._base_dir, scn._raw = lines, file, base_dir, data
     return scn
 
 

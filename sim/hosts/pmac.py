@@ -76,6 +76,11 @@ class PmacHost:
         self.done_t: float | None = None
         self._started = False
         self.process = None
+        self.stall_until = 0.0
+
+    def stall(self, until_s: float) -> None:
+        """Fault: the host does nothing until ``until_s`` (a busy or paused PC)."""
+        self.stall_until = max(self.stall_until, until_s)
 
     @property
     def remaining(self) -> int:
@@ -95,6 +100,8 @@ class PmacHost:
         A batch that does not fit (``BufferFull``) is halved until it does; returns the
         ``LoadResult`` or ``None`` when not even one line fits.
         """
+        if self.env.now < self.stall_until:
+            yield self.env.timeout(self.stall_until - self.env.now)
         delay = self.write_latency.draw(self.rng)
         if delay > 0:
             yield self.env.timeout(delay)
@@ -244,7 +251,10 @@ class BreqInterruptHost(PmacHost):
             self._missed_at.append(ev.t)
 
     def _flush_missed(self) -> None:
-        for t in self._missed_at:
+        """At the end of the service routine: an edge that came while interrupts were masked
+        is lost if BREQ is still high now — no new edge will come to interrupt the host."""
+        if self._missed_at and self._breq_high():
+            t = self._missed_at[-1]
             self.missed += 1
             self.log.emit(
                 "host_irq", host=self.name, cs=self.cs, missed=True, latency_s=self.env.now - t

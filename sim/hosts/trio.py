@@ -87,6 +87,15 @@ class TrioFeeder:
         self.issued = 0
         self.done_t: float | None = None
         self.process = None
+        self.stall_until = 0.0
+
+    def stall(self, until_s: float) -> None:
+        """Fault: the host does nothing until ``until_s``."""
+        self.stall_until = max(self.stall_until, until_s)
+
+    def wait_if_stalled(self) -> Generator:
+        if self.env.now < self.stall_until:
+            yield self.env.timeout(self.stall_until - self.env.now)
 
     def start(self) -> None:
         self.process = self.env.process(self._run())
@@ -117,6 +126,7 @@ class TrioFeeder:
 
     def place_blocking(self, move: Move) -> Generator:
         """Issue ``move``, waiting (blocked) until the controller has room for it."""
+        yield from self.wait_if_stalled()
         if self.try_move(move):
             return
         fields = {"host": self.name, "axis": move.axis, "process": self.process_no or 0}
@@ -148,6 +158,7 @@ class NtypeFeeder(TrioFeeder):
             queues.setdefault(m.axis, []).append(m)
         heads = dict.fromkeys(queues, 0)
         while any(heads[a] < len(q) for a, q in queues.items()):
+            yield from self.wait_if_stalled()
             for a in sorted(queues):
                 free = heads[a] < len(queues[a]) and self.controller.axis(a)["ntype"] == 0
                 if free and self.try_move(queues[a][heads[a]]):
