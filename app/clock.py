@@ -17,6 +17,8 @@ clock), which is all :class:`app.registry.ControllerHandle` needs.
 
 Events exactly at a target instant are processed: advancing by 1 s from t = 0 runs everything
 scheduled at t <= 1 s, and leaves ``env.now`` at 1 s even when nothing was scheduled there.
+"Exactly" allows 1 ns of float rounding (``3 * 0.1`` is 0.30000000000000004): an event that
+close after the target is processed too, and ``env.now`` is then its time.
 """
 
 from __future__ import annotations
@@ -41,6 +43,9 @@ log = logging.getLogger("motionsim.clock")
 ClockMode = Literal["virtual", "realtime"]
 
 _INF = float("inf")
+
+#: Float rounding tolerated when deciding whether an event is due at a target instant.
+_TIME_EPS_S = 1e-9
 
 
 def _check_seconds(value: float, field: str) -> float:
@@ -73,7 +78,8 @@ def run_env_to(env: simpy.Environment, target: float, max_steps: int | None = No
     yields to the event loop and calls again); True when ``env.now == target`` (or later).
     """
     steps = 0
-    while env.peek() <= target:
+    limit = target + max(_TIME_EPS_S, abs(target) * 1e-12)
+    while env.peek() <= limit:
         if max_steps is not None and steps >= max_steps:
             return False
         env.step()
@@ -174,7 +180,8 @@ class VirtualClock(Clock):
         try:
             t_wall_end = None if wall_budget_s is None else time.monotonic() + wall_budget_s
             steps = 0
-            while not found and env.peek() <= deadline:
+            limit = deadline + _TIME_EPS_S
+            while not found and env.peek() <= limit:
                 env.step()
                 steps += 1
                 if t_wall_end is not None and steps % 4096 == 0 and time.monotonic() > t_wall_end:
@@ -216,7 +223,7 @@ class VirtualClock(Clock):
         """
         env = self.env
         deadline = env.now + max_s
-        while not reply.done and env.peek() <= deadline:
+        while not reply.done and env.peek() <= deadline + _TIME_EPS_S:
             env.step()
         if not reply.done:
             run_env_to(env, deadline)

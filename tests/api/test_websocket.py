@@ -1,0 +1,100 @@
+"""WebSocket /controllers/{id}/events: backlog, live, resume by seq, gaps, filters."""
+
+from __future__ import annotations
+
+import json
+import threading
+
+import pytest
+from fastapi.testclient import TestClient
+from starlette.websockets import WebSocketDisconnect
+
+from api.main import create_app
+from tests.conftest import dummy_settings
+
+
+@pytest.fixture
+def tc():
+    app = create_app(dummy_settings())
+    with TestClient(app) as client:
+        yield client
+
+
+def _recv(ws, n):
+    return [json.loads(ws.receive_text()) for _ in range(n)]
+
+
+def test_backlog_then_live_events_one_json_event_per_message(tc):
+    tc.post("/controllers/d/clock/advance", json={"seconds": 0.03})
+    with tc.websocket_connect("/controllers/d/events") as ws:
+        backlog = _recv(ws, 3)
+        assert [(e["seq"], e["type"], e["n"], e["controller"]) for e in backlog] == [
+            (1, "tick", 1, "d"), (2, "tick", 2, "d"), (3, "tick", 3, "d")]
+        tc.post("/controllers/d/clock/advance", json={"seconds": 0.02})
+        live = _recv(ws, 2)
+        assert [(e["seq"], e["t"]) for e in live] == [(4, pytest.approx(0.04)),
+                                                     (5, pytest.approx(0.05))]
+
+
+def test_reconnect_with_last_seq_resumes_without_gaps_or_duplicates(tc):
+    seen = []
+    tc.post("/controllers/d/clock/advance", json={"seconds": 0.05})
+    with tc.websocket_connect("/controllers/d/events?since=0") as ws:
+        seen += _recv(ws, 3)
+    # disconnected: more events happen meanwhile
+    tc.post("/controllers/d/clock/advance", json={"seconds": 0.05})
+    with tc.websocket_connect(f"/controllers/d/events?since={seen[-1]['seq']}") as ws:
+        seen += _recv(ws, 7)
+        tc.post("/controllers/d/clock/advance", json={"seconds": 0.02})
+        seen += _recv(ws, 2)
+    assert [e["seq"] for e in seen] == list(range(1, 13))
+    assert [e["n"] for e in seen] == list(range(1, 13))
+
+
+def test_type_filter(tc):
+    tc.post("/controllers/d/clock/advance", json={"seconds": 0.02})
+    tc.put("/controllers/d/variables/V1", json={"value": 1})
+    with tc.websocket_connect("/controllers/d/events?type=var&type=ping") as ws:
+        assert _recv(ws, 1)[0]["seq"] == 3
+        tc.post("/controllers/d/clock/advance", json={"seconds": 0.02})
+        tc.post("/controllers/d/terminal", json={"command": "PING p"})
+        msg = _recv(ws, 1)[0]
+        assert (msg["type"], msg["seq"], msg["text"]) == ("ping", 6, "p")
+
+
+def test_a_subscriber_behind_the_ring_gets_a_gap_message_first(tc):
+    log = tc.app.state.registry.get("d").controller.log
+    for i in range(log.capacity + 5):
+        log.emit("fill", i=i)
+    with tc.websocket_connect("/controllers/d/events?since=2") as ws:
+        first, second = _recv(ws, 2)
+    assert first == {"type": "gap", "from": 3, "to": 5}
+    assert second["seq"] == 6
+
+
+def test_unknown_controller_closes_with_4404(tc):
+    with pytest.raises(WebSocketDisconnect) as exc, \
+            tc.websocket_connect("/controllers/nope/events") as ws:
+        ws.receive_text()
+    assert exc.value.code == 4404
+
+
+def test_a_slow_subscriber_does_not_block_the_simulation_or_others(tc):
+    """One subscriber never reads; another reads everything; the sim keeps going."""
+    with tc.websocket_connect("/controllers/d/events") as slow, \
+            tc.websocket_connect("/controllers/d/events") as fast:
+        got = []
+        done = threading.Event()
+
+        def reader():
+            while len(got) < 2000:
+                got.append(json.loads(fast.receive_text()))
+            done.set()
+
+        th = threading.Thread(target=reader, daemon=True)
+        th.start()
+        r = tc.post("/controllers/d/clock/advance", json={"seconds": 20.0})
+        assert r.json()["t"] == pytest.approx(20.0)
+        assert done.wait(20)
+        assert [e["seq"] for e in got] == list(range(1, 2001))
+        assert json.loads(slow.receive_text())["seq"] == 1
