@@ -1,0 +1,350 @@
+"""THE placement rule of the Trio Motion Coordinator: MTYPE -> NTYPE -> process buffer.
+
+Every axis has two move buffers — MTYPE (the move executing) and NTYPE (the next move) — and
+every process has one process buffer, shared by all the axes it drives (TN20-16, spec §1).
+This module alone decides where a move goes and when it moves on.
+
+Placement, at the instant a move command is issued by process ``p`` on axes ``A``:
+
+1. ``p``'s process buffer is full -> the move cannot be buffered: a BASIC process waits at
+   the line, the command line locks, the REST API answers 409 ``buffer_full``.
+2. MTYPE and NTYPE of every axis in ``A`` are free -> MTYPE (the move starts at the next
+   servo period);
+3. else NTYPE of every axis in ``A`` is free -> NTYPE;
+4. else -> ``p``'s process buffer (PMOVE = 1).
+
+Then, at every servo period ``k`` at which something can change, in this order (TJ2P-21):
+
+1. *sequencing*: a process buffer move goes to NTYPE when the NTYPE of **every** axis it
+   needs is free (all or nothing; PMOVE back to 0);
+2. *move loading*: an NTYPE move goes to MTYPE when the MTYPE of every axis it needs is free,
+   and starts at ``k``;
+3. the MTYPE moves advance; a move whose profile ends at ``k`` ends there (MTYPE = 0).
+
+So "the instant the move in the MTYPE register is finished, the buffered move is pulled
+forward and starts in the next servo period" (TN20): a move ending at cycle ``e`` is followed
+by its NTYPE move starting at ``e + 1``, and the process buffer drains into the freed NTYPE at
+``e + 2`` (sequencing precedes loading, spec §1.2 ``[INF]``). A process waiting at a move line
+has its move buffered in that same servo period, after the drain.
+
+Only the servo periods where something happens cost a SimPy event: move ends are scheduled
+when moves start, and a period is scheduled only when a buffer can move on.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Callable
+from heapq import heappush
+from typing import Any
+
+import simpy
+from simpy.events import URGENT
+
+from sim.events import EventLog
+from sim.timing import ServoClock
+from sim.trio.axis import Axis
+from sim.trio.moves import Move
+
+Placed = str  # "mtype" | "ntype" | "process_buffer"
+OnPlaced = Callable[[Placed], None]
+
+
+def schedule_at(env: simpy.Environment, t: float, callback: Callable[[Any], None]) -> None:
+    """Run ``callback`` at the absolute simulated instant ``t``, before normal events at ``t``.
+
+    The servo interrupt pre-empts BASIC, so it runs with SimPy's URGENT priority. SimPy only
+    offers relative delays, and ``now + (t - now)`` can miss ``t`` by a rounding step; the
+    event is therefore pushed at ``t`` itself so every servo instant is exactly ``k * period``.
+    """
+    ev = simpy.Event(env)
+    ev._ok = True
+    ev._value = None
+    ev.callbacks.append(callback)  # type: ignore[union-attr]
+    heappush(env._queue, (t, URGENT, next(env._eid), ev))  # type: ignore[attr-defined]
+
+
+class Waiter:
+    """A move waiting for its process buffer to free; ``cancel()`` withdraws it."""
+
+    __slots__ = ("move", "on_placed", "alive")
+
+    def __init__(self, move: Move, on_placed: OnPlaced) -> None:
+        self.move = move
+        self.on_placed = on_placed
+        self.alive = True
+
+    def cancel(self) -> None:
+        self.alive = False
+
+
+class MotionBuffers:
+    """Move buffers of all axes and process buffers of all processes of one controller."""
+
+    def __init__(
+        self,
+        env: simpy.Environment,
+        clock: ServoClock,
+        log: EventLog,
+        axes: list[Axis],
+    ) -> None:
+        self.env = env
+        self.clock = clock
+        self.log = log
+        self.axes = axes
+        self.process_buffer: dict[int, Move] = {}
+        self._waiters: dict[int, deque[Waiter]] = {}
+        self._ntype: list[Move] = []  # moves in NTYPE, oldest first
+        self._active: list[Move] = []  # moves in MTYPE, oldest first
+        self._starting: dict[int, list[Move]] = {}  # placed straight into MTYPE, by start cycle
+        self._ticks: set[int] = set()
+        self._watchers: list[tuple[Callable[[], bool], Callable[[], None]]] = []
+        self._dead = False
+        self._next_id = 0
+
+    def new_id(self) -> int:
+        self._next_id += 1
+        return self._next_id
+
+    def shutdown(self) -> None:
+        """Power cycle: scheduled servo periods of this instance do nothing any more."""
+        self._dead = True
+        for q in self._waiters.values():
+            for w in q:
+                w.alive = False
+
+    # -- observation -----------------------------------------------------------------------
+
+    def _changed(self, ax: Axis) -> None:
+        m, nm = ax.mtype, ax.ntype
+        self.log.emit(
+            "axis",
+            axis=ax.n,
+            mtype=m.mtype if m is not None else 0,
+            ntype=nm.mtype if nm is not None else 0,
+        )
+        if self._watchers:
+            self._check_watchers()
+
+    def _check_watchers(self) -> None:
+        ready = [w for w in self._watchers if w[0]()]
+        if ready:
+            self._watchers = [w for w in self._watchers if w not in ready]
+            for _pred, cb in ready:
+                cb()
+
+    def when(
+        self, predicate: Callable[[], bool], callback: Callable[[], None]
+    ) -> Callable[[], None]:
+        """Call ``callback`` as soon as ``predicate()`` holds after a buffer change (or now).
+
+        Used by ``WAIT IDLE`` / ``WAIT LOADED``; returns a function that withdraws the wait.
+        """
+        if predicate():
+            callback()
+            return lambda: None
+        entry = (predicate, callback)
+        self._watchers.append(entry)
+
+        def withdraw() -> None:
+            if entry in self._watchers:
+                self._watchers.remove(entry)
+
+        return withdraw
+
+    def pmove(self, process: int) -> int:
+        """PMOVE: 1 while ``process``' process buffer holds a move."""
+        return 1 if process in self.process_buffer else 0
+
+    # -- placement -------------------------------------------------------------------------
+
+    def place(self, move: Move) -> Placed | None:
+        """Put ``move`` in the first free level (MTYPE, NTYPE, process buffer), or None."""
+        p = move.process
+        if p in self.process_buffer:
+            return None
+        axes = [self.axes[a] for a in move.axes]
+        if all(ax.mtype is None and ax.ntype is None for ax in axes):
+            k = self.clock.after(self.env.now)
+            self._active.append(move)
+            self._starting.setdefault(k, []).append(move)
+            for ax in axes:
+                ax.mtype = move
+                self._changed(ax)
+            self._tick_at(k)
+            return "mtype"
+        if all(ax.ntype is None for ax in axes):
+            self._ntype.append(move)
+            for ax in axes:
+                ax.ntype = move
+                self._changed(ax)
+            self._kick()
+            return "ntype"
+        self.process_buffer[p] = move
+        self.log.emit("process_buffer", process=p, axis=move.axes[0], mtype=move.mtype)
+        self._kick()
+        return "process_buffer"
+
+    def place_or_wait(self, move: Move, on_placed: OnPlaced) -> Placed | Waiter:
+        """Place ``move`` now, or queue it behind its process buffer (FIFO per process).
+
+        ``on_placed(level)`` is called in the servo period where the process buffer frees and
+        the move is placed; the returned :class:`Waiter` can be cancelled before that.
+        """
+        q = self._waiters.get(move.process)
+        if not q:
+            placed = self.place(move)
+            if placed is not None:
+                return placed
+        w = Waiter(move, on_placed)
+        self._waiters.setdefault(move.process, deque()).append(w)
+        return w
+
+    # -- cancelling ------------------------------------------------------------------------
+
+    def cancel(self, axis: int) -> None:
+        """CANCEL: the executing move on ``axis`` (and its group) decelerates at DECEL and
+        ends; a move in NTYPE then starts as after any move end (spec §1.6 ``[BK]``)."""
+        m = self.axes[axis].mtype
+        if m is None:
+            return
+        if m.start_tick is None:  # placed, not yet started: it never runs
+            self._starting[self._start_cycle(m)].remove(m)
+            self._active.remove(m)
+            for a in m.axes:
+                ax = self.axes[a]
+                ax.mtype = None
+                self._changed(ax)
+            self._kick()
+            return
+        assert m.profile is not None
+        now_k = self.clock.index(self.env.now)
+        tau = self.clock.t(now_k) - m.t_start
+        m.profile = m.profile.cancelled_at(tau, self.axes[m.axes[0]].decel)
+        end = max(m.start_tick + self.clock.cycles(m.profile.duration), now_k + 1)
+        m.end_tick = end
+        self._tick_at(end)
+
+    def _start_cycle(self, m: Move) -> int:
+        for k, ms in self._starting.items():
+            if m in ms:
+                return k
+        raise KeyError(m)
+
+    def cancel_next(self, axis: int) -> None:
+        """CANCEL(1): drop the move waiting in NTYPE of ``axis`` (and its group)."""
+        m = self.axes[axis].ntype
+        if m is None:
+            return
+        self._ntype.remove(m)
+        for a in m.axes:
+            ax = self.axes[a]
+            ax.ntype = None
+            self._changed(ax)
+        self._kick()
+
+    def rapidstop(self) -> None:
+        """RAPIDSTOP: every process buffer and NTYPE emptied, every executing move cancelled
+        (buffer clearing is ``[BK]``: the MC2xx manual text was not found)."""
+        for p in sorted(self.process_buffer):
+            m = self.process_buffer.pop(p)
+            self.log.emit("process_buffer", process=p, axis=m.axes[0], mtype=0)
+        for m in list(self._ntype):
+            self.cancel_next(m.axes[0])
+        for m in list(self._active):
+            self.cancel(m.axes[0])
+
+    # -- the servo period ------------------------------------------------------------------
+
+    def _tick_at(self, k: int) -> None:
+        if k in self._ticks:
+            return
+        self._ticks.add(k)
+        schedule_at(self.env, self.clock.t(k), lambda _ev: self._servo(k))
+
+    def _kick(self) -> None:
+        """Something may move on at the next servo period: make sure that period runs."""
+        if self._can_progress():
+            self._tick_at(self.clock.after(self.env.now))
+
+    def _can_progress(self) -> bool:
+        axes = self.axes
+        for m in self._ntype:
+            if all(axes[a].mtype is None for a in m.axes):
+                return True
+        for m in self.process_buffer.values():
+            if all(axes[a].ntype is None for a in m.axes):
+                return True
+        return any(q and p not in self.process_buffer for p, q in self._waiters.items())
+
+    def _servo(self, k: int) -> None:
+        self._ticks.discard(k)
+        if self._dead:
+            return
+        axes = self.axes
+        # 1. sequencing: process buffers -> NTYPE (all the move's axes or none)
+        if self.process_buffer:
+            for p in sorted(self.process_buffer):
+                m = self.process_buffer[p]
+                if all(axes[a].ntype is None for a in m.axes):
+                    del self.process_buffer[p]
+                    self._ntype.append(m)
+                    for a in m.axes:
+                        axes[a].ntype = m
+                        self._changed(axes[a])
+                    self.log.emit("process_buffer", process=p, axis=m.axes[0], mtype=0)
+        # 2. move loading: NTYPE -> MTYPE, the move starts now
+        if self._ntype:
+            for m in list(self._ntype):
+                if all(axes[a].mtype is None for a in m.axes):
+                    self._ntype.remove(m)
+                    self._active.append(m)
+                    for a in m.axes:
+                        ax = axes[a]
+                        ax.ntype = None
+                        ax.mtype = m
+                        self._changed(ax)
+                    self._begin(m, k)
+        starting = self._starting.pop(k, None)
+        if starting:
+            for m in starting:
+                self._begin(m, k)
+        # 3. the MTYPE moves advance; those whose profile is complete end now
+        ending = [m for m in self._active if m.end_tick == k]
+        for m in ending:
+            self._active.remove(m)
+            final = m.final_positions()
+            for i, a in enumerate(m.axes):
+                ax = axes[a]
+                ax.pos = final[i]
+                ax.mtype = None
+                self.log.emit("move_end", axis=a, mtype=m.mtype)
+                self._changed(ax)
+        # 4. processes waiting at a move line: their move goes into the freed buffer
+        if self._waiters:
+            for p in sorted(self._waiters):
+                q = self._waiters[p]
+                while q and p not in self.process_buffer:
+                    w = q.popleft()
+                    if not w.alive:
+                        continue
+                    placed = self.place(w.move)
+                    assert placed is not None
+                    w.alive = False
+                    w.on_placed(placed)
+            for p in [p for p, q in self._waiters.items() if not q]:
+                del self._waiters[p]
+        if self._can_progress():
+            self._tick_at(k + 1)
+
+    def _begin(self, m: Move, k: int) -> None:
+        m.begin(k, self.clock.t(k), [self.axes[a] for a in m.axes])
+        assert m.profile is not None
+        for a in m.axes:
+            self.log.emit("move_start", axis=a, mtype=m.mtype)
+        if m.profile.duration != float("inf"):
+            m.end_tick = k + max(1, self.clock.cycles(m.profile.duration))
+            self._tick_at(m.end_tick)
+
+
+__all__ = ["MotionBuffers", "Waiter", "schedule_at"]

@@ -1,0 +1,439 @@
+"""Compile parsed Trio BASIC into a flat list of operations with resolved jump targets.
+
+The controller compiles a program before it runs: comments stripped, expressions turned to
+reverse Polish, loop-structure destinations embedded (spec §2.1, TJ1P-31). Here each
+statement becomes one closure ``op(ctx)`` returning what the driver does next:
+
+* ``None`` — go on with the next operation;
+* an ``int`` — jump there;
+* a :class:`Block` — the move could not be buffered: wait at this line for the process buffer;
+* :class:`WaitFor` / :class:`Poll` / :class:`Sleep` — ``WAIT IDLE`` / ``WAIT LOADED``,
+  ``WAIT UNTIL``, ``WA(ms)``;
+* :data:`HALT` — ``STOP``: the program ends.
+
+Structure errors (NEXT without FOR, IF without ENDIF, unknown label ...) are
+:class:`sim.errors.ParseError` with the line and column of the statement at fault, raised
+before anything runs. ``costs[pc]`` is 1 for a statement the interpreter executes and 0 for
+the jumps structure adds (an ELSE reached at the end of the THEN branch).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from sim.errors import ParseError
+from sim.trio import statements as s
+from sim.trio.basic_errors import GOSUB_DEPTH, RETURN_WITHOUT_GOSUB, BasicError
+from sim.trio.expressions import compile_expr, format_number
+
+Op = Callable[[Any], Any]
+
+#: GOSUB nesting the interpreter allows before a stack overflow error (``[BK]``).
+GOSUB_LIMIT = 64
+
+
+class Block:
+    """A move line whose process buffer is full: wait there until the move is buffered."""
+
+    __slots__ = ("move",)
+
+    def __init__(self, move: Any) -> None:
+        self.move = move
+
+
+class WaitFor:
+    """Wait until ``predicate()`` holds after a change of the move buffers."""
+
+    __slots__ = ("predicate",)
+
+    def __init__(self, predicate: Callable[[], bool]) -> None:
+        self.predicate = predicate
+
+
+class Poll:
+    """Wait until ``predicate()`` holds, re-tested once per servo period."""
+
+    __slots__ = ("predicate",)
+
+    def __init__(self, predicate: Callable[[], bool]) -> None:
+        self.predicate = predicate
+
+
+class Sleep:
+    __slots__ = ("seconds",)
+
+    def __init__(self, seconds: float) -> None:
+        self.seconds = seconds
+
+
+HALT = object()
+
+
+@dataclass(slots=True)
+class Code:
+    """A compiled program: operations, their source lines and costs, labels."""
+
+    ops: list[Op]
+    lines: list[int]
+    costs: list[int]
+    texts: tuple[str, ...]
+    labels: dict[str, int]
+
+    def text(self, pc: int) -> str:
+        ln = self.lines[pc]
+        return self.texts[ln - 1].strip() if 0 < ln <= len(self.texts) else ""
+
+
+class _Compiler:
+    def __init__(self, program: s.Program) -> None:
+        self.program = program
+        self.ops: list[Op] = []
+        self.lines: list[int] = []
+        self.costs: list[int] = []
+        self.labels: dict[str, int] = {}
+        self.patches: list[tuple[int, str, s.Stmt]] = []  # (pc, label, stmt) for GOTO/GOSUB
+        self.blocks: list[tuple[str, s.Stmt, dict[str, Any]]] = []
+
+    def error(self, st: s.Stmt, message: str) -> ParseError:
+        lines = self.program.lines
+        text = lines[st.line - 1] if 0 < st.line <= len(lines) else None
+        return ParseError(message, line=st.line, column=st.column, text=text)
+
+    def emit(self, op: Op, st: s.Stmt, cost: int = 1) -> int:
+        self.ops.append(op)
+        self.lines.append(st.line)
+        self.costs.append(cost)
+        return len(self.ops) - 1
+
+    def placeholder(self, st: s.Stmt, cost: int = 1) -> int:
+        return self.emit(_unpatched, st, cost)
+
+    def set_op(self, pc: int, op: Op) -> None:
+        self.ops[pc] = op
+
+    # -- driving ---------------------------------------------------------------------------
+
+    def run(self) -> Code:
+        for st in self.program.statements:
+            self.statement(st)
+        if self.blocks:
+            kind, st, _ = self.blocks[-1]
+            closer = {"FOR": "NEXT", "IF": "ENDIF", "WHILE": "WEND", "REPEAT": "UNTIL"}[kind]
+            raise self.error(st, f"{kind} without {closer}")
+        for pc, label, st in self.patches:
+            if label not in self.labels:
+                raise self.error(st, f"label {label!r} is not defined")
+            target = self.labels[label]
+            if isinstance(st, s.Goto):
+                self.set_op(pc, _jump(target))
+            else:
+                self.set_op(pc, _gosub(target, pc + 1))
+        return Code(self.ops, self.lines, self.costs, self.program.lines, self.labels)
+
+    def statement(self, st: s.Stmt) -> None:
+        method = getattr(self, "st_" + type(st).__name__)
+        method(st)
+
+    # -- simple statements -----------------------------------------------------------------
+
+    def st_Assign(self, st: s.Assign) -> None:
+        value = compile_expr(st.value)
+        tgt = st.target
+        if isinstance(tgt, s.Local):
+            name = tgt.name
+
+            def op(c: Any) -> None:
+                c.set_local(name, value(c))
+
+        elif isinstance(tgt, s.VrRef):
+            idx = compile_expr(tgt.index)
+
+            def op(c: Any) -> None:
+                c.set_vr(idx(c), value(c))
+
+        elif isinstance(tgt, s.TableRef):
+            idx = compile_expr(tgt.index)
+
+            def op(c: Any) -> None:
+                c.set_table(idx(c), value(c))
+
+        else:
+            pname = tgt.name
+            axis = compile_expr(tgt.axis) if tgt.axis is not None else None
+
+            def op(c: Any) -> None:
+                c.set_param(pname, axis(c) if axis is not None else None, value(c))
+
+        self.emit(op, st)
+
+    def st_TableWrite(self, st: s.TableWrite) -> None:
+        start = compile_expr(st.start)
+        values = [compile_expr(v) for v in st.values]
+
+        def op(c: Any) -> None:
+            base = start(c)
+            for i, v in enumerate(values):
+                c.set_table(base + i, v(c))
+
+        self.emit(op, st)
+
+    def st_Base(self, st: s.Base) -> None:
+        axes = [compile_expr(a) for a in st.axes]
+        self.emit(lambda c: c.set_base([a(c) for a in axes]), st)
+
+    def st_MoveCmd(self, st: s.MoveCmd) -> None:
+        kind = st.kind
+        args = [compile_expr(a) for a in st.args]
+        axis = compile_expr(st.axis) if st.axis is not None else None
+        lines = self.program.lines
+        text = lines[st.line - 1].strip() if 0 < st.line <= len(lines) else kind
+        if len(args) == 1 and axis is not None:
+            (a0,) = args
+
+            def op(c: Any) -> Any:
+                return c.issue(kind, (a0(c),), axis(c), text)
+
+        else:
+
+            def op(c: Any) -> Any:
+                return c.issue(
+                    kind, tuple(a(c) for a in args), axis(c) if axis is not None else None, text
+                )
+
+        self.emit(op, st)
+
+    def st_Cancel(self, st: s.Cancel) -> None:
+        mode = compile_expr(st.mode) if st.mode is not None else None
+        axis = compile_expr(st.axis) if st.axis is not None else None
+        self.emit(
+            lambda c: c.cancel(
+                mode(c) if mode is not None else 0.0, axis(c) if axis is not None else None
+            ),
+            st,
+        )
+
+    def st_RapidStop(self, st: s.RapidStop) -> None:
+        self.emit(lambda c: c.rapidstop(), st)
+
+    def st_Print(self, st: s.Print) -> None:
+        parts: list[tuple[Callable[[Any], str], str]] = []
+        for e, sep in st.items:
+            if isinstance(e, s.Str):
+                txt = e.value
+                parts.append((lambda c, txt=txt: txt, sep))
+            else:
+                f = compile_expr(e)
+                parts.append((lambda c, f=f: format_number(f(c)), sep))
+        newline = not st.items or st.items[-1][1] != ";"
+
+        def op(c: Any) -> None:
+            out = []
+            for fn, sep in parts:
+                out.append(fn(c))
+                if sep == ",":
+                    out.append("\t")
+            c.output("".join(out), newline)
+
+        self.emit(op, st)
+
+    def st_Stop(self, st: s.Stop) -> None:
+        if st.program is None:
+            self.emit(lambda c: HALT, st)
+        else:
+            name = st.program
+            self.emit(lambda c: c.stop_program(name), st)
+
+    def st_Run(self, st: s.Run) -> None:
+        name = st.program
+        proc = compile_expr(st.process) if st.process is not None else None
+        self.emit(lambda c: c.run_program(name, proc(c) if proc is not None else None), st)
+
+    def st_Wa(self, st: s.Wa) -> None:
+        ms = compile_expr(st.ms)
+        self.emit(lambda c: Sleep(max(0.0, ms(c)) / 1000.0), st)
+
+    def st_WaitIdle(self, st: s.WaitIdle) -> None:
+        axis = compile_expr(st.axis) if st.axis is not None else None
+        self.emit(lambda c: c.wait_axis("IDLE", axis(c) if axis is not None else None), st)
+
+    def st_WaitLoaded(self, st: s.WaitLoaded) -> None:
+        axis = compile_expr(st.axis) if st.axis is not None else None
+        self.emit(lambda c: c.wait_axis("LOADED", axis(c) if axis is not None else None), st)
+
+    def st_WaitUntil(self, st: s.WaitUntil) -> None:
+        cond = compile_expr(st.cond)
+
+        def op(c: Any) -> Any:
+            if cond(c) != 0.0:
+                return None
+            return Poll(lambda: cond(c) != 0.0)
+
+        self.emit(op, st)
+
+    # -- flow ------------------------------------------------------------------------------
+
+    def st_Label(self, st: s.Label) -> None:
+        if st.name in self.labels:
+            raise self.error(st, f"label {st.name!r} is defined twice")
+        self.labels[st.name] = len(self.ops)
+
+    def st_Goto(self, st: s.Goto) -> None:
+        self.patches.append((self.placeholder(st), st.label, st))
+
+    def st_Gosub(self, st: s.Gosub) -> None:
+        self.patches.append((self.placeholder(st), st.label, st))
+
+    def st_Return(self, st: s.Return) -> None:
+        def op(c: Any) -> int:
+            if not c.gosub_stack:
+                raise BasicError(RETURN_WITHOUT_GOSUB)
+            return c.gosub_stack.pop()
+
+        self.emit(op, st)
+
+    def st_For(self, st: s.For) -> None:
+        pc = self.placeholder(st)
+        self.blocks.append(("FOR", st, {"pc": pc}))
+
+    def st_Next(self, st: s.Next) -> None:
+        if not self.blocks or self.blocks[-1][0] != "FOR":
+            raise self.error(st, "NEXT without FOR")
+        _, fst, info = self.blocks.pop()
+        assert isinstance(fst, s.For)
+        if st.var is not None and st.var != fst.var:
+            raise self.error(st, f"NEXT {st.var} does not match FOR {fst.var}")
+        var = fst.var
+        start, end = compile_expr(fst.start), compile_expr(fst.end)
+        step = compile_expr(fst.step) if fst.step is not None else None
+        for_pc = info["pc"]
+        body = for_pc + 1
+        next_pc = len(self.ops)
+        after = next_pc + 1
+
+        def op_for(c: Any) -> int | None:
+            v0, v1 = start(c), end(c)
+            inc = step(c) if step is not None else 1.0
+            c.locals[var] = v0
+            c.loops[for_pc] = (v1, inc)
+            if (inc >= 0 and v0 > v1) or (inc < 0 and v0 < v1):
+                return after
+            return None
+
+        def op_next(c: Any) -> int | None:
+            v1, inc = c.loops[for_pc]
+            v = c.locals.get(var, 0.0) + inc
+            c.locals[var] = v
+            if (inc >= 0 and v <= v1) or (inc < 0 and v >= v1):
+                return body
+            return None
+
+        self.set_op(for_pc, op_for)
+        self.emit(op_next, st)
+
+    def st_If(self, st: s.If) -> None:
+        cond = compile_expr(st.cond)
+        test = self.placeholder(st)
+        for sub in st.then:
+            self.statement(sub)
+        if st.orelse:
+            skip = self.placeholder(st, cost=0)
+            else_pc = len(self.ops)
+            for sub in st.orelse:
+                self.statement(sub)
+            self.set_op(skip, _jump(len(self.ops)))
+        else:
+            else_pc = len(self.ops)
+        self.set_op(test, _branch(cond, else_pc))
+
+    def st_IfBlock(self, st: s.IfBlock) -> None:
+        test = self.placeholder(st)
+        self.blocks.append(("IF", st, {"test": test, "cond": st.cond, "ends": [], "else": False}))
+
+    def _if_info(self, st: s.Stmt, word: str) -> dict[str, Any]:
+        if not self.blocks or self.blocks[-1][0] != "IF":
+            raise self.error(st, f"{word} without IF")
+        info = self.blocks[-1][2]
+        if info["else"]:
+            raise self.error(st, f"{word} after ELSE")
+        return info
+
+    def _close_branch(self, st: s.Stmt, info: dict[str, Any]) -> None:
+        info["ends"].append(self.placeholder(st, cost=0))
+        if info["test"] is not None:
+            self.set_op(info["test"], _branch(compile_expr(info["cond"]), len(self.ops)))
+            info["test"] = None
+
+    def st_ElseIf(self, st: s.ElseIf) -> None:
+        info = self._if_info(st, "ELSEIF")
+        self._close_branch(st, info)
+        info["test"] = self.placeholder(st)
+        info["cond"] = st.cond
+
+    def st_Else(self, st: s.Else) -> None:
+        info = self._if_info(st, "ELSE")
+        self._close_branch(st, info)
+        info["else"] = True
+
+    def st_EndIf(self, st: s.EndIf) -> None:
+        if not self.blocks or self.blocks[-1][0] != "IF":
+            raise self.error(st, "ENDIF without IF")
+        _, _, info = self.blocks.pop()
+        end = len(self.ops)
+        if info["test"] is not None:
+            self.set_op(info["test"], _branch(compile_expr(info["cond"]), end))
+        for pc in info["ends"]:
+            self.set_op(pc, _jump(end))
+
+    def st_While(self, st: s.While) -> None:
+        pc = self.placeholder(st)
+        self.blocks.append(("WHILE", st, {"pc": pc}))
+
+    def st_Wend(self, st: s.Wend) -> None:
+        if not self.blocks or self.blocks[-1][0] != "WHILE":
+            raise self.error(st, "WEND without WHILE")
+        _, wst, info = self.blocks.pop()
+        assert isinstance(wst, s.While)
+        self.emit(_jump(info["pc"]), st)
+        self.set_op(info["pc"], _branch(compile_expr(wst.cond), len(self.ops)))
+
+    def st_Repeat(self, st: s.Repeat) -> None:
+        self.blocks.append(("REPEAT", st, {"pc": len(self.ops)}))
+
+    def st_Until(self, st: s.Until) -> None:
+        if not self.blocks or self.blocks[-1][0] != "REPEAT":
+            raise self.error(st, "UNTIL without REPEAT")
+        _, _, info = self.blocks.pop()
+        self.emit(_branch(compile_expr(st.cond), info["pc"]), st)
+
+
+def _unpatched(c: Any) -> None:  # pragma: no cover - replaced before any program runs
+    raise AssertionError("jump target not patched")
+
+
+def _jump(target: int) -> Op:
+    return lambda c: target
+
+
+def _branch(cond: Callable[[Any], float], if_false: int) -> Op:
+    """Go on when ``cond`` is TRUE (non-zero), else jump to ``if_false``."""
+    return lambda c: None if cond(c) != 0.0 else if_false
+
+
+def _gosub(target: int, ret: int) -> Op:
+    def op(c: Any) -> int:
+        if len(c.gosub_stack) >= GOSUB_LIMIT:
+            raise BasicError(GOSUB_DEPTH)
+        c.gosub_stack.append(ret)
+        return target
+
+    return op
+
+
+def compile_program(program: s.Program) -> Code:
+    """Compile a parsed program; structure errors raise :class:`ParseError`."""
+    return _Compiler(program).run()
+
+
+__all__ = ["HALT", "Block", "Code", "Poll", "Sleep", "WaitFor", "compile_program"]

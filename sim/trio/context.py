@@ -1,0 +1,194 @@
+"""What a running statement sees: one process' variables and the controller behind them.
+
+Each BASIC process (and the command line, process 0) has its own named locals, its own BASE
+axis group and its own FOR / GOSUB bookkeeping; VR(), TABLE(), the axes and the move buffers
+are the controller's and shared by all processes (spec §2.2, §9.3).
+
+Indices are truncated to integers. Out-of-range VR / TABLE / axis numbers raise a
+:class:`~sim.trio.basic_errors.BasicError`, which stops the process that hit it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
+
+from sim.errors import InvalidValue
+from sim.trio import basic_errors as msg
+from sim.trio.basic_errors import BasicError
+from sim.trio.compiler import Block, WaitFor
+from sim.trio.moves import Move
+from sim.trio.parameters import AXIS_PARAMS
+
+if TYPE_CHECKING:
+    from sim.trio.controller import TrioController
+
+#: Axes each motion command drives (MOVE / MOVEABS: one per argument).
+_GROUP_SIZE = {"MOVECIRC": 2, "MHELICAL": 3, "FORWARD": 1, "REVERSE": 1, "DATUM": 1}
+
+
+class _NoLocals(dict):
+    """The command line has no local variables (TJ1P-26): reading one is an error."""
+
+    def get(self, key: Any, default: Any = None) -> Any:  # noqa: ARG002
+        raise BasicError(msg.LOCALS_AT_COMMAND_LINE + f": {key}")
+
+
+class Context:
+    """Runtime state of one process, and the operations statements call."""
+
+    def __init__(
+        self,
+        ctrl: TrioController,
+        process: int,
+        output: Callable[[str, bool], None],
+        *,
+        command_line: bool = False,
+    ) -> None:
+        self.ctrl = ctrl
+        self.process = process
+        self.output = output
+        self.command_line = command_line
+        self.locals: dict[str, float] = _NoLocals() if command_line else {}
+        self.loops: dict[int, tuple[float, float]] = {}
+        self.gosub_stack: list[int] = []
+        self.base: list[int] = list(range(len(ctrl.axes)))
+
+    # -- variables -------------------------------------------------------------------------
+
+    def set_local(self, name: str, value: float) -> None:
+        if self.command_line:
+            raise BasicError(msg.LOCALS_AT_COMMAND_LINE + f": {name}")
+        self.locals[name] = value
+
+    def _vr_index(self, i: float) -> int:
+        n = int(i)
+        if not 0 <= n < len(self.ctrl.vr):
+            raise BasicError(msg.VR_RANGE.format(index=f"{i:g}"))
+        return n
+
+    def vr(self, i: float) -> float:
+        return self.ctrl.vr[self._vr_index(i)]
+
+    def set_vr(self, i: float, value: float) -> None:
+        self.ctrl.vr[self._vr_index(i)] = value
+
+    def _table_index(self, i: float) -> int:
+        n = int(i)
+        if not 0 <= n < self.ctrl.table_size:
+            raise BasicError(msg.TABLE_RANGE.format(index=f"{i:g}"))
+        return n
+
+    def table(self, i: float) -> float:
+        return self.ctrl.table.get(self._table_index(i), 0.0)
+
+    def set_table(self, i: float, value: float) -> None:
+        self.ctrl.table[self._table_index(i)] = value
+
+    # -- parameters ------------------------------------------------------------------------
+
+    def axis_number(self, a: float) -> int:
+        n = int(a)
+        if not 0 <= n < len(self.ctrl.axes) or n != a:
+            raise BasicError(msg.AXIS_RANGE.format(axis=f"{a:g}"))
+        return n
+
+    def param(self, name: str, axis: float | None, proc: float | None) -> float:
+        if name in AXIS_PARAMS:
+            n = self.base[0] if axis is None else self.axis_number(axis)
+            return self.ctrl.axes[n].read(name)
+        if name == "PMOVE":
+            p = self.process if proc is None else self.ctrl.process_number(proc)
+            return float(self.ctrl.buffers.pmove(p))
+        if name == "PROCNUMBER":
+            return float(self.process)
+        if name == "SERVO_PERIOD":
+            return self.ctrl.clock.period_s * 1e6
+        raise BasicError(f"Unknown parameter {name}")
+
+    def set_param(self, name: str, axis: float | None, value: float) -> None:
+        n = self.base[0] if axis is None else self.axis_number(axis)
+        try:
+            self.ctrl.axes[n].set(**{name.lower(): value})
+        except InvalidValue:
+            raise BasicError(msg.BAD_VALUE.format(name=name, value=f"{value:g}")) from None
+
+    def set_base(self, axes: list[float]) -> None:
+        nums = [self.axis_number(a) for a in axes]
+        if len(set(nums)) != len(nums):
+            raise BasicError(msg.BAD_VALUE.format(name="BASE", value=",".join(map(str, nums))))
+        self.base = nums
+
+    # -- motion ----------------------------------------------------------------------------
+
+    def group(self, size: int, axis: float | None) -> tuple[int, ...]:
+        """The axes a command drives: the BASE group (or ``AXIS(n)`` then the rest of it),
+        continued in ascending axis order if the command needs more axes."""
+        if axis is None:
+            axes = list(self.base)
+        else:
+            first = self.axis_number(axis)
+            axes = [first] + [a for a in self.base if a != first]
+        if len(axes) < size:
+            axes += [a for a in range(len(self.ctrl.axes)) if a not in axes]
+        if len(axes) < size:
+            raise BasicError(msg.AXIS_RANGE.format(axis=size))
+        return tuple(axes[:size])
+
+    def issue(self, kind: str, args: tuple[float, ...], axis: float | None, text: str) -> Any:
+        """A motion command: place it (None) or report that the process must wait (Block)."""
+        if kind == "DATUM" and int(args[0]) == 0:
+            self.group(1, axis)  # DATUM(0) clears axis errors; no move is buffered
+            return None
+        size = _GROUP_SIZE.get(kind, len(args))
+        move = Move(
+            self.ctrl.buffers.new_id(), kind, self.group(size, axis), args, self.process, text
+        )
+        if self.ctrl.buffers.place(move) is None:
+            return Block(move)
+        return None
+
+    def cancel(self, mode: float, axis: float | None) -> None:
+        n = self.base[0] if axis is None else self.axis_number(axis)
+        if int(mode) == 1:
+            self.ctrl.buffers.cancel_next(n)
+        else:
+            self.ctrl.buffers.cancel(n)
+
+    def rapidstop(self) -> None:
+        self.ctrl.buffers.rapidstop()
+
+    def wait_axis(self, what: str, axis: float | None) -> WaitFor | None:
+        ax = self.ctrl.axes[self.base[0] if axis is None else self.axis_number(axis)]
+        if what == "IDLE":
+
+            def pred() -> bool:
+                return ax.mtype is None and ax.ntype is None
+
+        else:
+
+            def pred() -> bool:
+                return ax.ntype is None
+
+        return None if pred() else WaitFor(pred)
+
+    # -- programs --------------------------------------------------------------------------
+
+    def run_program(self, name: str, proc: float | None) -> None:
+        try:
+            self.ctrl.run_program(name, None if proc is None else int(proc))
+        except Exception as exc:  # NotFound / Conflict / InvalidValue -> a BASIC error
+            raise BasicError(getattr(exc, "message", str(exc))) from None
+
+    def stop_program(self, name: str) -> Any:
+        for p, proc in sorted(self.ctrl.basic.items()):
+            if proc.program == name and proc.state != "stopped":
+                if p == self.process:
+                    from sim.trio.compiler import HALT
+
+                    return HALT
+                self.ctrl.stop_process(p)
+        return None
+
+
+__all__ = ["Context"]

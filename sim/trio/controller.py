@@ -1,0 +1,296 @@
+"""``TrioController`` (kind ``"trio"``): a simulated Trio Motion Coordinator.
+
+Axes with MTYPE / NTYPE move buffers, one process buffer per process, Trio BASIC programs
+running as processes 1..N, and the command line as process 0 — the buffering of TN20-16.
+
+Config (``POST /controllers {"kind": "trio", "config": {...}}``), unknown keys refused:
+
+* ``servo_period_ms`` (1.0): SERVO_PERIOD; moves start and end on servo periods;
+* ``axes`` (8): number of axes, 0..axes-1;
+* ``processes`` (7): BASIC processes 1..processes (MC206: 7; process 0 is the command line);
+* ``statement_us`` (100.0): simulated time one BASIC statement costs (spec §9.6 ``[INF]``);
+* ``vr_count`` (1024) and ``table_size`` (16384): sizes of VR() and TABLE();
+* ``speed``, ``accel``, ``decel``, ``creep``, ``units``: axis parameter defaults for all axes.
+
+The public methods act at the current simulated instant and never step the environment.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping
+from typing import Any
+
+from sim.controller import Controller, Port, Reply
+from sim.errors import BufferFull, Conflict, InvalidValue, NotFound
+from sim.timing import ServoClock
+from sim.trio.axis import DEFAULTS, Axis
+from sim.trio.basic_errors import BasicError
+from sim.trio.buffers import MotionBuffers, Waiter
+from sim.trio.compiler import Code, compile_program
+from sim.trio.context import Context
+from sim.trio.moves import Move
+from sim.trio.mtypes import MTYPE
+from sim.trio.parser import MOVE_ARGS, parse_program
+from sim.trio.process import BasicProcess
+from sim.trio.terminal import CommandLine
+
+_CONFIG_DEFAULTS: dict[str, float] = {
+    "servo_period_ms": 1.0,
+    "axes": 8,
+    "processes": 7,
+    "statement_us": 100.0,
+    "vr_count": 1024,
+    "table_size": 16384,
+}
+_INT_KEYS = {"axes", "processes", "vr_count", "table_size"}
+_VARIABLE = re.compile(r"^\s*(VR|TABLE)\s*\(\s*(\d+)\s*\)\s*$", re.I)
+_PROGRAM_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]{0,31}$")
+
+
+class TrioController(Controller):
+    """A simulated Trio Motion Coordinator (MC2xx series buffering)."""
+
+    kind = "trio"
+
+    def __init__(
+        self, id: str, config: Mapping[str, Any] | None = None, *, log_capacity: int = 100_000
+    ) -> None:
+        super().__init__(id, config, log_capacity=log_capacity)
+        settings: dict[str, float] = dict(_CONFIG_DEFAULTS)
+        axis_defaults: dict[str, float] = {}
+        for key, value in self.config.items():
+            if key in DEFAULTS:
+                axis_defaults[key] = value
+                continue
+            if key not in settings:
+                known = ", ".join(sorted([*settings, *DEFAULTS]))
+                raise InvalidValue(f"unknown trio config key {key!r}; known: {known}", field=key)
+            ok = isinstance(value, (int, float)) and not isinstance(value, bool) and value > 0
+            if ok and key in _INT_KEYS:
+                ok = float(value).is_integer()
+            if not ok:
+                raise InvalidValue(f"config {key} must be a positive number, got {value!r}",
+                                   field=key)
+            settings[key] = value
+        self.clock = ServoClock(float(settings["servo_period_ms"]) / 1000.0)
+        self.statement_s = float(settings["statement_us"]) / 1e6
+        self.n_axes = int(settings["axes"])
+        self.n_processes = int(settings["processes"])
+        self.vr_count = int(settings["vr_count"])
+        self.table_size = int(settings["table_size"])
+        Axis(0, self.env, self.clock, axis_defaults)  # validates the axis defaults
+        self._axis_defaults = axis_defaults
+        self._build()
+
+    def _build(self) -> None:
+        self.axes = [Axis(n, self.env, self.clock, self._axis_defaults) for n in range(self.n_axes)]
+        self.buffers = MotionBuffers(self.env, self.clock, self.log, self.axes)
+        self.vr: list[float] = [0.0] * self.vr_count
+        self.table: dict[int, float] = {}
+        self.programs: dict[str, tuple[str, Code]] = {}
+        self.basic: dict[int, BasicProcess] = {}
+        self.command_line = CommandLine(self)
+        self._api_ctx = Context(self, 0, lambda _t, _n: None)
+
+    # -- life cycle --------------------------------------------------------------------------
+
+    def reset(self) -> None:
+        """Power cycle: programs, processes, buffers and VR gone; factory parameters."""
+        for proc in list(self.basic.values()):
+            if proc.state != "stopped":
+                proc.stop()
+        self.command_line.reset()
+        self.buffers.shutdown()
+        self._build()
+        self.log.emit("reset")
+
+    def status(self) -> dict[str, Any]:
+        return {
+            "servo_period_ms": self.clock.period_s * 1000.0,
+            "axes": self.n_axes,
+            "processes": self.n_processes,
+            "terminal": self.terminal_state(),
+        }
+
+    # -- the command line --------------------------------------------------------------------
+
+    def terminal(self, command: str, port: Port | None = None) -> Reply:
+        """One line at the command line (process 0); pending while the terminal is locked."""
+        return self.command_line.command(command)
+
+    def terminal_state(self) -> dict[str, Any]:
+        return self.command_line.state()
+
+    # -- axes --------------------------------------------------------------------------------
+
+    def _axis(self, n: int) -> Axis:
+        if not isinstance(n, int) or not 0 <= n < self.n_axes:
+            raise NotFound(f"no axis {n} (axes 0..{self.n_axes - 1})", field="axis")
+        return self.axes[n]
+
+    def axis(self, n: int) -> dict[str, Any]:
+        """The axis resource: MTYPE, NTYPE, DPOS, MPOS, ENDMOVE, REMAIN and parameters."""
+        return self._axis(n).snapshot()
+
+    def set_axis(self, n: int, **params: float) -> dict[str, Any]:
+        """Write axis parameters (``speed``, ``accel``, ``decel``, ``units``, ``creep``)."""
+        ax = self._axis(n)
+        ax.set(**params)
+        return ax.snapshot()
+
+    def move(
+        self,
+        axis: int,
+        type: str,
+        args: list[float] | tuple[float, ...],
+        process: int | None = None,
+        wait: bool = False,
+    ) -> str | Reply:
+        """Issue a motion command with ``axis`` as its base axis, for ``process`` (default 0).
+
+        Multi-axis commands drive ``axis`` and the axes after it (``MOVE(10,20)`` on axis 0
+        drives axes 0 and 1). Returns where the move was placed (``"mtype"``, ``"ntype"``,
+        ``"process_buffer"``). When the process buffer is full: without ``wait`` raise
+        :class:`BufferFull` and change nothing; with ``wait`` return a :class:`Reply` that is
+        done (``reply`` = the placement) in the servo period where the move is buffered —
+        as a BASIC process waits at its move line. With ``wait`` a Reply is always returned.
+        """
+        self._axis(axis)
+        kind = str(type).upper()
+        if kind not in MTYPE:
+            raise InvalidValue(
+                f"unknown move type {type!r}; known: {', '.join(MTYPE)}", field="type"
+            )
+        lo, hi = MOVE_ARGS[kind]
+        args = tuple(float(a) for a in args)
+        if not lo <= len(args) <= hi:
+            raise InvalidValue(f"{kind} takes {lo}..{hi} arguments, got {len(args)}", field="args")
+        p = 0 if process is None else self.process_number(process, allow_zero=True)
+        ctx = self._api_ctx
+        ctx.process = p
+        size = {"MOVECIRC": 2, "MHELICAL": 3}.get(kind, max(1, len(args)) if hi > 1 else 1)
+        try:
+            axes = tuple(a for a in range(axis, axis + size))
+            if axes[-1] >= self.n_axes:
+                raise BasicError(f"{kind} needs axes {axes[0]}..{axes[-1]}")
+        except BasicError as exc:
+            raise InvalidValue(exc.message, field="axis") from None
+        text = f"{kind}({','.join(f'{a:g}' for a in args)}) AXIS({axis})"
+        move = Move(self.buffers.new_id(), kind, axes, args, p, text)
+        if not wait:
+            placed = self.buffers.place(move)
+            if placed is None:
+                raise BufferFull(
+                    f"process {p}: MTYPE, NTYPE and the process buffer are full", process=p
+                )
+            return placed
+        reply = Reply(text)
+        result = self.buffers.place_or_wait(
+            move, lambda where: reply.resolve(where, None, self.env.now)
+        )
+        if not isinstance(result, Waiter):
+            reply.resolve(result, None, self.env.now)
+        return reply
+
+    # -- programs ----------------------------------------------------------------------------
+
+    @staticmethod
+    def _name(name: str) -> str:
+        if not _PROGRAM_NAME.match(name or ""):
+            raise InvalidValue(f"bad program name {name!r}", field="name")
+        return name.upper()
+
+    def store_program(self, name: str, text: str) -> None:
+        """Parse and compile ``text`` and store it; a parse error changes nothing."""
+        key = self._name(name)
+        code = compile_program(parse_program(text))
+        self.programs[key] = (text, code)
+
+    def program(self, name: str) -> str:
+        key = self._name(name)
+        if key not in self.programs:
+            raise NotFound(f"no program {key}", field="name")
+        return self.programs[key][0]
+
+    def program_names(self) -> list[str]:
+        return sorted(self.programs)
+
+    def delete_program(self, name: str) -> None:
+        key = self._name(name)
+        if key not in self.programs:
+            raise NotFound(f"no program {key}", field="name")
+        for p, proc in self.basic.items():
+            if proc.program == key and proc.state != "stopped":
+                raise Conflict(f"program {key} is running in process {p}")
+        del self.programs[key]
+
+    def process_number(self, p: Any, allow_zero: bool = False) -> int:
+        lo = 0 if allow_zero else 1
+        try:
+            n = int(p)
+        except (TypeError, ValueError):
+            n = -1
+        if n != p or not lo <= n <= self.n_processes:
+            raise InvalidValue(
+                f"process must be {lo}..{self.n_processes}, got {p!r}", field="process"
+            )
+        return n
+
+    def run_program(self, name: str, process: int | None = None) -> int:
+        """RUN "name"[, process]: start it; without a process the highest free one ``[BK]``."""
+        key = self._name(name)
+        if key not in self.programs:
+            raise NotFound(f"no program {key}", field="name")
+        busy = {p for p, proc in self.basic.items() if proc.state != "stopped"}
+        if process is None:
+            free = [p for p in range(self.n_processes, 0, -1) if p not in busy]
+            if not free:
+                raise Conflict("every process is running a program")
+            p = free[0]
+        else:
+            p = self.process_number(process)
+            if p in busy:
+                raise Conflict(f"process {p} is already running {self.basic[p].program}")
+        self.basic[p] = BasicProcess(self, p, key, self.programs[key][1])
+        return p
+
+    def processes(self) -> list[dict[str, Any]]:
+        return [proc.describe() for _p, proc in sorted(self.basic.items())]
+
+    def stop_process(self, p: int) -> dict[str, Any]:
+        n = self.process_number(p)
+        if n not in self.basic:
+            raise NotFound(f"process {n} has not run a program", field="process")
+        self.basic[n].stop()
+        return self.basic[n].describe()
+
+    # -- variables ---------------------------------------------------------------------------
+
+    def _variable(self, name: str) -> tuple[str, int]:
+        m = _VARIABLE.match(name)
+        if not m:
+            raise NotFound(f"no Trio variable {name!r} (VR(n) or TABLE(n))", field="name")
+        kind, index = m.group(1).upper(), int(m.group(2))
+        size = self.vr_count if kind == "VR" else self.table_size
+        if index >= size:
+            raise NotFound(f"{kind}({index}) is out of range 0..{size - 1}", field="name")
+        return kind, index
+
+    def get_variable(self, name: str) -> float:
+        kind, index = self._variable(name)
+        return self.vr[index] if kind == "VR" else self.table.get(index, 0.0)
+
+    def set_variable(self, name: str, value: float) -> None:
+        kind, index = self._variable(name)
+        try:
+            v = float(value)
+        except (TypeError, ValueError):
+            raise InvalidValue(f"{name} needs a number, got {value!r}", field="value") from None
+        if kind == "VR":
+            self.vr[index] = v
+        else:
+            self.table[index] = v
+
+
+__all__ = ["TrioController"]

@@ -1,0 +1,442 @@
+"""Trio BASIC text -> typed statements (:mod:`sim.trio.statements`).
+
+One source line holds an optional label (``name:`` as its first item) and statements
+separated by ``:``. ``IF c THEN`` ending a line opens a block closed by ``ENDIF``; with
+statements after ``THEN`` it is the one-line form (``IF c THEN a ELSE b``). Expression
+precedence follows the manual (spec §9.2), highest first: unary ``-`` and ``NOT``; ``^``;
+``*`` ``/``; ``MOD``; ``+`` ``-``; comparisons; ``AND`` ``OR`` ``XOR``; equal precedence
+left to right.
+
+Errors raise :class:`sim.errors.ParseError` with the 1-based ``line`` and ``column``; the
+structure of blocks (FOR/NEXT, IF/ENDIF, labels) is checked by :mod:`sim.trio.compiler`.
+"""
+
+from __future__ import annotations
+
+from sim.errors import ParseError
+from sim.trio import statements as s
+from sim.trio.expressions import FUNCTIONS
+from sim.trio.lexer import Token, tokenize
+from sim.trio.parameters import ALL_PARAMS, AXIS_WRITABLE, CONSTANTS
+
+#: Motion commands that enter the buffers, with the argument counts they accept.
+MOVE_ARGS: dict[str, tuple[int, int]] = {
+    "MOVE": (1, 8),
+    "MOVEABS": (1, 8),
+    "MOVECIRC": (5, 5),
+    "MHELICAL": (6, 6),
+    "FORWARD": (0, 0),
+    "REVERSE": (0, 0),
+    "DATUM": (1, 1),
+}
+
+_KEYWORDS = frozenset(
+    {
+        "PRINT", "FOR", "TO", "STEP", "NEXT", "IF", "THEN", "ELSE", "ELSEIF", "ENDIF",
+        "WHILE", "WEND", "REPEAT", "UNTIL", "WAIT", "IDLE", "LOADED", "WA", "GOTO", "GOSUB",
+        "RETURN", "STOP", "RUN", "BASE", "AXIS", "PROC", "CANCEL", "RAPIDSTOP", "VR", "TABLE",
+        "AND", "OR", "XOR", "NOT", "MOD",
+    }
+) | frozenset(MOVE_ARGS)
+
+_CMP = frozenset({"=", "<>", "<", "<=", ">", ">="})
+_EOL = Token("eol", "", 0)
+
+
+class _Line:
+    """Recursive-descent parser over the tokens of one source line."""
+
+    def __init__(self, text: str, line_no: int) -> None:
+        self.text = text
+        self.line_no = line_no
+        self.toks = tokenize(text, line_no)
+        self.i = 0
+
+    # -- token helpers ------------------------------------------------------------------
+
+    def peek(self, ahead: int = 0) -> Token:
+        j = self.i + ahead
+        return self.toks[j] if j < len(self.toks) else _EOL
+
+    def take(self) -> Token:
+        tok = self.peek()
+        self.i += 1
+        return tok
+
+    def at(self, text: str) -> bool:
+        tok = self.peek()
+        return tok.kind in ("op", "name") and tok.text == text
+
+    def accept(self, text: str) -> bool:
+        if self.at(text):
+            self.i += 1
+            return True
+        return False
+
+    def col(self) -> int:
+        tok = self.peek()
+        return tok.col if tok.kind != "eol" else len(self.text.rstrip()) + 1
+
+    def error(self, message: str, col: int | None = None) -> ParseError:
+        return ParseError(
+            message, line=self.line_no, column=col or self.col(), text=self.text
+        )
+
+    def expect(self, text: str) -> Token:
+        if not self.at(text):
+            got = self.peek().text or "end of line"
+            raise self.error(f"expected {text!r}, found {got!r}")
+        return self.take()
+
+    def end_of_statement(self) -> bool:
+        return self.peek().kind == "eol" or self.at(":")
+
+    def name(self) -> str:
+        tok = self.peek()
+        if tok.kind != "name":
+            raise self.error(f"expected a name, found {tok.text or 'end of line'!r}")
+        self.i += 1
+        return tok.text
+
+    def string(self) -> str:
+        tok = self.peek()
+        if tok.kind != "string":
+            raise self.error("expected a quoted program name")
+        self.i += 1
+        return tok.text[1:-1].upper()
+
+    # -- lines and statements ----------------------------------------------------------
+
+    def parse(self) -> list[s.Stmt]:
+        out: list[s.Stmt] = []
+        first, second = self.peek(), self.peek(1)
+        if (
+            first.kind == "name"
+            and second.kind == "op"
+            and second.text == ":"
+            and first.text not in _KEYWORDS
+        ):
+            out.append(s.Label(self.line_no, first.col, first.text))
+            self.i += 2
+        out.extend(self.statements(stop=()))
+        if self.peek().kind != "eol":
+            raise self.error(f"unexpected {self.peek().text!r}")
+        return out
+
+    def statements(self, stop: tuple[str, ...]) -> list[s.Stmt]:
+        """``:``-separated statements up to end of line or a word in ``stop``."""
+        out: list[s.Stmt] = []
+        while True:
+            while self.accept(":"):
+                pass
+            if self.peek().kind == "eol" or any(self.at(w) for w in stop):
+                return out
+            out.append(self.statement())
+            if self.peek().kind == "eol" or any(self.at(w) for w in stop):
+                return out
+            if not self.at(":"):
+                raise self.error(f"unexpected {self.peek().text!r} after the statement")
+
+    def statement(self) -> s.Stmt:
+        tok = self.peek()
+        ln, col = self.line_no, tok.col
+        if tok.kind == "op" and tok.text == "?":
+            self.i += 1
+            return s.Print(ln, col, self.print_items())
+        if tok.kind != "name":
+            raise self.error(f"a statement cannot start with {tok.text!r}")
+        word = tok.text
+        method = getattr(self, "st_" + word, None)
+        if method is not None and word in _KEYWORDS:
+            self.i += 1
+            return method(ln, col)
+        if word in MOVE_ARGS:
+            self.i += 1
+            return self.move(word, ln, col)
+        if word in ALL_PARAMS:
+            self.i += 1
+            target = self.param_ref(word, col)
+            if word not in AXIS_WRITABLE:
+                raise self.error(f"{word} cannot be written", col)
+            self.expect("=")
+            return s.Assign(ln, col, target, self.expr())
+        if word in _KEYWORDS or word in FUNCTIONS or word in CONSTANTS:
+            raise self.error(f"{word} is not a command here", col)
+        self.i += 1
+        if not self.at("="):
+            raise self.error(f"unknown command {word!r}", col)
+        self.i += 1
+        return s.Assign(ln, col, s.Local(word), self.expr())
+
+    def axis_modifier(self) -> s.Expr | None:
+        if self.accept("AXIS"):
+            self.expect("(")
+            e = self.expr()
+            self.expect(")")
+            return e
+        return None
+
+    def args(self) -> tuple[s.Expr, ...]:
+        self.expect("(")
+        out = [self.expr()]
+        while self.accept(","):
+            out.append(self.expr())
+        self.expect(")")
+        return tuple(out)
+
+    def move(self, kind: str, ln: int, col: int) -> s.Stmt:
+        lo, hi = MOVE_ARGS[kind]
+        args: tuple[s.Expr, ...] = ()
+        if hi:
+            args_col = self.col()
+            args = self.args()
+            if not lo <= len(args) <= hi:
+                want = str(lo) if lo == hi else f"{lo} to {hi}"
+                raise self.error(f"{kind} takes {want} arguments, got {len(args)}", args_col)
+        return s.MoveCmd(ln, col, kind, args, self.axis_modifier())
+
+    def st_PRINT(self, ln: int, col: int) -> s.Stmt:
+        return s.Print(ln, col, self.print_items())
+
+    def print_items(self) -> tuple[tuple[s.Expr, str], ...]:
+        items: list[tuple[s.Expr, str]] = []
+        while not self.end_of_statement() and not self.at("ELSE"):
+            e: s.Expr
+            e = s.Str(self.take().text[1:-1]) if self.peek().kind == "string" else self.expr()
+            sep = ""
+            if self.at(";") or self.at(","):
+                sep = self.take().text
+            items.append((e, sep))
+            if not sep:
+                break
+        return tuple(items)
+
+    def st_FOR(self, ln: int, col: int) -> s.Stmt:
+        var = self.name()
+        self.expect("=")
+        start = self.expr()
+        self.expect("TO")
+        end = self.expr()
+        step = self.expr() if self.accept("STEP") else None
+        return s.For(ln, col, var, start, end, step)
+
+    def st_NEXT(self, ln: int, col: int) -> s.Stmt:
+        var = None if self.end_of_statement() else self.name()
+        return s.Next(ln, col, var)
+
+    def st_IF(self, ln: int, col: int) -> s.Stmt:
+        cond = self.expr()
+        self.expect("THEN")
+        if self.peek().kind == "eol":
+            return s.IfBlock(ln, col, cond)
+        then = self.statements(stop=("ELSE",))
+        orelse: list[s.Stmt] = []
+        if self.accept("ELSE"):
+            orelse = self.statements(stop=())
+        if not then:
+            raise self.error("expected a statement after THEN")
+        return s.If(ln, col, cond, tuple(then), tuple(orelse))
+
+    def st_ELSEIF(self, ln: int, col: int) -> s.Stmt:
+        cond = self.expr()
+        self.expect("THEN")
+        return s.ElseIf(ln, col, cond)
+
+    def st_ELSE(self, ln: int, col: int) -> s.Stmt:
+        return s.Else(ln, col)
+
+    def st_ENDIF(self, ln: int, col: int) -> s.Stmt:
+        return s.EndIf(ln, col)
+
+    def st_WHILE(self, ln: int, col: int) -> s.Stmt:
+        return s.While(ln, col, self.expr())
+
+    def st_WEND(self, ln: int, col: int) -> s.Stmt:
+        return s.Wend(ln, col)
+
+    def st_REPEAT(self, ln: int, col: int) -> s.Stmt:
+        return s.Repeat(ln, col)
+
+    def st_UNTIL(self, ln: int, col: int) -> s.Stmt:
+        return s.Until(ln, col, self.expr())
+
+    def st_WAIT(self, ln: int, col: int) -> s.Stmt:
+        if self.accept("IDLE"):
+            return s.WaitIdle(ln, col, self.axis_modifier())
+        if self.accept("LOADED"):
+            return s.WaitLoaded(ln, col, self.axis_modifier())
+        if self.accept("UNTIL"):
+            return s.WaitUntil(ln, col, self.expr())
+        raise self.error("expected IDLE, LOADED or UNTIL after WAIT")
+
+    def st_WA(self, ln: int, col: int) -> s.Stmt:
+        self.expect("(")
+        ms = self.expr()
+        self.expect(")")
+        return s.Wa(ln, col, ms)
+
+    def st_GOTO(self, ln: int, col: int) -> s.Stmt:
+        return s.Goto(ln, col, self.name())
+
+    def st_GOSUB(self, ln: int, col: int) -> s.Stmt:
+        return s.Gosub(ln, col, self.name())
+
+    def st_RETURN(self, ln: int, col: int) -> s.Stmt:
+        return s.Return(ln, col)
+
+    def st_STOP(self, ln: int, col: int) -> s.Stmt:
+        return s.Stop(ln, col, None if self.end_of_statement() else self.string())
+
+    def st_RUN(self, ln: int, col: int) -> s.Stmt:
+        name = self.string()
+        proc = self.expr() if self.accept(",") else None
+        return s.Run(ln, col, name, proc)
+
+    def st_BASE(self, ln: int, col: int) -> s.Stmt:
+        return s.Base(ln, col, self.args())
+
+    def st_CANCEL(self, ln: int, col: int) -> s.Stmt:
+        mode = None
+        if self.at("("):
+            (mode,) = self.args_exact(1, "CANCEL")
+        return s.Cancel(ln, col, mode, self.axis_modifier())
+
+    def st_RAPIDSTOP(self, ln: int, col: int) -> s.Stmt:
+        if self.at("("):
+            self.args_exact(1, "RAPIDSTOP")
+        return s.RapidStop(ln, col)
+
+    def args_exact(self, n: int, what: str) -> tuple[s.Expr, ...]:
+        c = self.col()
+        args = self.args()
+        if len(args) != n:
+            raise self.error(f"{what} takes {n} argument(s), got {len(args)}", c)
+        return args
+
+    def st_VR(self, ln: int, col: int) -> s.Stmt:
+        (index,) = self.args_exact(1, "VR")
+        self.expect("=")
+        return s.Assign(ln, col, s.VrRef(index), self.expr())
+
+    def st_TABLE(self, ln: int, col: int) -> s.Stmt:
+        args = self.args()
+        if len(args) > 1:
+            return s.TableWrite(ln, col, args[0], args[1:])
+        self.expect("=")
+        return s.Assign(ln, col, s.TableRef(args[0]), self.expr())
+
+    # -- expressions -------------------------------------------------------------------
+
+    def expr(self) -> s.Expr:
+        left = self.comparison()
+        while self.at("AND") or self.at("OR") or self.at("XOR"):
+            op = self.take().text
+            left = s.Binary(op, left, self.comparison())
+        return left
+
+    def comparison(self) -> s.Expr:
+        left = self.additive()
+        while self.peek().kind == "op" and self.peek().text in _CMP:
+            op = self.take().text
+            left = s.Binary(op, left, self.additive())
+        return left
+
+    def additive(self) -> s.Expr:
+        left = self.modulo()
+        while self.at("+") or self.at("-"):
+            op = self.take().text
+            left = s.Binary(op, left, self.modulo())
+        return left
+
+    def modulo(self) -> s.Expr:
+        left = self.term()
+        while self.at("MOD"):
+            self.i += 1
+            left = s.Binary("MOD", left, self.term())
+        return left
+
+    def term(self) -> s.Expr:
+        left = self.power()
+        while self.at("*") or self.at("/"):
+            op = self.take().text
+            left = s.Binary(op, left, self.power())
+        return left
+
+    def power(self) -> s.Expr:
+        left = self.unary()
+        while self.at("^"):
+            self.i += 1
+            left = s.Binary("^", left, self.unary())
+        return left
+
+    def unary(self) -> s.Expr:
+        if self.accept("-"):
+            operand = self.unary()
+            if isinstance(operand, s.Num):
+                return s.Num(-operand.value)
+            return s.Unary("-", operand)
+        if self.accept("+"):
+            return self.unary()
+        if self.accept("NOT"):
+            return s.Unary("NOT", self.unary())
+        return self.primary()
+
+    def primary(self) -> s.Expr:
+        tok = self.peek()
+        if tok.kind == "number":
+            self.i += 1
+            text = tok.text
+            return s.Num(float(int(text[1:], 16)) if text[0] == "$" else float(text))
+        if tok.kind == "string":
+            raise self.error("a string is only allowed in PRINT")
+        if tok.kind == "op" and tok.text == "(":
+            self.i += 1
+            e = self.expr()
+            self.expect(")")
+            return e
+        if tok.kind != "name":
+            raise self.error(f"expected a value, found {tok.text or 'end of line'!r}")
+        word = tok.text
+        self.i += 1
+        if word == "VR":
+            (index,) = self.args_exact(1, "VR")
+            return s.VrRef(index)
+        if word == "TABLE":
+            (index,) = self.args_exact(1, "TABLE")
+            return s.TableRef(index)
+        if word in CONSTANTS:
+            return s.Num(CONSTANTS[word])
+        if word in FUNCTIONS:
+            arity = FUNCTIONS[word][0]
+            return s.Call(word, self.args_exact(arity, word))
+        if word in ALL_PARAMS:
+            return self.param_ref(word, tok.col)
+        if word in _KEYWORDS:
+            raise self.error(f"{word} cannot be used as a value", tok.col)
+        return s.Local(word)
+
+    def param_ref(self, word: str, col: int) -> s.Param:
+        axis = self.axis_modifier()
+        proc = None
+        if self.accept("PROC"):
+            self.expect("(")
+            proc = self.expr()
+            self.expect(")")
+        return s.Param(word, axis, proc)
+
+
+def parse_line(text: str, line_no: int = 1) -> list[s.Stmt]:
+    """The statements of one line of Trio BASIC (a command-line entry or a program line)."""
+    return _Line(text, line_no).parse()
+
+
+def parse_program(text: str) -> s.Program:
+    """Parse a whole program text; raises :class:`ParseError` at the first bad line."""
+    lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
+    out: list[s.Stmt] = []
+    for i, line in enumerate(lines, start=1):
+        out.extend(_Line(line, i).parse())
+    return s.Program(tuple(out), tuple(lines))
+
+
+__all__ = ["MOVE_ARGS", "parse_line", "parse_program"]

@@ -1,0 +1,188 @@
+"""A Trio BASIC program running in a process: one SimPy process per running program.
+
+Timing model (the statements-per-slice figure is not documented anywhere reachable,
+spec §9.6 ``[INF]``): every statement the interpreter executes costs ``statement_s`` of
+simulated time (config ``statement_us``, default 100 µs: about ten statements per 1 ms
+servo period); the jumps that structure adds (ELSE reached at the end of THEN) cost nothing.
+A statement's effect happens when it starts; the next one starts ``statement_s`` later.
+Processes run concurrently and independently (no shared slice budget is modelled).
+
+Waiting, without a SimPy event per servo period:
+
+* a move line whose process buffer is full: the process emits ``process`` ``blocked`` with
+  ``blocked_on`` (the line's text) and waits — even if only for one servo period — until
+  :mod:`sim.trio.buffers` has placed its move, then emits ``running`` and goes on;
+* ``WAIT IDLE`` / ``WAIT LOADED``: woken by the buffer change that satisfies it;
+* ``WAIT UNTIL c``: ``c`` is re-tested once per servo period (spec §1.6 ``[BK]``);
+* ``WA(ms)``: a timeout.
+
+``PRINT`` in a program writes to channel 0; each printed line is a ``print`` event
+(``process``, ``text``) — an event type of the Trio kind beyond API.md's table.
+
+A runtime error stops this process only: a ``process`` event with ``state`` ``stopped``, the
+``line`` and an ``error`` message in the controller's style (:mod:`sim.trio.basic_errors`).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import simpy
+
+from sim.trio.basic_errors import BasicError, error_line
+from sim.trio.buffers import Waiter, schedule_at
+from sim.trio.compiler import HALT, Block, Code, Poll, Sleep, WaitFor
+from sim.trio.context import Context
+
+if TYPE_CHECKING:
+    from sim.trio.controller import TrioController
+
+
+class BasicProcess:
+    """Program ``program`` running as process ``number``."""
+
+    def __init__(self, ctrl: TrioController, number: int, program: str, code: Code) -> None:
+        self.ctrl = ctrl
+        self.number = number
+        self.program = program
+        self.code = code
+        self.state = "running"
+        self.line = code.lines[0] if code.lines else 0
+        self.pc = 0
+        self.blocked_on: str | None = None
+        self.error: str | None = None
+        self._pending_line = ""
+        self.ctx = Context(ctrl, number, self._output)
+        self._withdraw: Any = None
+        self.sim = ctrl.env.process(self._run())
+
+    # -- output ----------------------------------------------------------------------------
+
+    def _output(self, text: str, newline: bool) -> None:
+        self._pending_line += text
+        if newline:
+            self.ctrl.log.emit("print", process=self.number, text=self._pending_line)
+            self._pending_line = ""
+
+    # -- the interpreter loop ----------------------------------------------------------------
+
+    def _run(self):  # noqa: C901 - one loop, one dispatch on the op's result
+        code, ctx, log, env = self.code, self.ctx, self.ctrl.log, self.ctrl.env
+        ops, costs, lines = code.ops, code.costs, code.lines
+        dt = self.ctrl.statement_s
+        number = self.number
+        n = len(ops)
+        pc = 0
+        log.emit("process", process=number, state="running", line=self.line)
+        try:
+            while pc < n:
+                self.pc = pc
+                cost = costs[pc]
+                r = ops[pc](ctx)
+                if r is None:
+                    pc += 1
+                elif r.__class__ is int:
+                    pc = r
+                elif r.__class__ is Block:
+                    self.line = lines[pc]
+                    yield from self._blocked(r.move, code.text(pc))
+                    pc += 1
+                elif r is HALT:
+                    break
+                elif r.__class__ is Sleep:
+                    yield env.timeout(r.seconds)
+                    pc += 1
+                elif r.__class__ is WaitFor:
+                    ev = env.event()
+                    self._withdraw = self.ctrl.buffers.when(r.predicate, ev.succeed)
+                    yield ev
+                    self._withdraw = None
+                    pc += 1
+                elif r.__class__ is Poll:
+                    yield from self._poll(r)
+                    pc += 1
+                else:
+                    pc += 1
+                if cost:
+                    yield env.timeout(dt)
+            self.line = lines[min(pc, n - 1)] if n else 0
+            self._finish(None)
+        except BasicError as exc:
+            self.line = lines[pc] if pc < n else self.line
+            self._finish(error_line(number, self.line, exc.message))
+        except simpy.Interrupt:
+            pass  # stop() has already withdrawn the wait and reported the process stopped
+
+    def _blocked(self, move: Any, text: str):
+        env, log = self.ctrl.env, self.ctrl.log
+        ev = env.event()
+        placed = self.ctrl.buffers.place_or_wait(move, ev.succeed)
+        if not isinstance(placed, Waiter):
+            return
+        self._withdraw = placed.cancel
+        self.state, self.blocked_on = "blocked", text
+        log.emit("process", process=self.number, state="blocked", line=self.line, blocked_on=text)
+        yield ev
+        self._withdraw = None
+        self.state, self.blocked_on = "running", None
+        log.emit("process", process=self.number, state="running", line=self.line)
+
+    def _poll(self, r: Poll):
+        env, clock = self.ctrl.env, self.ctrl.clock
+        while True:
+            ev = env.event()
+            schedule_at(env, clock.t(clock.after(env.now)), lambda _e, ev=ev: ev.succeed())
+            yield ev
+            if r.predicate():
+                return
+
+    def _withdraw_wait(self) -> None:
+        if self._withdraw is not None:
+            self._withdraw()
+            self._withdraw = None
+
+    def _finish(self, error: str | None) -> None:
+        if self._pending_line:
+            self.ctrl.log.emit("print", process=self.number, text=self._pending_line)
+            self._pending_line = ""
+        self.state, self.blocked_on, self.error = "stopped", None, error
+        fields: dict[str, Any] = {"process": self.number, "state": "stopped", "line": self.line}
+        if error is not None:
+            fields["error"] = error
+        self.ctrl.log.emit("process", **fields)
+
+    # -- control ---------------------------------------------------------------------------
+
+    def stop(self) -> None:
+        """Stop the program at once: the wait it is in (a move line, WAIT, WA) is withdrawn and
+        ``stopped`` is reported at the current instant."""
+        if self.state == "stopped" or not self.sim.is_alive:
+            return
+        self._withdraw_wait()
+        if self.pc < len(self.code.lines):
+            self.line = self.code.lines[self.pc]
+        self._finish(None)
+        self.sim.interrupt("stop")
+
+    def current_line(self) -> int:
+        """The program line being executed (the last one, once stopped)."""
+        if self.state == "stopped" or self.pc >= len(self.code.lines):
+            return self.line
+        return self.code.lines[self.pc]
+
+    def describe(self) -> dict[str, Any]:
+        """The API.md process resource."""
+        out: dict[str, Any] = {
+            "process": self.number,
+            "program": self.program,
+            "state": self.state,
+            "line": self.current_line(),
+        }
+        if self.blocked_on is not None:
+            out["blocked_on"] = self.blocked_on
+        if self.error is not None:
+            out["error"] = self.error
+        return out
+
+
+__all__ = ["BasicProcess"]

@@ -1,0 +1,280 @@
+"""Trio BASIC as typed values: the parser's output, the compiler's input.
+
+Expressions and statements are frozen, slotted dataclasses. Every statement carries the
+1-based ``line`` and ``column`` where it starts in the program text, so a compile error or a
+runtime error can name its place the way the controller's ``%[Process n:Line m]`` does.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+# -- expressions -------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class Num:
+    """A numeric literal (decimal or ``$`` hex)."""
+
+    value: float
+
+
+@dataclass(frozen=True, slots=True)
+class Str:
+    """A string literal; only PRINT accepts one."""
+
+    value: str
+
+
+@dataclass(frozen=True, slots=True)
+class Local:
+    """A named local variable of the process (reads 0 until written; cleared at RUN)."""
+
+    name: str
+
+
+@dataclass(frozen=True, slots=True)
+class VrRef:
+    """``VR(n)``: a global variable shared by all processes."""
+
+    index: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class TableRef:
+    """``TABLE(n)``: the large global array."""
+
+    index: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class Param:
+    """An axis, process or system parameter: ``NTYPE AXIS(0)``, ``SPEED``, ``PMOVE PROC(2)``.
+
+    ``axis`` is the ``AXIS(n)`` modifier (None = the process' BASE axis); ``proc`` the
+    ``PROC(n)`` modifier of a process parameter.
+    """
+
+    name: str
+    axis: Expr | None = None
+    proc: Expr | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Unary:
+    op: str  # "-" or "NOT"
+    operand: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class Binary:
+    op: str  # + - * / ^ MOD = <> < <= > >= AND OR XOR
+    left: Expr
+    right: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class Call:
+    """A built-in function: ``ABS(x)``, ``SQR(x)``, ``INT(x)`` ..."""
+
+    name: str
+    args: tuple[Expr, ...]
+
+
+Expr = Num | Str | Local | VrRef | TableRef | Param | Unary | Binary | Call
+
+# -- statements --------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class Stmt:
+    """Base of every statement: where it starts in the text, and the text of its line."""
+
+    line: int
+    column: int
+
+
+@dataclass(frozen=True, slots=True)
+class Assign(Stmt):
+    """``x = e``, ``VR(n) = e``, ``TABLE(n) = e`` or ``SPEED AXIS(1) = e``."""
+
+    target: Local | VrRef | TableRef | Param
+    value: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class TableWrite(Stmt):
+    """``TABLE(n, v1, v2, ...)``: writes consecutive entries from n."""
+
+    start: Expr
+    values: tuple[Expr, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Base(Stmt):
+    """``BASE(a, b, ...)``: the axis group the process' motion commands and parameters act on."""
+
+    axes: tuple[Expr, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class MoveCmd(Stmt):
+    """A motion command that enters the buffers: MOVE, MOVEABS, MOVECIRC, MHELICAL, FORWARD,
+    REVERSE, DATUM. ``axis`` is the ``AXIS(n)`` modifier."""
+
+    kind: str
+    args: tuple[Expr, ...]
+    axis: Expr | None
+
+
+@dataclass(frozen=True, slots=True)
+class Cancel(Stmt):
+    """``CANCEL`` / ``CANCEL(1)`` on the base axis (or ``AXIS(n)``)."""
+
+    mode: Expr | None
+    axis: Expr | None
+
+
+@dataclass(frozen=True, slots=True)
+class RapidStop(Stmt):
+    """``RAPIDSTOP``: cancel the moves of every axis."""
+
+
+@dataclass(frozen=True, slots=True)
+class For(Stmt):
+    var: str
+    start: Expr
+    end: Expr
+    step: Expr | None
+
+
+@dataclass(frozen=True, slots=True)
+class Next(Stmt):
+    var: str | None
+
+
+@dataclass(frozen=True, slots=True)
+class If(Stmt):
+    """One-line ``IF c THEN a [ELSE b]``."""
+
+    cond: Expr
+    then: tuple[Stmt, ...]
+    orelse: tuple[Stmt, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class IfBlock(Stmt):
+    """``IF c THEN`` ending its line: opens a block closed by ``ENDIF``."""
+
+    cond: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class ElseIf(Stmt):
+    cond: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class Else(Stmt):
+    pass
+
+
+@dataclass(frozen=True, slots=True)
+class EndIf(Stmt):
+    pass
+
+
+@dataclass(frozen=True, slots=True)
+class While(Stmt):
+    cond: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class Wend(Stmt):
+    pass
+
+
+@dataclass(frozen=True, slots=True)
+class Repeat(Stmt):
+    pass
+
+
+@dataclass(frozen=True, slots=True)
+class Until(Stmt):
+    cond: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class WaitIdle(Stmt):
+    """``WAIT IDLE``: until the axis has finished its move and has none buffered."""
+
+    axis: Expr | None
+
+
+@dataclass(frozen=True, slots=True)
+class WaitLoaded(Stmt):
+    """``WAIT LOADED``: until the axis has no move waiting in NTYPE."""
+
+    axis: Expr | None
+
+
+@dataclass(frozen=True, slots=True)
+class WaitUntil(Stmt):
+    cond: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class Wa(Stmt):
+    """``WA(ms)``: wait a number of milliseconds."""
+
+    ms: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class Label(Stmt):
+    name: str
+
+
+@dataclass(frozen=True, slots=True)
+class Goto(Stmt):
+    label: str
+
+
+@dataclass(frozen=True, slots=True)
+class Gosub(Stmt):
+    label: str
+
+
+@dataclass(frozen=True, slots=True)
+class Return(Stmt):
+    pass
+
+
+@dataclass(frozen=True, slots=True)
+class Print(Stmt):
+    """``PRINT`` / ``?``: items with their separators (``";"``, ``","`` or ``""`` for the last)."""
+
+    items: tuple[tuple[Expr, str], ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Stop(Stmt):
+    """``STOP`` ends this program; ``STOP "name"`` stops the process running that program."""
+
+    program: str | None
+
+
+@dataclass(frozen=True, slots=True)
+class Run(Stmt):
+    """``RUN "name" [, process]``."""
+
+    program: str
+    process: Expr | None
+
+
+@dataclass(frozen=True, slots=True)
+class Program:
+    """A parsed program: its statements in order and the source lines (for messages)."""
+
+    statements: tuple[Stmt, ...]
+    lines: tuple[str, ...]
