@@ -1,0 +1,13 @@
+"""The Delta Tau Turbo PMAC kind: rotary program buffers, BREQ, lookahead, sync M-variables.
+
+Modules, one idea each: ``statements`` (typed statements), ``parser`` (text -> statements),
+``expressions`` (PMAC arithmetic), ``program`` (a stored line: ops and words), ``variables``
+(I/P/Q/M), ``rotary`` (the ring of words; BREQ is decided there and only there), ``motion``
+(move timing and profiles), ``lookahead`` (per-CS planning at RTIs and execution),
+``scheduler`` (servo / RTI / background cycle), ``terminal`` (on-line command dispatch per
+port), ``controller`` (``PmacController``).
+"""
+
+from sim.pmac.controller import LoadResult, PmacController
+
+__all__ = ["LoadResult", "PmacController"]

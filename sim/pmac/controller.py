@@ -1,0 +1,421 @@
+"""``PmacController``: a simulated Delta Tau Turbo PMAC (kind ``"pmac"``).
+
+Public surface (what ``app/`` and ``api/`` call): :meth:`terminal` (the host command line,
+answered in the background cycle), :meth:`define_rotary`, :meth:`delete_rotary`,
+:meth:`load_lines` (atomic batches with ``first_seq`` idempotency), :meth:`run`,
+:meth:`quit`, :meth:`abort`, :meth:`coord`, :meth:`rotary`, :meth:`get_variable`,
+:meth:`set_variable`, :meth:`reset`, :meth:`status`, :meth:`positions`, :meth:`wait_breq`.
+Resource methods act at the current simulated instant and never move the clock.
+
+Config keys are I-variables in lower case (``{"i16": 5, "i17": 10, "i8": 2, "i10": 3713707}``)
+plus ``"servo_hz"`` (overrides I10) and ``"background_cycles"`` (servo cycles per background
+cycle, default 1). Unknown keys are refused (``InvalidValue`` naming the field).
+
+Buffer memory ``[INF]``: 65 536 words are shared by the rotary buffers and the gather buffer;
+``SIZE`` reports what is free (negative while a buffer is open, TSRM SIZE).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import simpy
+
+from sim.controller import Controller, Port, Reply
+from sim.errors import BufferFull, Conflict, InvalidValue, NotFound, ParseError
+from sim.pmac.lookahead import CoordSystem
+from sim.pmac.program import ProgramLine, compile_line
+from sim.pmac.rotary import RotaryBuffer
+from sim.pmac.scheduler import BackgroundCycle, Scheduler
+from sim.pmac.terminal import Terminal
+from sim.pmac.variables import N_CS, N_MOTORS, Variables, parse_name
+from sim.timing import pmac_servo_period_s
+
+MEMORY_WORDS = 65_536
+_CONFIG_KEY = re.compile(r"^i(\d{1,4})$")
+
+
+@dataclass(frozen=True, slots=True)
+class LoadResult:
+    """What :meth:`PmacController.load_lines` reports."""
+
+    accepted: int
+    stored: int
+    lines_ahead: int
+    free_words: int
+    breq: bool
+
+
+class PmacController(Controller):
+    """A Turbo PMAC with 16 coordinate systems, rotary buffers and a host command line."""
+
+    kind = "pmac"
+
+    def __init__(
+        self,
+        id: str = "pmac",
+        config: Mapping[str, Any] | None = None,
+        *,
+        log_capacity: int = 100_000,
+    ) -> None:
+        super().__init__(id, config, log_capacity=log_capacity)
+        self._check_config(self.config)
+        self.vars = Variables(self._m_written)
+        self._power_on()
+
+    # -- construction ---------------------------------------------------------------------
+
+    @staticmethod
+    def _check_config(config: Mapping[str, Any]) -> None:
+        for key, value in config.items():
+            if key in ("servo_hz", "background_cycles") or _CONFIG_KEY.match(key):
+                if isinstance(value, bool) or not isinstance(value, int | float):
+                    raise InvalidValue(f"{key} must be a number", field=key)
+                if not math.isfinite(value):
+                    raise InvalidValue(f"{key} must be finite", field=key)
+                if key == "servo_hz" and not value > 0:
+                    raise InvalidValue("servo_hz must be positive", field=key)
+                if key == "background_cycles" and value < 1:
+                    raise InvalidValue("background_cycles must be >= 1", field=key)
+                m = _CONFIG_KEY.match(key)
+                if m and int(m.group(1)) > 8191:
+                    raise InvalidValue(f"no I-variable {key}", field=key)
+                if key == "i10" and value <= 0:
+                    raise InvalidValue("i10 must be positive", field=key)
+                if key == "i8" and not 0 <= value <= 255:
+                    raise InvalidValue("i8 must be 0..255", field=key)
+                continue
+            raise InvalidValue(f"unknown PMAC config key {key!r}", field=key)
+
+    def _power_on(self) -> None:
+        self.vars.reset()
+        for key, value in self.config.items():
+            m = _CONFIG_KEY.match(key)
+            if m:
+                self.vars.write("I", int(m.group(1)), float(value))
+        hz = self.config.get("servo_hz")
+        period = 1.0 / hz if hz else pmac_servo_period_s(int(self.vars.I(10)))
+        if not hasattr(self, "scheduler"):
+            self.scheduler = Scheduler(self.env, period, lambda: int(self.vars.I(8)) + 1)
+            self.background = BackgroundCycle(
+                self.scheduler, int(self.config.get("background_cycles", 1))
+            )
+            self._terminal = Terminal(self)
+        self.coord_systems = {n: CoordSystem(self, n) for n in range(1, N_CS + 1)}
+        self.gather_words: int | None = None
+        self.buffer_holder: Port | None = None
+        self.motors: dict[int, tuple[int, str]] = {}
+
+    def _m_written(self, n: int, value: float, sync: bool) -> None:
+        self.log.emit("mvar", name=f"M{n}", value=value, sync=sync)
+
+    def _thresholds(self) -> tuple[float, float]:
+        i = self.vars.i
+        i16 = i.get(16)
+        i17 = i.get(17)
+        return (5.0 if i16 is None else i16, 10.0 if i17 is None else i17)
+
+    # -- ports and the terminal -----------------------------------------------------------
+
+    def open_port(self, name: str) -> Port:
+        port = Port(name)
+        port.state.update(cs=1, motor=1)
+        return port
+
+    def close_port(self, port: Port) -> None:
+        if getattr(self, "buffer_holder", None) is port:
+            self.buffer_holder = None
+        super().close_port(port)
+
+    def terminal(self, command: str, port: Port | None = None) -> Reply:
+        """Send one command line; it is answered in the next background cycle."""
+        port = port or self.rest_port
+        reply = Reply(command)
+
+        def job() -> None:
+            text, error = self._terminal.execute(command, port)
+            reply.resolve(text, error, self.env.now)
+
+        self.background.submit(job)
+        return reply
+
+    # -- coordinate systems and rotary buffers --------------------------------------------
+
+    def coord_system(self, cs: int) -> CoordSystem:
+        """Coordinate system ``cs`` (1..16). Raises NotFound."""
+        try:
+            return self.coord_systems[cs]
+        except (KeyError, TypeError):
+            raise NotFound(f"no coordinate system {cs!r} (1..{N_CS})") from None
+
+    def _rotary_of(self, cs: int) -> RotaryBuffer:
+        rot = self.coord_system(cs).rotary
+        if rot is None:
+            raise NotFound(f"coordinate system {cs} has no rotary buffer (DEFINE ROT first)")
+        return rot
+
+    def size_words(self) -> int:
+        """Free buffer memory in words; negative while a buffer is open (``SIZE``)."""
+        used = sum(c.rotary.size_words for c in self.coord_systems.values() if c.rotary)
+        free = MEMORY_WORDS - used - (self.gather_words or 0)
+        return -free if self.buffer_holder is not None else free
+
+    def define_rotary(self, cs: int, words: int) -> dict[str, Any]:
+        """``&cs DEFINE ROT words``.
+
+        Ordering (seed 000, TUM p337, API.md): refused while a gather buffer exists or any CS
+        numbered lower than ``cs`` has a rotary buffer — define from the highest CS down.
+        ``[INF]`` also refused (ERR003) when ``cs`` already has one, ERR007 while buffers are
+        open, ERR006 when memory is short.
+        """
+        c = self.coord_system(cs)
+        if isinstance(words, bool) or not isinstance(words, int) or words < 1:
+            raise InvalidValue("size_words must be a positive whole number", field="size_words")
+        if self.buffer_holder is not None:
+            raise Conflict("close the open buffers first", pmac_error="ERR007")
+        if self.gather_words is not None:
+            raise Conflict(
+                "a gather buffer exists: DELETE GATHER before DEFINE ROT", pmac_error="ERR003"
+            )
+        lower = [n for n, o in self.coord_systems.items() if n < cs and o.rotary is not None]
+        if lower:
+            raise Conflict(
+                f"CS {lower[0]} (lower-numbered) already has a rotary buffer: define rotary "
+                "buffers from the highest-numbered CS down",
+                pmac_error="ERR003",
+            )
+        if c.rotary is not None:
+            raise Conflict(f"CS {cs} already has a rotary buffer", pmac_error="ERR003")
+        if words > self.size_words():
+            raise BufferFull(f"only {self.size_words()} words of memory free", pmac_error="ERR006")
+        c.rotary = RotaryBuffer(cs, words, self.log, self._thresholds)
+        return self.rotary(cs)  # type: ignore[return-value]
+
+    def delete_rotary(self, cs: int) -> None:
+        """``&cs DELETE ROT``: erase the buffer and free its memory (ERR001 while running)."""
+        c = self.coord_system(cs)
+        if c.rotary is None:
+            return
+        if c.running or c.moving:
+            raise Conflict(f"CS {cs} is running its program", pmac_error="ERR001")
+        c.rotary = None
+
+    def define_gather(self, words: int | None) -> None:
+        """``DEFINE GATHER [n]``: with no size it takes all free memory."""
+        if self.gather_words is not None:
+            raise Conflict("a gather buffer already exists", pmac_error="ERR003")
+        free = abs(self.size_words())
+        if words is not None and words > free:
+            raise BufferFull("not enough memory for the gather buffer", pmac_error="ERR006")
+        self.gather_words = free if words is None else words
+
+    def delete_gather(self) -> None:
+        """``DELETE GATHER``."""
+        self.gather_words = None
+
+    def open_rotary(self, port: Port) -> None:
+        """``OPEN ROT`` on ``port``: ERR007 if another port holds a buffer open."""
+        if self.buffer_holder is not None and self.buffer_holder is not port:
+            raise Conflict("another port holds a buffer open", pmac_error="ERR007")
+        rotaries = [c.rotary for c in self.coord_systems.values() if c.rotary is not None]
+        if not rotaries:
+            raise Conflict("no rotary buffer is defined", pmac_error="ERR003")
+        self.buffer_holder = port
+        for rot in rotaries:
+            rot.reevaluate()
+
+    def close_buffers(self, port: Port) -> None:
+        """``CLOSE``: this port's open buffers stop accepting lines; execution goes on."""
+        if self.buffer_holder is port:
+            self.buffer_holder = None
+
+    def store_line(self, c: CoordSystem, line: ProgramLine) -> None:
+        """Store one compiled line in ``c``'s rotary buffer (ERR006 if it does not fit)."""
+        rot = c.rotary
+        if rot is None:
+            raise NotFound(f"coordinate system {c.cs} has no rotary buffer")
+        if not rot.fits(line.words):
+            raise BufferFull(
+                f"line of {line.words} words does not fit ({rot.free_words} free)",
+                pmac_error="ERR006",
+            )
+        rot.store(line)
+        c.lines_arrived()
+
+    def load_lines(
+        self, cs: int, lines: Iterable[str], first_seq: int | None = None
+    ) -> LoadResult:
+        """Store a batch of program lines in ``cs``'s rotary buffer, all or nothing.
+
+        Every line is parsed and the batch sized before anything is stored. With
+        ``first_seq`` the lines are numbered ``first_seq, first_seq+1, ...``; a line whose
+        number was already stored is acknowledged and not stored again.
+
+        Raises:
+            NotFound: no such CS or no rotary buffer.
+            ParseError: a bad line (``index``, ``column``, ``text``; ERR003).
+            BufferFull: the new lines do not fit (ERR006); nothing stored.
+        """
+        c = self.coord_system(cs)
+        rot = self._rotary_of(cs)
+        texts = list(lines)
+        compiled: list[ProgramLine] = []
+        for i, text in enumerate(texts):
+            if not isinstance(text, str):
+                raise InvalidValue(f"line {i} is not text", field="lines", index=i)
+            try:
+                compiled.append(compile_line(text))
+            except ParseError as e:
+                raise e.at(index=i) from None
+        skip = 0
+        if first_seq is not None and rot.last_seq is not None:
+            skip = min(len(compiled), max(0, rot.last_seq - first_seq + 1))
+        new = compiled[skip:]
+        words = sum(line.words for line in new)
+        if not rot.fits(words):
+            raise BufferFull(
+                f"{len(new)} lines of {words} words do not fit ({rot.free_words} words free)",
+                pmac_error="ERR006",
+                free_words=rot.free_words,
+            )
+        store = rot.store
+        for line in new:
+            store(line)
+        if new:
+            c.lines_arrived()
+        if first_seq is not None and texts:
+            last = first_seq + len(texts) - 1
+            rot.last_seq = last if rot.last_seq is None else max(rot.last_seq, last)
+        return LoadResult(len(texts), len(new), rot.lines_ahead, rot.free_words, rot.breq)
+
+    def point_program(self, cs: int, program: float) -> None:
+        """``B{n}``: point the CS at program ``n`` (0 = rotary). ERR001 while running."""
+        c = self.coord_system(cs)
+        if c.running:
+            raise Conflict(f"CS {cs} is running", pmac_error="ERR001")
+        c.program = program
+
+    def run(self, cs: int, pointer: float | None = 0, single_step: bool = False) -> None:
+        """``R`` (``S`` with ``single_step``); REST's run is ``B0 R`` (``pointer=0``).
+
+        Raises:
+            Conflict: ERR015 when the CS does not point at a rotary buffer.
+        """
+        c = self.coord_system(cs)
+        if pointer is not None and not c.running:
+            c.program = pointer
+        if c.program != 0 or c.rotary is None:
+            raise Conflict(
+                f"CS {cs} does not point to a valid program buffer (B0 with a rotary buffer)",
+                pmac_error="ERR015",
+            )
+        c.run(single_step)
+
+    def quit(self, cs: int) -> None:
+        """``Q``."""
+        self.coord_system(cs).quit()
+
+    def abort(self, cs: int) -> None:
+        """``A``."""
+        self.coord_system(cs).abort()
+
+    def coord(self, cs: int) -> dict[str, Any]:
+        """``{"cs", "program": {"state", "line"?}, "rotary": Rotary | None}`` (API.md)."""
+        c = self.coord_system(cs)
+        return {"cs": cs, "program": c.to_dict(), "rotary": self.rotary(cs)}
+
+    def rotary(self, cs: int) -> dict[str, Any] | None:
+        rot = self.coord_system(cs).rotary
+        return None if rot is None else rot.to_dict(self.buffer_holder is not None)
+
+    def positions(self, cs: int, t: float | None = None) -> dict[str, float]:
+        """Commanded axis positions of ``cs`` now (or at a ``t`` within the current move)."""
+        return self.coord_system(cs).positions(t)
+
+    def wait_breq(self, cs: int) -> simpy.Event:
+        """An event that fires at the next rising BREQ edge of ``cs`` (a host's interrupt)."""
+        ev = self.env.event()
+        self._rotary_of(cs).on_rise(lambda: ev.succeed())
+        return ev
+
+    # -- motors ----------------------------------------------------------------------------
+
+    def _motor_axis(self, motor: int) -> tuple[int, str, float] | None:
+        have = self.motors.get(motor)
+        if have is None:
+            return None
+        cs, definition = have
+        axis = definition[-1]
+        scale = float(definition[:-1]) if len(definition) > 1 else 1.0
+        return cs, axis, scale
+
+    def motor_report(self, motor: int, what: str) -> float:
+        """``P`` (position, counts), ``V`` (counts/servo cycle) or ``F`` (following error)."""
+        m = self._motor_axis(motor)
+        if m is None or what == "F":
+            return 0.0
+        cs, axis, scale = m
+        c = self.coord_systems[cs]
+        if what == "P":
+            return round(c.positions().get(axis, 0.0) * scale, 1)
+        dt = self.scheduler.period_s
+        now = self.env.now
+        p1 = c.positions(now).get(axis, 0.0)
+        p0 = c.positions(max(0.0, now - dt)).get(axis, p1) if c.moving else p1
+        return round((p1 - p0) * scale, 3)
+
+    def motor_status(self, motor: int) -> tuple[int, int]:
+        """The two 24-bit words of ``?`` (TSRM p284; spec §9.4)."""
+        w1 = (1 << 23) | (1 << 19)
+        w2 = 1 << 10
+        m = self._motor_axis(motor) if 1 <= motor <= N_MOTORS else None
+        moving = False
+        if m is not None:
+            moving = self.coord_systems[m[0]].moving
+            w2 |= (1 << 15) | ((m[0] - 1) << 20)
+        if not moving:
+            w1 |= 1 << 13
+            w2 |= 1
+        return w1, w2
+
+    # -- variables ------------------------------------------------------------------------
+
+    def get_variable(self, name: str) -> float:
+        kind, n, cs = parse_name(name)
+        return self.vars.read(kind, n, cs)
+
+    def set_variable(self, name: str, value: float) -> None:
+        kind, n, cs = parse_name(name)
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise InvalidValue("value must be a number", field="value")
+        if not math.isfinite(value):
+            raise InvalidValue("value must be finite", field="value")
+        self.vars.write(kind, n, float(value), cs)
+
+    # -- life cycle -----------------------------------------------------------------------
+
+    def reset(self) -> None:
+        """Power cycle: factory defaults (plus config), buffers and programs gone."""
+        self.background.queue.clear()
+        for c in self.coord_systems.values():
+            c.detach()
+        self._power_on()
+        self.log.emit("reset")
+
+    def status(self) -> dict[str, Any]:
+        return {
+            "servo_period_s": self.scheduler.period_s,
+            "rti_period_s": self.scheduler.rti_period_s(),
+            "coord": {
+                n: c.state
+                for n, c in self.coord_systems.items()
+                if c.rotary is not None or c.state != "idle"
+            },
+        }
+
+
+__all__ = ["LoadResult", "PmacController"]

@@ -1,0 +1,553 @@
+"""One coordinate system running its rotary program: move planning (lookahead) and execution.
+
+What is modelled (TUM p236, p249-250, p339-341; TSRM p177, p429, p446; PUM p213; spec §0,
+§4, §9.1-9.3):
+
+* **Planning at RTIs.** Working through program lines ("calculation") happens only at RTIs.
+  On ``R`` the first moves are calculated at the next RTI and motion starts at that RTI
+  (I11 = 0: "start as soon as calculated"). Every time a move starts executing it asks for
+  planning of the next move, done at the next RTI strictly after the move's start.
+* **Depth.** Calculation keeps this many moves calculated beyond the executing one: 2 for
+  LINEAR with Isx13 = 0, else 1 (spec §4.2, §9.3: from rest the scan runs through the 3rd
+  move). DWELL, DELAY and RAPID count as moves. A line is worked through whole.
+* **Breaks.** ``DWELL`` and ``RAPID`` stop lookahead: nothing after them is calculated until
+  they are finished (then at the next RTI). ``DELAY`` is a zero-distance move, calculated
+  through and blended like any move.
+* **Blending.** Consecutive LINEAR/CIRCLE/DELAY moves blend (:mod:`sim.pmac.motion`); the
+  next move starts — ``move_start``, its synchronous M writes, the previous ``move_end`` — at
+  the start of the blend ramp, on a servo cycle. A DWELL or RAPID is preceded by a stop.
+* **Running out** of lines is not an error: when motion has stopped and there is nothing
+  left to calculate the program is ``waiting`` (still running); a new line is calculated at
+  the next RTI and starts at once, without a new ``R``. With Isx13 = 0 a move that starts
+  executing with no next move calculated ends in a stop ``[INF]`` (without segmentation the
+  blend must be known when the move starts); with Isx13 > 0 (segmentation mode) a move
+  calculated before the current move's deceleration to a stop begins is blended in (seed 000
+  "blend into the new move without stopping"), otherwise it starts from rest.
+* **Assignments.** Plain ``=`` assignments act at calculation (1-2 moves early, so ``M1=1``
+  between ``X10`` and ``X20`` fires when the move to X10 starts). Synchronous ones (``==``,
+  ``&=``, ``|=``, ``^=``) are evaluated at calculation and written at the start of the next
+  move or dwell that actually executes; ones left after the last move are never written.
+* **Q** stops calculating: the moves already calculated run, the last ends in a stop, then the
+  program is ``stopped``. **A** stops at once: every axis decelerates at the motor abort rate
+  Ixx15 (motor 1's, cts/ms², one count = one axis unit ``[INF]``), calculated moves and
+  queued synchronous writes are discarded (their lines freed); uncalculated lines stay.
+* **S** runs one move, then ``stopped``. **H** (feed hold) is modelled as Q ``[INF]``
+  (the Isx95 slew is not modelled).
+
+Program states (``program`` events): idle → running ⇄ waiting → stopped | aborted; running
+again only through ``R``/``S``. The legal transitions are the table ``TRANSITIONS``.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from typing import TYPE_CHECKING, Any
+
+from sim.pmac import motion
+from sim.pmac.program import (
+    OP_ASSIGN,
+    OP_AXISMODE,
+    OP_DELAY,
+    OP_DWELL,
+    OP_MODAL,
+    OP_MODE,
+    OP_MOVE,
+    ProgramLine,
+)
+from sim.pmac.variables import isx, ixx
+
+if TYPE_CHECKING:
+    from sim.pmac.controller import PmacController
+    from sim.pmac.rotary import RotaryBuffer
+
+IDLE, RUNNING, WAITING, STOPPED, ABORTED = "idle", "running", "waiting", "stopped", "aborted"
+
+#: Legal program-state transitions.
+TRANSITIONS: dict[str, frozenset[str]] = {
+    IDLE: frozenset({RUNNING}),
+    RUNNING: frozenset({WAITING, STOPPED, ABORTED}),
+    WAITING: frozenset({RUNNING, STOPPED, ABORTED}),
+    STOPPED: frozenset({RUNNING, ABORTED}),
+    ABORTED: frozenset({RUNNING}),
+}
+
+# Move kinds.
+LINEAR, DWELL, DELAY, RAPID = 0, 1, 2, 3
+
+
+class Move:
+    """One calculated move (or dwell / delay) and, once started, its profile times."""
+
+    __slots__ = (
+        "n", "kind", "tm", "ta", "start", "end", "v", "sync",
+        "t_start", "b_start", "b_end", "ta_in", "v_prev", "ta_out", "stopping",
+    )  # fmt: skip
+
+    def __init__(
+        self,
+        n: int,
+        kind: int,
+        tm: float,
+        ta: float,
+        start: dict[str, float],
+        end: dict[str, float],
+        sync: list[tuple[int, str, float]] | None,
+    ) -> None:
+        self.n = n
+        self.kind = kind
+        self.tm = tm
+        self.ta = ta
+        self.start = start
+        self.end = end
+        self.sync = sync
+        self.v: dict[str, float] = (
+            {a: (end[a] - start.get(a, 0.0)) / tm for a in end} if tm > 0 else {}
+        )
+        self.t_start = 0.0
+        self.b_start = 0.0
+        self.b_end = 0.0
+        self.ta_in = 0.0
+        self.v_prev: dict[str, float] = {}
+        self.ta_out = 0.0
+        self.stopping = False
+
+    @property
+    def blends(self) -> bool:
+        return self.kind == LINEAR or self.kind == DELAY
+
+
+class CoordSystem:
+    """Coordinate system ``cs`` of a :class:`sim.pmac.controller.PmacController`."""
+
+    def __init__(self, ctl: PmacController, cs: int) -> None:
+        self.ctl = ctl
+        self.cs = cs
+        self.vars = ctl.vars
+        self.sched = ctl.scheduler
+        self._emit = ctl.log.emit
+        self.rotary: RotaryBuffer | None = None
+        self.program: float | None = None  # B{n}; 0 = rotary
+        self.state = IDLE
+        self.planned: deque[Move] = deque()
+        self.current: Move | None = None
+        self.sync_pending: list[tuple[int, str, float]] = []
+        self.blocked = False
+        self.quitting = False
+        self.single_step = False
+        self._plan_due: float | None = None
+        self._token: object | None = None
+        self._abort: tuple[float, float, dict[str, float], dict[str, float]] | None = None
+        # Modal program state.
+        self.mode = "LINEAR"
+        self.time_mode = False
+        self.incremental: set[str] = set()
+        self.calc_pos: dict[str, float] = {}
+        self.rest_pos: dict[str, float] = {}
+
+    # -- state ----------------------------------------------------------------------------
+
+    def _set_state(self, state: str) -> None:
+        if state == self.state:
+            return
+        if state not in TRANSITIONS[self.state]:
+            raise AssertionError(f"program state {self.state} -> {state} is not legal")
+        self.state = state
+        self._emit("program", cs=self.cs, state=state)
+
+    @property
+    def running(self) -> bool:
+        """Running in the controller's sense: ``R`` given, not stopped (waiting included)."""
+        return self.state == RUNNING or self.state == WAITING
+
+    @property
+    def moving(self) -> bool:
+        return self.current is not None
+
+    def _depth(self) -> int:
+        if self.mode == "LINEAR" and self.vars.I(isx(self.cs, 13)) == 0:
+            return 2
+        return 1
+
+    def _accel_s(self) -> float:
+        return motion.accel_time_s(self.vars.I(isx(self.cs, 87)), self.vars.I(isx(self.cs, 88)))
+
+    # -- on-line commands -----------------------------------------------------------------
+
+    def run(self, single_step: bool = False) -> None:
+        """``R`` / ``S``: start (or resume) calculation at the next RTI."""
+        self.single_step = single_step
+        self.quitting = False
+        if self.state != RUNNING and self.state != WAITING:
+            self._set_state(RUNNING)
+        self._request_plan()
+
+    def quit(self) -> None:
+        """``Q``: finish the calculated moves, calculate nothing more, then ``stopped``."""
+        if not self.running:
+            return
+        self.sync_pending.clear()
+        if self.current is None and not self.planned:
+            self._plan_due = None
+            self._set_state(STOPPED)
+            return
+        self.quitting = True
+
+    def abort(self) -> None:
+        """``A``: decelerate every axis now at Ixx15; discard lookahead and sync writes."""
+        if not self.running:
+            return
+        now = self.sched.env.now
+        self._plan_due = None
+        self._token = None
+        self.quitting = False
+        self.blocked = False
+        self.single_step = False
+        self.sync_pending.clear()
+        self.planned.clear()
+        self._set_state(ABORTED)
+        m = self.current
+        if m is None:
+            if self.rotary is not None:
+                self.rotary.free_calculated()
+            self.calc_pos = dict(self.rest_pos)
+            return
+        pos = self.positions(now)
+        vel = self._velocities(m, now)
+        rate = self.vars.I(ixx(1, 15)) * 1e6  # cts/ms² -> units/s²
+        vmax = max((abs(v) for v in vel.values()), default=0.0)
+        t_stop = vmax / rate if rate > 0 else 0.0
+        stop = {a: pos[a] + vel.get(a, 0.0) * t_stop / 2 for a in pos}
+        self._abort = (now, t_stop, pos, vel)
+        self.calc_pos = dict(stop)
+        token = self._token = object()
+        t_end = self.sched.servo_at_or_after(now + t_stop)
+        self.sched.call_at(t_end, lambda _e: self._abort_end(token, stop))
+
+    def _abort_end(self, token: object, stop: dict[str, float]) -> None:
+        if token is not self._token or self.current is None:
+            return
+        m = self.current
+        self.current = None
+        self._abort = None
+        self.rest_pos = stop
+        self._emit("move_end", cs=self.cs, n=m.n)
+        if self.rotary is not None:
+            self.rotary.free_calculated()
+
+    def detach(self) -> None:
+        """Forget every scheduled wake-up (the controller is being reset)."""
+        self._plan_due = None
+        self._token = None
+        self.state = IDLE
+
+    # -- lines arriving -------------------------------------------------------------------
+
+    def lines_arrived(self) -> None:
+        """New lines in the rotary buffer: plan at the next RTI if calculation wants them."""
+        if self._plan_due is not None or self.blocked or self.quitting:
+            return
+        if self.state != RUNNING and self.state != WAITING:
+            return
+        target = self._depth() + (0 if self.current is not None else 1)
+        if len(self.planned) < target:
+            self._request_plan()
+
+    def _request_plan(self) -> None:
+        if self._plan_due is not None:
+            return
+        t = self.sched.next_rti_after(self.sched.env.now)
+        self._plan_due = t
+        self.sched.call_at(t, self._plan_cb)
+
+    # -- planning (RTI) -------------------------------------------------------------------
+
+    def _plan_cb(self, _ev: Any) -> None:
+        if self._plan_due is None or self._plan_due > self.sched.env.now:
+            return
+        self._plan_due = None
+        if self.blocked or self.quitting or (self.state != RUNNING and self.state != WAITING):
+            return
+        rot = self.rotary
+        planned = self.planned
+        if self.single_step:
+            target = 0 if (self.current is not None or planned) else 1
+        else:
+            target = self._depth() + (0 if self.current is not None else 1)
+        if rot is not None and self.program == 0:
+            while len(planned) < target and not self.blocked:
+                item = rot.take()
+                if item is None:
+                    break
+                self._calculate(item[0], item[1])
+                rot.line_calculated(item[0])
+        if self.current is None:
+            if planned:
+                if self.state == WAITING:
+                    self._set_state(RUNNING)
+                self._start(planned.popleft(), self.sched.env.now, None)
+            elif self.state == RUNNING:
+                self._set_state(WAITING)
+
+    def _calculate(self, n: int, line: ProgramLine) -> None:
+        """Work through one line: assignments, modal settings, its move."""
+        vars_ = self.vars
+        cs = self.cs
+        for op in line.ops:
+            code = op[0]
+            if code == OP_MOVE:
+                self._plan_move(n, op[1], op[2])
+            elif code == OP_ASSIGN:
+                _, kind, idx, aop, val = op
+                k = int(idx.const if idx.const is not None else idx.fn(vars_, cs))
+                value = val.const if val.const is not None else val.fn(vars_, cs)
+                if aop == "=":
+                    vars_.write(kind, k, value, cs)
+                else:
+                    self.sync_pending.append((k, aop, value))
+            elif code == OP_MODAL:
+                name, expr = op[1], op[2]
+                value = expr(vars_, cs)
+                if name == "TA":
+                    vars_.write("I", isx(cs, 87), value)
+                elif name == "TS":
+                    vars_.write("I", isx(cs, 88), value)
+                else:
+                    vars_.write("I", isx(cs, 89), value)
+                    self.time_mode = name == "TM"
+            elif code == OP_MODE:
+                self.mode = op[1]
+            elif code == OP_AXISMODE:
+                axes = op[2] or tuple("XYZABCUVW")
+                if op[1]:
+                    self.incremental.update(axes)
+                else:
+                    self.incremental.difference_update(axes)
+            elif code == OP_DWELL:
+                ms = max(0.0, op[1](vars_, cs))
+                self._append(Move(n, DWELL, ms / 1000.0, 0.0, self.calc_pos, self.calc_pos, None))
+                self.blocked = True
+            elif code == OP_DELAY:
+                ta = self._accel_s()
+                tm = motion.clamp_move_time(max(0.0, op[1](vars_, cs)) / 1000.0, ta)
+                self._append(Move(n, DELAY, tm, ta, self.calc_pos, self.calc_pos, None))
+
+    def _append(self, move: Move) -> None:
+        if self.sync_pending:
+            move.sync = self.sync_pending
+            self.sync_pending = []
+        self.planned.append(move)
+
+    def _plan_move(self, n: int, axes: tuple, vectors: tuple) -> None:
+        vars_, cs = self.vars, self.cs
+        start = self.calc_pos
+        end = dict(start)
+        inc = self.incremental
+        for axis, expr in axes:
+            v = expr.const if expr.const is not None else expr.fn(vars_, cs)
+            end[axis] = start.get(axis, 0.0) + v if axis in inc else v
+        for a in end:
+            if a not in start:
+                start[a] = 0.0
+        ta = self._accel_s()
+        if self.mode == "RAPID":
+            speed = vars_.I(ixx(1, 22)) * 1000.0  # cts/ms -> units/s
+            dist = max((abs(end[a] - start[a]) for a in end), default=0.0)
+            t = (dist / speed if speed > 0 else 0.0) + vars_.I(ixx(1, 21)) / 1000.0
+            move = Move(n, RAPID, max(t, motion.MIN_MOVE_S), 0.0, start, end, None)
+            self.calc_pos = end
+            self._append(move)
+            self.blocked = True
+            return
+        if self.time_mode:
+            t = vars_.I(isx(cs, 89)) / 1000.0
+        else:
+            delta = {a: end[a] - start[a] for a in end}
+            circle = self.mode != "LINEAR" and vars_.I(isx(cs, 13)) > 0
+            if circle and vectors:
+                vec = dict(vectors)
+                ij = (
+                    vec["I"](vars_, cs) if "I" in vec else 0.0,
+                    vec["J"](vars_, cs) if "J" in vec else 0.0,
+                )
+                radius = vec["R"](vars_, cs) if "R" in vec else None
+                dist = motion.arc_length(
+                    start, end, None if radius else ij, radius, self.mode == "CIRCLE1"
+                )
+            else:
+                dist = motion.vector_distance(delta)
+            t = motion.feed_time_s(dist, vars_.I(isx(cs, 89)), vars_.I(isx(cs, 90)))
+        move = Move(n, LINEAR, motion.clamp_move_time(t, ta), ta, start, end, None)
+        self.calc_pos = end
+        self._append(move)
+
+    # -- execution ------------------------------------------------------------------------
+
+    def _start(self, m: Move, t: float, prev: Move | None) -> None:
+        """Move ``m`` starts executing at ``t`` (blended from ``prev``, or from rest)."""
+        emit = self._emit
+        cs = self.cs
+        if prev is not None:
+            emit("move_end", cs=cs, n=prev.n)
+        if self.rotary is not None:
+            self.rotary.free_through(m.n - 1)
+        if m.sync:
+            for k, aop, value in m.sync:
+                self._sync_write(k, aop, value)
+        emit("move_start", cs=cs, n=m.n)
+        m.t_start = t
+        if prev is not None:
+            m.b_start = prev.b_end
+            m.v_prev = prev.v
+        else:
+            m.ta_in = m.ta
+            m.b_start = t + m.ta / 2
+            m.v_prev = {}
+        m.b_end = m.b_start + m.tm
+        self.current = m
+        if not (self.blocked or self.quitting or self.single_step):
+            self._request_plan()
+        if m.kind == DWELL or m.kind == RAPID:
+            m.b_start = t
+            m.b_end = t + m.tm
+            m.stopping = True
+            self._after(self.sched.servo_at_or_after(m.b_end), self._stop_end)
+        elif self.vars.I(isx(cs, 13)) == 0:
+            self._decide(None)
+        else:
+            self._after(self.sched.servo_at_or_after(m.b_end - m.ta / 2), self._decide)
+
+    def _after(self, t: float, fn: Any) -> None:
+        token = self._token = object()
+
+        def cb(_ev: Any) -> None:
+            if token is self._token:
+                fn(None)
+
+        self.sched.call_at(t, cb)
+
+    def _decide(self, _ev: Any) -> None:
+        """Blend into the next calculated move, or plan the stop at the end of this one."""
+        m = self.current
+        assert m is not None
+        nxt = self.planned[0] if self.planned else None
+        if nxt is not None and nxt.blends and m.blends and not self.single_step:
+            ta_n = min(nxt.ta, max(0.0, 2 * (m.tm - m.ta_in / 2)))
+            nxt.ta_in = ta_n
+            t_h = self.sched.servo_at_or_after(m.b_end - ta_n / 2)
+            self._after(t_h, self._handoff)
+            return
+        m.stopping = True
+        m.ta_out = self._accel_s() if m.kind != DWELL else 0.0
+        self._after(self.sched.servo_at_or_after(m.b_end + m.ta_out / 2), self._stop_end)
+
+    def _handoff(self, _ev: Any) -> None:
+        prev = self.current
+        nxt = self.planned.popleft()
+        self._start(nxt, self.sched.env.now, prev)
+
+    def _stop_end(self, _ev: Any) -> None:
+        m = self.current
+        assert m is not None
+        now = self.sched.env.now
+        self._emit("move_end", cs=self.cs, n=m.n)
+        self.current = None
+        self.rest_pos = dict(m.end)
+        if m.kind == DWELL or m.kind == RAPID:
+            self.blocked = False
+        rot = self.rotary
+        if self.planned:
+            nxt = self.planned.popleft()
+            self._start(nxt, now, None)
+            return
+        if rot is not None:
+            rot.free_calculated()
+        if self.quitting or self.single_step:
+            self.quitting = False
+            self.single_step = False
+            self.sync_pending.clear()
+            self._set_state(STOPPED)
+        elif self.state == RUNNING:
+            if rot is not None and rot.pending and not self.blocked:
+                self._request_plan()
+            else:
+                self._set_state(WAITING)
+
+    def _sync_write(self, k: int, aop: str, value: float) -> None:
+        vars_ = self.vars
+        if aop == "==":
+            vars_.write("M", k, value, self.cs, sync=True)
+            return
+        old = vars_.read("M", k, self.cs)
+        from sim.pmac.expressions import pmac_and, pmac_or, pmac_xor
+
+        f = {"&=": pmac_and, "|=": pmac_or, "^=": pmac_xor}[aop]
+        vars_.write("M", k, f(old, value), self.cs, sync=True)
+
+    # -- positions --------------------------------------------------------------------------
+
+    def _velocities(self, m: Move, t: float) -> dict[str, float]:
+        out: dict[str, float] = {}
+        for a in m.end:
+            out[a] = motion.velocity_at(
+                t, m.v.get(a, 0.0), m.b_start, m.ta_in, m.v_prev.get(a, 0.0),
+                m.b_end if m.stopping else None, m.ta_out,
+            )  # fmt: skip
+        return out
+
+    def positions(self, t: float | None = None) -> dict[str, float]:
+        """Commanded axis positions at ``t`` (default now), from the move profile."""
+        if t is None:
+            t = self.sched.env.now
+        m = self.current
+        if m is None:
+            return dict(self.rest_pos)
+        if self._abort is not None:
+            t0, t_stop, pos, vel = self._abort
+            tau = min(max(t - t0, 0.0), t_stop)
+            if t_stop <= 0:
+                return dict(pos)
+            return {a: pos[a] + vel.get(a, 0.0) * (tau - tau * tau / (2 * t_stop)) for a in pos}
+        if m.kind == DWELL:
+            return dict(m.end)
+        out: dict[str, float] = {}
+        for a in m.end:
+            out[a] = motion.position_at(
+                t, m.start.get(a, 0.0), m.v.get(a, 0.0), m.b_start, m.ta_in,
+                m.v_prev.get(a, 0.0), m.b_end if m.stopping else None, m.ta_out,
+            )  # fmt: skip
+        return out
+
+    # -- status ---------------------------------------------------------------------------
+
+    def status_words(self) -> tuple[int, int, int]:
+        """The three 24-bit words of ``??`` (TSRM p284-287; spec §3, §9.4)."""
+        w1 = w2 = 0
+        if self.running:
+            w1 |= 1 << 0
+            if not self.single_step:
+                w1 |= 1 << 4
+        if self.single_step:
+            w1 |= 1 << 1
+        if self.current is not None and self.current.blends:
+            w1 |= 1 << 2
+        if self.time_mode:
+            w1 |= 1 << 3
+        mode_bits = {"LINEAR": 0, "RAPID": 0b10, "CIRCLE1": 0b01, "CIRCLE2": 0b11}[self.mode]
+        w2 |= mode_bits
+        if self.current is not None and self.current.kind == DWELL:
+            w2 |= 1 << 12
+        if self.rotary is not None and self.rotary.full:
+            w2 |= 1 << 16
+        if self.current is None:
+            w2 |= 1 << 17
+        return w1, w2, 0
+
+    def to_dict(self) -> dict[str, Any]:
+        """The API's ``program`` object."""
+        out: dict[str, Any] = {"state": self.state}
+        if self.current is not None:
+            out["line"] = self.current.n
+        return out
+
+
+__all__ = ["TRANSITIONS", "CoordSystem", "Move"]

@@ -1,0 +1,475 @@
+"""Text -> statements for the Turbo PMAC command language.
+
+One compiled regular expression tokenises a line (case-insensitive); a small recursive-descent
+parser turns the tokens into :mod:`sim.pmac.statements`. Several commands may share a line
+(``&1 B0 R``, ``&1B0R``); they are returned left to right, each with its character span so the
+terminal can store the exact text of a program line.
+
+Whether a word is an on-line command or a program statement depends on whether this port has a
+buffer open (seed 000, TSRM p295, p328): with a buffer open ``B0`` is a B-axis move and ``I100``
+the I component of a circle vector; with buffers closed they point the CS at its rotary
+program and query I100. ``parse_line(text, open_=...)`` follows ``OPEN ROT`` / ``CLOSE`` inside
+the line itself.
+
+Abbreviations accepted: ``DEF``/``DEFINE``, ``DEL``/``DELETE``, ``ROT``/``ROTARY``,
+``GAT``/``GATHER``, ``LIN``/``LINEAR``, ``RPD``/``RAPID``, ``CIR1``/``CIRCLE1``, ``DWE``/
+``DWELL``, ``DLY``/``DELAY``, ``VER``/``VERSION``. A ``;`` starts a comment.
+
+Errors are :class:`sim.errors.ParseError` with the 1-based ``column`` of the offending
+character and ``pmac_error="ERR003"`` (data error or unrecognised command); nothing executes
+when any part of a line fails to parse.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Any
+
+from sim.errors import ParseError
+from sim.pmac import expressions as ex
+from sim.pmac import statements as st
+
+_WORDS = [
+    "DEFINE", "DELETE", "DEF", "DEL", "ROTARY", "ROT", "GATHER", "GAT", "OPEN", "CLOSE",
+    "LINEAR", "LIN", "RAPID", "RPD", "CIRCLE", "CIR", "DWELL", "DWE", "DELAY", "DLY",
+    "VERSION", "VER", "CID", "CPU", "VID", "TYPE", "SIZE", "SEND", "CMD",
+    "ATAN2", "ATAN", "ASIN", "ACOS", "SIN", "COS", "TAN", "SQRT", "EXP", "LN", "ABS", "INT",
+    "INC", "PR", "TA", "TS", "TM",
+]  # fmt: skip
+_WORDS.sort(key=len, reverse=True)
+
+_TOKEN = re.compile(
+    r"\s*(?:"
+    r"(?P<num>\$[0-9A-Fa-f]+|\d*\.\d+|\d+(?:\.(?!\.)\d*)?)"
+    r'|(?P<str>"[^"]*")'
+    r"|(?P<comment>;.*)"
+    r"|(?P<word>" + "|".join(_WORDS) + r"|[A-Za-z])"
+    r"|(?P<op>\?\?\?|\?\?|\?|->|\.\.|==|&=|\|=|\^=|[=&#|^+\-*/%(),])"
+    r")",
+    re.IGNORECASE,
+)
+
+_FUNCS = frozenset(ex.FUNCTIONS)
+_VARS = frozenset("IPQM")
+_ASSIGN_OPS = frozenset(["=", "==", "&=", "|=", "^="])
+_ERR = "ERR003"
+
+Token = tuple[str, str, int, int]  # (kind, text upper-cased, start, end)
+
+
+def tokenize(text: str) -> list[Token]:
+    """Tokens of one line; raises ParseError at the first character no token matches."""
+    out: list[Token] = []
+    pos, n = 0, len(text)
+    match = _TOKEN.match
+    while pos < n:
+        m = match(text, pos)
+        if m is None or m.end() == pos:
+            if text[pos:].strip() == "":
+                break
+            col = pos + 1 + (len(text[pos:]) - len(text[pos:].lstrip()))
+            raise ParseError(
+                f"unexpected character {text[col - 1]!r}", column=col, text=text, pmac_error=_ERR
+            )
+        kind = m.lastgroup
+        if kind is None:  # only whitespace left
+            break
+        if kind != "comment":
+            out.append((kind, m.group(kind).upper(), m.start(kind), m.end(kind)))
+        pos = m.end()
+    return out
+
+
+def _number(tok: str) -> float:
+    if tok.startswith("$"):
+        return float(int(tok[1:], 16))
+    return float(tok)
+
+
+class _Parser:
+    def __init__(self, text: str, open_: bool) -> None:
+        self.text = text
+        self.toks = tokenize(text)
+        self.i = 0
+        self.open = open_
+
+    # -- token helpers --------------------------------------------------------------------
+
+    def peek(self, k: int = 0) -> Token | None:
+        j = self.i + k
+        return self.toks[j] if j < len(self.toks) else None
+
+    def error(self, message: str, tok: Token | None = None) -> ParseError:
+        if tok is None:
+            tok = self.peek()
+        col = tok[2] + 1 if tok is not None else len(self.text.rstrip()) + 1
+        return ParseError(message, column=col, text=self.text, pmac_error=_ERR)
+
+    def take(self) -> Token:
+        tok = self.peek()
+        if tok is None:
+            raise self.error("unexpected end of line")
+        self.i += 1
+        return tok
+
+    def at(self, kind: str, text: str | None = None) -> bool:
+        tok = self.peek()
+        return tok is not None and tok[0] == kind and (text is None or tok[1] == text)
+
+    def expect_op(self, text: str) -> Token:
+        if not self.at("op", text):
+            raise self.error(f"expected {text!r}")
+        return self.take()
+
+    def integer(self) -> int:
+        tok = self.peek()
+        if tok is None or tok[0] != "num":
+            raise self.error("expected a number")
+        self.i += 1
+        v = _number(tok[1])
+        if v != int(v) or v < 0:
+            raise self.error("expected a whole number", tok)
+        return int(v)
+
+    # -- expressions ----------------------------------------------------------------------
+
+    def expression(self) -> ex.Expr:
+        left = self.term()
+        while self.at("op") and self.peek()[1] in ex.LOW:  # type: ignore[index]
+            op = self.take()[1]
+            left = ex.binary(op, left, self.term())
+        return left
+
+    def term(self) -> ex.Expr:
+        left = self.unary()
+        while self.at("op") and self.peek()[1] in ex.HIGH:  # type: ignore[index]
+            op = self.take()[1]
+            left = ex.binary(op, left, self.unary())
+        return left
+
+    def unary(self) -> ex.Expr:
+        tok = self.peek()
+        if tok is not None and tok[0] == "op" and tok[1] == "-":
+            self.i += 1
+            return ex.negate(self.unary())
+        if tok is not None and tok[0] == "op" and tok[1] == "+":
+            raise self.error("unary plus is not allowed", tok)
+        return self.primary()
+
+    def primary(self) -> ex.Expr:
+        tok = self.peek()
+        if tok is None:
+            raise self.error("expected a value")
+        kind, word = tok[0], tok[1]
+        if kind == "num":
+            self.i += 1
+            return ex.constant(_number(word), word)
+        if kind == "op" and word == "(":
+            return self.parenthesised()
+        if kind == "word" and word in _VARS:
+            self.i += 1
+            return ex.variable(word, self.index())
+        if kind == "word" and word in _FUNCS:
+            self.i += 1
+            if not self.at("op", "("):
+                raise self.error(f"{word} needs (argument)")
+            return ex.function(word, self.parenthesised())
+        raise self.error("expected a value", tok)
+
+    def parenthesised(self) -> ex.Expr:
+        self.expect_op("(")
+        inner = self.expression()
+        self.expect_op(")")
+        return ex.paren(inner)
+
+    def index(self) -> ex.Expr:
+        """A variable number: a constant or ``(expression)``."""
+        tok = self.peek()
+        if tok is not None and tok[0] == "num":
+            self.i += 1
+            v = _number(tok[1])
+            if v != int(v) or not 0 <= v <= 8191:
+                raise self.error("variable number must be 0..8191", tok)
+            return ex.constant(v, tok[1])
+        if tok is not None and tok[0] == "op" and tok[1] == "(":
+            return self.parenthesised()
+        raise self.error("expected a variable number", tok)
+
+    def value(self) -> ex.Expr:
+        """A word's value: a (signed) constant or a parenthesised expression."""
+        tok = self.peek()
+        if tok is not None and tok[0] == "op" and tok[1] == "-":
+            self.i += 1
+            return ex.negate(self.value())
+        if tok is not None and tok[0] == "num":
+            self.i += 1
+            return ex.constant(_number(tok[1]), tok[1])
+        if tok is not None and tok[0] == "op" and tok[1] == "(":
+            return self.parenthesised()
+        raise self.error("expected a value", tok)
+
+    def has_value(self) -> bool:
+        tok = self.peek()
+        if tok is None:
+            return False
+        if tok[0] == "num":
+            return True
+        if tok[0] == "op" and tok[1] in ("(", "-"):
+            nxt = self.peek(1)
+            return tok[1] == "(" or (nxt is not None and nxt[0] in ("num",) or self.at_paren(1))
+        return False
+
+    def at_paren(self, k: int) -> bool:
+        tok = self.peek(k)
+        return tok is not None and tok[0] == "op" and tok[1] == "("
+
+    # -- statements -----------------------------------------------------------------------
+
+    def statements(self) -> list[tuple[Any, int, int]]:
+        out: list[tuple[Any, int, int]] = []
+        while self.peek() is not None:
+            start = self.peek()[2]  # type: ignore[index]
+            stmt = self.statement()
+            end = self.toks[self.i - 1][3]
+            if isinstance(stmt, st.OpenRotary):
+                self.open = True
+            elif isinstance(stmt, st.Close):
+                self.open = False
+            out.append((stmt, start, end))
+        return out
+
+    def statement(self) -> Any:
+        tok = self.take()
+        kind, word = tok[0], tok[1]
+        if kind == "num":
+            # A bare constant is P0 = constant (TUM p244).
+            return st.Assign(st.VarRef("P", ex.constant(0.0, "0")), "=", ex.constant(_number(word)))
+        if kind == "str":
+            raise self.error("unexpected text string", tok)
+        if kind == "op":
+            return self.op_statement(tok)
+        return self.word_statement(tok)
+
+    def op_statement(self, tok: Token) -> Any:
+        word = tok[1]
+        if word == "&":
+            return st.AddressCS(self.integer() if self.at("num") else None)
+        if word == "#":
+            if not self.at("num"):
+                return st.AddressMotor(None)
+            motor = self.integer()
+            if self.at("op", "->"):
+                self.take()
+                return st.AxisDefinition(motor, self.axis_definition())
+            return st.AddressMotor(motor)
+        if word in ("?", "??", "???"):
+            return st.Query(word)
+        raise self.error(f"unexpected {word!r}", tok)
+
+    def axis_definition(self) -> str | None:
+        scale = ""
+        if self.at("num"):
+            scale = self.take()[1]
+        tok = self.peek()
+        if tok is not None and tok[0] == "word" and len(tok[1]) == 1 and tok[1] in st.AXES:
+            self.i += 1
+            return f"{scale}{tok[1]}"
+        if scale:
+            if float(scale) == 0:
+                return "0"
+            raise self.error("expected an axis letter after the scale factor")
+        return None
+
+    def word_statement(self, tok: Token) -> Any:
+        word = tok[1]
+        if word in ("DEFINE", "DEF"):
+            what = self.take()
+            if what[1] in ("ROTARY", "ROT"):
+                return st.DefineRotary(self.integer())
+            if what[1] in ("GATHER", "GAT"):
+                return st.DefineGather(self.integer() if self.at("num") else None)
+            raise self.error("DEFINE what? (ROT, GATHER)", what)
+        if word in ("DELETE", "DEL"):
+            what = self.take()
+            if what[1] in ("ROTARY", "ROT"):
+                return st.DeleteRotary()
+            if what[1] in ("GATHER", "GAT"):
+                return st.DeleteGather()
+            raise self.error("DELETE what? (ROT, GATHER)", what)
+        if word == "OPEN":
+            what = self.take()
+            if what[1] in ("ROTARY", "ROT"):
+                return st.OpenRotary()
+            raise self.error("only OPEN ROT is supported", what)
+        if word == "CLOSE":
+            return st.Close()
+        if word in ("LINEAR", "LIN"):
+            return st.MoveMode("LINEAR")
+        if word in ("RAPID", "RPD"):
+            return st.MoveMode("RAPID")
+        if word in ("CIRCLE", "CIR"):
+            n = self.integer()
+            if n not in (1, 2):
+                raise self.error("CIRCLE1 or CIRCLE2", self.toks[self.i - 1])
+            return st.MoveMode(f"CIRCLE{n}")
+        if word in ("INC", "ABS"):
+            return st.AxisMode(word == "INC", self.axis_list())
+        if word in ("TA", "TS", "TM"):
+            return st.Modal(word, self.value())
+        if word in ("DWELL", "DWE"):
+            return st.Dwell(self.value())
+        if word in ("DELAY", "DLY"):
+            return st.Delay(self.value())
+        if word in ("VERSION", "VER"):
+            return st.Query("VER")
+        if word in ("CID", "CPU", "VID", "TYPE", "SIZE", "PR"):
+            return st.Query(word)
+        if word in ("SEND", "CMD"):
+            s = self.peek()
+            if s is None or s[0] != "str":
+                raise self.error(f'{word} needs "text"')
+            self.i += 1
+            return st.Message(word, s[1][1:-1])
+        if word in _FUNCS:
+            raise self.error(f"{word} is a function, not a command", tok)
+        return self.letter_statement(tok)
+
+    def axis_list(self) -> tuple[str, ...] | None:
+        if not self.at("op", "("):
+            return None
+        self.take()
+        axes: list[str] = []
+        while True:
+            tok = self.take()
+            if tok[0] != "word" or len(tok[1]) != 1 or tok[1] not in st.AXES:
+                raise self.error("expected an axis letter", tok)
+            axes.append(tok[1])
+            if self.at("op", ","):
+                self.take()
+                continue
+            self.expect_op(")")
+            return tuple(axes)
+
+    def letter_statement(self, tok: Token) -> Any:
+        word = tok[1]
+        has_value = self.has_value()
+        if word in _VARS and has_value and not (word == "I" and self.open and self._i_vector()):
+            return self.variable_statement(word)
+        if not has_value:
+            if word == "R":
+                return st.Run()
+            if word == "S":
+                return st.Step()
+            if word == "Q":
+                return st.Quit()
+            if word == "A":
+                return st.Abort()
+            if word == "H":
+                return st.Hold()
+            if word in ("P", "V", "F"):
+                return st.Query(word)
+            raise self.error(f"{word} needs a value", tok)
+        if word == "B" and not self.open:
+            return st.ProgramPointer(self.value_const(tok))
+        if word in st.AXES:
+            return st.AxisWord(word, self.value())
+        if word in ("I", "J", "K", "R"):
+            return st.VectorWord(word, self.value())
+        if word == "F":
+            return st.Modal("F", self.value())
+        if word in ("N", "O"):
+            return st.Label(word, self.integer())
+        raise self.error(f"unrecognised command {word!r}", tok)
+
+    def _i_vector(self) -> bool:
+        """With a buffer open, ``I100`` is a vector word unless it is an assignment."""
+        j = self.i
+        tok = self.peek()
+        if tok is not None and tok[0] == "num":
+            nxt = self.peek(1)
+            return not (nxt is not None and nxt[0] == "op" and nxt[1] in _ASSIGN_OPS)
+        self.i = j
+        return True
+
+    def value_const(self, tok: Token) -> float:
+        v = self.value()
+        if v.const is None:
+            raise self.error("expected a constant", tok)
+        return v.const
+
+    def variable_statement(self, kind: str) -> Any:
+        index = self.index()
+        op = self.peek()
+        if op is not None and op[0] == "op" and op[1] in _ASSIGN_OPS:
+            self.i += 1
+            if op[1] == "=" and kind == "I" and self.at("op", "*"):
+                self.take()
+                n = self._const_index(index, op)
+                return st.VarDefault(n, n)
+            if op[1] != "=" and kind != "M":
+                raise self.error("synchronous assignment is for M-variables only", op)
+            return st.Assign(st.VarRef(kind, index), op[1], self.expression())
+        if op is not None and op[0] == "op" and op[1] == "->" and kind == "M":
+            self.i += 1
+            return st.MDefinitionQuery(self._const_index(index, op))
+        first = self._const_index(index, op)
+        if op is not None and op[0] == "op" and op[1] == "..":
+            self.i += 1
+            last = self.integer()
+            if last < first or last > 8191:
+                raise self.error("bad variable range", self.toks[self.i - 1])
+            if self.at("op", "=") and self.peek(1) is not None and self.peek(1)[1] == "*":
+                if kind != "I":
+                    raise self.error("=* is for I-variables only")
+                self.i += 2
+                return st.VarDefault(first, last)
+            return st.VarQuery(kind, first, last=last)
+        if op is not None and op[0] == "op" and op[1] == ",":
+            self.i += 1
+            count = self.integer()
+            step = 1
+            if self.at("op", ","):
+                self.take()
+                step = self.integer()
+            return st.VarQuery(kind, first, count=count, step=step)
+        return st.VarQuery(kind, first)
+
+    def _const_index(self, index: ex.Expr, tok: Token | None) -> int:
+        if index.const is None:
+            raise self.error("a constant variable number is needed here", tok)
+        return int(index.const)
+
+
+def parse_line(text: str, open_: bool = False) -> list[tuple[Any, int, int]]:
+    """Statements of one terminal line with their ``(start, end)`` character spans.
+
+    Args:
+        text: the line as typed.
+        open_: whether this port holds a program buffer open at the start of the line.
+
+    Raises:
+        ParseError: with ``column`` (1-based) and ``pmac_error="ERR003"``.
+    """
+    return _Parser(text, open_).statements()
+
+
+def parse_program_line(text: str) -> list[Any]:
+    """The program statements of one rotary-buffer line (as with the buffer open).
+
+    Raises:
+        ParseError: bad text, or an on-line command (``R``, ``&2``...) inside the line.
+    """
+    out: list[Any] = []
+    for stmt, start, _end in parse_line(text, open_=True):
+        if not isinstance(stmt, st.PROGRAM_TYPES):
+            raise ParseError(
+                f"{type(stmt).__name__} is an on-line command, not a program statement",
+                column=start + 1,
+                text=text,
+                pmac_error=_ERR,
+            )
+        out.append(stmt)
+    return out
+
+
+__all__ = ["parse_line", "parse_program_line", "tokenize"]

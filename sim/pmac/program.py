@@ -1,0 +1,111 @@
+"""A stored program line: its statements compiled to operations, and its size in words.
+
+Words per line (seed 000: "each value in a program (e.g. X1250) takes one word"): we count
+**one word per command word**, with or without a value — ``X1250`` is one word, ``X10 Y20`` two,
+``P1=P2+1`` one, ``LINEAR``, ``INC``, ``N10`` or ``SEND"..."`` one each. So the manual's
+four-axis line ``X1000 Y1200 Z1400 A1600`` takes 4 words and 100 of them 400. A line always
+takes at least one word. ``[INF]`` the manual does not say what a value-less word costs; one
+word is the simplest rule that agrees with its example.
+
+Operations (``ops``) are small tuples, in program order, executed by the coordinate system's
+move planning (:mod:`sim.pmac.lookahead`). The axis words of a line (with its circle vector
+words) form **one move**, executed at the end of the line — or before a ``DWELL``/``DELAY`` in
+the same line — after the line's modal settings (``X10 Y10 F5`` moves at F5, as in the manual's
+``&1 X10 Y10 F5`` example). Assignments keep their place relative to that move.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
+
+from sim.pmac import statements as st
+from sim.pmac.parser import parse_program_line
+
+# Operation codes (first element of each op tuple).
+OP_ASSIGN = 0  # (OP_ASSIGN, kind, index_expr, op, value_expr)
+OP_MODAL = 1  # (OP_MODAL, name, expr)
+OP_MODE = 2  # (OP_MODE, mode)
+OP_AXISMODE = 3  # (OP_AXISMODE, incremental, axes|None)
+OP_MOVE = 4  # (OP_MOVE, ((axis, expr), ...), ((vector, expr), ...))
+OP_DWELL = 5  # (OP_DWELL, expr)
+OP_DELAY = 6  # (OP_DELAY, expr)
+
+
+@dataclass(frozen=True, slots=True)
+class ProgramLine:
+    """One line of a motion program, parsed and compiled once."""
+
+    text: str
+    words: int
+    ops: tuple[tuple[Any, ...], ...]
+    moves: int  # number of motion operations (moves, dwells, delays)
+
+
+def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:
+    """Compile program statements (already parsed) into a :class:`ProgramLine`."""
+    ops: list[tuple[Any, ...]] = []
+    modal: list[tuple[Any, ...]] = []
+    axes: list[tuple[str, Any]] = []
+    vectors: list[tuple[str, Any]] = []
+    moves = 0
+
+    def flush() -> None:
+        nonlocal moves
+        ops.extend(modal)
+        modal.clear()
+        if axes or vectors:
+            ops.append((OP_MOVE, tuple(axes), tuple(vectors)))
+            moves += 1
+            axes.clear()
+            vectors.clear()
+
+    for s in stmts:
+        if isinstance(s, st.AxisWord):
+            axes.append((s.axis, s.value))
+        elif isinstance(s, st.VectorWord):
+            vectors.append((s.name, s.value))
+        elif isinstance(s, st.Modal):
+            modal.append((OP_MODAL, s.name, s.value))
+        elif isinstance(s, st.MoveMode):
+            modal.append((OP_MODE, s.mode))
+        elif isinstance(s, st.AxisMode):
+            modal.append((OP_AXISMODE, s.incremental, s.axes))
+        elif isinstance(s, st.Assign):
+            ops.append((OP_ASSIGN, s.target.kind, s.target.index, s.op, s.value))
+        elif isinstance(s, st.Dwell):
+            flush()
+            ops.append((OP_DWELL, s.ms))
+            moves += 1
+        elif isinstance(s, st.Delay):
+            flush()
+            ops.append((OP_DELAY, s.ms))
+            moves += 1
+        # Label, Message: stored, no action.
+    flush()
+    return ProgramLine(text, max(1, len(stmts)), tuple(ops), moves)
+
+
+@lru_cache(maxsize=4096)
+def compile_line(text: str) -> ProgramLine:
+    """Parse and compile one rotary-buffer line; cached by text (streams repeat lines).
+
+    Raises:
+        sim.errors.ParseError: positioned (column), ERR003.
+    """
+    return compile_statements(text, parse_program_line(text))
+
+
+__all__ = [
+    "OP_ASSIGN",
+    "OP_AXISMODE",
+    "OP_DELAY",
+    "OP_DWELL",
+    "OP_MODAL",
+    "OP_MODE",
+    "OP_MOVE",
+    "ProgramLine",
+    "compile_line",
+    "compile_statements",
+]

@@ -1,0 +1,178 @@
+"""A coordinate system's rotary program buffer, and the one place BREQ is decided.
+
+The rotary buffer is a ring of memory words (seed 000, TUM p337): the host loads program
+lines ahead of the executing point while earlier lines run, and executed lines give their
+words back, so a 600-word buffer streams any number of lines. Here it is two queues:
+
+* ``pending`` — lines stored but not yet worked through by move planning; their number is
+  ``lines_ahead``, what ``PR`` reports and what I16 / I17 are compared with (TSRM p46, p286);
+* ``calculated`` — lines planning has worked through whose words are not yet free (they are
+  released when execution moves past them, :meth:`RotaryBuffer.free_through`).
+
+BREQ ("buffer request", seed 000 and spec §1.2), each edge a ``breq`` event:
+
+* a line sent takes BREQ low, at least momentarily; if fewer than I17 lines are then ahead it
+  goes high again at once — so every line loaded below I17 is a low→high pulse (two events at
+  the same ``t``), i.e. an interrupt to the host; at I17 or more ahead it stays low and the
+  "rotary buffer full" status bit (``??`` word 2 bit 16) is set;
+* after a line is calculated, fewer than I16 lines ahead sets BREQ high (and clears the bit);
+* ``OPEN ROT`` or a change of the host-addressed CS takes it low, then high if fewer than I17
+  lines are ahead (:meth:`RotaryBuffer.reevaluate`).
+
+A new buffer starts with BREQ low ``[INF]`` until one of those rules raises it.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Callable
+from typing import Any
+
+from sim.events import EventLog
+from sim.pmac.program import ProgramLine
+
+
+class RotaryBuffer:
+    """The rotary buffer of coordinate system ``cs``, ``size_words`` long.
+
+    Args:
+        cs: coordinate system number.
+        size_words: size from ``DEFINE ROT``.
+        log: the controller's event log.
+        thresholds: returns ``(I16, I17)`` now (they may change at any time).
+    """
+
+    __slots__ = (
+        "cs",
+        "size_words",
+        "used_words",
+        "pending",
+        "calculated",
+        "n_loaded",
+        "breq",
+        "full",
+        "last_seq",
+        "_emit",
+        "_thresholds",
+        "_rise",
+    )
+
+    def __init__(
+        self,
+        cs: int,
+        size_words: int,
+        log: EventLog,
+        thresholds: Callable[[], tuple[float, float]],
+    ) -> None:
+        self.cs = cs
+        self.size_words = size_words
+        self.used_words = 0
+        self.pending: deque[tuple[int, ProgramLine]] = deque()
+        self.calculated: deque[tuple[int, int]] = deque()
+        self.n_loaded = 0
+        self.breq = False
+        self.full = False
+        self.last_seq: int | None = None
+        self._emit = log.emit
+        self._thresholds = thresholds
+        self._rise: list[Callable[[], Any]] = []
+
+    # -- state ----------------------------------------------------------------------------
+
+    @property
+    def lines_ahead(self) -> int:
+        """Lines stored but not yet calculated (``PR``)."""
+        return len(self.pending)
+
+    @property
+    def free_words(self) -> int:
+        return self.size_words - self.used_words
+
+    def fits(self, words: int) -> bool:
+        return self.used_words + words <= self.size_words
+
+    def to_dict(self, open_: bool) -> dict[str, Any]:
+        """The API's ``Rotary`` shape."""
+        return {
+            "size_words": self.size_words,
+            "used_words": self.used_words,
+            "free_words": self.free_words,
+            "lines_ahead": len(self.pending),
+            "breq": self.breq,
+            "open": open_,
+        }
+
+    # -- BREQ -----------------------------------------------------------------------------
+
+    def _set(self, level: bool) -> None:
+        if level == self.breq:
+            return
+        self.breq = level
+        self._emit("breq", cs=self.cs, level=level)
+        if level and self._rise:
+            waiters, self._rise = self._rise, []
+            for cb in waiters:
+                cb()
+
+    def on_rise(self, cb: Callable[[], Any]) -> None:
+        """Call ``cb()`` once, at the next rising edge of BREQ (a host's interrupt)."""
+        self._rise.append(cb)
+
+    def reevaluate(self) -> None:
+        """``OPEN ROT`` / addressed CS changed: low, then high if fewer than I17 ahead."""
+        self._set(False)
+        if len(self.pending) < self._thresholds()[1]:
+            self.full = False
+            self._set(True)
+        else:
+            self.full = True
+
+    # -- loading and planning -------------------------------------------------------------
+
+    def store(self, line: ProgramLine) -> int:
+        """Store one line (the caller has checked :meth:`fits`); returns its number ``n``."""
+        n = self.n_loaded + 1
+        self.n_loaded = n
+        self.pending.append((n, line))
+        self.used_words += line.words
+        ahead = len(self.pending)
+        self._emit("line_loaded", cs=self.cs, n=n, text=line.text, words=line.words,
+                   lines_ahead=ahead)  # fmt: skip
+        if self.breq:
+            self.breq = False
+            self._emit("breq", cs=self.cs, level=False)
+        if ahead < self._thresholds()[1]:
+            self._set(True)
+        else:
+            self.full = True
+        return n
+
+    def take(self) -> tuple[int, ProgramLine] | None:
+        """The next line for move planning, or None when planning has caught up."""
+        if not self.pending:
+            return None
+        item = self.pending.popleft()
+        self.calculated.append((item[0], item[1].words))
+        return item
+
+    def line_calculated(self, n: int) -> None:
+        """Planning has worked through line ``n``: the I16 rule."""
+        self._emit("line_calculated", cs=self.cs, n=n)
+        if len(self.pending) < self._thresholds()[0]:
+            self.full = False
+            if not self.breq:
+                self._set(True)
+
+    def free_through(self, n: int) -> None:
+        """Execution has moved past line ``n``: its words (and earlier lines') are free."""
+        calc = self.calculated
+        while calc and calc[0][0] <= n:
+            self.used_words -= calc.popleft()[1]
+
+    def free_calculated(self) -> None:
+        """Release every calculated line (motion stopped, or lookahead discarded by ``A``)."""
+        while self.calculated:
+            self.used_words -= self.calculated.popleft()[1]
+
+
+__all__ = ["RotaryBuffer"]

@@ -1,0 +1,220 @@
+"""The Turbo PMAC command line of one host port: on-line commands versus buffered lines.
+
+A command line is parsed whole first (a parse error answers ERR003 and changes nothing), then
+executed left to right (TSRM p259; spec §2.3, §3):
+
+* with this port holding the rotary buffers open, program statements are stored — the run of
+  program statements between two on-line commands is one program line, stored in the rotary
+  buffer of the CS addressed at that moment (``&1 X10 &2 X30`` stores ``X10`` in CS 1 and
+  ``X30`` in CS 2). ``R``, ``Q``, ``A``, ``&n``, ``#n``, queries, ``CLOSE`` still act on-line;
+* with buffers closed, assignments act at once; other program statements answer ERR005
+  ("not allowed unless a buffer is open", e.g. ``X1000``);
+* only one port may hold the buffers open: ``OPEN ROT`` from another port answers ERR007.
+
+Replies: each data-producing command contributes one data line; the reply is the lines joined
+with ``"\\r"`` (no handshake characters — the protocol adapters add them). On an error the rest
+of the line is discarded and ``error`` is the code, after the data already produced
+``[INF, spec §2.3]``.
+
+Error codes used (spec §2.2): ERR001 (``B``/``DELETE ROT`` while the CS runs), ERR003 (bad
+text, bad number, DEFINE ROT ordering, ``OPEN ROT`` with no rotary buffer ``[INF]``), ERR005,
+ERR006 (a line that does not fit, or no rotary buffer in the addressed CS while open
+``[INF]``), ERR007, ERR015 (``R``/``S`` without ``B0`` or without a rotary buffer).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from sim.controller import Port
+from sim.errors import MotionSimError, ParseError
+from sim.pmac import statements as st
+from sim.pmac.parser import parse_line
+from sim.pmac.program import compile_statements
+from sim.pmac.variables import N_CS, N_MOTORS, format_value
+
+if TYPE_CHECKING:
+    from sim.pmac.controller import PmacController
+
+VERSION = "1.947  "
+CARD_ID = "603382"
+CPU = "DSP56321"
+TYPE = "TURBO2"
+
+
+class CommandError(Exception):
+    """Stop executing the line; answer ``code``."""
+
+    def __init__(self, code: str) -> None:
+        super().__init__(code)
+        self.code = code
+
+
+def _hex_words(*words: int) -> str:
+    return "".join(f"{w & 0xFFFFFF:06X}" for w in words)
+
+
+class Terminal:
+    """Executes command lines for :class:`sim.pmac.controller.PmacController` ports."""
+
+    def __init__(self, ctl: PmacController) -> None:
+        self.ctl = ctl
+
+    def execute(self, text: str, port: Port) -> tuple[str, str | None]:
+        """Run one command line; returns ``(reply, error)``."""
+        ctl = self.ctl
+        try:
+            stmts = parse_line(text, open_=ctl.buffer_holder is port)
+        except ParseError as e:
+            return "", e.pmac_error or "ERR003"
+        out: list[str] = []
+        group: list[tuple[Any, int, int]] = []
+        try:
+            for item in stmts:
+                stmt = item[0]
+                if isinstance(stmt, st.PROGRAM_TYPES):
+                    if ctl.buffer_holder is port:
+                        group.append(item)
+                        continue
+                    if isinstance(stmt, st.Assign) and not stmt.synchronous:
+                        self._assign_now(stmt, port)
+                        continue
+                    raise CommandError("ERR005")
+                self._store(text, group, port)
+                self._online(stmt, port, out)
+            self._store(text, group, port)
+        except CommandError as e:
+            return "\r".join(out), e.code
+        except MotionSimError as e:
+            return "\r".join(out), e.pmac_error or "ERR003"
+        return "\r".join(out), None
+
+    # -- buffered lines -------------------------------------------------------------------
+
+    def _store(self, text: str, group: list[tuple[Any, int, int]], port: Port) -> None:
+        if not group:
+            return
+        line_text = text[group[0][1] : group[-1][2]]
+        stmts = [g[0] for g in group]
+        group.clear()
+        cs = self.ctl.coord_system(port.state["cs"])
+        if cs.rotary is None:
+            raise CommandError("ERR006")
+        line = compile_statements(line_text, stmts)
+        self.ctl.store_line(cs, line)
+
+    def _assign_now(self, stmt: st.Assign, port: Port) -> None:
+        ctl = self.ctl
+        cs = port.state["cs"]
+        n = int(stmt.target.index(ctl.vars, cs))
+        ctl.vars.write(stmt.target.kind, n, stmt.value(ctl.vars, cs), cs)
+
+    # -- on-line commands -----------------------------------------------------------------
+
+    def _online(self, stmt: Any, port: Port, out: list[str]) -> None:
+        ctl = self.ctl
+        state = port.state
+        t = type(stmt)
+        if t is st.AddressCS:
+            if stmt.cs is None:
+                out.append(str(state["cs"]))
+                return
+            if not 1 <= stmt.cs <= N_CS:
+                raise CommandError("ERR003")
+            state["cs"] = stmt.cs
+            rot = ctl.coord_system(stmt.cs).rotary
+            if ctl.buffer_holder is port and rot is not None:
+                rot.reevaluate()
+        elif t is st.AddressMotor:
+            if stmt.motor is None:
+                out.append(str(state["motor"]))
+                return
+            if not 1 <= stmt.motor <= N_MOTORS:
+                raise CommandError("ERR003")
+            state["motor"] = stmt.motor
+        elif t is st.AxisDefinition:
+            self._axis_definition(stmt, port, out)
+        elif t is st.DefineRotary:
+            ctl.define_rotary(state["cs"], stmt.words)
+        elif t is st.DeleteRotary:
+            ctl.delete_rotary(state["cs"])
+        elif t is st.DefineGather:
+            ctl.define_gather(stmt.words)
+        elif t is st.DeleteGather:
+            ctl.delete_gather()
+        elif t is st.OpenRotary:
+            ctl.open_rotary(port)
+        elif t is st.Close:
+            ctl.close_buffers(port)
+        elif t is st.ProgramPointer:
+            ctl.point_program(state["cs"], stmt.program)
+        elif t is st.Run:
+            ctl.run(state["cs"], pointer=None)
+        elif t is st.Step:
+            ctl.run(state["cs"], pointer=None, single_step=True)
+        elif t is st.Quit or t is st.Hold:
+            ctl.quit(state["cs"])
+        elif t is st.Abort:
+            ctl.abort(state["cs"])
+        elif t is st.Query:
+            out.append(self._query(stmt.what, port))
+        elif t is st.VarQuery:
+            for n in stmt.numbers():
+                if not 0 <= n < 8192:
+                    raise CommandError("ERR003")
+                out.append(format_value(ctl.vars.read(stmt.kind, n, state["cs"])))
+        elif t is st.VarDefault:
+            for n in range(stmt.first, stmt.last + 1):
+                ctl.vars.set_default(n)
+        elif t is st.MDefinitionQuery:
+            out.append("*")
+        else:  # pragma: no cover - every parsed statement type is handled above
+            raise CommandError("ERR003")
+
+    def _axis_definition(self, stmt: st.AxisDefinition, port: Port, out: list[str]) -> None:
+        ctl = self.ctl
+        if not 1 <= stmt.motor <= N_MOTORS:
+            raise CommandError("ERR003")
+        cs = port.state["cs"]
+        have = ctl.motors.get(stmt.motor)
+        if stmt.definition is None:
+            out.append(have[1] if have is not None and have[0] == cs else "0")
+            return
+        if stmt.definition == "0":
+            if have is not None and have[0] == cs:
+                del ctl.motors[stmt.motor]
+            return
+        if have is not None and have[0] != cs:
+            raise CommandError("ERR003")
+        ctl.motors[stmt.motor] = (cs, stmt.definition)
+
+    def _query(self, what: str, port: Port) -> str:
+        ctl = self.ctl
+        cs_n = port.state["cs"]
+        cs = ctl.coord_system(cs_n)
+        if what == "PR":
+            return str(cs.rotary.lines_ahead if cs.rotary is not None else 0)
+        if what == "??":
+            return _hex_words(*cs.status_words())
+        if what == "?":
+            return _hex_words(*ctl.motor_status(port.state["motor"]))
+        if what == "???":
+            return _hex_words(0, 0)
+        if what == "SIZE":
+            return str(ctl.size_words())
+        if what == "VER":
+            return VERSION
+        if what == "CID":
+            return CARD_ID
+        if what == "CPU":
+            return CPU
+        if what == "TYPE":
+            return TYPE
+        if what == "VID":
+            return "1"
+        if what in ("P", "V", "F"):
+            return format_value(ctl.motor_report(port.state["motor"], what))
+        raise CommandError("ERR003")
+
+
+__all__ = ["CommandError", "Terminal"]

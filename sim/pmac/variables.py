@@ -1,0 +1,179 @@
+"""Turbo PMAC variables: I (setup), P (global), Q (per coordinate system), M (I/O pointers).
+
+* I0..8191 start at the manufacturer's defaults (spec §6, §9.7); ``I{n}=*`` restores one.
+  Coordinate-system I-variables are ``Isx`` = I(5000 + 100·x + nn), e.g. I5113 = Isx13 of
+  CS 1; motor I-variables ``Ixx`` = I(100·xx + nn), e.g. I115 = Ixx15 of motor 1.
+* P0..8191 are global, Q0..8191 have one bank per coordinate system, M0..8191 are the
+  M-variables. Every M-variable write is an ``mvar`` event (``sync`` tells whether it came from
+  a synchronous ``==``/``&=``/``|=``/``^=`` assignment).
+* ``[INF]`` M-variables are treated as integer targets (the manual's ``M1=10*2/3`` gives 7),
+  so a written value is rounded half away from zero. P/Q/I keep floats.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+from sim.errors import NotFound
+
+N_VARS = 8192
+N_CS = 16
+N_MOTORS = 32
+
+#: Global I-variable defaults (spec §6/§9.7; simulator choices I3=2, I6=1 for host drivers).
+GLOBAL_DEFAULTS: dict[int, float] = {
+    3: 2, 5: 1, 6: 1, 7: 0, 8: 2, 9: 2, 10: 3_713_707, 11: 0, 15: 0, 16: 5, 17: 10,
+    40: 0, 63: 1, 64: 0,
+}  # fmt: skip
+
+#: Isx defaults, nn -> value (TSRM p177-p191; Isx88 from PMAC(1) Ix88, spec §9.7).
+CS_DEFAULTS: dict[int, float] = {
+    13: 0, 20: 0, 87: 0, 88: 50, 89: 1000.0, 90: 1000.0, 92: 0, 94: 1644, 95: 1644, 98: 1000.0,
+}  # fmt: skip
+
+#: Ixx defaults for motors, nn -> value (Ixx15 cts/ms², Ixx16/22 cts/ms, Ixx21 ms).
+MOTOR_DEFAULTS: dict[int, float] = {15: 0.25, 16: 32.0, 19: 0.15, 21: 50, 22: 32.0}
+
+
+def default_i(n: int) -> float:
+    """The manufacturer's default of I{n} (0 where we know of none)."""
+    if n in GLOBAL_DEFAULTS:
+        return float(GLOBAL_DEFAULTS[n])
+    if 5100 <= n < 5100 + 100 * N_CS:
+        return float(CS_DEFAULTS.get(n % 100, 0))
+    if 100 <= n < 100 * (N_MOTORS + 1):
+        return float(MOTOR_DEFAULTS.get(n % 100, 0))
+    return 0.0
+
+
+def isx(cs: int, nn: int) -> int:
+    """The number of coordinate-system variable Isx{nn} of CS ``cs`` (Isx13 of CS 1 -> 5113)."""
+    return 5000 + 100 * cs + nn
+
+
+def ixx(motor: int, nn: int) -> int:
+    """The number of motor variable Ixx{nn} of motor ``motor`` (Ixx15 of motor 1 -> 115)."""
+    return 100 * motor + nn
+
+
+def format_value(v: float) -> str:
+    """A value as the controller reports it: integers without a point, else up to 10
+    significant digits with no trailing zeros (``6.666666667``) ``[INF]``."""
+    if v == int(v) and abs(v) < 1e15:
+        return str(int(v))
+    s = f"{v:.10g}"
+    if "e" in s:
+        s = f"{v:.10f}".rstrip("0").rstrip(".")
+    return s
+
+
+def _round_m(v: float) -> float:
+    return float(math.floor(abs(v) + 0.5) * (1 if v >= 0 else -1))
+
+
+MWriteHook = Callable[[int, float, bool], None]
+
+
+class Variables:
+    """The variable store of one controller.
+
+    Args:
+        on_m_write: called ``(n, value, sync)`` after every M-variable write (emits ``mvar``).
+    """
+
+    def __init__(self, on_m_write: MWriteHook) -> None:
+        self.i: dict[int, float] = {}
+        self.p: dict[int, float] = {}
+        self.q: dict[tuple[int, int], float] = {}
+        self.m: dict[int, float] = {}
+        self._on_m_write = on_m_write
+        self.reset()
+
+    def reset(self) -> None:
+        """Factory defaults: I-variables to defaults, P/Q/M to 0."""
+        self.i = {}
+        self.p.clear()
+        self.q.clear()
+        self.m.clear()
+
+    # -- reading --------------------------------------------------------------------------
+
+    def I(self, n: int) -> float:  # noqa: E743, N802 - the controller's own name
+        v = self.i.get(n)
+        return default_i(n) if v is None else v
+
+    def read(self, kind: str, n: int, cs: int = 1) -> float:
+        """Value of ``kind`` (I P Q M) number ``n``; Q from the bank of ``cs``."""
+        if not 0 <= n < N_VARS:
+            return 0.0
+        if kind == "P":
+            return self.p.get(n, 0.0)
+        if kind == "Q":
+            return self.q.get((cs, n), 0.0)
+        if kind == "M":
+            return self.m.get(n, 0.0)
+        return self.I(n)
+
+    def angles_in_degrees(self) -> bool:
+        return self.I(15) == 0
+
+    # -- writing --------------------------------------------------------------------------
+
+    def write(self, kind: str, n: int, value: float, cs: int = 1, sync: bool = False) -> None:
+        """Assign; out-of-range numbers are ignored (the controller wraps, we drop) ``[INF]``."""
+        if not 0 <= n < N_VARS:
+            return
+        if kind == "P":
+            self.p[n] = value
+        elif kind == "Q":
+            self.q[(cs, n)] = value
+        elif kind == "M":
+            value = _round_m(value)
+            self.m[n] = value
+            self._on_m_write(n, value, sync)
+        else:
+            self.i[n] = value
+
+    def set_default(self, n: int) -> None:
+        """``I{n}=*``."""
+        self.i.pop(n, None)
+
+
+def parse_name(name: str) -> tuple[str, int, int]:
+    """``"I16"`` -> ("I", 16, cs 1); ``"Q3"`` -> ("Q", 3, 1); ``"&2Q3"`` -> ("Q", 3, 2).
+
+    Raises:
+        NotFound: not a PMAC variable name.
+    """
+    s = name.strip().upper()
+    cs = 1
+    if s.startswith("&"):
+        j = 1
+        while j < len(s) and s[j].isdigit():
+            j += 1
+        if j == 1:
+            raise NotFound(f"no such variable {name!r}")
+        cs = int(s[1:j])
+        s = s[j:]
+    if len(s) < 2 or s[0] not in "IPQM" or not s[1:].isdigit():
+        raise NotFound(f"no such variable {name!r}")
+    n = int(s[1:])
+    if n >= N_VARS or not 1 <= cs <= N_CS:
+        raise NotFound(f"no such variable {name!r}")
+    return s[0], n, cs
+
+
+__all__ = [
+    "CS_DEFAULTS",
+    "GLOBAL_DEFAULTS",
+    "MOTOR_DEFAULTS",
+    "N_CS",
+    "N_MOTORS",
+    "Variables",
+    "default_i",
+    "format_value",
+    "isx",
+    "ixx",
+    "parse_name",
+]
