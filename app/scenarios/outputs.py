@@ -1,0 +1,67 @@
+"""Writing a run to disk: the event log (JSON Lines and CSV), the metrics (JSON), the plots."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+from pathlib import Path
+from typing import Any
+
+from app.scenarios.runner import RunResult
+
+
+def events_csv(result: RunResult) -> str:
+    """The merged log as CSV: ``seq,t,controller,type`` then every field seen, in order of
+    first appearance (deterministic); non-scalar values as JSON."""
+    rows: list[dict[str, Any]] = [json.loads(line) for line in result.to_jsonl().splitlines()]
+    cols = ["seq", "t", "controller", "type"]
+    seen = set(cols)
+    for r in rows:
+        for k in r:
+            if k not in seen:
+                seen.add(k)
+                cols.append(k)
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(cols)
+    for r in rows:
+        w.writerow([_cell(r.get(c)) for c in cols])
+    return buf.getvalue()
+
+
+def _cell(v: Any) -> Any:
+    if v is None:
+        return ""
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, dict | list):
+        return json.dumps(v, separators=(",", ":"))
+    return v
+
+
+def write_outputs(
+    result: RunResult, rep: dict[str, Any], out_dir: str | Path, *, plots: bool = True
+) -> dict[str, Path]:
+    """Write ``events.jsonl``, ``events.csv``, ``metrics.json`` and the PNGs; return paths."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    paths: dict[str, Path] = {}
+    p = out / "events.jsonl"
+    p.write_text(result.to_jsonl(), encoding="utf-8")
+    paths["events.jsonl"] = p
+    p = out / "events.csv"
+    p.write_text(events_csv(result), encoding="utf-8")
+    paths["events.csv"] = p
+    p = out / "metrics.json"
+    p.write_text(json.dumps(rep, indent=2, default=str) + "\n", encoding="utf-8")
+    paths["metrics.json"] = p
+    if plots:
+        from app.scenarios.plots import plot_run
+
+        for name, path in plot_run(result, rep, out).items():
+            paths[name] = path
+    return paths
+
+
+__all__ = ["events_csv", "write_outputs"]
