@@ -169,6 +169,13 @@ class WireTrio(Controller):
             raise NotFound(f"no variable {name}")
         return self.vr.get(int(m.group(1)), 0.0)
 
+    def set_variable(self, name: str, value: float) -> None:
+        m = re.fullmatch(r"VR\((\d+)\)", name, re.I)
+        if not m:
+            raise NotFound(f"no variable {name}")
+        self.vr[int(m.group(1))] = float(value)
+        self.log.emit("vr", index=int(m.group(1)), value=float(value))
+
     def reset(self) -> None:
         self.vr.clear()
 

@@ -1,0 +1,188 @@
+"""Sans-I/O codec of the Trio Motion Coordinator's Modbus TCP slave (spec trio.md §0.12, §3.3).
+
+The Motion Coordinator (P296 Ethernet on MC2xx, built in on MC4xx) is a Modbus TCP slave on
+port 502: holding registers are the global ``VR()`` variables, register n = ``VR(n)``
+(MODICON 40001 + n), transferred as 16-bit signed integers by default. Functions served:
+
+* 3  read holding registers (1..125)       → ``VR(start)`` .. as int16
+* 6  write single register                 → ``VR(n) = value`` (int16)
+* 16 write multiple registers (1..123)     → ``VR(start..)``
+* 23 read/write multiple registers         (writes first, then reads, as the standard says)
+
+Anything else answers exception 01 (illegal function); registers outside ``0..max_register``
+exception 02 (illegal data address); a bad count exception 03 (illegal data value).
+
+Inferred (``[INF]``): a VR holding a fraction or a value outside int16 is truncated toward
+zero and saturated to -32768..32767 when read as a register (the manuals found do not say);
+the 32-bit float and TABLE modes (``ETHERNET(2,slot,7,1)`` / ``(…,9,1)``) are not modelled.
+
+Framing: MBAP header (transaction id u16, protocol id u16 = 0, length u16 = unit id + PDU,
+unit id u8) then the PDU (function code u8 + data), all big-endian. A length outside 2..254
+or a protocol id other than 0 breaks the stream (:class:`ProtocolError`: close it).
+"""
+
+from __future__ import annotations
+
+import struct
+from dataclasses import dataclass
+from typing import Final
+
+MBAP: Final = struct.Struct(">HHHB")
+MAX_READ: Final = 125
+MAX_WRITE: Final = 123
+
+ILLEGAL_FUNCTION, ILLEGAL_ADDRESS, ILLEGAL_VALUE = 1, 2, 3
+
+
+class ProtocolError(Exception):
+    """Not Modbus TCP: close the connection."""
+
+
+class _NeedData:
+    __slots__ = ()
+
+    def __repr__(self) -> str:
+        return "NEED_DATA"
+
+
+NEED_DATA: Final = _NeedData()
+
+
+@dataclass(frozen=True, slots=True)
+class ReadRegisters:
+    """Read ``count`` holding registers from ``start`` (FC 3), then optionally written first
+    (FC 23: ``write_start``/``values``)."""
+
+    transaction: int
+    unit: int
+    function: int
+    start: int
+    count: int
+    write_start: int = 0
+    values: tuple[int, ...] = ()
+
+
+@dataclass(frozen=True, slots=True)
+class WriteRegisters:
+    """Write ``values`` from ``start`` (FC 6 or 16)."""
+
+    transaction: int
+    unit: int
+    function: int
+    start: int
+    values: tuple[int, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Rejected:
+    """A well-framed request the slave answers with an exception code."""
+
+    transaction: int
+    unit: int
+    function: int
+    exception: int
+
+
+ModbusRequest = ReadRegisters | WriteRegisters | Rejected
+
+
+def to_register(value: float) -> int:
+    """A VR value as the int16 register the host reads ``[INF]`` (truncate, saturate)."""
+    n = int(value) if value == value else 0  # NaN → 0
+    return max(-32768, min(32767, n))
+
+
+class ModbusCodec:
+    """One Modbus TCP connection: bytes in → requests; answers → bytes.
+
+    Args:
+        max_register: the highest VR number mapped (TJ1 VR(0)..VR(1023); default 1023).
+    """
+
+    def __init__(self, max_register: int = 1023) -> None:
+        self.max_register = max_register
+        self._buf = bytearray()
+
+    def receive_data(self, data: bytes) -> None:
+        self._buf += data
+
+    def next_request(self) -> ModbusRequest | _NeedData:
+        if len(self._buf) < MBAP.size:
+            return NEED_DATA
+        tid, pid, length, unit = MBAP.unpack_from(self._buf)
+        if pid != 0 or not 2 <= length <= 254:
+            raise ProtocolError(f"bad MBAP header (protocol id {pid}, length {length})")
+        end = 6 + length
+        if len(self._buf) < end:
+            return NEED_DATA
+        pdu = bytes(self._buf[MBAP.size:end])
+        del self._buf[:end]
+        return self._decode(tid, unit, pdu)
+
+    def _decode(self, tid: int, unit: int, pdu: bytes) -> ModbusRequest:
+        fc = pdu[0]
+        data = pdu[1:]
+
+        def reject(code: int) -> Rejected:
+            return Rejected(tid, unit, fc, code)
+
+        try:
+            if fc == 3:
+                start, count = struct.unpack(">HH", data[:4])
+                if not 1 <= count <= MAX_READ or len(data) != 4:
+                    return reject(ILLEGAL_VALUE)
+                if start + count - 1 > self.max_register:
+                    return reject(ILLEGAL_ADDRESS)
+                return ReadRegisters(tid, unit, fc, start, count)
+            if fc == 6:
+                start, raw = struct.unpack(">Hh", data[:4])
+                if len(data) != 4:
+                    return reject(ILLEGAL_VALUE)
+                if start > self.max_register:
+                    return reject(ILLEGAL_ADDRESS)
+                return WriteRegisters(tid, unit, fc, start, (raw,))
+            if fc == 16:
+                start, count, nbytes = struct.unpack(">HHB", data[:5])
+                if not 1 <= count <= MAX_WRITE or nbytes != 2 * count or len(data) != 5 + nbytes:
+                    return reject(ILLEGAL_VALUE)
+                if start + count - 1 > self.max_register:
+                    return reject(ILLEGAL_ADDRESS)
+                values = struct.unpack(f">{count}h", data[5:])
+                return WriteRegisters(tid, unit, fc, start, values)
+            if fc == 23:
+                rstart, rcount, wstart, wcount, nbytes = struct.unpack(">HHHHB", data[:9])
+                if (not 1 <= rcount <= MAX_READ or not 1 <= wcount <= 121
+                        or nbytes != 2 * wcount or len(data) != 9 + nbytes):
+                    return reject(ILLEGAL_VALUE)
+                if (rstart + rcount - 1 > self.max_register
+                        or wstart + wcount - 1 > self.max_register):
+                    return reject(ILLEGAL_ADDRESS)
+                values = struct.unpack(f">{wcount}h", data[9:])
+                return ReadRegisters(tid, unit, fc, rstart, rcount, wstart, values)
+        except struct.error:
+            return reject(ILLEGAL_VALUE)
+        return reject(ILLEGAL_FUNCTION)
+
+    @staticmethod
+    def _frame(tid: int, unit: int, pdu: bytes) -> bytes:
+        return MBAP.pack(tid, 0, len(pdu) + 1, unit) + pdu
+
+    def read_reply(self, request: ReadRegisters, registers: list[int]) -> bytes:
+        body = struct.pack(f">{len(registers)}h", *registers)
+        pdu = bytes([request.function, len(body)]) + body
+        return self._frame(request.transaction, request.unit, pdu)
+
+    def write_reply(self, request: WriteRegisters) -> bytes:
+        if request.function == 6:
+            pdu = struct.pack(">BHh", 6, request.start, request.values[0])
+        else:
+            pdu = struct.pack(">BHH", 16, request.start, len(request.values))
+        return self._frame(request.transaction, request.unit, pdu)
+
+    def exception_reply(self, request: Rejected) -> bytes:
+        pdu = bytes([(request.function | 0x80) & 0xFF, request.exception])
+        return self._frame(request.transaction, request.unit, pdu)
+
+
+__all__ = ["NEED_DATA", "ModbusCodec", "ProtocolError", "ReadRegisters", "Rejected",
+           "WriteRegisters", "to_register"]
