@@ -177,6 +177,7 @@ class BasicProcess:
             "program": self.program,
             "state": self.state,
             "line": self.current_line(),
+            "pmove": self.ctrl.buffers.pmove(self.number),
         }
         if self.blocked_on is not None:
             out["blocked_on"] = self.blocked_on

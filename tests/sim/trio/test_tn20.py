@@ -1,0 +1,143 @@
+"""TN20-16 reproduced row by row: the process buffer shared by two axes holds axis 0 up.
+
+Timing (conftest): one statement = 100 µs; a short move (VR(n) = 10) takes 20 servo periods,
+a long one (VR(100+n) = 200) 210. The program lines are 1 ``FOR``, 2 ``MOVE(VR(n)) AXIS(0)``,
+3 ``MOVE(VR(100+n)) AXIS(1)``, 4 ``NEXT`` (after the three comment lines of the example file).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from tests.sim.trio.conftest import cycle, fields, make, run_to
+
+EXAMPLES = Path(__file__).resolve().parents[3] / "examples" / "trio"
+BLOCKING = (EXAMPLES / "tn20_blocking.bas").read_text()
+FIX = (EXAMPLES / "tn20_fix.bas").read_text()
+L_MOVE, L_AXIS0, L_AXIS1 = 4, 5, 6  # source lines of FOR and the two moves
+
+
+def tn20(program: str):
+    c = make()
+    for n in range(1, 51):
+        c.set_variable(f"VR({n})", 10)
+        c.set_variable(f"VR({100 + n})", 200)
+    c.store_program("TN20", program)
+    c.run_program("TN20", 1)
+    return c
+
+
+def state(c) -> dict:
+    a0, a1 = c.axis(0), c.axis(1)
+    proc = c.processes()[0]
+    return {
+        "axis0": (a0["mtype"], a0["ntype"]),
+        "axis1": (a1["mtype"], a1["ntype"]),
+        "pmove": proc["pmove"],
+        "process": proc["state"],
+    }
+
+
+def test_tn20_table_row_by_row():
+    c = tn20(BLOCKING)
+    # MOVE(VR(1)) AXIS(0): "MOVE(VR(1)) in MTYPE"
+    run_to(c, 0.00015)
+    assert state(c) == {"axis0": (1, 0), "axis1": (0, 0), "pmove": 0, "process": "running"}
+    assert c.axis(0)["endmove"] == 0.0  # placed, starts at the next servo period
+    # MOVE(VR(101)) AXIS(1): "MOVE(VR(101)) in MTYPE"
+    run_to(c, 0.00025)
+    assert state(c)["axis1"] == (1, 0)
+    # MOVE(VR(2)) AXIS(0): "MOVE(VR(2)) in NTYPE"
+    run_to(c, 0.00045)
+    assert state(c)["axis0"] == (1, 1)
+    # MOVE(VR(102)) AXIS(1): "MOVE(VR(102)) in NTYPE"
+    run_to(c, 0.00055)
+    assert state(c)["axis1"] == (1, 1)
+    # MOVE(VR(3)) AXIS(0): "MOVE(VR(3)) in PROCESS BUFFER"
+    run_to(c, 0.00075)
+    assert state(c) == {"axis0": (1, 1), "axis1": (1, 1), "pmove": 1, "process": "running"}
+    # MOVE(VR(103)) AXIS(1): "waits at this line for MOVE(VR(1)) to finish"
+    run_to(c, 0.00085)
+    assert state(c)["process"] == "blocked"
+    assert c.processes()[0]["blocked_on"] == "MOVE(VR(100+n)) AXIS(1)"
+    assert c.processes()[0]["line"] == L_AXIS1
+    # "MOVE(VR(1)) finishes": VR(2) in MTYPE, VR(3) in NTYPE, VR(103) in the process buffer
+    run_to(c, 0.0231)
+    assert state(c)["axis0"] == (1, 1)
+    assert c.axis(0)["endmove"] == 20.0  # VR(2) executing: 10 + 10
+    assert state(c)["pmove"] == 1
+    # MOVE(VR(4)) AXIS(0): "waits at this line for MOVE(VR(101)) to finish"
+    run_to(c, 0.0235)
+    assert state(c)["process"] == "blocked"
+    assert c.processes()[0]["line"] == L_AXIS0
+    # "MOVE(VR(2)) finishes": VR(3) in MTYPE, IDLE in NTYPE; still waiting
+    run_to(c, 0.0435)
+    assert state(c)["axis0"] == (1, 0)
+    assert c.axis(0)["endmove"] == 30.0
+    assert state(c)["process"] == "blocked"
+    # "MOVE(VR(3)) finishes": IDLE in MTYPE, IDLE in NTYPE — "AXIS(0) has now stopped!"
+    run_to(c, 0.0635)
+    assert state(c)["axis0"] == (0, 0)
+    assert c.axis(0)["dpos"] == 30.0
+    assert state(c)["axis1"] == (1, 1)  # VR(101) still running, VR(102) next
+    assert state(c)["process"] == "blocked"
+    # "MOVE(VR(101)) finishes": VR(4) in MTYPE of axis 0; VR(104) goes on (process buffer)
+    run_to(c, 0.2135)
+    assert state(c)["axis0"] == (1, 0)
+    assert state(c)["axis1"] == (1, 1)  # VR(102) executing, VR(103) next
+    assert state(c)["pmove"] == 1  # MOVE(VR(104)) AXIS(1) in the process buffer
+    run_to(c, 0.2145)
+    assert c.axis(0)["endmove"] == 40.0
+
+
+def test_tn20_axis0_stops_and_resumes_on_the_servo_periods():
+    c = tn20(BLOCKING)
+    run_to(c, 0.3)
+    starts = [cycle(c, t) for t, _ in fields(c, "move_start", axis=0)]
+    ends = [cycle(c, t) for t, _ in fields(c, "move_end", axis=0)]
+    # VR(1) starts at the first servo period after it was issued; each later move starts in
+    # the servo period after its predecessor ended.
+    assert starts[:4] == [1, 22, 43, 214]
+    assert ends[:3] == [21, 42, 63]
+    idle = [cycle(c, t) for t, f in fields(c, "axis", axis=0, mtype=0, ntype=0)]
+    assert idle[0] == 63  # AXIS(0) has now stopped!
+    # VR(101) ends at 211; VR(102) loads at 212; VR(103) leaves the process buffer at 213,
+    # where the waiting MOVE(VR(4)) AXIS(0) is buffered and the program runs on.
+    assert [cycle(c, t) for t, _ in fields(c, "move_end", axis=1)][:1] == [211]
+    drained = fields(c, "process_buffer", process=1, mtype=0)
+    assert [cycle(c, t) for t, _ in drained[:2]] == [23, 213]
+
+
+def test_tn20_process_waits_at_the_two_lines_of_the_note():
+    c = tn20(BLOCKING)
+    run_to(c, 0.22)
+    procs = [(round(t, 7), f["state"], f.get("blocked_on"), f["line"])
+             for t, f in fields(c, "process", process=1)]
+    assert procs[:5] == [
+        (0.0, "running", None, L_MOVE),
+        (0.0008, "blocked", "MOVE(VR(100+n)) AXIS(1)", L_AXIS1),
+        (0.023, "running", None, L_AXIS1),
+        (pytest.approx(0.0232), "blocked", "MOVE(VR(n)) AXIS(0)", L_AXIS0),
+        (0.213, "running", None, L_AXIS0),
+    ]
+
+
+def test_tn20_fix_never_blocks_and_keeps_axis0_moving():
+    c = tn20(FIX)
+    run_to(c, 0.5)
+    states = {f["state"] for _, f in fields(c, "process", process=1)}
+    assert "blocked" not in states
+    assert c.processes()[0]["state"] == "stopped"
+    assert "error" not in c.processes()[0]
+    # the guarded program only ever fills MTYPE / NTYPE, never the process buffer
+    assert fields(c, "process_buffer") == []
+
+
+def test_tn20_fix_skips_moves_while_ntype_is_full():
+    c = tn20(FIX)
+    run_to(c, 0.0020)
+    # axis 0: first pass MTYPE, second NTYPE, later passes skip (NTYPE busy)
+    assert c.axis(0)["mtype"] == 1 and c.axis(0)["ntype"] == 1
+    assert c.processes()[0]["pmove"] == 0
