@@ -55,6 +55,10 @@ class PmacController(Controller):
 
     kind = "pmac"
 
+    #: Simulated seconds a virtual-clock terminal POST waits before answering "pending"; a
+    #: reply that comes later is also published as a ``terminal_reply`` event.
+    terminal_wait_s = 1.0
+
     def __init__(
         self,
         id: str = "pmac",
@@ -135,10 +139,13 @@ class PmacController(Controller):
         """Send one command line; it is answered in the next background cycle."""
         port = port or self.rest_port
         reply = Reply(command)
+        t0 = self.env.now
 
         def job() -> None:
             text, error = self._terminal.execute(command, port)
             reply.resolve(text, error, self.env.now)
+            if self.env.now - t0 >= self.terminal_wait_s:
+                self.log.emit("terminal_reply", command=command, reply=text, error=error)
 
         self.background.submit(job)
         return reply

@@ -1,0 +1,61 @@
+"""PMAC coordinate systems and their rotary buffers (API.md "PMAC resources")."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field
+
+
+class RotaryPublic(BaseModel):
+    """A rotary program buffer. ``lines_ahead`` = lines stored but not yet calculated (``PR``),
+    compared with I16 / I17 to drive ``breq``."""
+
+    size_words: int
+    used_words: int
+    free_words: int
+    lines_ahead: int
+    breq: bool
+    open: bool
+
+
+class ProgramPublic(BaseModel):
+    """The CS's program: ``waiting`` = running but out of rotary lines."""
+
+    state: Literal["idle", "running", "waiting", "stopped", "aborted"]
+    line: int | None = Field(None, description="line number of the executing move, if any")
+
+
+class CoordPublic(BaseModel):
+    cs: int
+    program: ProgramPublic
+    rotary: RotaryPublic | None
+
+
+class RotaryIn(BaseModel):
+    """``PUT .../rotary`` = ``&cs DEFINE ROT size_words``."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    size_words: int = Field(gt=0, le=65_536)
+
+
+class LinesIn(BaseModel):
+    """A batch of program lines, stored atomically; ``first_seq`` numbers them."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    lines: list[str] = Field(description="program lines, e.g. ['X10 Y20', 'M1==1']")
+    first_seq: int | None = Field(None, ge=0, description="the client's number of lines[0]")
+
+
+class LinesAccepted(BaseModel):
+    accepted: int = Field(description="lines of the batch acknowledged (now or earlier)")
+    stored: int = Field(description="lines newly stored by this request")
+    lines_ahead: int
+    free_words: int
+    breq: bool
+
+
+__all__ = ["CoordPublic", "LinesAccepted", "LinesIn", "ProgramPublic", "RotaryIn",
+           "RotaryPublic"]

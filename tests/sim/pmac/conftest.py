@@ -1,0 +1,73 @@
+"""Helpers for PMAC tests: a controller on a virtual clock, driven step by step.
+
+Times are asserted in servo cycles (``cyc(t)``): every instant the PMAC core emits is a
+whole servo cycle, and RTIs are the cycles divisible by I8+1 (3 by default).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import pytest
+
+from sim.controller import Port, Reply
+from sim.pmac import PmacController
+
+
+class Rig:
+    """A PmacController plus test conveniences."""
+
+    def __init__(self, **config: Any) -> None:
+        self.c = PmacController("pmac", config)
+        self.period = self.c.scheduler.period_s
+
+    def cmd(self, text: str, port: Port | None = None) -> Reply:
+        """Send a terminal line and run the simulation until it is answered."""
+        reply = self.c.terminal(text, port)
+        env = self.c.env
+        while not reply.done:
+            env.step()
+        return reply
+
+    def ok(self, text: str, port: Port | None = None) -> str:
+        reply = self.cmd(text, port)
+        assert reply.error is None, f"{text!r} -> {reply.error}"
+        return reply.reply
+
+    def run_for(self, seconds: float) -> None:
+        self.c.env.run(until=self.c.env.now + seconds)
+
+    def run_until_idle(self, limit_s: float = 60.0) -> None:
+        env = self.c.env
+        end = env.now + limit_s
+        while env.peek() <= end:
+            env.step()
+
+    def cyc(self, t: float) -> int:
+        k = round(t / self.period)
+        assert abs(k * self.period - t) < 1e-9, f"{t} is not on a servo cycle"
+        return k
+
+    def events(self, *types: str, since: int = 0) -> list[tuple[int, str, dict]]:
+        """``(cycle, type, fields)`` of the log."""
+        return [
+            (self.cyc(e.t), e.type, dict(e.fields))
+            for e in self.c.log.read(since, types or None).events
+        ]
+
+    def ms_cycles(self, ms: float) -> float:
+        return ms / 1000.0 / self.period
+
+    def rotary_setup(self, words: int = 600, cs: int = 1) -> None:
+        self.ok(f"&{cs} DEFINE ROT {words}")
+        self.ok(f"&{cs} B0")
+
+
+@pytest.fixture
+def rig() -> Rig:
+    return Rig()
+
+
+@pytest.fixture
+def make_rig():
+    return Rig

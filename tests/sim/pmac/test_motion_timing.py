@@ -1,0 +1,158 @@
+"""Move timing to the servo cycle and planning at RTIs (spec §4, §9.1, §9.3; TUM p236, p339)."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+
+def ceil_cycles(rig, ms: float) -> int:
+    return math.ceil(rig.ms_cycles(ms) - 1e-6)
+
+
+def next_rti(k: int, m: int = 3) -> int:
+    return (k // m + 1) * m
+
+
+def _run(rig, lines, **cfg):
+    rig.rotary_setup()
+    rig.c.load_lines(1, lines)
+    rig.ok("R")
+    rig.run_until_idle()
+
+
+def _by_n(rig, type_):
+    return {f["n"]: k for k, _, f in rig.events(type_)}
+
+
+def test_servo_period_default_from_i10(rig):
+    """Spec §4.1: I10 = 3 713 707 × 2**-23 ms = 442.7 µs (≈ 2.26 kHz)."""
+    assert rig.period == pytest.approx(442.708e-6, rel=1e-5)
+
+
+def test_servo_hz_config_overrides_i10(make_rig):
+    assert make_rig(servo_hz=1000.0).period == pytest.approx(1e-3)
+
+
+def test_single_move_from_rest_takes_tm_plus_ta(rig):
+    """PUM p169 / spec §9.1: a single move from rest takes TM + Ta."""
+    _run(rig, ["TM200 TA50 TS0 X5"])
+    start, end = _by_n(rig, "move_start")[1], _by_n(rig, "move_end")[1]
+    assert end - start == ceil_cycles(rig, 250)
+
+
+def test_ta_and_ts_combine_as_max_of_ta_and_twice_ts(rig):
+    """Spec §9.1: Ta = max(TA, 2·TS), not TA + TS."""
+    _run(rig, ["TM200 TA50 TS40 X5"])
+    start, end = _by_n(rig, "move_start")[1], _by_n(rig, "move_end")[1]
+    assert end - start == ceil_cycles(rig, 280)
+
+
+def test_move_time_from_feedrate(rig):
+    """TSRM p188-189: ``X3 Y4 F50`` = 5 units at 50 units/s = 100 ms (+ Ta from rest)."""
+    _run(rig, ["TA20 TS0 X3 Y4 F50"])
+    start, end = _by_n(rig, "move_start")[1], _by_n(rig, "move_end")[1]
+    assert end - start == ceil_cycles(rig, 120)
+
+
+def test_move_shorter_than_ta_takes_ta(rig):
+    """Spec §9.1: a move never takes less than its acceleration time."""
+    _run(rig, ["TM10 TA100 TS0 X1"])
+    start, end = _by_n(rig, "move_start")[1], _by_n(rig, "move_end")[1]
+    assert end - start == ceil_cycles(rig, 200)
+
+
+def test_blended_moves_take_n_tm_plus_ta(rig):
+    """Spec §9.1: N blended moves of TM each take N·TM + Ta, each next move starting Ta/2
+    before the programmed point."""
+    _run(rig, ["TM200 TA50 TS0 X1", "X2", "X3"])
+    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    k0 = starts[1]
+    assert ends[3] - k0 == ceil_cycles(rig, 650)
+    assert starts[2] - k0 == ceil_cycles(rig, 200)
+    assert starts[3] - k0 == ceil_cycles(rig, 400)
+    assert ends[1] == starts[2] and ends[2] == starts[3]
+
+
+def test_motion_starts_at_the_first_rti_after_r(rig):
+    """TUM p236, p339: R's first moves are calculated at the next RTI and start (I11=0)."""
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["TM100 TA10 TS0 X1"])
+    r = rig.cmd("R")
+    k_r = rig.cyc(r.t_done)
+    rig.run_until_idle()
+    assert _by_n(rig, "line_calculated")[1] == next_rti(k_r)
+    assert _by_n(rig, "move_start")[1] == next_rti(k_r)
+
+
+def test_rti_period_follows_i8(make_rig):
+    """RTI every I8+1 servo cycles."""
+    rig = make_rig(i8=4)
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["TM100 TA10 TS0 X1"])
+    r = rig.cmd("R")
+    rig.run_until_idle()
+    assert _by_n(rig, "move_start")[1] == next_rti(rig.cyc(r.t_done), 5)
+
+
+def test_linear_calculates_two_moves_ahead(rig):
+    """Spec §4.2/§9.3 (Isx13=0, LINEAR): from rest the scan runs through the 3rd move; each
+    later line is calculated at the first RTI after the move two before it starts."""
+    _run(rig, ["TM100 TA10 TS0 X1", "X2", "X3", "X4", "X5", "X6"])
+    calc, starts = _by_n(rig, "line_calculated"), _by_n(rig, "move_start")
+    assert calc[1] == calc[2] == calc[3] == starts[1]
+    for n in (4, 5, 6):
+        assert calc[n] == next_rti(starts[n - 2])
+
+
+def test_segmented_mode_calculates_one_move_ahead(make_rig):
+    """Spec §9.3: with Isx13 > 0, one move ahead."""
+    rig = make_rig(i5113=10)
+    _run(rig, ["TM100 TA10 TS0 X1", "X2", "X3", "X4"])
+    calc, starts = _by_n(rig, "line_calculated"), _by_n(rig, "move_start")
+    assert calc[1] == calc[2] == starts[1]
+    for n in (3, 4):
+        assert calc[n] == next_rti(starts[n - 1])
+
+
+def test_dwell_stops_lookahead(rig):
+    """TUM p341 / TSRM p429: nothing after a DWELL is calculated during it; the move before
+    it decelerates to a stop first; calculation resumes at the RTI after the dwell."""
+    _run(rig, ["TM100 TA10 TS0 X1", "DWELL50", "X2", "X3"])
+    calc, starts, ends = (_by_n(rig, t) for t in ("line_calculated", "move_start", "move_end"))
+    k0 = starts[1]
+    assert calc[2] == k0  # the dwell itself is calculated
+    assert ends[1] - k0 == ceil_cycles(rig, 110)  # stop before the dwell
+    assert starts[2] == ends[1]
+    assert ends[2] - starts[2] == ceil_cycles(rig, 50)
+    assert calc[3] == calc[4] == starts[3] == next_rti(ends[2])
+
+
+def test_delay_does_not_stop_lookahead(rig):
+    """TUM p341: DELAY is a zero-distance move, calculated through."""
+    _run(rig, ["TM100 TA10 TS0 X1", "DELAY50", "X2", "X3"])
+    calc, starts, ends = (_by_n(rig, t) for t in ("line_calculated", "move_start", "move_end"))
+    assert calc[1] == calc[2] == calc[3] == starts[1]
+    assert starts[2] == ends[1]  # blended, no stop
+
+
+def test_positions_come_from_the_profile(rig):
+    """Positions at any instant without a servo-cycle event: cruise is linear in time."""
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["TM1000 TA100 TS0 X100"])
+    rig.ok("R")
+    rig.run_for(0.3)
+    k0 = _by_n(rig, "move_start")[1]
+    t0 = k0 * rig.period
+    # Programmed start point passed at t0 + Ta/2, then 100 units/s.
+    p = rig.c.positions(1)["X"]
+    assert p == pytest.approx(100 * (rig.c.now - t0 - 0.05), abs=1e-9)
+    rig.run_until_idle()
+    assert rig.c.positions(1) == {"X": 100.0}
+
+
+def test_incremental_mode(rig):
+    """INC makes axis values distances."""
+    _run(rig, ["INC TM100 TA10 TS0 X5", "X5"])
+    assert rig.c.positions(1)["X"] == pytest.approx(10.0)
