@@ -220,7 +220,8 @@ class MotionBuffers:
         assert m.profile is not None
         now_k = self.clock.index(self.env.now)
         tau = self.clock.t(now_k) - m.t_start
-        m.profile = m.profile.cancelled_at(tau, self.axes[m.axes[0]].decel)
+        m.cut(m.profile.cancelled_at(tau, self.axes[m.axes[0]].decel))
+        assert m.profile is not None
         end = max(m.start_tick + self.clock.cycles(m.profile.duration), now_k + 1)
         m.end_tick = end
         self._tick_at(end)

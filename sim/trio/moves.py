@@ -131,11 +131,13 @@ class Move:
 
     def final_positions(self) -> tuple[float, ...]:
         """Where the axes are when the move has ended (exact targets for a full move)."""
-        prof = self.profile
-        assert prof is not None and self._pos is not None
-        if self.kind in ("FORWARD", "REVERSE") or prof.s(prof.duration) < prof.length - 1e-12:
-            return self._pos(prof.s(prof.duration))
         return self.end_pos
+
+    def cut(self, profile: Profile) -> None:
+        """CANCEL: the move now follows ``profile`` and ends where that profile stops."""
+        assert self._pos is not None
+        self.profile = profile
+        self.end_pos = self._pos(profile.length)
 
     def speed(self, tau: float) -> float:
         return self.profile.v(tau) if self.profile is not None else 0.0
