@@ -169,7 +169,7 @@ def test_epics_driver_exchange_flush_then_getresponse_with_40_queries() -> None:
             assert _read_reply(s) == b"\x06"
             probe = write_read("")
             cid = write_read("cid")
-            queries = ["i16", "i17", "&1%", "P1", "M1", "I10"] * 6 + ["i8", "i16", "i17", "I5"]
+            queries = (["i16", "i17", "#1P", "#1F", "&1??", "???", "#1?", "M1", "P1", "i124"] * 4)
             assert len(queries) == 40
             poll = write_read(" ".join(queries))
             bad = write_read("i16 FOO i17")
@@ -178,7 +178,9 @@ def test_epics_driver_exchange_flush_then_getresponse_with_40_queries() -> None:
     lines = poll.split(b"\r")
     assert lines[-1] == b"\x06" and len(lines) == 41, poll
     assert lines[0] == b"5" and lines[1] == b"10"
-    assert bad.startswith(b"5\r") and bad.endswith(b"\x07ERR003\r")
+    assert re.fullmatch(rb"[0-9A-F]{18}", lines[4])  # &1?? : three 24-bit words in hex
+    # the line is parsed whole before anything runs: no data, the error alone, no ACK
+    assert bad == b"\x07ERR003\r"
 
 
 @pytest.mark.parametrize("n_conn", [2])
@@ -206,3 +208,39 @@ def test_two_tcp_connections_are_two_ports_one_may_hold_the_buffer(n_conn: int) 
         for s in socks:
             s.close()
     assert rotary["lines_ahead"] == 1
+
+
+def test_lines_over_tcp_show_in_the_log_and_websocket_like_lines_over_http() -> None:
+    """Issue 6 §5: the same controller object — a line sent over TCP gives the same events
+    (same fields) as one posted to the REST terminal, and they reach WebSocket subscribers."""
+    import asyncio
+
+    import websockets
+
+    pmac_port = free_port()
+    with motionsim_serve("--pmac-port", str(pmac_port), "--trio-port", "0") as svc:
+        http = svc.http + "/controllers/pmac"
+        with socket.create_connection(("127.0.0.1", pmac_port), timeout=5) as s:
+            def ask(cmd: str) -> bytes:
+                s.sendall(_packet(0x40, 0xBF, cmd.encode()))
+                return _read_reply(s)
+
+            assert ask("i6=1 i3=2") == b"\x06"  # not "i3=2 &1": & is the AND operator
+            assert ask("&1 DEFINE ROT 100 OPEN ROT") == b"\x06"
+            assert ask("X1") == b"\x06"
+            assert ask("CLOSE") == b"\x06"
+        for cmd in ("OPEN ROT", "X2", "CLOSE"):
+            body = httpx.post(http + "/terminal", json={"command": cmd}, timeout=5).json()
+            assert body["error"] is None, (cmd, body)
+
+        async def subscribe() -> list[dict]:
+            url = svc.http.replace("http://", "ws://") + "/controllers/pmac/events"
+            async with websockets.connect(url + "?since=0&type=line_loaded") as ws:
+                return [json.loads(await asyncio.wait_for(ws.recv(), 5)) for _ in range(2)]
+
+        pushed = asyncio.run(subscribe())
+        logged = httpx.get(http + "/events", params={"type": "line_loaded"},
+                           timeout=5).json()["events"]
+    assert [e["text"] for e in logged] == ["X1", "X2"]
+    assert set(logged[0]) == set(logged[1])  # the TCP line's event has the HTTP line's fields
+    assert pushed == logged
