@@ -148,9 +148,11 @@ def lookahead_breaks(
 def diagnose_axis_blocked(s: Starvation) -> Starvation:
     s.cause = "process_blocked_on_other_axis"
     on = s.facts.get("blocked_on")
+    holder = s.facts.get("holder_axis")
+    held = f"; its process buffer held a move for axis {holder}" if holder is not None else ""
     s.detail = (
         f"axis {s.axis} idle {_ms(s.length)} with moves still to come while {s.facts.get('who')}"
-        f" waited on {'axis ' + str(on) if on is not None else 'another axis'}"
+        f" waited at {on if on is not None else 'a move line'}{held}"
     )
     return s
 

@@ -317,11 +317,13 @@ class AxisTrace:
 
 def trio_traces(events: Iterable[Event]) -> tuple[dict[int, AxisTrace], list[dict[str, Any]]]:
     """Per axis MTYPE/NTYPE/process-buffer history; and every blocked interval (processes and
-    feeding hosts) as ``{"who", "start", "end", "blocked_on"}`` (end ``None`` = still blocked)."""
+    feeding hosts) as ``{"who", "process", "start", "end", "blocked_on", "holder"}``: ``end``
+    ``None`` = still blocked; ``holder`` = the axis whose move sat in that process's buffer
+    when it blocked (what it really waited for, TN20-16)."""
     axes: dict[int, AxisTrace] = {}
     blocked: list[dict[str, Any]] = []
     open_: dict[str, dict[str, Any]] = {}
-    pbuf_axis: dict[int, int] = {}
+    pbuf_axis: dict[int, int | None] = {}
 
     def ax(n: int) -> AxisTrace:
         if n not in axes:
@@ -337,20 +339,30 @@ def trio_traces(events: Iterable[Event]) -> tuple[dict[int, AxisTrace], list[dic
             a = f.get("axis")
             if a is None:
                 a = pbuf_axis.get(p)
+            pbuf_axis[p] = a if f.get("mtype", 0) else None
             if a is not None:
-                pbuf_axis[p] = a
                 ax(a).pbuf.append((e.t, int(f.get("mtype", 0))))
         elif e.type in ("process", "host_blocked", "host_resumed"):
             if e.type == "process":
-                who = f"process {f['process']}"
+                p = f["process"]
+                who = f"process {p}"
                 is_blocked = f.get("state") == "blocked"
-                on = _axis_of(f.get("blocked_on"))
+                on = f.get("blocked_on")
             else:
+                p = f.get("process", 0)
                 who = f"host {f['host']}"
                 is_blocked = e.type == "host_blocked"
-                on = f.get("axis")
+                on = f"AXIS({f.get('axis')})"
             if is_blocked and who not in open_:
-                open_[who] = {"who": who, "start": e.t, "end": None, "blocked_on": on}
+                open_[who] = {
+                    "who": who,
+                    "process": p,
+                    "start": e.t,
+                    "end": None,
+                    "blocked_on": on,
+                    "blocked_axis": _axis_of(on),
+                    "holder": pbuf_axis.get(p),
+                }
                 blocked.append(open_[who])
             elif not is_blocked and who in open_:
                 open_.pop(who)["end"] = e.t
@@ -362,8 +374,8 @@ def _axis_of(v: Any) -> int | None:
         return v
     if isinstance(v, dict):
         return _axis_of(v.get("axis"))
-    if isinstance(v, str):
-        m = re.search(r"(\d+)", v)
+    if isinstance(v, str):  # the move line, e.g. "MOVE(VR(103)) AXIS(1)"
+        m = re.search(r"AXIS\s*\(\s*(\d+)\s*\)", v, re.I) or re.fullmatch(r"\s*(\d+)\s*", v)
         return int(m.group(1)) if m else None
     return None
 
@@ -405,9 +417,16 @@ def occupancy_s(a: AxisTrace, t_end: float) -> dict[str, float]:
 
 
 def trio_metrics(
-    events: Sequence[Event], t_end: float, *, controller: str = ""
+    events: Sequence[Event], t_end: float, *, controller: str = "", min_idle_s: float = 0.0015
 ) -> dict[str, Any]:
-    """Per axis occupancy and ``idle_while_blocked_s``; the axis stalls as starvations."""
+    """Per axis occupancy and ``idle_while_blocked_s``; the axis stalls as starvations.
+
+    An axis that is idle (MTYPE 0) between two of its moves while a process feeding the
+    controller is blocked at a move line is stalled: an idle axis has free NTYPE and MTYPE, so
+    what blocks the process is another axis's move holding the process buffer (TN20-16).
+    Idle spells no longer than ``min_idle_s`` (the one-servo-period hand-over from one move
+    to the next, 1 ms by default on a Trio) are not stalls.
+    """
     axes, blocked = trio_traces(events)
     per_axis: dict[int, dict[str, Any]] = {}
     starv: list[Starvation] = []
@@ -415,9 +434,9 @@ def trio_metrics(
         m: dict[str, Any] = occupancy_s(a, t_end)
         idle_blocked = 0.0
         for iv in idle_between_moves(a):
+            if iv.length <= min_idle_s:
+                continue
             for b in blocked:
-                if b["blocked_on"] == n:
-                    continue
                 s = max(iv.start, b["start"])
                 e = min(iv.end, b["end"] if b["end"] is not None else t_end)
                 if e > s:
@@ -429,7 +448,11 @@ def trio_metrics(
                             s,
                             e,
                             axis=n,
-                            facts={"who": b["who"], "blocked_on": b["blocked_on"]},
+                            facts={
+                                "who": b["who"],
+                                "blocked_on": b["blocked_on"],
+                                "holder_axis": b["holder"],
+                            },
                         )
                     )
         m["idle_while_blocked_s"] = idle_blocked

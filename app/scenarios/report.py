@@ -66,8 +66,10 @@ def pmac_report(
     return out
 
 
-def trio_report(events: list[Event], t_end: float, *, controller: str = "") -> dict[str, Any]:
-    m = trio_metrics(events, t_end, controller=controller)
+def trio_report(
+    events: list[Event], t_end: float, *, controller: str = "", servo_period_s: float = 0.001
+) -> dict[str, Any]:
+    m = trio_metrics(events, t_end, controller=controller, min_idle_s=1.5 * servo_period_s)
     for s in m["starvation_list"]:
         diagnose_axis_blocked(s)
     m["kind"] = "trio"
@@ -86,7 +88,8 @@ def report(result: RunResult) -> dict[str, Any]:
             totals = {r.cs: result.total_lines(cid, r.cs) for r in spec.rotary}
             r = pmac_report(events, result.t_end, controller=cid, i16=i16, total_lines=totals)
         else:
-            r = trio_report(events, result.t_end, controller=cid)
+            servo_s = float(spec.config.get("servo_period_ms", 1.0)) / 1000
+            r = trio_report(events, result.t_end, controller=cid, servo_period_s=servo_s)
         episodes += r.pop("starvation_list")
         per[cid] = r
     episodes.sort(key=lambda s: (s.start, s.controller))

@@ -253,7 +253,7 @@ class BreqInterruptHost(PmacHost):
     def _flush_missed(self) -> None:
         """At the end of the service routine: an edge that came while interrupts were masked
         is lost if BREQ is still high now — no new edge will come to interrupt the host."""
-        if self._missed_at and self._breq_high():
+        if self._missed_at and self.remaining > 0 and self._breq_high():
             t = self._missed_at[-1]
             self.missed += 1
             self.log.emit(

@@ -131,9 +131,27 @@ class TrioFeeder:
             return
         fields = {"host": self.name, "axis": move.axis, "process": self.process_no or 0}
         self.log.emit("host_blocked", **fields)
-        while not self.try_move(move):
-            yield self.next_change()
+        reply = self._move_waiting(move)
+        if reply is not None:
+            # the controller queues it like a BASIC move line and answers when buffered
+            done = self.env.event()
+            reply.add_done_callback(lambda _r: done.triggered or done.succeed())
+            yield done
+            self.issued += 1
+        else:
+            while not self.try_move(move):
+                yield self.next_change()
         self.log.emit("host_resumed", **fields)
+
+    def _move_waiting(self, move: Move) -> Any:
+        """``move(..., wait=True)`` where the controller offers it (a Reply), else None."""
+        try:
+            reply = self.controller.move(
+                move.axis, move.type, list(move.args), process=self.process_no, wait=True
+            )
+        except TypeError:
+            return None
+        return reply if hasattr(reply, "add_done_callback") else None
 
     def finish(self) -> None:
         self.done_t = self.env.now

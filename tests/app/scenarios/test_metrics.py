@@ -126,21 +126,38 @@ def test_mvar_lead_is_time_before_the_next_move_starts():
 
 
 def test_tn20_axis_idle_while_process_blocked_on_other_axis():
+    """TN20-16's table: axis 0 stops while the program waits at MOVE(VR(4)) AXIS(0), because
+    the process buffer holds MOVE(VR(103)) for axis 1 until MOVE(VR(101)) finishes."""
     f = Feed()
     f.at(0.0, "axis", axis=0, mtype=1, ntype=1)
     f.at(0.0, "axis", axis=1, mtype=1, ntype=1)
-    f.at(0.0, "process_buffer", process=1, axis=0, mtype=1)
-    f.at(0.0, "process", process=1, state="blocked", line=3, blocked_on=1)
-    f.at(0.010, "axis", axis=0, mtype=1, ntype=0)  # VR(2) moves up, VR(3) into NTYPE
+    f.at(0.0, "process_buffer", process=1, axis=0, mtype=1)  # MOVE(VR(3))
+    f.at(0.0, "process", process=1, state="blocked", line=3, blocked_on="MOVE(VR(103)) AXIS(1)")
+    f.at(0.010, "axis", axis=0, mtype=1, ntype=1)  # VR(1) done: VR(2) up, VR(3) to NTYPE
     f.at(0.010, "process_buffer", process=1, axis=0, mtype=0)
-    f.at(0.020, "axis", axis=0, mtype=0, ntype=0)  # axis 0 stops: TN20's stall
-    f.at(0.100, "axis", axis=1, mtype=1, ntype=1)
-    f.at(0.100, "process", process=1, state="running", line=3)
-    f.at(0.100, "axis", axis=0, mtype=1, ntype=0)  # VR(4) reaches axis 0 at last
+    f.at(0.010, "process", process=1, state="running", line=3)
+    f.at(0.010, "process_buffer", process=1, axis=1, mtype=1)  # MOVE(VR(103))
+    f.at(0.010, "process", process=1, state="blocked", line=2, blocked_on="MOVE(VR(4)) AXIS(0)")
+    f.at(0.020, "axis", axis=0, mtype=1, ntype=0)
+    f.at(0.030, "axis", axis=0, mtype=0, ntype=0)  # "AXIS(0) has now stopped!"
+    f.at(0.100, "axis", axis=1, mtype=1, ntype=1)  # VR(101) done
+    f.at(0.100, "process_buffer", process=1, axis=1, mtype=0)
+    f.at(0.100, "process", process=1, state="running", line=2)
+    f.at(0.101, "axis", axis=0, mtype=1, ntype=0)  # VR(4) reaches axis 0 at last
     rep = trio_report(f.events(), 0.2)
-    assert rep["axes"][0]["idle_while_blocked_s"] == pytest.approx(0.080)
+    assert rep["axes"][0]["idle_while_blocked_s"] == pytest.approx(0.070)
     assert rep["axes"][1]["idle_while_blocked_s"] == 0
     (s,) = rep["starvation_list"]
     assert s.cause == "process_blocked_on_other_axis"
-    assert "process 1" in s.detail and "axis 1" in s.detail
+    assert (s.start, s.end) == (pytest.approx(0.030), pytest.approx(0.100))
+    assert "process 1" in s.detail and "held a move for axis 1" in s.detail
     assert rep["axes"][0]["process_buffer_busy_s"] == pytest.approx(0.010)
+
+
+def test_one_servo_period_hand_over_is_not_a_stall():
+    f = Feed()
+    f.at(0.0, "axis", axis=0, mtype=1, ntype=0)
+    f.at(0.0, "process", process=1, state="blocked", line=2, blocked_on="MOVE(1) AXIS(1)")
+    f.at(0.010, "axis", axis=0, mtype=0, ntype=0)
+    f.at(0.011, "axis", axis=0, mtype=1, ntype=0)
+    assert trio_report(f.events(), 0.1)["idle_while_blocked_s"] == 0
