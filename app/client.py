@@ -72,6 +72,34 @@ class LinesAccepted:
     extra: dict[str, Any] = field(default_factory=dict)
 
 
+class Subscription:
+    """An open event stream: iterate for events (dicts; ``{"type": "gap", ...}`` on a gap).
+
+    ``timeout``: seconds to wait for each message (``TimeoutError`` after), None = forever.
+    """
+
+    def __init__(self, url: str, timeout: float | None = None) -> None:
+        from websockets.sync.client import connect
+
+        self.timeout = timeout
+        self._ws = connect(url, compression=None, open_timeout=10, proxy=None)
+
+    def __iter__(self) -> Iterator[dict[str, Any]]:
+        return self
+
+    def __next__(self) -> dict[str, Any]:
+        return json.loads(self._ws.recv(timeout=self.timeout))
+
+    def close(self) -> None:
+        self._ws.close()
+
+    def __enter__(self) -> Subscription:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
 class MotionSimClient:
     """REST client for one motionsim service.
 
@@ -189,15 +217,17 @@ class MotionSimClient:
             since = page.next
 
     def subscribe(self, id: str, since: int = 0, types: Sequence[str] | None = None,
-                  timeout: float | None = None) -> Iterator[dict[str, Any]]:
-        """Events over the WebSocket: the backlog after ``since``, then live ones (and gaps)."""
-        from websockets.sync.client import connect
+                  timeout: float | None = None) -> Subscription:
+        """Events over the WebSocket: the backlog after ``since``, then live ones (and gaps).
 
+        Use it as a context manager (it holds a connection)::
+
+            with ms.subscribe("pmac", since=last_seq, types=["breq"]) as events:
+                for event in events: ...
+        """
         query = "&".join([f"since={since}"] + [f"type={quote(t)}" for t in types or ()])
         url = self.base_url.replace("http", "ws", 1) + f"/controllers/{id}/events?{query}"
-        with connect(url, compression=None, open_timeout=10, proxy=None) as ws:
-            while True:
-                yield json.loads(ws.recv(timeout=timeout))
+        return Subscription(url, timeout)
 
     # -- terminal and variables --------------------------------------------------------------
 
@@ -274,4 +304,4 @@ class MotionSimClient:
 
 
 __all__ = ["Clock", "EventsPage", "LinesAccepted", "MotionSimClient", "MotionSimHTTPError",
-           "RunUntilResult", "TerminalReply"]
+           "RunUntilResult", "Subscription", "TerminalReply"]
