@@ -52,6 +52,9 @@ class TrioController(Controller):
     """A simulated Trio Motion Coordinator (MC2xx series buffering)."""
 
     kind = "trio"
+    #: The command line answers at the current instant and never moves a virtual clock
+    #: (API.md): ``ControllerHandle.command`` returns a locked line pending at once.
+    terminal_wait_s = 0.0
 
     def __init__(
         self, id: str, config: Mapping[str, Any] | None = None, *, log_capacity: int = 100_000
