@@ -82,7 +82,8 @@ class Subscription:
         from websockets.sync.client import connect
 
         self.timeout = timeout
-        self._ws = connect(url, compression=None, open_timeout=10, proxy=None)
+        self._connection = connect(url, compression=None, open_timeout=10, proxy=None)
+        self._ws = self._connection.__enter__()
 
     def __iter__(self) -> Iterator[dict[str, Any]]:
         return self
@@ -91,7 +92,7 @@ class Subscription:
         return json.loads(self._ws.recv(timeout=self.timeout))
 
     def close(self) -> None:
-        self._ws.close()
+        self._connection.__exit__(None, None, None)
 
     def __enter__(self) -> Subscription:
         return self

@@ -16,6 +16,8 @@ import tests.dummy_kind  # noqa: F401  (registers the dummy kinds)
 from api.main import create_app
 from app.settings import Settings
 
+pytest_plugins = ["pytester"]
+
 
 @pytest.fixture
 def anyio_backend() -> str:
