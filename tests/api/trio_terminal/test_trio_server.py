@@ -19,6 +19,14 @@ async def read_until_prompt(reader: asyncio.StreamReader) -> bytes:
     return await asyncio.wait_for(reader.readuntil(b">>"), TIMEOUT)
 
 
+async def nothing_more(reader: asyncio.StreamReader) -> bytes:
+    """What arrives within 0.1 s wall (b"" when nothing does)."""
+    try:
+        return await asyncio.wait_for(reader.read(100), 0.1)
+    except TimeoutError:
+        return b""
+
+
 def run(scenario):
     async def main():
         registry = Registry()
@@ -62,10 +70,8 @@ def test_move_that_cannot_be_buffered_holds_the_prompt_until_buffered() -> None:
         reader, writer = await asyncio.open_connection("127.0.0.1", port)
         writer.write(b"MOVE(10)\r\n?1\r\n")
         echo = await asyncio.wait_for(reader.readuntil(b"\r\n"), TIMEOUT)
-        await asyncio.sleep(0.1)
+        early = await nothing_more(reader)  # no prompt, no echo of "?1"
         locked = handle.controller.terminal_state()
-        early = reader._buffer  # nothing more yet: no prompt, no echo of "?1"
-        early = bytes(early)
         handle.clock.advance(0.02)
         rest = [await read_until_prompt(reader) for _ in range(2)]
         writer.close()
@@ -89,8 +95,7 @@ def test_lock_taken_over_tcp_is_the_shared_process_0_lock() -> None:
         await asyncio.wait_for(r1.readuntil(b"\r\n"), TIMEOUT)
         w2.write(b"?2\r\n")
         echo2 = await asyncio.wait_for(r2.readuntil(b"\r\n"), TIMEOUT)
-        await asyncio.sleep(0.05)
-        before = bytes(r2._buffer)
+        before = await nothing_more(r2)
         handle.clock.advance(0.02)
         after = await read_until_prompt(r2)
         w1.close()
