@@ -46,7 +46,7 @@ _TOKEN = re.compile(
     r"|(?P<word>" + "|".join(_WORDS) + r"|[A-Za-z])"
     r"|(?P<op>\?\?\?|\?\?|\?|->|\.\.|==|&=|\|=|\^=|[=&#|^+\-*/%(),])"
     r")",
-    re.IGNORECASE,
+    re.IGNORECASE | re.ASCII,
 )
 
 _FUNCS = frozenset(ex.FUNCTIONS)

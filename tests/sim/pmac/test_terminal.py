@@ -1,0 +1,169 @@
+"""The host command line: on-line versus buffered, replies, ERR codes (seed 000, TUM p46,
+TSRM p295, p328, spec §2, §3)."""
+
+from __future__ import annotations
+
+import pytest
+
+
+def test_i100_is_a_query_when_buffers_are_closed(rig):
+    """Seed 000: "an I100 command is a request for a value of I-variable 100 when buffers are
+    closed"."""
+    rig.ok("I100=7")
+    assert rig.ok("I100") == "7"
+    assert rig.events("line_loaded") == []
+
+
+def test_i100_is_a_full_circle_move_when_a_buffer_is_open(rig):
+    """Seed 000: with a buffer open I100 is a full-circle move (vector X component 100)."""
+    rig.rotary_setup()
+    rig.ok("OPEN ROT")
+    assert rig.ok("I100") == ""
+    assert [(f["text"], f["words"]) for _, _, f in rig.events("line_loaded")] == [("I100", 1)]
+
+
+def test_full_circle_time_from_arc_length(make_rig):
+    """CIRCLE1 with Isx13 > 0: time = arc length / F (2π·100 units at F=1000/s ≈ 628 ms)."""
+    rig = make_rig(i5113=10)
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["CIRCLE1 TA10 TS0 F1000 I100"])
+    rig.ok("R")
+    rig.run_until_idle()
+    (k0, _, _), = rig.events("move_start")
+    (k1, _, _), = rig.events("move_end")
+    import math
+
+    assert k1 - k0 == math.ceil((2 * math.pi * 0.1 + 0.01) / rig.period - 1e-6)
+
+
+def test_b0_points_at_the_rotary_program_when_closed_and_is_a_b_axis_move_when_open(rig):
+    """TSRM p295: with a buffer open, B0 is stored as a B-axis move."""
+    rig.ok("&1 DEFINE ROT 100")
+    rig.ok("B0")
+    assert rig.c.coord_system(1).program == 0
+    rig.ok("OPEN ROT")
+    rig.ok("B0")
+    assert [f["text"] for _, _, f in rig.events("line_loaded")] == ["B0"]
+
+
+def test_x1000_on_line_is_err005(rig):
+    """TUM p46: program commands with no buffer open answer ERR005."""
+    assert rig.cmd("X1000").error == "ERR005"
+    assert rig.cmd("LINEAR").error == "ERR005"
+    assert rig.cmd("M1==1").error == "ERR005"
+
+
+def test_assignments_act_at_once_when_closed_and_are_stored_when_open(rig):
+    """TUM p249: an assignment is added to the open buffer, else executed immediately."""
+    rig.ok("P1=2*3+1")
+    assert rig.c.get_variable("P1") == 7
+    rig.rotary_setup()
+    rig.ok("OPEN ROT")
+    rig.ok("P1=1")
+    assert rig.c.get_variable("P1") == 7
+    assert [f["text"] for _, _, f in rig.events("line_loaded")] == ["P1=1"]
+
+
+def test_on_line_m_write_is_an_mvar_event(rig):
+    k = rig.cyc(rig.cmd("M7=1").t_done)
+    assert rig.events("mvar") == [(k, "mvar", {"name": "M7", "value": 1.0, "sync": False})]
+
+
+def test_several_commands_on_one_line_answer_one_line_each(rig):
+    """TSRM p402: several queries on one line answer one line each, in order."""
+    assert rig.ok("I16 I17 I8") == "5\r10\r2"
+    assert rig.ok("i16..17") == "5\r10"
+    assert rig.ok("I16,2,1") == "5\r10"
+
+
+def test_i_variable_default_restore(rig):
+    """TUM p243: I{n}=* restores the manufacturer's default."""
+    rig.ok("I16=3 I17=4")
+    rig.ok("I16=*")
+    assert rig.ok("I16 I17") == "5\r4"
+    rig.ok("I16..17=*")
+    assert rig.ok("I16 I17") == "5\r10"
+
+
+def test_abbreviations_and_run_together_commands(rig):
+    rig.ok("&1DEF ROT 50")
+    rig.ok("&1B0R")
+    assert rig.c.coord(1)["program"]["state"] == "running"
+
+
+def test_only_one_port_may_hold_the_buffers_open(rig):
+    """TUM p48: lines are accepted only from the port that opened; ERR007 for another."""
+    rig.rotary_setup()
+    other = rig.c.open_port("tcp")
+    other.state  # noqa: B018
+    rig.ok("OPEN ROT")
+    assert rig.cmd("OPEN ROT", other).error == "ERR007"
+    assert rig.cmd("X10", other).error == "ERR005"
+    rig.ok("X10")
+    rig.c.close_port(rig.c.rest_port)
+    rig.ok("OPEN ROT", other)
+
+
+def test_r_without_b0_is_err015(rig):
+    """Spec §2.2: ERR015, not pointing to a valid program buffer."""
+    rig.ok("&1 DEFINE ROT 100")
+    assert rig.cmd("R").error == "ERR015"
+    rig.ok("&2 B0")
+    assert rig.cmd("&2 R").error == "ERR015"  # CS 2 has no rotary buffer
+
+
+def test_error_discards_the_rest_of_the_line_after_the_data_already_produced(rig):
+    r = rig.cmd("I16 X10 I17")
+    assert (r.reply, r.error) == ("5", "ERR005")
+
+
+def test_malformed_line_is_err003_and_changes_nothing(rig):
+    r = rig.cmd("P1=5 P2=(3")
+    assert r.error == "ERR003"
+    assert rig.c.get_variable("P1") == 0
+
+
+def test_addressing_is_per_port_and_reported(rig):
+    other = rig.c.open_port("tcp")
+    rig.ok("&3 #4")
+    assert rig.ok("& #") == "3\r4"
+    assert rig.ok("& #", other) == "1\r1"
+
+
+def test_pr_reports_lines_ahead_of_calculation(rig):
+    """TUM p338: PR, program remaining."""
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["TM100 TA10 TS0 X1", "X2", "X3", "X4", "X5"])
+    assert rig.ok("PR") == "5"
+    rig.ok("R")
+    rig.run_for(0.01)
+    assert rig.ok("PR") == "2"
+
+
+def test_identification_replies(rig):
+    """Spec §9.8: ver / cid; ?? is 18 hex characters, ? and ??? 12."""
+    assert rig.ok("ver") == "1.947  "
+    assert rig.ok("cid") == "603382"
+    assert len(rig.ok("??")) == 18
+    assert len(rig.ok("#1?")) == 12
+    assert rig.ok("???") == "000000000000"
+
+
+def test_axis_definition(rig):
+    """PSRM p179: #1->X assigns, #1-> reports; a motor in another CS is ERR003."""
+    rig.ok("&1 #1->1000X")
+    assert rig.ok("#1->") == "1000X"
+    assert rig.cmd("&2 #1->Y").error == "ERR003"
+
+
+def test_reply_comes_in_the_next_background_cycle(rig):
+    """The host port is served in the background cycle: one servo cycle after the command."""
+    rig.run_for(0.0101)
+    t0 = rig.c.now
+    r = rig.cmd("I16")
+    assert rig.cyc(r.t_done) == int(t0 / rig.period) + 1
+
+
+@pytest.mark.parametrize("text", ["", "   ", "; just a comment"])
+def test_empty_line_answers_nothing(rig, text):
+    assert (rig.cmd(text).reply, rig.cmd(text).error) == ("", None)
