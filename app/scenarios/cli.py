@@ -1,0 +1,192 @@
+"""``motionsim run`` and ``motionsim sweep`` (registered on the main CLI by :func:`register`).
+
+Heavy imports (matplotlib, the cores, dask) happen inside the commands so ``motionsim --help``
+stays fast.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+
+def _fail(message: str, code: int = 2) -> typer.Exit:
+    typer.echo(f"motionsim: {message}", err=True)
+    return typer.Exit(code)
+
+
+def run_command(
+    scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario YAML file.")],
+    out: Annotated[Path | None, typer.Option(
+        "--out", "-o", help="Output folder [default: out/<scenario name>].")] = None,
+    seed: Annotated[int | None, typer.Option(help="Override the scenario's seed.")] = None,
+    plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
+    open_: Annotated[bool, typer.Option("--open", help="Show the plots when done.")] = False,
+    realtime: Annotated[bool, typer.Option(
+        "--realtime", help="Play it on a running server (wall-clock time) instead.")] = False,
+    server: Annotated[str, typer.Option(help="Server for --realtime.")] = "http://127.0.0.1:8000",
+    factor: Annotated[float, typer.Option(help="Realtime speed-up for --realtime.")] = 1.0,
+) -> None:
+    """Run a what-if scenario in virtual time: summary table, event log (JSON Lines + CSV),
+    metrics.json and PNG plots in the output folder."""
+    from app.scenarios.errors import ScenarioError
+    from app.scenarios.model import load_scenario, parse_scenario
+
+    try:
+        scn = load_scenario(scenario)
+        if seed is not None:
+            raw = dict(scn.raw)
+            raw["seed"] = seed
+            scn = parse_scenario(raw, file=scn.file, base_dir=scn.base_dir)
+    except ScenarioError as exc:
+        raise _fail(str(exc)) from None
+    if realtime:
+        from app.scenarios.remote import play
+
+        try:
+            play(scn, server, factor=factor)
+        except ScenarioError as exc:
+            raise _fail(str(exc), 1) from None
+        return
+    from app.scenarios.outputs import write_outputs
+    from app.scenarios.report import report
+    from app.scenarios.runner import run
+    from app.scenarios.summary import print_summary
+
+    try:
+        result = run(scn)
+    except ScenarioError as exc:
+        raise _fail(str(exc)) from None
+    rep = report(result)
+    out_dir = out or Path("out") / scn.name
+    paths = write_outputs(result, rep, out_dir, plots=plots)
+    print_summary(rep)
+    typer.echo(
+        f"simulated {result.t_end:.3f} s in {result.wall_s:.3f} s wall "
+        f"({result.stopped_by}); wrote {len(paths)} files to {out_dir}"
+    )
+    if open_ and plots:
+        _show([p for n, p in paths.items() if n.endswith(".png")])
+
+
+def _show(pngs: list[Path]) -> None:
+    import webbrowser
+
+    for p in pngs:
+        webbrowser.open(p.resolve().as_uri())
+
+
+def sweep_command(
+    scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario YAML file.")],
+    grid: Annotated[list[str], typer.Option(
+        "--grid", "-g", metavar="NAME=V1,V2,...",
+        help="A parameter and its values (repeat). NAME: an alias from the scenario's params, "
+             "a dotted path (hosts.0.latency.ms) or a key found once in the file. "
+             "START:STOP:STEP is a range.")],
+    out: Annotated[Path | None, typer.Option(
+        "--out", "-o", help="Output folder [default: out/<scenario name>-sweep].")] = None,
+    metric: Annotated[str | None, typer.Option(
+        help="Metric for the heat-map [default: the scenario's metric].")] = None,
+    sample: Annotated[int | None, typer.Option(
+        help="Run a random sample of this many points instead of the whole product.")] = None,
+    replicates: Annotated[int, typer.Option(
+        help="Runs per point, each with its own seed.")] = 1,
+    same_seed: Annotated[bool, typer.Option(
+        "--same-seed", help="Every run uses the scenario's seed (common random numbers).")] = False,
+    workers: Annotated[int | None, typer.Option(
+        help="Local worker processes [default: CPU count]; 1 = in this process.")] = None,
+    scheduler: Annotated[str | None, typer.Option(
+        metavar="tcp://HOST:8786", help="Run on this Dask distributed scheduler.")] = None,
+    yes: Annotated[bool, typer.Option(
+        "--yes", "-y", help="Run even when the grid has more than 100 000 runs.")] = False,
+) -> None:
+    """Run a scenario over a grid of parameters; CSV (and Parquet) table and a heat-map."""
+    from rich.console import Console
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeRemainingColumn
+
+    from app.scenarios import sweep as sw
+    from app.scenarios.errors import ScenarioError
+    from app.scenarios.model import load_scenario
+
+    try:
+        scn = load_scenario(scenario)
+        params = sw.make_params(scn.raw, grid)
+    except ScenarioError as exc:
+        raise _fail(str(exc)) from None
+    if replicates < 1:
+        raise _fail("--replicates must be >= 1")
+    total = sw.count_runs(params, replicates)
+    n = min(total, sample) if sample else total
+    if n > sw.CONFIRM_ABOVE and not yes:
+        if sys.stdin.isatty():
+            typer.confirm(f"{n} runs — go ahead?", abort=True)
+        else:
+            raise _fail(f"the sweep has {n} runs (more than {sw.CONFIRM_ABOVE}); pass --yes")
+    runs = sw.points(params, sample=sample, seed=scn.seed, replicates=replicates)
+    metric = metric or scn.metric
+    client = None
+    if scheduler:
+        try:
+            from distributed import Client
+        except ImportError:
+            msg = "--scheduler needs dask[distributed]: pip install 'motionsim[cluster]'"
+            raise _fail(msg) from None
+        client = Client(scheduler)
+    console = Console(stderr=True)
+    try:
+        with Progress(
+            "[progress.description]{task.description}", BarColumn(), MofNCompleteColumn(),
+            TimeRemainingColumn(), console=console,
+        ) as bar:  # fmt: skip
+            task = bar.add_task(f"sweep {scn.name}", total=len(runs))
+            rows = sw.sweep(
+                scn.raw, params, runs, file=scn.file,
+                base_dir=str(scn.base_dir) if scn.base_dir else None,
+                workers=workers, client=client, same_seed=same_seed,
+                progress=lambda done, _total: bar.update(task, completed=done),
+            )  # fmt: skip
+    finally:
+        if client is not None:
+            client.close()
+    out_dir = out or Path("out") / f"{scn.name}-sweep"
+    out_dir.mkdir(parents=True, exist_ok=True)
+    (out_dir / "sweep.csv").write_text(sw.rows_csv(rows), encoding="utf-8")
+    wrote = ["sweep.csv"]
+    if sw.write_parquet(rows, out_dir / "sweep.parquet"):
+        wrote.append("sweep.parquet")
+    sw.heatmap(rows, params, metric, out_dir / "heatmap.png", title=f"{scn.name}: {metric}")
+    wrote.append("heatmap.png")
+    _print_rows(rows, params, metric, console=Console())
+    errors = [r for r in rows if r.get("error")]
+    typer.echo(f"{len(rows)} runs; wrote {', '.join(wrote)} to {out_dir}")
+    if errors:
+        raise _fail(f"{len(errors)} runs failed; first: {errors[0]['error']}", 1)
+
+
+def _print_rows(rows: list[dict[str, Any]], params: list[Any], metric: str, console: Any) -> None:
+    from rich.table import Table
+
+    t = Table(title=f"sweep: {metric}")
+    for p in params:
+        t.add_column(p.name, justify="right")
+    t.add_column("seed", justify="right")
+    t.add_column(metric, justify="right")
+    for r in rows[:50]:
+        v = r.get(metric)
+        t.add_row(*[str(r.get(p.name)) for p in params], str(r.get("seed")),
+                  f"{v:.6g}" if isinstance(v, float) else str(v))  # fmt: skip
+    if len(rows) > 50:
+        t.caption = f"{len(rows) - 50} more rows in sweep.csv"
+    console.print(t)
+
+
+def register(cli: typer.Typer) -> None:
+    """Add ``run`` and ``sweep`` to the ``motionsim`` command."""
+    cli.command("run")(run_command)
+    cli.command("sweep")(sweep_command)
+
+
+__all__ = ["register", "run_command", "sweep_command"]

@@ -1,0 +1,75 @@
+"""The Rich summary printed after a run: one row per coordinate system / Trio controller,
+then each starvation with its diagnosis."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from rich.console import Console
+from rich.table import Table
+
+
+def _f(v: Any, unit: str = "", scale: float = 1.0, digits: int = 3) -> str:
+    if v is None:
+        return "—"
+    if isinstance(v, float):
+        return f"{v * scale:.{digits}f}{unit}"
+    return f"{v}{unit}"
+
+
+def summary_tables(rep: dict[str, Any], *, max_starvations: int = 20) -> list[Table]:
+    tables = []
+    pm = Table(title=f"{rep['scenario']} — rotary buffers (t = {rep['t_end_s']:.3f} s)")
+    for col in ("controller", "&cs", "lines run", "starved", "time starved", "longest",
+                "min ahead", "BREQ/s", "missed", "writes", "latency max"):  # fmt: skip
+        pm.add_column(col, justify="right" if col not in ("controller",) else "left")
+    trio = Table(title=f"{rep['scenario']} — Trio axes")
+    for col in ("controller", "axis", "MTYPE busy", "NTYPE busy", "proc buf busy",
+                "idle while blocked"):  # fmt: skip
+        trio.add_column(col, justify="right" if col != "controller" else "left")
+    for cid, r in rep["controllers"].items():
+        if r["kind"] == "pmac":
+            for cs, m in r["cs"].items():
+                pm.add_row(
+                    cid, str(cs), _f(m["lines_executed"]), _f(m["starvations"]),
+                    _f(m["time_starved_s"], " ms", 1e3), _f(m["longest_starvation_s"], " ms", 1e3),
+                    _f(m["min_lines_ahead"]), _f(m["breq_rate_hz"], "", 1, 1),
+                    _f(m["breq_missed"]), _f(m["host_writes"]),
+                    _f(m["line_latency_max_s"], " ms", 1e3),
+                )  # fmt: skip
+        else:
+            for axis, m in r["axes"].items():
+                trio.add_row(
+                    cid, str(axis), _f(m["mtype_busy_s"], " s"), _f(m["ntype_busy_s"], " s"),
+                    _f(m["process_buffer_busy_s"], " s"), _f(m["idle_while_blocked_s"], " s"),
+                )  # fmt: skip
+    if pm.row_count:
+        tables.append(pm)
+    if trio.row_count:
+        tables.append(trio)
+    st = Table(title="starvations and why")
+    for col in ("controller", "where", "start", "length", "cause", "detail"):
+        st.add_column(col)
+    episodes = rep["starvations"]
+    for s in episodes[:max_starvations]:
+        where = f"&{s['cs']}" if "cs" in s else f"axis {s.get('axis')}"
+        st.add_row(
+            s["controller"], where, _f(s["start_s"], " s", 1, 4), _f(s["length_s"], " ms", 1e3),
+            s["cause"], s["detail"],
+        )  # fmt: skip
+    if len(episodes) > max_starvations:
+        st.caption = f"{len(episodes) - max_starvations} more in metrics.json"
+    if episodes:
+        tables.append(st)
+    return tables
+
+
+def print_summary(rep: dict[str, Any], console: Console | None = None) -> None:
+    console = console or Console()
+    for t in summary_tables(rep):
+        console.print(t)
+    if not rep["starvations"]:
+        console.print("[green]no starvation[/green]")
+
+
+__all__ = ["print_summary", "summary_tables"]
