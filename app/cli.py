@@ -210,6 +210,12 @@ def replay(
         raise typer.Exit(code)
 
 
+# What-if scenarios: `motionsim run` and `motionsim sweep` (app/scenarios/cli.py).
+from app.scenarios.cli import register as _register_scenarios  # noqa: E402
+
+_register_scenarios(cli)
+
+
 def main() -> None:
     """Console-script entry point."""
     cli()
