@@ -52,6 +52,10 @@ class TrioController(Controller):
     """A simulated Trio Motion Coordinator (MC2xx series buffering)."""
 
     kind = "trio"
+
+    #: The command line answers at the current instant and never moves a virtual clock
+    #: (API.md); a locked terminal answers ``pending`` at once.
+    terminal_wait_s = 0.0
     #: The command line answers at the current instant and never moves a virtual clock
     #: (API.md): ``ControllerHandle.command`` returns a locked line pending at once.
     terminal_wait_s = 0.0
@@ -95,6 +99,7 @@ class TrioController(Controller):
         self.basic: dict[int, BasicProcess] = {}
         self.command_line = CommandLine(self)
         self._api_ctx = Context(self, 0, lambda _t, _n: None)
+        self._move_waits: dict[int, Waiter] = {}
 
     # -- life cycle --------------------------------------------------------------------------
 
@@ -189,12 +194,26 @@ class TrioController(Controller):
                 )
             return placed
         reply = Reply(text)
-        result = self.buffers.place_or_wait(
-            move, lambda where: reply.resolve(where, None, self.env.now)
-        )
-        if not isinstance(result, Waiter):
+
+        def placed(where: str) -> None:
+            self._move_waits.pop(id(reply), None)
+            reply.resolve(where, None, self.env.now)
+
+        result = self.buffers.place_or_wait(move, placed)
+        if isinstance(result, Waiter):
+            self._move_waits[id(reply)] = result
+        else:
             reply.resolve(result, None, self.env.now)
         return reply
+
+    def withdraw_move(self, reply: Reply) -> bool:
+        """Give up a ``move(..., wait=True)`` not yet placed; True if it was withdrawn (then
+        nothing of it was queued)."""
+        waiter = self._move_waits.pop(id(reply), None)
+        if waiter is None or reply.done:
+            return False
+        waiter.cancel()
+        return True
 
     # -- programs ----------------------------------------------------------------------------
 

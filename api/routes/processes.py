@@ -1,0 +1,26 @@
+"""``/controllers/{id}/processes``: the Trio BASIC processes and their states."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import APIRouter, Path
+
+from api.deps import HandleDep
+from api.routes.axes import trio_of
+from api.schemas.processes import ProcessOut
+
+router = APIRouter(tags=["trio processes"])
+
+
+@router.get("/controllers/{controller_id}/processes", response_model=list[ProcessOut])
+def list_processes(handle: HandleDep) -> list[dict]:
+    """Every process that has run a program: running, blocked (at a move line) or stopped."""
+    return handle.apply(trio_of(handle).processes)
+
+
+@router.post("/controllers/{controller_id}/processes/{process}/stop", response_model=ProcessOut)
+def stop_process(
+    handle: HandleDep, process: Annotated[int, Path(ge=1, description="process number")]
+) -> dict:
+    return handle.apply(trio_of(handle).stop_process, process)

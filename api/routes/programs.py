@@ -1,0 +1,78 @@
+"""``/controllers/{id}/programs/{name}``: Trio BASIC programs, stored as text, run in processes.
+
+``PUT`` takes the program as ``text/plain``; it is parsed and compiled first — a syntax or
+structure error is 422 ``parse_error`` with ``line`` and ``column`` and the stored program (if
+any) stays as it was.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import APIRouter, Path, Request, Response
+from fastapi.responses import PlainTextResponse
+
+from api.deps import HandleDep
+from api.routes.axes import trio_of
+from api.schemas.programs import ProgramList, ProgramStored, RunIn, RunOut
+from sim.errors import InvalidValue
+
+router = APIRouter(tags=["trio programs"])
+
+NameParam = Annotated[str, Path(min_length=1, max_length=32, description="program name")]
+MAX_PROGRAM_BYTES = 1_000_000
+
+_TEXT_BODY = {
+    "requestBody": {
+        "required": True,
+        "content": {"text/plain": {"schema": {"type": "string"}, "example": "MOVE(10) AXIS(0)\n"}},
+    }
+}
+
+
+@router.get("/controllers/{controller_id}/programs", response_model=ProgramList)
+def list_programs(handle: HandleDep) -> dict:
+    return {"programs": handle.apply(trio_of(handle).program_names)}
+
+
+@router.put(
+    "/controllers/{controller_id}/programs/{name}",
+    response_model=ProgramStored,
+    status_code=201,
+    openapi_extra=_TEXT_BODY,
+)
+async def put_program(handle: HandleDep, name: NameParam, request: Request) -> dict:
+    raw = await request.body()
+    if len(raw) > MAX_PROGRAM_BYTES:
+        raise InvalidValue(f"program text over {MAX_PROGRAM_BYTES} bytes", field="body")
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise InvalidValue(f"program text is not UTF-8 (byte {exc.start})", field="body") from None
+    ctrl = trio_of(handle)
+    handle.apply(ctrl.store_program, name, text)
+    return {"name": name.upper(), "lines": len(text.splitlines())}
+
+
+@router.get(
+    "/controllers/{controller_id}/programs/{name}",
+    response_class=PlainTextResponse,
+    responses={200: {"content": {"text/plain": {"schema": {"type": "string"}}}}},
+)
+def get_program(handle: HandleDep, name: NameParam) -> PlainTextResponse:
+    return PlainTextResponse(handle.apply(trio_of(handle).program, name))
+
+
+@router.delete("/controllers/{controller_id}/programs/{name}", status_code=204)
+def delete_program(handle: HandleDep, name: NameParam) -> Response:
+    handle.apply(trio_of(handle).delete_program, name)
+    return Response(status_code=204)
+
+
+@router.post("/controllers/{controller_id}/programs/{name}/run", response_model=RunOut)
+def run_program(handle: HandleDep, name: NameParam, body: RunIn | None = None) -> dict:
+    ctrl = trio_of(handle)
+    process = body.process if body is not None else None
+    return {"process": handle.apply(ctrl.run_program, name, process)}
+
+

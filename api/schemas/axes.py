@@ -1,0 +1,60 @@
+"""Trio axes: the axis resource, its writable parameters, and a move request."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field
+
+
+class AxisOut(BaseModel):
+    """One axis: its move buffers (MTYPE / NTYPE codes, 0 = idle), positions and parameters."""
+
+    axis: int
+    mtype: int = Field(description="code of the move executing: 0 idle, 1 MOVE, 2 MOVEABS, "
+                                   "3 MHELICAL, 4 MOVECIRC, 10 FORWARD, 11 REVERSE, 12 DATUM")
+    ntype: int = Field(description="code of the move waiting in NTYPE (0 = empty)")
+    dpos: float = Field(description="demand position, user units")
+    mpos: float = Field(description="measured position (= dpos: no following error modelled)")
+    endmove: float = Field(description="end position of the executing move")
+    remain: float = Field(description="path distance still to go in the executing move")
+    speed: float
+    accel: float
+    decel: float
+    units: float = Field(description="encoder edges per user unit")
+    creep: float | None = None
+    vp_speed: float | None = Field(None, description="profile generator speed now")
+
+
+class AxisPatch(BaseModel):
+    """Parameters to write; all are checked before any is written."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    speed: float | None = Field(None, gt=0, allow_inf_nan=False)
+    accel: float | None = Field(None, gt=0, allow_inf_nan=False)
+    decel: float | None = Field(None, gt=0, allow_inf_nan=False)
+    units: float | None = Field(None, gt=0, allow_inf_nan=False)
+    creep: float | None = Field(None, gt=0, allow_inf_nan=False)
+
+
+MoveType = Literal["MOVE", "MOVEABS", "MOVECIRC", "MHELICAL", "FORWARD", "REVERSE", "DATUM"]
+
+
+class MoveIn(BaseModel):
+    """A motion command with the path axis as its base axis (multi-axis commands drive the
+    axes after it: ``MOVE`` with 2 args on axis 0 drives axes 0 and 1)."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    type: MoveType
+    args: list[float] = Field(default_factory=list)
+    process: int | None = Field(None, ge=0, description="issuing process (default 0, the "
+                                                        "command line)")
+
+
+class MovePlaced(BaseModel):
+    placed: Literal["mtype", "ntype", "process_buffer"]
+
+
+__all__ = ["AxisOut", "AxisPatch", "MoveIn", "MovePlaced", "MoveType"]
