@@ -98,10 +98,11 @@ class PmacSession:
         self.gone = asyncio.Event()
 
     def _now(self) -> float:
+        """Simulated now (a realtime clock's reading, which runs ahead of a lazily synced env)."""
         try:
-            return float(self.handle.controller.now)
-        except Exception:  # noqa: BLE001 - a stand-in controller without a clock
-            return 0.0
+            return float(self.handle.clock.t)
+        except Exception:  # noqa: BLE001 - a stand-in handle without a clock
+            return float(getattr(self.handle.controller, "now", 0.0))
 
     def receive(self, data: bytes) -> None:
         """Bytes from the host (``b""`` = the host closed its side)."""
