@@ -1,0 +1,204 @@
+"""Spine bench: event log + bus throughput, WebSocket fan-out latency, realtime lateness.
+
+    .venv/bin/python bench/bench_spine.py [--quick]
+
+Prints the figures and writes ``bench/results/spine.json``:
+
+- ``log``: events/s appended by ``EventLog.emit`` alone, and with 10 subscribers reading by
+  seq from the ring in batches (what each WebSocket subscriber does), to the end;
+- ``ws_fanout``: a served motionsim (real uvicorn on 127.0.0.1, realtime clock) whose
+  controller emits ``rate`` events per second; 100 WebSocket subscribers; latency = wall time
+  at receipt − wall time at emission, p50 / p99, and how many messages arrived;
+- ``realtime``: lateness of the realtime clock's wake-ups (wall time between an event's due
+  instant and its processing), p50 / p99, idle and while the fan-out runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import json
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+import simpy  # noqa: E402
+
+from app.kinds import register_kind  # noqa: E402
+from app.settings import Settings  # noqa: E402
+from sim.controller import Controller, Reply  # noqa: E402
+from sim.events import EventLog  # noqa: E402
+
+
+class BenchEmitter(Controller):
+    """Emits ``tick`` events every ``period_s``; each carries the wall time it was emitted."""
+
+    kind = "bench_emitter"
+
+    def __init__(self, id, config=None, *, log_capacity=100_000):
+        super().__init__(id, config, log_capacity=log_capacity)
+        self.period_s = float(self.config.get("period_s", 0.001))
+        self.env.process(self._tick())
+
+    def _tick(self):
+        k = 0
+        while True:
+            k += 1
+            yield self.env.timeout(k * self.period_s - self.env.now)
+            self.log.emit("tick", k=k, wall=time.time())
+
+    def terminal(self, command, port=None):
+        reply = Reply(command)
+        reply.resolve(command, None, self.env.now)
+        return reply
+
+    def reset(self):
+        pass
+
+
+def pct(values: list[float], q: float) -> float:
+    if not values:
+        return float("nan")
+    values = sorted(values)
+    return values[min(len(values) - 1, int(q * len(values)))]
+
+
+def bench_log(n: int) -> dict:
+    env = simpy.Environment()
+    log = EventLog(env, "b", capacity=100_000)
+    t0 = time.perf_counter()
+    for i in range(n):
+        log.emit("tick", k=i)
+    emit_rate = n / (time.perf_counter() - t0)
+
+    env = simpy.Environment()
+    log = EventLog(env, "b", capacity=100_000)
+    subs = [0] * 10
+    t0 = time.perf_counter()
+    chunk = 1000
+    for start in range(0, n, chunk):
+        for i in range(start, start + chunk):
+            log.emit("tick", k=i)
+        for s in range(len(subs)):
+            while True:
+                res = log.read(subs[s], None, 256)
+                if not res.events:
+                    break
+                for e in res.events:
+                    e.to_dict("b")
+                subs[s] = res.next
+    bus_rate = n / (time.perf_counter() - t0)
+    return {"events": n, "emit_per_s": round(emit_rate), "emit_plus_10_readers_per_s":
+            round(bus_rate)}
+
+
+async def _subscriber(url: str, latencies: list[float], counts: list[int], i: int,
+                      stop: asyncio.Event) -> None:
+    from websockets.asyncio.client import connect
+
+    async with connect(url, compression=None, proxy=None, max_queue=None) as ws:
+        while not stop.is_set():
+            try:
+                msg = await asyncio.wait_for(ws.recv(), 0.5)
+            except TimeoutError:
+                continue
+            now = time.time()
+            ev = json.loads(msg)
+            if "wall" in ev:
+                latencies.append(now - ev["wall"])
+                counts[i] += 1
+
+
+async def _subscribe_all(url: str, subscribers: int, warmup_s: float, seconds: float) -> dict:
+    """Connect ``subscribers`` WebSockets, measure for ``seconds`` after ``warmup_s``."""
+    latencies: list[float] = []
+    counts = [0] * subscribers
+    stop = asyncio.Event()
+    tasks = [asyncio.create_task(_subscriber(url, latencies, counts, i, stop))
+             for i in range(subscribers)]
+    await asyncio.sleep(warmup_s)
+    latencies.clear()
+    counts[:] = [0] * subscribers
+    await asyncio.sleep(seconds)
+    stop.set()
+    n = sum(counts)
+    await asyncio.gather(*tasks, return_exceptions=True)
+    return {"messages": n, "p50": pct(latencies, 0.5), "p99": pct(latencies, 0.99)}
+
+
+async def bench_fanout(subscribers: int, rate: float, seconds: float) -> dict:
+    """Server in this process (embedded), subscribers in a child process (no shared GIL)."""
+    from app.embedded import EmbeddedService
+
+    settings = Settings(port=0, pmac_port=0, trio_port=0, controllers=[
+        {"id": "b", "kind": "bench_emitter", "clock": {"mode": "realtime", "factor": 1},
+         "config": {"period_s": 1.0 / rate}}])
+    svc = EmbeddedService(settings).start()
+    try:
+        handle = svc.app.state.registry.get("b")
+        await asyncio.sleep(1.0)
+        idle = list(handle.clock.lateness_s)
+        url = svc.url.replace("http", "ws") + "/controllers/b/events?type=tick&since=" + str(
+            handle.controller.log.last_seq)
+        warmup = 2.0
+        child = await asyncio.create_subprocess_exec(
+            sys.executable, __file__, "--child", url, str(subscribers), str(warmup),
+            str(seconds), stdout=asyncio.subprocess.PIPE)
+        await asyncio.sleep(warmup + 0.2)
+        handle.clock.lateness_s.clear()
+        await asyncio.sleep(seconds - 0.4)
+        loaded = list(handle.clock.lateness_s)
+        stdout, _ = await child.communicate()
+        res = json.loads(stdout.decode().strip().splitlines()[-1])
+    finally:
+        svc.stop()
+    expected = rate * seconds * subscribers
+    return {
+        "ws_fanout": {"subscribers": subscribers, "events_per_s": rate, "seconds": seconds,
+                      "messages": res["messages"], "expected_messages": round(expected),
+                      "latency_p50_ms": round(res["p50"] * 1e3, 3),
+                      "latency_p99_ms": round(res["p99"] * 1e3, 3)},
+        "realtime": {"idle_lateness_p50_ms": round(pct(idle, 0.5) * 1e3, 3),
+                     "idle_lateness_p99_ms": round(pct(idle, 0.99) * 1e3, 3),
+                     "loaded_lateness_p50_ms": round(pct(loaded, 0.5) * 1e3, 3),
+                     "loaded_lateness_p99_ms": round(pct(loaded, 0.99) * 1e3, 3),
+                     "samples_idle": len(idle), "samples_loaded": len(loaded)},
+    }
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="smaller run")
+    ap.add_argument("--child", nargs=4, metavar=("URL", "N", "WARMUP", "SECONDS"),
+                    help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    if args.child:
+        url, n, warm, secs = args.child
+        print(json.dumps(asyncio.run(_subscribe_all(url, int(n), float(warm), float(secs)))))
+        return
+    register_kind(BenchEmitter)
+    n = 200_000 if args.quick else 1_000_000
+    out = {"log": bench_log(n)}
+    print(f"log: emit {out['log']['emit_per_s']:,} events/s; emit + 10 readers "
+          f"{out['log']['emit_plus_10_readers_per_s']:,} events/s")
+    fan = asyncio.run(bench_fanout(100, 100.0, 2.0 if args.quick else 5.0))
+    out.update(fan)
+    f, r = fan["ws_fanout"], fan["realtime"]
+    print(f"ws fan-out: {f['subscribers']} subscribers x {f['events_per_s']:.0f} events/s: "
+          f"{f['messages']}/{f['expected_messages']} messages, latency p50 "
+          f"{f['latency_p50_ms']} ms p99 {f['latency_p99_ms']} ms")
+    print(f"realtime lateness: idle p50 {r['idle_lateness_p50_ms']} ms p99 "
+          f"{r['idle_lateness_p99_ms']} ms; under fan-out p50 {r['loaded_lateness_p50_ms']} ms "
+          f"p99 {r['loaded_lateness_p99_ms']} ms")
+    out["python"] = sys.version.split()[0]
+    results = ROOT / "bench" / "results"
+    results.mkdir(parents=True, exist_ok=True)
+    (results / "spine.json").write_text(json.dumps(out, indent=2) + "\n")
+    print(f"wrote {results / 'spine.json'}")
+
+
+if __name__ == "__main__":
+    main()
