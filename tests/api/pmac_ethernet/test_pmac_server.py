@@ -243,3 +243,32 @@ def test_connections_are_served_concurrently(n: int) -> None:
         return replies
 
     assert run(scenario) == [b"603382\r\x06"] * n
+
+
+def test_rest_terminal_is_one_more_port_for_the_one_open_buffer_rule() -> None:
+    """Issue 6 §3 on the real ``pmac`` kind: the REST terminal holds the buffers open, so a TCP
+    connection's OPEN → ERR007 and its buffered line → ERR005, nothing stored; after the REST
+    port's CLOSE the TCP port may open them."""
+
+    async def main():
+        registry = Registry()
+        handle = registry.add("pmac", "pmac", clock="virtual")
+        server = await serve_pmac(handle, "127.0.0.1", 0)
+        port = server.sockets[0].getsockname()[1]
+        try:
+            for cmd in ("&1 DEFINE ROT 100", "OPEN ROT"):
+                assert (await handle.command(cmd)).error is None
+            c = await Client.connect(port)
+            got = [await c.ask("OPEN ROT"), await c.ask("X1")]
+            assert (await handle.command("CLOSE")).error is None
+            got += [await c.ask("OPEN ROT"), await c.ask("X2"), await c.ask("CLOSE")]
+            await c.close()
+            return got, [e["text"] for e in handle.controller.log.events("line_loaded")]
+        finally:
+            server.close()
+            await server.wait_closed()
+            await registry.close()
+
+    got, loaded = asyncio.run(main())
+    assert got == [b"\x07ERR007\r", b"\x07ERR005\r", b"\x06", b"\x06", b"\x06"]
+    assert loaded == ["X2"]
