@@ -97,6 +97,7 @@ class MotionBuffers:
         self._ntype: list[Move] = []  # moves in NTYPE, oldest first
         self._active: list[Move] = []  # moves in MTYPE, oldest first
         self._starting: dict[int, list[Move]] = {}  # placed straight into MTYPE, by start cycle
+        self._ending: dict[int, list[Move]] = {}  # executing moves by the cycle they end
         self._ticks: set[int] = set()
         self._watchers: list[tuple[Callable[[], bool], Callable[[], None]]] = []
         self._dead = False
@@ -164,7 +165,13 @@ class MotionBuffers:
         if p in self.process_buffer:
             return None
         axes = [self.axes[a] for a in move.axes]
-        if all(ax.mtype is None and ax.ntype is None for ax in axes):
+        if len(axes) == 1:
+            ax = axes[0]
+            free_m, free_n = ax.mtype is None, ax.ntype is None
+        else:
+            free_n = all(ax.ntype is None for ax in axes)
+            free_m = free_n and all(ax.mtype is None for ax in axes)
+        if free_m and free_n:
             k = self.clock.after(self.env.now)
             self._active.append(move)
             self._starting.setdefault(k, []).append(move)
@@ -173,7 +180,7 @@ class MotionBuffers:
                 self._changed(ax)
             self._tick_at(k)
             return "mtype"
-        if all(ax.ntype is None for ax in axes):
+        if free_n:
             self._ntype.append(move)
             for ax in axes:
                 ax.ntype = move
@@ -223,8 +230,7 @@ class MotionBuffers:
         m.cut(m.profile.cancelled_at(tau, self.axes[m.axes[0]].decel))
         assert m.profile is not None
         end = max(m.start_tick + self.clock.cycles(m.profile.duration), now_k + 1)
-        m.end_tick = end
-        self._tick_at(end)
+        self._end_at(m, end)
 
     def _start_cycle(self, m: Move) -> int:
         for k, ms in self._starting.items():
@@ -311,7 +317,7 @@ class MotionBuffers:
             for m in starting:
                 self._begin(m, k)
         # 3. the MTYPE moves advance; those whose profile is complete end now
-        ending = [m for m in self._active if m.end_tick == k]
+        ending = self._ending.pop(k, ())
         for m in ending:
             self._active.remove(m)
             final = m.final_positions()
@@ -344,8 +350,16 @@ class MotionBuffers:
         for a in m.axes:
             self.log.emit("move_start", axis=a, mtype=m.mtype)
         if m.profile.duration != float("inf"):
-            m.end_tick = k + max(1, self.clock.cycles(m.profile.duration))
-            self._tick_at(m.end_tick)
+            self._end_at(m, k + max(1, self.clock.cycles(m.profile.duration)))
+
+    def _end_at(self, m: Move, k: int) -> None:
+        if m.end_tick is not None:
+            old = self._ending.get(m.end_tick)
+            if old and m in old:
+                old.remove(m)
+        m.end_tick = k
+        self._ending.setdefault(k, []).append(m)
+        self._tick_at(k)
 
 
 __all__ = ["MotionBuffers", "Waiter", "schedule_at"]

@@ -124,6 +124,8 @@ class Context:
     def group(self, size: int, axis: float | None) -> tuple[int, ...]:
         """The axes a command drives: the BASE group (or ``AXIS(n)`` then the rest of it),
         continued in ascending axis order if the command needs more axes."""
+        if size == 1:
+            return (self.base[0],) if axis is None else (self.axis_number(axis),)
         if axis is None:
             axes = list(self.base)
         else:

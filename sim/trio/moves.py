@@ -30,7 +30,7 @@ class Move:
 
     __slots__ = (
         "id", "kind", "mtype", "axes", "args", "process", "text",
-        "start_tick", "end_tick", "t_start", "profile", "p0", "_pos", "end_pos", "units",
+        "start_tick", "end_tick", "t_start", "profile", "p0", "unit", "circ", "end_pos",
     )
 
     def __init__(
@@ -54,9 +54,9 @@ class Move:
         self.t_start = 0.0
         self.profile: Profile | None = None
         self.p0: tuple[float, ...] = ()
+        self.unit: tuple[float, ...] = ()
+        self.circ: tuple[float, ...] = ()
         self.end_pos: tuple[float, ...] = ()
-        self.units: tuple[float, ...] = ()
-        self._pos = None
 
     def __repr__(self) -> str:
         return f"<Move #{self.id} {self.kind}{self.args} axes={self.axes} p={self.process}>"
@@ -65,35 +65,31 @@ class Move:
 
     def begin(self, tick: int, t_start: float, axes: list[Axis]) -> None:
         """Fix the path from the axes' present positions; the move starts at ``tick``."""
-        self.start_tick, self.t_start = tick, t_start
         base = axes[0]
-        self.p0 = p0 = tuple(ax.position() for ax in axes)
-        self.units = tuple(ax.units for ax in axes)
-        speed, accel, decel = base.speed, base.accel, base.decel
+        self.p0 = p0 = tuple([ax.position() for ax in axes])
+        self.start_tick, self.t_start = tick, t_start
+        speed = base.speed
         kind, a = self.kind, self.args
-        if kind in ("MOVE", "MOVEABS", "DATUM"):
-            if kind == "MOVE":
-                deltas = a
-            elif kind == "MOVEABS":
-                deltas = tuple(x - p for x, p in zip(a, p0, strict=True))
+        if kind == "MOVE" or kind == "MOVEABS" or kind == "DATUM":
+            if len(p0) == 1:
+                x0 = p0[0]
+                d = a[0] if kind == "MOVE" else (a[0] - x0 if kind == "MOVEABS" else -x0)
+                length = d if d >= 0.0 else -d
+                self.unit = (1.0,) if d >= 0.0 else (-1.0,)
+                self.end_pos = (x0 + d,)
             else:
-                deltas = (-p0[0],)
+                rel = kind == "MOVE"
+                deltas = a if rel else tuple([x - p for x, p in zip(a, p0, strict=True)])
+                length = math.sqrt(sum([d * d for d in deltas]))
+                self.unit = tuple([d / length for d in deltas]) if length > 0.0 else deltas
+                self.end_pos = tuple([p + d for p, d in zip(p0, deltas, strict=True)])
+            if kind == "DATUM":
                 speed = base.creep
-            length = math.sqrt(sum(d * d for d in deltas))
-            self.end_pos = tuple(p + d for p, d in zip(p0, deltas, strict=True))
-            self.profile = trapezoid(length, speed, accel, decel)
-            if length > 0.0:
-                unit = tuple(d / length for d in deltas)
-                self._pos = lambda s: tuple(
-                    p + u * s for p, u in zip(p0, unit, strict=True)
-                )
-            else:
-                self._pos = lambda s: p0
-        elif kind in ("FORWARD", "REVERSE"):
-            sign = 1.0 if kind == "FORWARD" else -1.0
-            self.profile = endless(speed, accel)
+            self.profile = trapezoid(length, speed, base.accel, base.decel)
+        elif kind == "FORWARD" or kind == "REVERSE":
+            self.unit = (1.0,) if kind == "FORWARD" else (-1.0,)
+            self.profile = endless(speed, base.accel)
             self.end_pos = p0
-            self._pos = lambda s: (p0[0] + sign * s,)
         else:  # MOVECIRC, MHELICAL
             e1, e2, c1, c2, direction = a[:5]
             cx, cy = p0[0] + c1, p0[1] + c2
@@ -104,30 +100,32 @@ class Move:
             sweep = (sign * (th1 - th0)) % (2.0 * math.pi)
             if sweep < 1e-9:
                 sweep = 2.0 * math.pi
-            arc = r * sweep
             d3 = a[5] if kind == "MHELICAL" else 0.0
-            length = math.hypot(arc, d3)
+            length = math.hypot(r * sweep, d3)
             end = [p0[0] + e1, p0[1] + e2]
             if kind == "MHELICAL":
                 end.append(p0[2] + d3)
             self.end_pos = tuple(end)
-            self.profile = trapezoid(length, speed, accel, decel)
+            self.circ = (cx, cy, r, th0, sign * sweep, d3, length)
+            self.profile = trapezoid(length, speed, base.accel, base.decel)
 
-            def pos(s: float) -> tuple[float, ...]:
-                f = s / length if length > 0.0 else 1.0
-                th = th0 + sign * sweep * f
-                xy = (cx + r * math.cos(th), cy + r * math.sin(th))
-                return xy + (p0[2] + d3 * f,) if kind == "MHELICAL" else xy
-
-            self._pos = pos
+    def _at(self, s: float) -> tuple[float, ...]:
+        """Axis positions a path distance ``s`` along the move."""
+        if self.circ:
+            cx, cy, r, th0, sweep, d3, length = self.circ
+            f = s / length if length > 0.0 else 1.0
+            th = th0 + sweep * f
+            xy = (cx + r * math.cos(th), cy + r * math.sin(th))
+            return xy + (self.p0[2] + d3 * f,) if len(self.p0) == 3 else xy
+        return tuple([p + u * s for p, u in zip(self.p0, self.unit, strict=True)])
 
     def positions(self, tau: float) -> tuple[float, ...]:
         """Demand positions of the move's axes ``tau`` seconds after its start."""
         prof = self.profile
-        assert prof is not None and self._pos is not None
+        assert prof is not None
         if tau >= prof.duration:
-            return self.final_positions()
-        return self._pos(prof.s(tau))
+            return self.end_pos
+        return self._at(prof.s(tau))
 
     def final_positions(self) -> tuple[float, ...]:
         """Where the axes are when the move has ended (exact targets for a full move)."""
@@ -135,9 +133,8 @@ class Move:
 
     def cut(self, profile: Profile) -> None:
         """CANCEL: the move now follows ``profile`` and ends where that profile stops."""
-        assert self._pos is not None
         self.profile = profile
-        self.end_pos = self._pos(profile.length)
+        self.end_pos = self._at(profile.length)
 
     def speed(self, tau: float) -> float:
         return self.profile.v(tau) if self.profile is not None else 0.0
