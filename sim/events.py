@@ -36,13 +36,14 @@ EVENT_FIELDS: dict[str, tuple[str, ...]] = {
     "program": ("cs|process", "state"),
     "axis": ("axis", "mtype", "ntype"),
     "process_buffer": ("process", "axis", "mtype"),
-    "process": ("process", "state", "line", "blocked_on"),
+    "process": ("process", "state", "line", "blocked_on", "error"),
     "terminal": ("locked",),
     "terminal_reply": ("command", "reply", "error"),
     "plc": ("plc", "state"),
     "rti_overrun": ("over_s",),
     "watchdog": ("reason",),
     "reset": (),
+    "print": ("process", "text"),  # Trio: a line a BASIC program printed on channel 0
 }
 
 
