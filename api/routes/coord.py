@@ -6,7 +6,6 @@ the clock. A route used on a controller that is not a PMAC answers 404 ``not_fou
 
 from __future__ import annotations
 
-from dataclasses import asdict
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Path, Response
@@ -52,7 +51,7 @@ def delete_rotary(handle: HandleDep, cs: CS) -> Response:
 def post_lines(handle: HandleDep, cs: CS, body: LinesIn) -> dict[str, Any]:
     """Store a batch atomically (409 ``buffer_full`` / 422 ``parse_error``, nothing stored)."""
     result = handle.apply(_pmac(handle).load_lines, cs, body.lines, body.first_seq)
-    return asdict(result)
+    return result._asdict()
 
 
 @router.post(BASE + "/run", response_model=CoordPublic)

@@ -20,8 +20,7 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import simpy
 
@@ -36,12 +35,15 @@ from sim.pmac.variables import N_CS, N_MOTORS, Variables, parse_name
 from sim.timing import pmac_servo_period_s
 
 MEMORY_WORDS = 65_536
+
+#: Parsed lines by text: streams repeat line texts, and a parse is the costliest per-line step.
+_LINE_CACHE: dict[str, ProgramLine] = {}
+_LINE_CACHE_SIZE = 8192
 _CONFIG_KEY = re.compile(r"^i(\d{1,4})$")
 
 
-@dataclass(frozen=True, slots=True)
-class LoadResult:
-    """What :meth:`PmacController.load_lines` reports."""
+class LoadResult(NamedTuple):
+    """What :meth:`PmacController.load_lines` reports (``stored`` = newly stored lines)."""
 
     accepted: int
     stored: int
@@ -69,6 +71,8 @@ class PmacController(Controller):
         super().__init__(id, config, log_capacity=log_capacity)
         self._check_config(self.config)
         self.vars = Variables(self._m_written)
+        self._thr_version = -1
+        self._thr = (5.0, 10.0)
         self._power_on()
 
     # -- construction ---------------------------------------------------------------------
@@ -118,10 +122,12 @@ class PmacController(Controller):
         self.log.emit("mvar", name=f"M{n}", value=value, sync=sync)
 
     def _thresholds(self) -> tuple[float, float]:
-        i = self.vars.i
-        i16 = i.get(16)
-        i17 = i.get(17)
-        return (5.0 if i16 is None else i16, 10.0 if i17 is None else i17)
+        """``(I16, I17)`` now, cached until an I-variable changes."""
+        v = self.vars
+        if self._thr_version != v.version:
+            self._thr = (v.I(16), v.I(17))
+            self._thr_version = v.version
+        return self._thr
 
     # -- ports and the terminal -----------------------------------------------------------
 
@@ -199,7 +205,7 @@ class PmacController(Controller):
             raise Conflict(f"CS {cs} already has a rotary buffer", pmac_error="ERR003")
         if words > self.size_words():
             raise BufferFull(f"only {self.size_words()} words of memory free", pmac_error="ERR006")
-        c.rotary = RotaryBuffer(cs, words, self.log, self._thresholds)
+        c.rotary = RotaryBuffer(cs, words, self.log, self._thresholds, self.vars)
         return self.rotary(cs)  # type: ignore[return-value]
 
     def delete_rotary(self, cs: int) -> None:
@@ -267,17 +273,32 @@ class PmacController(Controller):
             ParseError: a bad line (``index``, ``column``, ``text``; ERR003).
             BufferFull: the new lines do not fit (ERR006); nothing stored.
         """
-        c = self.coord_system(cs)
-        rot = self._rotary_of(cs)
-        texts = list(lines)
+        c = self.coord_systems.get(cs) if type(cs) is int else None
+        rot = c.rotary if c is not None else None
+        if rot is None:
+            rot = self._rotary_of(cs)  # raises NotFound
+            c = self.coord_systems[cs]
+        texts = lines if type(lines) is list else list(lines)
+        cache = _LINE_CACHE
+        if first_seq is None and len(texts) == 1:
+            # The streaming case: one line, no sequence numbers.
+            text = texts[0]
+            line = cache.get(text) if type(text) is str else None
+            if line is None:
+                line = self._compile(text, 0)
+            if rot.used_words + line.words > rot.size_words:
+                raise BufferFull(
+                    f"line of {line.words} words does not fit ({rot.free_words} words free)",
+                    pmac_error="ERR006",
+                    free_words=rot.free_words,
+                )
+            rot.store(line)
+            c.lines_arrived()
+            return LoadResult(1, 1, len(rot.pending), rot.size_words - rot.used_words, rot.breq)
         compiled: list[ProgramLine] = []
         for i, text in enumerate(texts):
-            if not isinstance(text, str):
-                raise InvalidValue(f"line {i} is not text", field="lines", index=i)
-            try:
-                compiled.append(compile_line(text))
-            except ParseError as e:
-                raise e.at(index=i) from None
+            line = cache.get(text) if type(text) is str else None
+            compiled.append(line if line is not None else self._compile(text, i))
         skip = 0
         if first_seq is not None and rot.last_seq is not None:
             skip = min(len(compiled), max(0, rot.last_seq - first_seq + 1))
@@ -298,6 +319,20 @@ class PmacController(Controller):
             last = first_seq + len(texts) - 1
             rot.last_seq = last if rot.last_seq is None else max(rot.last_seq, last)
         return LoadResult(len(texts), len(new), rot.lines_ahead, rot.free_words, rot.breq)
+
+    @staticmethod
+    def _compile(text: Any, index: int) -> ProgramLine:
+        """Parse one batch line (cached by text); errors carry the batch ``index``."""
+        if not isinstance(text, str):
+            raise InvalidValue(f"line {index} is not text", field="lines", index=index)
+        try:
+            line = compile_line(text)
+        except ParseError as e:
+            raise e.at(index=index) from None
+        if len(_LINE_CACHE) >= _LINE_CACHE_SIZE:
+            _LINE_CACHE.clear()
+        _LINE_CACHE[text] = line
+        return line
 
     def point_program(self, cs: int, program: float) -> None:
         """``B{n}``: point the CS at program ``n`` (0 = rotary). ERR001 while running."""

@@ -40,6 +40,7 @@ again only through ``R``/``S``. The legal transitions are the table ``TRANSITION
 
 from __future__ import annotations
 
+import math
 from collections import deque
 from typing import TYPE_CHECKING, Any
 
@@ -54,6 +55,7 @@ from sim.pmac.program import (
     OP_MOVE,
     ProgramLine,
 )
+from sim.pmac.scheduler import Wake
 from sim.pmac.variables import isx, ixx
 
 if TYPE_CHECKING:
@@ -76,11 +78,15 @@ LINEAR, DWELL, DELAY, RAPID = 0, 1, 2, 3
 
 
 class Move:
-    """One calculated move (or dwell / delay) and, once started, its profile times."""
+    """One calculated move (or dwell / delay) and, once started, its profile times.
+
+    ``prev`` is the move it blended from (kept only while this one executes); the per-axis
+    velocities ``v`` are computed on demand (only position queries need them).
+    """
 
     __slots__ = (
-        "n", "kind", "tm", "ta", "start", "end", "v", "sync",
-        "t_start", "b_start", "b_end", "ta_in", "v_prev", "ta_out", "stopping",
+        "n", "kind", "tm", "ta", "start", "end", "sync", "prev", "_v",
+        "t_start", "b_start", "b_end", "ta_in", "ta_out", "stopping",
     )  # fmt: skip
 
     def __init__(
@@ -97,19 +103,26 @@ class Move:
         self.kind = kind
         self.tm = tm
         self.ta = ta
+        self.ta_in = ta
         self.start = start
         self.end = end
         self.sync = sync
-        self.v: dict[str, float] = (
-            {a: (end[a] - start.get(a, 0.0)) / tm for a in end} if tm > 0 else {}
-        )
-        self.t_start = 0.0
-        self.b_start = 0.0
-        self.b_end = 0.0
-        self.ta_in = 0.0
-        self.v_prev: dict[str, float] = {}
+        self.prev: Move | None = None
+        self._v: dict[str, float] | None = None
         self.ta_out = 0.0
         self.stopping = False
+
+    @property
+    def v(self) -> dict[str, float]:
+        """Velocity of each axis between the blend ramps (units/s)."""
+        if self._v is None:
+            start, end, tm = self.start, self.end, self.tm
+            self._v = {a: (end[a] - start.get(a, 0.0)) / tm for a in end} if tm > 0 else {}
+        return self._v
+
+    @property
+    def v_prev(self) -> dict[str, float]:
+        return self.prev.v if self.prev is not None else {}
 
     @property
     def blends(self) -> bool:
@@ -124,6 +137,8 @@ class CoordSystem:
         self.cs = cs
         self.vars = ctl.vars
         self.sched = ctl.scheduler
+        self._env = ctl.env
+        self._period = ctl.scheduler.period_s
         self._emit = ctl.log.emit
         self.rotary: RotaryBuffer | None = None
         self.program: float | None = None  # B{n}; 0 = rotary
@@ -143,6 +158,9 @@ class CoordSystem:
         self.incremental: set[str] = set()
         self.calc_pos: dict[str, float] = {}
         self.rest_pos: dict[str, float] = {}
+        self._ver = -1
+        self._isx13 = 0.0
+        self._ta_s = 0.0
 
     # -- state ----------------------------------------------------------------------------
 
@@ -163,13 +181,27 @@ class CoordSystem:
     def moving(self) -> bool:
         return self.current is not None
 
+    def _refresh(self) -> None:
+        """Re-read the CS I-variables (Isx13, Isx87, Isx88) after any I-variable change."""
+        v, cs = self.vars, self.cs
+        self._ver = v.version
+        self._isx13 = v.I(isx(cs, 13))
+        self._ta_s = motion.accel_time_s(v.I(isx(cs, 87)), v.I(isx(cs, 88)))
+
     def _depth(self) -> int:
-        if self.mode == "LINEAR" and self.vars.I(isx(self.cs, 13)) == 0:
-            return 2
-        return 1
+        if self._ver != self.vars.version:
+            self._refresh()
+        return 2 if self._isx13 == 0 and self.mode == "LINEAR" else 1
 
     def _accel_s(self) -> float:
-        return motion.accel_time_s(self.vars.I(isx(self.cs, 87)), self.vars.I(isx(self.cs, 88)))
+        if self._ver != self.vars.version:
+            self._refresh()
+        return self._ta_s
+
+    def _segmented(self) -> bool:
+        if self._ver != self.vars.version:
+            self._refresh()
+        return self._isx13 > 0
 
     # -- on-line commands -----------------------------------------------------------------
 
@@ -340,16 +372,16 @@ class CoordSystem:
     def _plan_move(self, n: int, axes: tuple, vectors: tuple) -> None:
         vars_, cs = self.vars, self.cs
         start = self.calc_pos
-        end = dict(start)
+        end = start.copy()
         inc = self.incremental
         for axis, expr in axes:
             v = expr.const if expr.const is not None else expr.fn(vars_, cs)
-            end[axis] = start.get(axis, 0.0) + v if axis in inc else v
-        for a in end:
-            if a not in start:
-                start[a] = 0.0
+            if axis not in start:
+                start[axis] = 0.0
+            end[axis] = start[axis] + v if axis in inc else v
         ta = self._accel_s()
-        if self.mode == "RAPID":
+        mode = self.mode
+        if mode == "RAPID":
             speed = vars_.I(ixx(1, 22)) * 1000.0  # cts/ms -> units/s
             dist = max((abs(end[a] - start[a]) for a in end), default=0.0)
             t = (dist / speed if speed > 0 else 0.0) + vars_.I(ixx(1, 21)) / 1000.0
@@ -361,9 +393,7 @@ class CoordSystem:
         if self.time_mode:
             t = vars_.I(isx(cs, 89)) / 1000.0
         else:
-            delta = {a: end[a] - start[a] for a in end}
-            circle = self.mode != "LINEAR" and vars_.I(isx(cs, 13)) > 0
-            if circle and vectors:
+            if mode != "LINEAR" and vectors and self._segmented():
                 vec = dict(vectors)
                 ij = (
                     vec["I"](vars_, cs) if "I" in vec else 0.0,
@@ -371,14 +401,19 @@ class CoordSystem:
                 )
                 radius = vec["R"](vars_, cs) if "R" in vec else None
                 dist = motion.arc_length(
-                    start, end, None if radius else ij, radius, self.mode == "CIRCLE1"
+                    start, end, None if radius else ij, radius, mode == "CIRCLE1"
                 )
             else:
-                dist = motion.vector_distance(delta)
+                dist = motion.vector_distance({a: end[a] - start[a] for a in end})
             t = motion.feed_time_s(dist, vars_.I(isx(cs, 89)), vars_.I(isx(cs, 90)))
-        move = Move(n, LINEAR, motion.clamp_move_time(t, ta), ta, start, end, None)
+        if t < ta or t < motion.MIN_MOVE_S or t > motion.MAX_MOVE_S:
+            t = motion.clamp_move_time(t, ta)
+        move = Move(n, LINEAR, t, ta, start, end, None)
         self.calc_pos = end
-        self._append(move)
+        if self.sync_pending:
+            move.sync = self.sync_pending
+            self.sync_pending = []
+        self.planned.append(move)
 
     # -- execution ------------------------------------------------------------------------
 
@@ -388,62 +423,64 @@ class CoordSystem:
         cs = self.cs
         if prev is not None:
             emit("move_end", cs=cs, n=prev.n)
-        if self.rotary is not None:
-            self.rotary.free_through(m.n - 1)
+            prev.prev = None  # keep only one step of history
+            m.prev = prev
+            m.b_start = prev.b_end
+        else:
+            m.b_start = t + m.ta / 2
+        rot = self.rotary
+        if rot is not None and rot.calculated and rot.calculated[0][0] < m.n:
+            rot.free_through(m.n - 1)
         if m.sync:
             for k, aop, value in m.sync:
                 self._sync_write(k, aop, value)
         emit("move_start", cs=cs, n=m.n)
         m.t_start = t
-        if prev is not None:
-            m.b_start = prev.b_end
-            m.v_prev = prev.v
-        else:
-            m.ta_in = m.ta
-            m.b_start = t + m.ta / 2
-            m.v_prev = {}
         m.b_end = m.b_start + m.tm
         self.current = m
-        if not (self.blocked or self.quitting or self.single_step):
+        if not (self.blocked or self.quitting or self.single_step) and self._plan_due is None:
             self._request_plan()
-        if m.kind == DWELL or m.kind == RAPID:
+        if m.kind in (DWELL, RAPID):
             m.b_start = t
             m.b_end = t + m.tm
             m.stopping = True
             self._after(self.sched.servo_at_or_after(m.b_end), self._stop_end)
-        elif self.vars.I(isx(cs, 13)) == 0:
-            self._decide(None)
-        else:
+        elif self._segmented():
             self._after(self.sched.servo_at_or_after(m.b_end - m.ta / 2), self._decide)
+        else:
+            self._decide(None)
 
     def _after(self, t: float, fn: Any) -> None:
+        """Call ``fn(None)`` at ``t`` unless another ``_after`` or an abort supersedes it."""
         token = self._token = object()
 
         def cb(_ev: Any) -> None:
             if token is self._token:
                 fn(None)
 
-        self.sched.call_at(t, cb)
+        env = self._env
+        Wake(env, t if t > env._now else env._now, cb)
 
     def _decide(self, _ev: Any) -> None:
         """Blend into the next calculated move, or plan the stop at the end of this one."""
         m = self.current
         assert m is not None
-        nxt = self.planned[0] if self.planned else None
-        if nxt is not None and nxt.blends and m.blends and not self.single_step:
-            ta_n = min(nxt.ta, max(0.0, 2 * (m.tm - m.ta_in / 2)))
-            nxt.ta_in = ta_n
-            t_h = self.sched.servo_at_or_after(m.b_end - ta_n / 2)
-            self._after(t_h, self._handoff)
-            return
+        planned = self.planned
+        if planned and not self.single_step:
+            nxt = planned[0]
+            if (nxt.kind == LINEAR or nxt.kind == DELAY) and (m.kind == LINEAR or m.kind == DELAY):
+                lim = 2 * (m.tm - m.ta_in / 2)
+                ta_n = nxt.ta if nxt.ta <= lim else max(0.0, lim)
+                nxt.ta_in = ta_n
+                p = self._period
+                self._after(math.ceil((m.b_end - ta_n / 2) / p - 1e-6) * p, self._handoff)
+                return
         m.stopping = True
         m.ta_out = self._accel_s() if m.kind != DWELL else 0.0
         self._after(self.sched.servo_at_or_after(m.b_end + m.ta_out / 2), self._stop_end)
 
     def _handoff(self, _ev: Any) -> None:
-        prev = self.current
-        nxt = self.planned.popleft()
-        self._start(nxt, self.sched.env.now, prev)
+        self._start(self.planned.popleft(), self._env._now, self.current)
 
     def _stop_end(self, _ev: Any) -> None:
         m = self.current
@@ -451,6 +488,7 @@ class CoordSystem:
         now = self.sched.env.now
         self._emit("move_end", cs=self.cs, n=m.n)
         self.current = None
+        m.prev = None
         self.rest_pos = dict(m.end)
         if m.kind == DWELL or m.kind == RAPID:
             self.blocked = False

@@ -17,7 +17,6 @@ the same line — after the line's modal settings (``X10 Y10 F5`` moves at F5, a
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
 from typing import Any
 
 from sim.pmac import statements as st
@@ -87,9 +86,8 @@ def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:
     return ProgramLine(text, max(1, len(stmts)), tuple(ops), moves)
 
 
-@lru_cache(maxsize=4096)
 def compile_line(text: str) -> ProgramLine:
-    """Parse and compile one rotary-buffer line; cached by text (streams repeat lines).
+    """Parse and compile one rotary-buffer line.
 
     Raises:
         sim.errors.ParseError: positioned (column), ERR003.

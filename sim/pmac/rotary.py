@@ -55,6 +55,10 @@ class RotaryBuffer:
         "_emit",
         "_thresholds",
         "_rise",
+        "_vars",
+        "_ver",
+        "_i16",
+        "_i17",
     )
 
     def __init__(
@@ -63,6 +67,7 @@ class RotaryBuffer:
         size_words: int,
         log: EventLog,
         thresholds: Callable[[], tuple[float, float]],
+        vars_: Any = None,
     ) -> None:
         self.cs = cs
         self.size_words = size_words
@@ -76,6 +81,16 @@ class RotaryBuffer:
         self._emit = log.emit
         self._thresholds = thresholds
         self._rise: list[Callable[[], Any]] = []
+        self._vars = vars_
+        self._ver = -1
+        self._i16 = 5.0
+        self._i17 = 10.0
+
+    def _limits(self) -> None:
+        """Refresh the cached I16 / I17 (``vars_.version`` tells when they may have changed)."""
+        self._i16, self._i17 = self._thresholds()
+        if self._vars is not None:
+            self._ver = self._vars.version
 
     # -- state ----------------------------------------------------------------------------
 
@@ -136,12 +151,15 @@ class RotaryBuffer:
         self.pending.append((n, line))
         self.used_words += line.words
         ahead = len(self.pending)
-        self._emit("line_loaded", cs=self.cs, n=n, text=line.text, words=line.words,
-                   lines_ahead=ahead)  # fmt: skip
+        emit = self._emit
+        cs = self.cs
+        emit("line_loaded", cs=cs, n=n, text=line.text, words=line.words, lines_ahead=ahead)
         if self.breq:
             self.breq = False
-            self._emit("breq", cs=self.cs, level=False)
-        if ahead < self._thresholds()[1]:
+            emit("breq", cs=cs, level=False)
+        if self._vars is None or self._ver != self._vars.version:
+            self._limits()
+        if ahead < self._i17:
             self._set(True)
         else:
             self.full = True
@@ -158,7 +176,9 @@ class RotaryBuffer:
     def line_calculated(self, n: int) -> None:
         """Planning has worked through line ``n``: the I16 rule."""
         self._emit("line_calculated", cs=self.cs, n=n)
-        if len(self.pending) < self._thresholds()[0]:
+        if self._vars is None or self._ver != self._vars.version:
+            self._limits()
+        if len(self.pending) < self._i16:
             self.full = False
             if not self.breq:
                 self._set(True)

@@ -27,13 +27,32 @@ from __future__ import annotations
 import math
 from collections import deque
 from collections.abc import Callable, Generator
+from heapq import heappush
 from typing import Any
 
 import simpy
+from simpy.events import NORMAL
 
 from sim.timing import ServoClock
 
 Callback = Callable[[Any], None]
+
+
+class Wake(simpy.events.Event):
+    """An already-triggered event processed at the absolute instant ``t``, calling ``fn``.
+
+    Like ``env.timeout(t - now)`` but cheaper and exact: it goes on the environment's queue
+    at ``t`` itself, so quantised instants (``k * period``) are not disturbed by
+    ``now + (t - now)`` rounding. Uses SimPy 4's queue layout (``_queue``, ``_eid``), the
+    same thing ``Environment.schedule`` does.
+    """
+
+    def __init__(self, env: simpy.Environment, t: float, fn: Callback) -> None:
+        self.env = env
+        self.callbacks = [fn]
+        self._value = None
+        self._ok = True
+        heappush(env._queue, (t, NORMAL, next(env._eid), self))  # type: ignore[attr-defined]
 
 
 class Scheduler:
@@ -48,6 +67,7 @@ class Scheduler:
     def __init__(self, env: simpy.Environment, period_s: float, rti_cycles: Callable[[], int]):
         self.env = env
         self.clock = ServoClock(period_s)
+        self._period = period_s
         self._rti_cycles = rti_cycles
 
     @property
@@ -60,19 +80,19 @@ class Scheduler:
     def next_rti_after(self, t: float) -> float:
         """The first RTI strictly after ``t`` (RTIs fall on cycles divisible by I8+1)."""
         m = self._rti_cycles()
-        k = self.clock.after(t)
+        k = math.floor(t / self._period + 1e-6) + 1
         k = -(-k // m) * m
-        return k * self.clock.period_s
+        return k * self._period
 
     def servo_at_or_after(self, t: float) -> float:
         """``t`` rounded up to a servo cycle."""
-        return math.ceil(t / self.clock.period_s - 1e-6) * self.clock.period_s
+        return math.ceil(t / self._period - 1e-6) * self._period
 
     def call_at(self, t: float, fn: Callback) -> None:
         """Call ``fn(event)`` at simulated time ``t`` (now if ``t`` is past)."""
         env = self.env
-        ev = env.timeout(t - env.now if t > env.now else 0.0)
-        ev.callbacks.append(fn)
+        now = env._now  # type: ignore[attr-defined]
+        Wake(env, t if t > now else now, fn)
 
 
 class BackgroundCycle:

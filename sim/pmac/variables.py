@@ -88,11 +88,14 @@ class Variables:
         self.q: dict[tuple[int, int], float] = {}
         self.m: dict[int, float] = {}
         self._on_m_write = on_m_write
+        #: Bumped on every I-variable change, so users may cache derived settings.
+        self.version = 0
         self.reset()
 
     def reset(self) -> None:
         """Factory defaults: I-variables to defaults, P/Q/M to 0."""
         self.i = {}
+        self.version += 1
         self.p.clear()
         self.q.clear()
         self.m.clear()
@@ -134,10 +137,12 @@ class Variables:
             self._on_m_write(n, value, sync)
         else:
             self.i[n] = value
+            self.version += 1
 
     def set_default(self, n: int) -> None:
         """``I{n}=*``."""
         self.i.pop(n, None)
+        self.version += 1
 
 
 def parse_name(name: str) -> tuple[str, int, int]:

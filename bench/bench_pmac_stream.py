@@ -1,0 +1,99 @@
+"""PMAC rotary stream throughput: 10^6 lines through a 600-word buffer, host obeys BREQ.
+
+Everything the simulator does per line is counted: parse (cached by text) + store + BREQ +
+move planning at RTIs + execution (blending, move start/end) + events. The host is a SimPy
+process that sends one line per BREQ interrupt and waits for the next rising edge when BREQ
+stays low (I16 = 5, I17 = 10). Lines are ``X{i % 1000}`` after a ``TA1 TS0 TM5`` header:
+5 ms blended moves (moves shorter than the 1.33 ms RTI would starve planning and stop, which
+the simulator models; simulated time does not enter the rate).
+
+Prints simulated lines per wall second, the bare SimPy reference loop's rate
+(:func:`bench.reference_loop.reference_rate`, same run) and their ratio (target ≥ 0.25), plus
+resident memory at 10 % and at the end of the stream (flat = no growth with line count).
+Writes ``bench/results/pmac_stream.json``.
+
+Run: ``.venv/bin/python bench/bench_pmac_stream.py [n_lines]``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+from bench.reference_loop import reference_rate  # noqa: E402
+from sim.pmac import PmacController  # noqa: E402
+
+
+def rss_mb() -> float:
+    with open("/proc/self/statm") as f:
+        pages = int(f.read().split()[1])
+    return pages * os.sysconf("SC_PAGE_SIZE") / 2**20
+
+
+def stream(n_lines: int, words: int = 600) -> dict:
+    """Run the stream; returns figures."""
+    c = PmacController("bench")
+    c.define_rotary(1, words)
+    c.load_lines(1, ["TA1 TS0 TM5"])
+    c.run(1)
+    rot = c.coord_system(1).rotary
+    texts = [f"X{i % 1000}" for i in range(1000)]
+    marks: dict[str, float] = {}
+    max_used = [0]
+
+    def host():
+        load = c.load_lines
+        wait = c.wait_breq
+        tenth = n_lines // 10
+        for i in range(n_lines):
+            if not rot.breq:
+                yield wait(1)
+            load(1, [texts[i % 1000]])
+            if rot.used_words > max_used[0]:
+                max_used[0] = rot.used_words
+            if i == tenth:
+                marks["rss_10pct_mb"] = rss_mb()
+
+    c.env.process(host())
+    t0 = time.perf_counter()
+    c.env.run()
+    wall = time.perf_counter() - t0
+    ends = c.log.events("move_end")
+    return {
+        "lines": n_lines,
+        "wall_s": wall,
+        "lines_per_s": n_lines / wall,
+        "simulated_s": c.now,
+        "events": c.log.last_seq,
+        "last_move_end_n": ends[-1]["n"] if ends else None,
+        "max_used_words": max_used[0],
+        "rss_10pct_mb": marks.get("rss_10pct_mb"),
+        "rss_end_mb": rss_mb(),
+    }
+
+
+def main() -> None:
+    n = int(sys.argv[1]) if len(sys.argv) > 1 else 1_000_000
+    ref = reference_rate(min(n, 500_000))
+    res = stream(n)
+    res["reference_lines_per_s"] = ref
+    res["ratio"] = res["lines_per_s"] / ref
+    print(f"pmac stream : {res['lines_per_s']:>10,.0f} lines/s  ({n:,} lines, "
+          f"{res['events']:,} events, {res['simulated_s']:.1f} s simulated, "
+          f"{res['wall_s']:.2f} s wall)")
+    print(f"reference   : {ref:>10,.0f} lines/s  (bare SimPy loop)")
+    print(f"ratio       : {res['ratio']:.3f}  (target >= 0.25)")
+    print(f"memory      : {res['rss_10pct_mb']:.1f} MB at 10 %, {res['rss_end_mb']:.1f} MB at end; "
+          f"max {res['max_used_words']} of 600 words used")
+    out = Path(__file__).parent / "results"
+    out.mkdir(exist_ok=True)
+    (out / "pmac_stream.json").write_text(json.dumps(res, indent=2))
+
+
+if __name__ == "__main__":
+    main()
