@@ -161,3 +161,20 @@ async def test_trio_routes_on_a_pmac_like_kind_are_404():
         async with httpx.AsyncClient(transport=transport, base_url="http://m") as client:
             r = await client.get("/controllers/d/axes/0")
             assert r.status_code == 404 and r.json()["code"] == "not_found"
+
+
+async def test_wait_true_on_a_realtime_clock_awaits_the_placement():
+    settings = dummy_settings(controllers=[{
+        "id": "t", "kind": "trio", "clock": {"mode": "realtime", "factor": 20.0}, "config": FAST,
+    }])
+    app = create_app(settings)
+    async with app.router.lifespan_context(app):
+        transport = httpx.ASGITransport(app=app)
+        async with httpx.AsyncClient(transport=transport, base_url="http://m") as api:
+            for _ in range(3):
+                r = await api.post(f"{BASE}/axes/0/moves", json={"type": "MOVE", "args": [1000]})
+                assert r.status_code == 201
+            r = await api.post(f"{BASE}/axes/0/moves", params={"wait": "true"},
+                               json={"type": "MOVE", "args": [1000]})
+            assert r.status_code == 201 and r.json() == {"placed": "process_buffer"}
+            assert await clock_t(api) >= 1.0  # the first 1000-unit move ended (1.01 s)

@@ -141,3 +141,10 @@ def test_tn20_fix_skips_moves_while_ntype_is_full():
     # axis 0: first pass MTYPE, second NTYPE, later passes skip (NTYPE busy)
     assert c.axis(0)["mtype"] == 1 and c.axis(0)["ntype"] == 1
     assert c.processes()[0]["pmove"] == 0
+
+
+def test_same_program_same_log_byte_for_byte():
+    a, b = tn20(BLOCKING), tn20(BLOCKING)
+    run_to(a, 0.5)
+    run_to(b, 0.5)
+    assert a.log.to_jsonl() == b.log.to_jsonl()
