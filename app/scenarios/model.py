@@ -169,11 +169,17 @@ class GenerateSpec(Strict):
             "LINEAR", "ABS", f"TA{t}", "TS0", f"TM{t}"
         ]
         letters = _AXES[: self.axes]
-        body = [
-            " ".join(f"{a}{_num((k + 1) * self.step)}" for a in letters)
-            for k in range(self.moves)
-        ]
-        return [*head, *body]
+        step = self.step
+        if float(step).is_integer():
+            istep = int(step)
+            values = [str((k + 1) * istep) for k in range(self.moves)]
+        else:
+            values = [_num((k + 1) * step) for k in range(self.moves)]
+        fmt = " ".join(f"{a}{{0}}" for a in letters)
+        return [*head, *(fmt.format(v) for v in values)]
+
+    def count(self) -> int:
+        return self.moves + (5 if self.header is None else len(self.header))
 
 
 def _num(x: float) -> str:
@@ -206,6 +212,10 @@ class ProgramSpec(Strict):
         if self.generate is not None:
             return self.generate.lines()
         return list(self.lines or [])
+
+    def count(self) -> int:
+        """Number of lines, without generating them."""
+        return self.generate.count() if self.generate is not None else len(self.lines or [])
 
 
 def _program_lines(text: str) -> list[str]:

@@ -13,6 +13,7 @@ event log byte for byte.
 
 from __future__ import annotations
 
+import functools
 import json
 import random
 import time
@@ -35,6 +36,7 @@ from sim.errors import MotionSimError
 from sim.events import Event
 
 
+@functools.lru_cache(maxsize=8)
 def controller_class(kind: str) -> type[Controller]:
     """The kind's class: the plug-in registry, else the core package itself."""
     from app.kinds import kind_class
@@ -101,7 +103,7 @@ def _log_capacity(scn: Scenario) -> int:
         if isinstance(h, TrioFeederSpec):
             lines += len(h.moves.to_moves())
         else:
-            lines += len(h.program.to_lines())
+            lines += h.program.count()
     return min(50_000_000, max(200_000, 12 * lines + 100_000))
 
 
