@@ -45,7 +45,7 @@ def test_ntype_feeder_never_blocks_and_never_stalls_an_axis():
     blind, _, _ = feed(BlindFeeder)
     blind_ends0 = [e.t for e in blind.log.events("move_end") if e["axis"] == 0]
     assert len(ends0) == len(blind_ends0) == 5
-    assert ends0[-1] < 1.1 < 2.5 < blind_ends0[-1]
+    assert ends0[-1] < 1.1 < 2.0 < blind_ends0[-1]
 
 
 def test_moves_buffered_feeder_waits_below_the_limit():
