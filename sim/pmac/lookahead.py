@@ -150,7 +150,12 @@ class CoordSystem:
         self.quitting = False
         self.single_step = False
         self._plan_due: float | None = None
-        self._token: object | None = None
+        self._gen = 0  # generation of the pending execution wake-up; bumped to cancel it
+        self._dispatch_cb = self._dispatch
+        self._plan_cb_bound = self._plan_cb
+        self._handoff_cb = self._handoff
+        self._stop_end_cb = self._stop_end
+        self._decide_cb = self._decide
         self._abort: tuple[float, float, dict[str, float], dict[str, float]] | None = None
         # Modal program state.
         self.mode = "LINEAR"
@@ -161,6 +166,9 @@ class CoordSystem:
         self._ver = -1
         self._isx13 = 0.0
         self._ta_s = 0.0
+        self._f = 1000.0
+        self._isx90 = 1000.0
+        self._rti = 3
 
     # -- state ----------------------------------------------------------------------------
 
@@ -187,6 +195,9 @@ class CoordSystem:
         self._ver = v.version
         self._isx13 = v.I(isx(cs, 13))
         self._ta_s = motion.accel_time_s(v.I(isx(cs, 87)), v.I(isx(cs, 88)))
+        self._f = v.I(isx(cs, 89))
+        self._isx90 = v.I(isx(cs, 90))
+        self._rti = int(v.I(8)) + 1
 
     def _depth(self) -> int:
         if self._ver != self.vars.version:
@@ -230,7 +241,7 @@ class CoordSystem:
             return
         now = self.sched.env.now
         self._plan_due = None
-        self._token = None
+        self._gen += 1
         self.quitting = False
         self.blocked = False
         self.single_step = False
@@ -251,14 +262,12 @@ class CoordSystem:
         stop = {a: pos[a] + vel.get(a, 0.0) * t_stop / 2 for a in pos}
         self._abort = (now, t_stop, pos, vel)
         self.calc_pos = dict(stop)
-        token = self._token = object()
-        t_end = self.sched.servo_at_or_after(now + t_stop)
-        self.sched.call_at(t_end, lambda _e: self._abort_end(token, stop))
+        self._after(self.sched.servo_at_or_after(now + t_stop), lambda _e: self._abort_end(stop))
 
-    def _abort_end(self, token: object, stop: dict[str, float]) -> None:
-        if token is not self._token or self.current is None:
-            return
+    def _abort_end(self, stop: dict[str, float]) -> None:
         m = self.current
+        if m is None:
+            return
         self.current = None
         self._abort = None
         self.rest_pos = stop
@@ -269,7 +278,7 @@ class CoordSystem:
     def detach(self) -> None:
         """Forget every scheduled wake-up (the controller is being reset)."""
         self._plan_due = None
-        self._token = None
+        self._gen += 1
         self.state = IDLE
 
     # -- lines arriving -------------------------------------------------------------------
@@ -285,16 +294,21 @@ class CoordSystem:
             self._request_plan()
 
     def _request_plan(self) -> None:
+        """Ask for move planning at the next RTI (the first cycle divisible by I8+1 after now)."""
         if self._plan_due is not None:
             return
-        t = self.sched.next_rti_after(self.sched.env.now)
+        if self._ver != self.vars.version:
+            self._refresh()
+        p, m = self._period, self._rti
+        k = math.floor(self._env._now / p + 1e-6) + 1
+        t = -(-k // m) * m * p
         self._plan_due = t
-        self.sched.call_at(t, self._plan_cb)
+        Wake(self._env, t, self._plan_cb_bound)
 
     # -- planning (RTI) -------------------------------------------------------------------
 
     def _plan_cb(self, _ev: Any) -> None:
-        if self._plan_due is None or self._plan_due > self.sched.env.now:
+        if self._plan_due is None or self._plan_due > self._env._now:
             return
         self._plan_due = None
         if self.blocked or self.quitting or (self.state != RUNNING and self.state != WAITING):
@@ -316,7 +330,7 @@ class CoordSystem:
             if planned:
                 if self.state == WAITING:
                     self._set_state(RUNNING)
-                self._start(planned.popleft(), self.sched.env.now, None)
+                self._start(planned.popleft(), self._env._now, None)
             elif self.state == RUNNING:
                 self._set_state(WAITING)
 
@@ -379,7 +393,9 @@ class CoordSystem:
             if axis not in start:
                 start[axis] = 0.0
             end[axis] = start[axis] + v if axis in inc else v
-        ta = self._accel_s()
+        if self._ver != vars_.version:
+            self._refresh()
+        ta = self._ta_s
         mode = self.mode
         if mode == "RAPID":
             speed = vars_.I(ixx(1, 22)) * 1000.0  # cts/ms -> units/s
@@ -391,7 +407,7 @@ class CoordSystem:
             self.blocked = True
             return
         if self.time_mode:
-            t = vars_.I(isx(cs, 89)) / 1000.0
+            t = self._f / 1000.0
         else:
             if mode != "LINEAR" and vectors and self._segmented():
                 vec = dict(vectors)
@@ -405,7 +421,7 @@ class CoordSystem:
                 )
             else:
                 dist = motion.vector_distance({a: end[a] - start[a] for a in end})
-            t = motion.feed_time_s(dist, vars_.I(isx(cs, 89)), vars_.I(isx(cs, 90)))
+            t = motion.feed_time_s(dist, self._f, self._isx90)
         if t < ta or t < motion.MIN_MOVE_S or t > motion.MAX_MOVE_S:
             t = motion.clamp_move_time(t, ta)
         move = Move(n, LINEAR, t, ta, start, end, None)
@@ -444,22 +460,23 @@ class CoordSystem:
             m.b_start = t
             m.b_end = t + m.tm
             m.stopping = True
-            self._after(self.sched.servo_at_or_after(m.b_end), self._stop_end)
+            self._after(self.sched.servo_at_or_after(m.b_end), self._stop_end_cb)
         elif self._segmented():
-            self._after(self.sched.servo_at_or_after(m.b_end - m.ta / 2), self._decide)
+            self._after(self.sched.servo_at_or_after(m.b_end - m.ta / 2), self._decide_cb)
         else:
             self._decide(None)
 
     def _after(self, t: float, fn: Any) -> None:
         """Call ``fn(None)`` at ``t`` unless another ``_after`` or an abort supersedes it."""
-        token = self._token = object()
-
-        def cb(_ev: Any) -> None:
-            if token is self._token:
-                fn(None)
-
+        self._gen += 1
         env = self._env
-        Wake(env, t if t > env._now else env._now, cb)
+        ev = Wake(env, t if t > env._now else env._now, self._dispatch_cb)
+        ev.gen = self._gen  # type: ignore[attr-defined]
+        ev.fn = fn  # type: ignore[attr-defined]
+
+    def _dispatch(self, ev: Any) -> None:
+        if ev.gen == self._gen:
+            ev.fn(None)
 
     def _decide(self, _ev: Any) -> None:
         """Blend into the next calculated move, or plan the stop at the end of this one."""
@@ -473,11 +490,12 @@ class CoordSystem:
                 ta_n = nxt.ta if nxt.ta <= lim else max(0.0, lim)
                 nxt.ta_in = ta_n
                 p = self._period
-                self._after(math.ceil((m.b_end - ta_n / 2) / p - 1e-6) * p, self._handoff)
+                self._after(math.ceil((m.b_end - ta_n / 2) / p - 1e-6) * p, self._handoff_cb)
                 return
         m.stopping = True
         m.ta_out = self._accel_s() if m.kind != DWELL else 0.0
-        self._after(self.sched.servo_at_or_after(m.b_end + m.ta_out / 2), self._stop_end)
+        p = self._period
+        self._after(math.ceil((m.b_end + m.ta_out / 2) / p - 1e-6) * p, self._stop_end_cb)
 
     def _handoff(self, _ev: Any) -> None:
         self._start(self.planned.popleft(), self._env._now, self.current)
