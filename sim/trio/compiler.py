@@ -219,13 +219,18 @@ class _Compiler:
 
     def st_Print(self, st: s.Print) -> None:
         parts: list[tuple[Callable[[Any], str], str]] = []
-        for e, sep in st.items:
+        formats = st.formats or (None,) * len(st.items)
+        for (e, sep), fmt in zip(st.items, formats, strict=True):
             if isinstance(e, s.Str):
                 txt = e.value
                 parts.append((lambda c, txt=txt: txt, sep))
-            else:
+            elif fmt is None:
                 f = compile_expr(e)
                 parts.append((lambda c, f=f: format_number(f(c)), sep))
+            else:
+                f = compile_expr(e)
+                spec = f"{fmt[0]}.{fmt[1]}f"
+                parts.append((lambda c, f=f, spec=spec: format(f(c), spec), sep))
         newline = not st.items or st.items[-1][1] != ";"
 
         def op(c: Any) -> None:

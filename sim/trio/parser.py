@@ -142,7 +142,7 @@ class _Line:
         ln, col = self.line_no, tok.col
         if tok.kind == "op" and tok.text == "?":
             self.i += 1
-            return s.Print(ln, col, self.print_items())
+            return s.Print(ln, col, *self.print_items())
         if tok.kind != "name":
             raise self.error(f"a statement cannot start with {tok.text!r}")
         word = tok.text
@@ -196,20 +196,41 @@ class _Line:
         return s.MoveCmd(ln, col, kind, args, self.axis_modifier())
 
     def st_PRINT(self, ln: int, col: int) -> s.Stmt:
-        return s.Print(ln, col, self.print_items())
+        return s.Print(ln, col, *self.print_items())
 
-    def print_items(self) -> tuple[tuple[s.Expr, str], ...]:
+    def print_format(self) -> tuple[int, int] | None:
+        """``[d]`` (decimals) or ``[w,d]`` (width, decimals) after a PRINT item."""
+        if not self.accept("["):
+            return None
+        nums = []
+        while True:
+            tok = self.peek()
+            if tok.kind != "number" or not tok.text.isdigit():
+                raise self.error("expected a whole number in a PRINT format [w,d]")
+            nums.append(int(self.take().text))
+            if not self.accept(","):
+                break
+        self.expect("]")
+        if len(nums) > 2:
+            raise self.error("a PRINT format is [decimals] or [width,decimals]")
+        return (0, nums[0]) if len(nums) == 1 else (nums[0], nums[1])
+
+    def print_items(
+        self,
+    ) -> tuple[tuple[tuple[s.Expr, str], ...], tuple[tuple[int, int] | None, ...]]:
         items: list[tuple[s.Expr, str]] = []
+        formats: list[tuple[int, int] | None] = []
         while not self.end_of_statement() and not self.at("ELSE"):
             e: s.Expr
             e = s.Str(self.take().text[1:-1]) if self.peek().kind == "string" else self.expr()
+            formats.append(self.print_format() if not isinstance(e, s.Str) else None)
             sep = ""
             if self.at(";") or self.at(","):
                 sep = self.take().text
             items.append((e, sep))
             if not sep:
                 break
-        return tuple(items)
+        return tuple(items), tuple(formats)
 
     def st_FOR(self, ln: int, col: int) -> s.Stmt:
         var = self.name()

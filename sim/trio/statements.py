@@ -252,9 +252,11 @@ class Return(Stmt):
 
 @dataclass(frozen=True, slots=True)
 class Print(Stmt):
-    """``PRINT`` / ``?``: items with their separators (``";"``, ``","`` or ``""`` for the last)."""
+    """``PRINT`` / ``?``: items with their separators (``";"``, ``","`` or ``""`` for the last)
+    and per-item formats ``[d]`` / ``[w,d]`` as ``(width, decimals)`` (``None`` = default)."""
 
     items: tuple[tuple[Expr, str], ...]
+    formats: tuple[tuple[int, int] | None, ...] = ()
 
 
 @dataclass(frozen=True, slots=True)

@@ -93,3 +93,10 @@ def test_command_line_has_no_locals_but_several_statements_per_line(trio):
     r = trio.terminal("FOR i=1 TO 3 : VR(i)=i*2 : NEXT i")
     assert r.error.endswith("Local variables cannot be used at the command line: I")
     assert trio.terminal("TABLE(10, 1, 2, 3) : ? TABLE(12)").reply == "3.0000"
+
+
+def test_print_formats_decimals_and_width(trio):
+    trio.terminal("VR(1)=3.14159")
+    assert trio.terminal("? VR(1)[2]").reply == "3.14"
+    assert trio.terminal("PRINT VR(1)[0]; VR(1)[8,3]").reply == "3   3.142"
+    assert "column 13" in trio.terminal("PRINT VR(1)[a]").error
