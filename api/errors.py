@@ -8,6 +8,7 @@ that name the field (``"field": "seconds"``) and carry pydantic's ``errors`` lis
 
 from __future__ import annotations
 
+import logging
 from typing import Any
 
 from fastapi import FastAPI, Request
@@ -16,6 +17,8 @@ from fastapi.responses import JSONResponse
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from sim.errors import MotionSimError
+
+log = logging.getLogger("motionsim.api")
 
 #: code -> HTTP status. The one place this mapping lives.
 STATUS_BY_CODE: dict[str, int] = {
@@ -89,8 +92,16 @@ async def _http_error(_: Request, exc: Exception) -> JSONResponse:
                         headers=getattr(exc, "headers", None))
 
 
+async def _internal_error(_: Request, exc: Exception) -> JSONResponse:
+    log.error("internal error", exc_info=exc)
+    return JSONResponse({"code": "internal_error",
+                         "message": f"internal error: {type(exc).__name__}: {exc}"},
+                        status_code=500)
+
+
 def install_error_handlers(app: FastAPI) -> None:
     """Register the handlers on ``app``."""
+    app.add_exception_handler(Exception, _internal_error)
     app.add_exception_handler(MotionSimError, _motionsim_error)
     app.add_exception_handler(RequestValidationError, _validation_error)
     app.add_exception_handler(StarletteHTTPException, _http_error)

@@ -305,7 +305,6 @@ class RealtimeClock(Clock):
     def start(self) -> None:
         if self.running:
             return
-        self._reanchor()
         self._task = asyncio.get_running_loop().create_task(
             self._drive(), name=f"realtime-clock-{id(self.env):x}"
         )

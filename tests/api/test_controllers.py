@@ -153,3 +153,20 @@ async def test_openapi_lists_every_body_as_a_model(api):
     post = spec["paths"]["/controllers"]["post"]
     assert post["responses"]["422"]["content"]["application/json"]["schema"]["$ref"].endswith(
         "/ErrorBody")
+
+
+async def test_an_unexpected_exception_is_a_500_json_body(make_app):
+    import httpx
+
+    app = make_app()
+    handle = app.state.registry.get("d")
+
+    def broken(*_a, **_k):
+        raise RuntimeError("boom")
+
+    handle.controller.get_variable = broken
+    transport = httpx.ASGITransport(app=app, raise_app_exceptions=False)
+    async with httpx.AsyncClient(transport=transport, base_url="http://m") as c:
+        r = await c.get("/controllers/d/variables/V1")
+    assert r.status_code == 500
+    assert r.json() == {"code": "internal_error", "message": "internal error: RuntimeError: boom"}

@@ -136,7 +136,7 @@ def test_realtime_clock_tracks_wall_time_times_factor(factor):
     assert t_sim == pytest.approx(elapsed * factor, rel=0.2)
     # the events due by now have been processed, each at its own simulated instant
     expected = int(t_sim / (0.01 * factor))
-    assert expected - 10 <= len(events) <= expected + 1
+    assert 0.75 * expected <= len(events) <= expected + 1
     assert [e.t for e in events] == pytest.approx([(i + 1) * 0.01 * factor
                                                    for i in range(len(events))])
     assert clock.lateness_s and sorted(clock.lateness_s)[len(clock.lateness_s) // 2] < 0.05
