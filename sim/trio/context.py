@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 from sim.errors import InvalidValue
 from sim.trio import basic_errors as msg
 from sim.trio.basic_errors import BasicError
-from sim.trio.compiler import Block, WaitFor
+from sim.trio.compiler import HALT, Block, WaitFor
 from sim.trio.moves import Move
 from sim.trio.parameters import AXIS_PARAMS
 
@@ -30,7 +30,7 @@ _GROUP_SIZE = {"MOVECIRC": 2, "MHELICAL": 3, "FORWARD": 1, "REVERSE": 1, "DATUM"
 class _NoLocals(dict):
     """The command line has no local variables (TJ1P-26): reading one is an error."""
 
-    def get(self, key: Any, default: Any = None) -> Any:  # noqa: ARG002
+    def get(self, key: Any, default: Any = None) -> Any:
         raise BasicError(msg.LOCALS_AT_COMMAND_LINE + f": {key}")
 
 
@@ -186,8 +186,6 @@ class Context:
         for p, proc in sorted(self.ctrl.basic.items()):
             if proc.program == name and proc.state != "stopped":
                 if p == self.process:
-                    from sim.trio.compiler import HALT
-
                     return HALT
                 self.ctrl.stop_process(p)
         return None

@@ -25,10 +25,8 @@ from sim.controller import Controller, Port, Reply
 from sim.errors import BufferFull, Conflict, InvalidValue, NotFound
 from sim.timing import ServoClock
 from sim.trio.axis import DEFAULTS, Axis
-from sim.trio.basic_errors import BasicError
 from sim.trio.buffers import MotionBuffers, Waiter
 from sim.trio.compiler import Code, compile_program
-from sim.trio.context import Context
 from sim.trio.moves import Move
 from sim.trio.mtypes import MTYPE
 from sim.trio.parser import MOVE_ARGS, parse_program
@@ -98,7 +96,6 @@ class TrioController(Controller):
         self.programs: dict[str, tuple[str, Code]] = {}
         self.basic: dict[int, BasicProcess] = {}
         self.command_line = CommandLine(self)
-        self._api_ctx = Context(self, 0, lambda _t, _n: None)
         self._move_waits: dict[int, Waiter] = {}
 
     # -- life cycle --------------------------------------------------------------------------
@@ -174,16 +171,17 @@ class TrioController(Controller):
         args = tuple(float(a) for a in args)
         if not lo <= len(args) <= hi:
             raise InvalidValue(f"{kind} takes {lo}..{hi} arguments, got {len(args)}", field="args")
+        if kind == "DATUM" and int(args[0]) == 0:
+            raise InvalidValue("DATUM(0) clears axis errors and buffers no move", field="args")
         p = 0 if process is None else self.process_number(process, allow_zero=True)
-        ctx = self._api_ctx
-        ctx.process = p
-        size = {"MOVECIRC": 2, "MHELICAL": 3}.get(kind, max(1, len(args)) if hi > 1 else 1)
-        try:
-            axes = tuple(a for a in range(axis, axis + size))
-            if axes[-1] >= self.n_axes:
-                raise BasicError(f"{kind} needs axes {axes[0]}..{axes[-1]}")
-        except BasicError as exc:
-            raise InvalidValue(exc.message, field="axis") from None
+        size = {"MOVECIRC": 2, "MHELICAL": 3, "MOVE": len(args), "MOVEABS": len(args)}.get(kind, 1)
+        axes = tuple(range(axis, axis + size))
+        if axes[-1] >= self.n_axes:
+            raise InvalidValue(
+                f"{kind} with {len(args)} arguments drives axes {axes[0]}..{axes[-1]}; "
+                f"there are {self.n_axes} axes",
+                field="axis",
+            )
         text = f"{kind}({','.join(f'{a:g}' for a in args)}) AXIS({axis})"
         move = Move(self.buffers.new_id(), kind, axes, args, p, text)
         if not wait:

@@ -66,7 +66,7 @@ class BasicProcess:
 
     # -- the interpreter loop ----------------------------------------------------------------
 
-    def _run(self):  # noqa: C901 - one loop, one dispatch on the op's result
+    def _run(self):
         code, ctx, log, env = self.code, self.ctx, self.ctrl.log, self.ctrl.env
         ops, costs, lines = code.ops, code.costs, code.lines
         dt = self.ctrl.statement_s
