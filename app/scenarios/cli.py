@@ -113,7 +113,8 @@ def sweep_command(
 
     try:
         scn = load_scenario(scenario)
-        params = sw.make_params(scn.raw, grid)
+        raw = sw.portable_raw(scn)
+        params = sw.make_params(raw, grid)
     except ScenarioError as exc:
         raise _fail(str(exc)) from None
     if replicates < 1:
@@ -143,7 +144,7 @@ def sweep_command(
         ) as bar:  # fmt: skip
             task = bar.add_task(f"sweep {scn.name}", total=len(runs))
             rows = sw.sweep(
-                scn.raw, params, runs, file=scn.file,
+                raw, params, runs, file=scn.file,
                 base_dir=str(scn.base_dir) if scn.base_dir else None,
                 workers=workers, client=client, same_seed=same_seed,
                 progress=lambda done, _total: bar.update(task, completed=done),

@@ -36,6 +36,23 @@ class Param:
     values: tuple[Any, ...]
 
 
+def portable_raw(scn: Any) -> dict[str, Any]:
+    """The scenario data with files inlined (empirical latencies, program files), so a run
+    needs no file on the worker that runs it."""
+    raw = copy.deepcopy(scn.raw)
+    for i, h in enumerate(scn.hosts):
+        rh = raw["hosts"][i]
+        for field in ("latency", "write_latency", "pr_latency"):
+            spec = getattr(h, field, None)
+            if spec is not None and spec.dist == "empirical" and spec.file is not None:
+                rh[field] = {"dist": "empirical", "samples_ms": list(spec.samples_ms or []),
+                             "jitter_ms": spec.jitter_ms}  # fmt: skip
+        prog = getattr(h, "program", None)
+        if prog is not None and prog.file is not None:
+            rh["program"] = {"lines": list(prog.lines or [])}
+    return raw
+
+
 def parse_grid_spec(spec: str) -> tuple[str, list[Any]]:
     """``'i16=2,5,8'`` -> ``('i16', [2, 5, 8])``; ``'x=0:10:2'`` is a range (stop included)."""
     name, sep, rest = spec.partition("=")
@@ -335,6 +352,7 @@ def heatmap(
 
 __all__ = [
     "CONFIRM_ABOVE",
+    "portable_raw",
     "Param",
     "count_runs",
     "heatmap",

@@ -145,3 +145,18 @@ def test_cli_run_writes_log_metrics_and_plot(tmp_path):
     names = {p.name for p in Path(out).iterdir()}
     assert names == {"events.jsonl", "events.csv", "metrics.json", "pmac_cs1_lines_ahead.png"}
     assert "rotary buffers" in res.output
+
+
+def test_files_are_inlined_for_remote_workers(tmp_path):
+    (tmp_path / "lat.txt").write_text("1\n2\n")
+    (tmp_path / "prog.pmc").write_text("X1\nX2\n")
+    text = SMALL.replace("{dist: normal, mean_ms: 4, sd_ms: 1}", "{dist: empirical, file: lat.txt}")
+    text = text.replace("generate: {moves: 200, move_ms: 1, axes: 2}", "file: prog.pmc")
+    (tmp_path / "s.yaml").write_text(text)
+    from app.scenarios.model import load_scenario, parse_scenario
+
+    raw = sw.portable_raw(load_scenario(tmp_path / "s.yaml"))
+    assert raw["hosts"][0]["latency"]["samples_ms"] == [1.0, 2.0]
+    assert raw["hosts"][0]["program"] == {"lines": ["X1", "X2"]}
+    scn = parse_scenario(raw)  # no base_dir: nothing to read
+    assert scn.hosts[0].program.to_lines() == ["X1", "X2"]
