@@ -1,0 +1,38 @@
+"""``motionsim run --realtime``: the scenario played on a running server over REST (one
+short run on 127.0.0.1, simulated time 10x the wall clock)."""
+
+from __future__ import annotations
+
+from app.embedded import EmbeddedService
+from app.scenarios.model import loads_scenario
+from app.scenarios.remote import play
+from app.settings import Settings
+
+SCENARIO = """\
+name: remote
+duration_s: 1.0
+controllers:
+  rt_pmac:
+    kind: pmac
+    rotary:
+      - {cs: 1, size_words: 200}
+hosts:
+  - type: pr_polling
+    poll_period_ms: 20
+    lines_per_write: 20
+    high_water: 40
+    low_water: 20
+    program:
+      generate: {moves: 100, move_ms: 2, axes: 2}
+"""
+
+
+def test_realtime_play_streams_the_program_and_reports_from_server_events():
+    scn = loads_scenario(SCENARIO)
+    settings = Settings(port=0, pmac_port=0, trio_port=0)
+    with EmbeddedService(settings) as svc:
+        rep = play(scn, svc.url, factor=10.0, echo=lambda *_: None)
+    m = rep["controllers"]["rt_pmac"]["cs"][1]
+    assert m["lines_loaded"] == 105  # header + 100 moves, all sent over HTTP
+    assert m["lines_executed"] > 50
+    assert m["host_writes"] == 0  # no host_* events: the host was remote
