@@ -79,17 +79,27 @@ def stream(n_lines: int, words: int = 600) -> dict:
 
 def main() -> None:
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 1_000_000
-    ref = reference_rate(min(n, 500_000))
-    res = stream(n)
+    repeat = int(sys.argv[2]) if len(sys.argv) > 2 else 3
+    # The machine is shared: interleave the two loops and keep the best of each, so a burst
+    # of someone else's load does not decide the ratio.
+    refs, runs = [], []
+    for _ in range(repeat):
+        refs.append(reference_rate(min(n, 500_000)))
+        runs.append(stream(n))
+    res = max(runs, key=lambda r: r["lines_per_s"])
+    ref = max(refs)
     res["reference_lines_per_s"] = ref
     res["ratio"] = res["lines_per_s"] / ref
+    res["all_stream_rates"] = [r["lines_per_s"] for r in runs]
+    res["all_reference_rates"] = refs
     print(f"pmac stream : {res['lines_per_s']:>10,.0f} lines/s  ({n:,} lines, "
           f"{res['events']:,} events, {res['simulated_s']:.1f} s simulated, "
-          f"{res['wall_s']:.2f} s wall)")
-    print(f"reference   : {ref:>10,.0f} lines/s  (bare SimPy loop)")
+          f"{res['wall_s']:.2f} s wall; best of {repeat})")
+    print(f"reference   : {ref:>10,.0f} lines/s  (bare SimPy loop, best of {repeat})")
     print(f"ratio       : {res['ratio']:.3f}  (target >= 0.25)")
     print(f"memory      : {res['rss_10pct_mb']:.1f} MB at 10 %, {res['rss_end_mb']:.1f} MB at end; "
-          f"max {res['max_used_words']} of 600 words used")
+          f"max {res['max_used_words']} of 600 words used; last move_end n = "
+          f"{res['last_move_end_n']:,}")
     out = Path(__file__).parent / "results"
     out.mkdir(exist_ok=True)
     (out / "pmac_stream.json").write_text(json.dumps(res, indent=2))

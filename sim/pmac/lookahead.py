@@ -289,7 +289,11 @@ class CoordSystem:
             return
         if self.state != RUNNING and self.state != WAITING:
             return
-        target = self._depth() + (0 if self.current is not None else 1)
+        if self._ver != self.vars.version:
+            self._refresh()
+        target = 2 if self._isx13 == 0 and self.mode == "LINEAR" else 1
+        if self.current is None:
+            target += 1
         if len(self.planned) < target:
             self._request_plan()
 
@@ -320,12 +324,15 @@ class CoordSystem:
         else:
             target = self._depth() + (0 if self.current is not None else 1)
         if rot is not None and self.program == 0:
-            while len(planned) < target and not self.blocked:
-                item = rot.take()
-                if item is None:
-                    break
-                self._calculate(item[0], item[1])
-                rot.line_calculated(item[0])
+            pending = rot.pending
+            while len(planned) < target and not self.blocked and pending:
+                n, line = rot.take()  # type: ignore[misc]
+                ops = line.ops
+                if len(ops) == 1 and ops[0][0] == OP_MOVE:
+                    self._plan_move(n, ops[0][1], ops[0][2])
+                else:
+                    self._calculate(n, line)
+                rot.line_calculated(n)
         if self.current is None:
             if planned:
                 if self.state == WAITING:
@@ -434,37 +441,61 @@ class CoordSystem:
     # -- execution ------------------------------------------------------------------------
 
     def _start(self, m: Move, t: float, prev: Move | None) -> None:
-        """Move ``m`` starts executing at ``t`` (blended from ``prev``, or from rest)."""
+        """Move ``m`` starts executing at ``t`` (blended from ``prev``, or from rest).
+
+        This is the per-line hot path of a stream, so the blend decision of the common case
+        (Isx13 = 0, LINEAR into LINEAR) is written out here rather than in :meth:`_decide`.
+        """
         emit = self._emit
         cs = self.cs
         if prev is not None:
             emit("move_end", cs=cs, n=prev.n)
             prev.prev = None  # keep only one step of history
             m.prev = prev
-            m.b_start = prev.b_end
+            b = prev.b_end
         else:
-            m.b_start = t + m.ta / 2
+            b = t + m.ta / 2
+        m.b_start = b
         rot = self.rotary
-        if rot is not None and rot.calculated and rot.calculated[0][0] < m.n:
-            rot.free_through(m.n - 1)
+        if rot is not None:
+            calc = rot.calculated
+            if calc and calc[0][0] < m.n:
+                rot.free_through(m.n - 1)
         if m.sync:
             for k, aop, value in m.sync:
                 self._sync_write(k, aop, value)
         emit("move_start", cs=cs, n=m.n)
         m.t_start = t
-        m.b_end = m.b_start + m.tm
+        b_end = m.b_end = b + m.tm
         self.current = m
-        if not (self.blocked or self.quitting or self.single_step) and self._plan_due is None:
+        if self._plan_due is None and not (self.blocked or self.quitting or self.single_step):
             self._request_plan()
-        if m.kind in (DWELL, RAPID):
+        kind = m.kind
+        if kind in (DWELL, RAPID):
             m.b_start = t
             m.b_end = t + m.tm
             m.stopping = True
             self._after(self.sched.servo_at_or_after(m.b_end), self._stop_end_cb)
-        elif self._segmented():
-            self._after(self.sched.servo_at_or_after(m.b_end - m.ta / 2), self._decide_cb)
-        else:
-            self._decide(None)
+            return
+        if self._ver != self.vars.version:
+            self._refresh()
+        p = self._period
+        if self._isx13 > 0:
+            self._after(math.ceil((b_end - m.ta / 2) / p - 1e-6) * p, self._decide_cb)
+            return
+        planned = self.planned
+        if planned and not self.single_step:
+            nxt = planned[0]
+            if nxt.kind == LINEAR or nxt.kind == DELAY:
+                lim = 2 * (m.tm - m.ta_in / 2)
+                ta_n = nxt.ta if nxt.ta <= lim else max(0.0, lim)
+                nxt.ta_in = ta_n
+                self._gen = g = self._gen + 1
+                th = math.ceil((b_end - ta_n / 2) / p - 1e-6) * p
+                ev = Wake(self._env, th if th > t else t, self._handoff_cb)
+                ev.gen = g  # type: ignore[attr-defined]
+                return
+        self._decide(None)
 
     def _after(self, t: float, fn: Any) -> None:
         """Call ``fn(None)`` at ``t`` unless another ``_after`` or an abort supersedes it."""
@@ -497,7 +528,10 @@ class CoordSystem:
         p = self._period
         self._after(math.ceil((m.b_end + m.ta_out / 2) / p - 1e-6) * p, self._stop_end_cb)
 
-    def _handoff(self, _ev: Any) -> None:
+    def _handoff(self, ev: Any) -> None:
+        """The blend into the next move starts (``ev`` None: already checked by _dispatch)."""
+        if ev is not None and ev.gen != self._gen:
+            return
         self._start(self.planned.popleft(), self._env._now, self.current)
 
     def _stop_end(self, _ev: Any) -> None:
