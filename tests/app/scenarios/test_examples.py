@@ -26,7 +26,7 @@ def run_example(name: str, **overrides):
 
 def test_every_example_is_listed_here():
     tested = {"rotary_breq.yaml", "pr_polling.yaml", "breq_missed.yaml", "m1_sync.yaml",
-              "tn20_stall_and_fix.yaml", "trio_feeders.yaml"}  # fmt: skip
+              "tn20_stall_and_fix.yaml", "trio_feeders.yaml", "lookahead_breaks.yaml"}  # fmt: skip
     assert {p.name for p in EXAMPLES.glob("*.yaml")} == tested
 
 
@@ -93,6 +93,16 @@ def test_trio_blind_feeder_stalls_and_ntype_feeder_does_not():
     assert per["ntype"]["idle_while_blocked_s"] == 0
     assert per["ntype"]["blocked_intervals"] == 0
     assert per["buffered"]["idle_while_blocked_s"] > 0.3  # still in program order
+
+
+def test_dwell_and_rapid_stop_lookahead_without_starving_the_buffer():
+    _, rep = run_example("lookahead_breaks.yaml")
+    m = rep["controllers"]["pmac"]["cs"][1]
+    assert m["starvations"] == 0
+    assert m["lookahead_breaks"] == 2
+    causes = [s["cause"] for s in rep["starvations"]]
+    assert causes == ["lookahead_dwell", "lookahead_rapid"]
+    assert all(s["kind"] == "lookahead_break" and s["length_s"] > 0 for s in rep["starvations"])
 
 
 def test_same_seed_gives_byte_identical_event_log_and_other_seed_does_not():
