@@ -1,11 +1,11 @@
 """``/controllers/{id}/events``: the event log, paged over REST or streamed over WebSocket.
 
 The WebSocket (same path; not in ``/openapi.json``) sends first every held event after
-``since``, then live events, one JSON event per text message. Each subscriber reads the log
-by ``seq`` straight from the controller's ring and sleeps on ``log.wake_on_next`` between
-batches, so there is no per-subscriber queue at all: a slow subscriber only falls behind in
-the ring, never blocks the simulation or the other subscribers, and when the ring has moved
-past it, it receives ``{"type": "gap", "from": SEQ, "to": SEQ}`` and continues.
+``since``, then live events, one JSON event per text message. Each subscriber is an
+:class:`app.bus.Cursor` on the controller's log: no per-subscriber queue, so a slow subscriber
+only falls behind in the ring, never blocks the simulation or the other subscribers, and when
+the ring has moved past it, it receives ``{"type": "gap", "from": SEQ, "to": SEQ}`` and
+continues.
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ from fastapi import APIRouter, Query, WebSocket, WebSocketDisconnect
 
 from api.deps import HandleDep
 from api.schemas.events import EventsPage
+from app.bus import Cursor
 from sim.errors import NotFound
 
 router = APIRouter(tags=["events"])
@@ -61,27 +62,16 @@ async def stream_events(
         return
     await websocket.accept()
     handle.ensure_running()
-    log = handle.controller.log
-    types = frozenset(type) if type else None
-    cid = handle.id
-    loop = asyncio.get_running_loop()
-    disconnected = loop.create_task(_until_disconnect(websocket))
+    cursor = Cursor(handle.controller.log, since, type, handle.id, WS_BATCH)
+    disconnected = asyncio.get_running_loop().create_task(_until_disconnect(websocket))
     try:
         while not disconnected.done():
-            res = log.read(since, types, WS_BATCH)
-            if res.gap is not None:
-                await websocket.send_text(json.dumps(res.gap.to_dict()))
-            for event in res.events:
-                await websocket.send_text(json.dumps(event.to_dict(cid)))
-            since = res.next
-            if since < log.last_seq:
+            for message in cursor.read():
+                await websocket.send_text(json.dumps(message))
+            if cursor.behind:
                 await asyncio.sleep(0)  # more held: let others run, then continue
-                continue
-            woken: asyncio.Future[None] = loop.create_future()
-            log.wake_on_next(lambda f=woken: f.done() or f.set_result(None))
-            if log.last_seq > since:  # an event slipped in between read and wake_on_next
-                continue
-            await asyncio.wait({woken, disconnected}, return_when=asyncio.FIRST_COMPLETED)
+            else:
+                await cursor.wait(disconnected)
     except (WebSocketDisconnect, RuntimeError, ConnectionError):
         pass
     finally:

@@ -98,3 +98,13 @@ def test_a_slow_subscriber_does_not_block_the_simulation_or_others(tc):
         assert done.wait(20)
         assert [e["seq"] for e in got] == list(range(1, 2001))
         assert json.loads(slow.receive_text())["seq"] == 1
+
+
+def test_live_events_of_a_realtime_controller_arrive_without_any_request():
+    app = create_app(dummy_settings(controllers=[
+        {"id": "rt", "kind": "dummy", "clock": {"mode": "realtime", "factor": 1},
+         "config": {"tick_s": 0.02}}]))
+    with TestClient(app) as tc, tc.websocket_connect("/controllers/rt/events?type=tick") as ws:
+        got = _recv(ws, 5)
+    assert [e["n"] for e in got] == [1, 2, 3, 4, 5]
+    assert [e["t"] for e in got] == pytest.approx([0.02, 0.04, 0.06, 0.08, 0.1])

@@ -1,0 +1,87 @@
+"""The event bus: cursors read the ring by seq; no queue, gaps when they fall behind."""
+
+from __future__ import annotations
+
+import asyncio
+
+import pytest
+import simpy
+
+from app.bus import Cursor
+from sim.events import EventLog
+
+
+def _log(capacity=100_000):
+    return EventLog(simpy.Environment(), "c", capacity)
+
+
+def test_read_returns_wire_messages_in_batches_and_advances():
+    log = _log()
+    for i in range(5):
+        log.emit("tick", n=i)
+    cur = Cursor(log, since=1, batch=3)
+    assert [m["seq"] for m in cur.read()] == [2, 3, 4]
+    assert cur.behind
+    assert [m["seq"] for m in cur.read()] == [5]
+    assert not cur.behind and cur.read() == []
+    assert cur.read() == [] and cur.since == 5
+
+
+def test_type_filter_skips_past_other_events():
+    log = _log()
+    log.emit("a")
+    log.emit("b", x=1)
+    log.emit("a")
+    cur = Cursor(log, types={"b"})
+    assert cur.read() == [{"seq": 2, "t": 0, "type": "b", "controller": "c", "x": 1}]
+    assert cur.read() == [] and not cur.behind
+
+
+def test_a_cursor_behind_the_ring_gets_one_gap_then_continues():
+    log = _log(capacity=10)
+    for i in range(25):
+        log.emit("tick", n=i)
+    cur = Cursor(log, since=3)
+    msgs = cur.read()
+    assert msgs[0] == {"type": "gap", "from": 4, "to": 15}
+    assert [m["seq"] for m in msgs[1:]] == list(range(16, 26))
+
+
+def test_wait_sleeps_until_the_next_emit_without_polling():
+    async def main():
+        log = _log()
+        cur = Cursor(log)
+        waiter = asyncio.create_task(cur.wait())
+        await asyncio.sleep(0.01)
+        assert not waiter.done()
+        log.emit("tick")
+        await asyncio.wait_for(waiter, 1)
+        return cur.read()
+
+    assert [m["seq"] for m in asyncio.run(main())] == [1]
+
+
+def test_wait_returns_when_another_future_completes():
+    async def main():
+        cur = Cursor(_log())
+        other = asyncio.get_running_loop().create_future()
+        task = asyncio.create_task(cur.wait(other))
+        other.set_result(None)
+        await asyncio.wait_for(task, 1)
+
+    asyncio.run(main())
+
+
+def test_many_slow_cursors_hold_no_memory_of_their_own():
+    log = _log(capacity=1000)
+    cursors = [Cursor(log) for _ in range(100)]
+    for i in range(5000):
+        log.emit("tick", n=i)
+    first = cursors[0].read()
+    assert first[0] == {"type": "gap", "from": 1, "to": 4000}
+    assert all(c.since == 0 for c in cursors[1:])
+
+
+def test_negative_since_is_rejected():
+    with pytest.raises(ValueError):
+        Cursor(_log(), since=-1)
