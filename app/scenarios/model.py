@@ -434,6 +434,8 @@ class Scenario(Strict):
     faults: list[FaultSpec] = Field(default_factory=list)
     params: dict[str, str] = Field(default_factory=dict)
     metric: str = "time_starved_s"
+    #: events held per controller (default: sized from the program); metrics need them all
+    log_capacity: int | None = Field(None, ge=1000, le=100_000_000)
 
     _lines: dict[tuple[Any, ...], int] = PrivateAttr(default_factory=dict)
     _file: str | None = PrivateAttr(None)

@@ -91,6 +91,8 @@ def report(result: RunResult) -> dict[str, Any]:
             servo_s = float(spec.config.get("servo_period_ms", 1.0)) / 1000
             r = trio_report(events, result.t_end, controller=cid, servo_period_s=servo_s)
         episodes += r.pop("starvation_list")
+        r["events"] = result.controllers[cid].log.last_seq
+        r["events_lost"] = result.events_lost(cid)
         per[cid] = r
     episodes.sort(key=lambda s: (s.start, s.controller))
     return {

@@ -72,6 +72,10 @@ class RunResult:
     stopped_by: str = "duration"
     _events: dict[str, list[Event]] = field(default_factory=dict)
 
+    def events_lost(self, controller: str) -> int:
+        """Events that left the log's ring before the metrics read it (raise log_capacity)."""
+        return self.controllers[controller].log.first_seq - 1
+
     def events(self, controller: str) -> list[Event]:
         if controller not in self._events:
             self._events[controller] = self.controllers[controller].log.events()
@@ -98,6 +102,8 @@ class RunResult:
 
 
 def _log_capacity(scn: Scenario) -> int:
+    if scn.log_capacity is not None:
+        return scn.log_capacity
     lines = 0
     for h in scn.hosts:
         if isinstance(h, TrioFeederSpec):

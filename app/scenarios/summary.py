@@ -49,7 +49,7 @@ def summary_tables(rep: dict[str, Any], *, max_starvations: int = 20) -> list[Ta
         tables.append(trio)
     st = Table(title="starvations and why")
     for col in ("controller", "where", "start", "length", "cause", "detail"):
-        st.add_column(col)
+        st.add_column(col, no_wrap=col != "detail")
     episodes = rep["starvations"]
     for s in episodes[:max_starvations]:
         where = f"&{s['cs']}" if "cs" in s else f"axis {s.get('axis')}"
@@ -68,6 +68,12 @@ def print_summary(rep: dict[str, Any], console: Console | None = None) -> None:
     console = console or Console()
     for t in summary_tables(rep):
         console.print(t)
+    for cid, r in rep["controllers"].items():
+        if r.get("events_lost"):
+            console.print(
+                f"[yellow]{cid}: the first {r['events_lost']} events left the log before they "
+                "were read; metrics cover the rest (set log_capacity in the scenario)[/yellow]"
+            )
     if not rep["starvations"]:
         console.print("[green]no starvation[/green]")
 

@@ -76,3 +76,12 @@ def test_each_host_has_its_own_stream_of_draws():
     assert host_rng(1, "a").random() == host_rng(1, "a").random()
     assert host_rng(1, "a").random() != host_rng(1, "b").random()
     assert host_rng(1, "a").random() != host_rng(2, "a").random()
+
+
+def test_a_too_small_log_is_reported_not_hidden():
+    from app.scenarios.report import report
+
+    scn = loads_scenario(BASE + "log_capacity: 1000\n")
+    rep = report(run(scn))
+    m = rep["controllers"]["pmac"]
+    assert m["events_lost"] > 0 and m["events"] > 1000
