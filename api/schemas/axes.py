@@ -24,6 +24,7 @@ class AxisOut(BaseModel):
     units: float = Field(description="encoder edges per user unit")
     creep: float | None = None
     vp_speed: float | None = Field(None, description="profile generator speed now")
+    moves_buffered: int | None = Field(None, description="MTYPE and NTYPE slots in use")
 
 
 class AxisPatch(BaseModel):

@@ -128,6 +128,11 @@ class Axis:
         tau = self._tau(m, self.env.now)
         return 0.0 if tau is None else m.speed(tau)
 
+    def moves_buffered(self) -> int:
+        """MOVES_BUFFERED: MTYPE and NTYPE slots in use (whether the controller counts the
+        executing move is not documented, spec §1.4 ``[INF]``; here it does)."""
+        return (self.mtype is not None) + (self.ntype is not None)
+
     def read(self, name: str) -> float:
         """An axis parameter by its BASIC name (``MTYPE``, ``DPOS``, ``SPEED`` ...)."""
         if name == "MTYPE":
@@ -144,6 +149,8 @@ class Axis:
             return -1.0 if self.mtype is None and self.ntype is None else 0.0
         if name == "VP_SPEED":
             return self.vp_speed()
+        if name == "MOVES_BUFFERED":
+            return float(self.moves_buffered())
         return float(getattr(self, name.lower()))
 
     def snapshot(self) -> dict[str, float | int]:
@@ -163,6 +170,7 @@ class Axis:
             "units": self.units,
             "creep": self.creep,
             "vp_speed": self.vp_speed(),
+            "moves_buffered": self.moves_buffered(),
         }
 
 

@@ -12,7 +12,7 @@ AXIS_WRITABLE = frozenset({"SPEED", "ACCEL", "DECEL", "UNITS", "CREEP"})
 
 #: Axis parameters that are read-only: the buffers and the profile generator own them.
 AXIS_READONLY = frozenset(
-    {"MTYPE", "NTYPE", "DPOS", "MPOS", "ENDMOVE", "REMAIN", "IDLE", "VP_SPEED"}
+    {"MTYPE", "NTYPE", "DPOS", "MPOS", "ENDMOVE", "REMAIN", "IDLE", "VP_SPEED", "MOVES_BUFFERED"}
 )
 
 AXIS_PARAMS = AXIS_WRITABLE | AXIS_READONLY

@@ -100,3 +100,11 @@ def test_print_formats_decimals_and_width(trio):
     assert trio.terminal("? VR(1)[2]").reply == "3.14"
     assert trio.terminal("PRINT VR(1)[0]; VR(1)[8,3]").reply == "3   3.142"
     assert "column 13" in trio.terminal("PRINT VR(1)[a]").error
+
+
+def test_moves_buffered_counts_mtype_and_ntype(trio):
+    trio.terminal("MOVE(10) AXIS(0)")
+    trio.terminal("MOVE(10) AXIS(0)")
+    trio.terminal("MOVE(10) AXIS(0)")
+    assert trio.terminal("? MOVES_BUFFERED AXIS(0)").reply == "2.0000"
+    assert trio.axis(0)["moves_buffered"] == 2
