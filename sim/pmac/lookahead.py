@@ -272,8 +272,7 @@ class CoordSystem:
         self._abort = None
         self.rest_pos = stop
         self._emit("move_end", cs=self.cs, n=m.n)
-        if self.rotary is not None:
-            self.rotary.free_calculated()
+        self._motion_stopped()
 
     def detach(self) -> None:
         """Forget every scheduled wake-up (the controller is being reset)."""
@@ -537,17 +536,20 @@ class CoordSystem:
     def _stop_end(self, _ev: Any) -> None:
         m = self.current
         assert m is not None
-        now = self.sched.env.now
         self._emit("move_end", cs=self.cs, n=m.n)
         self.current = None
         m.prev = None
         self.rest_pos = dict(m.end)
         if m.kind == DWELL or m.kind == RAPID:
             self.blocked = False
+        self._motion_stopped()
+
+    def _motion_stopped(self) -> None:
+        """Motion has come to rest: start what is calculated, or stop / wait."""
         rot = self.rotary
         if self.planned:
             nxt = self.planned.popleft()
-            self._start(nxt, now, None)
+            self._start(nxt, self._env._now, None)
             return
         if rot is not None:
             rot.free_calculated()

@@ -187,3 +187,16 @@ def test_executed_lines_free_their_words(rig):
     rig.run_until_idle()
     assert rig.c.rotary(1)["used_words"] == 0
     assert rig.c.rotary(1)["free_words"] == 10
+
+
+def test_r_and_q_during_the_abort_deceleration_end_stopped(rig):
+    """Found by the state machine: R then Q while A's deceleration runs must still stop."""
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["TM1000 X10"] * 5)
+    rig.c.run(1)
+    rig.run_for(0.5)
+    rig.c.abort(1)
+    rig.c.run(1)
+    rig.c.quit(1)
+    rig.run_until_idle()
+    assert rig.c.log.events("program")[-1]["state"] == "stopped"

@@ -1,0 +1,142 @@
+"""PMAC REST resources: coord/{cs}, rotary PUT/DELETE, rotary/lines, run/quit/abort (API.md)."""
+
+from __future__ import annotations
+
+from collections.abc import AsyncIterator
+
+import httpx
+import pytest
+
+from api.main import create_app
+from tests.conftest import dummy_settings
+
+pytestmark = pytest.mark.anyio
+
+BASE = "/controllers/p"
+
+
+@pytest.fixture
+async def pmac_api() -> AsyncIterator[httpx.AsyncClient]:
+    settings = dummy_settings(controllers=[
+        {"id": "p", "kind": "pmac", "clock": {"mode": "virtual"}},
+        {"id": "d", "kind": "dummy", "clock": {"mode": "virtual"}},
+    ])
+    app = create_app(settings)
+    async with app.router.lifespan_context(app):
+        transport = httpx.ASGITransport(app=app)
+        async with httpx.AsyncClient(transport=transport, base_url="http://motionsim") as client:
+            yield client
+
+
+async def clock_t(api) -> float:
+    return (await api.get(f"{BASE}/clock")).json()["t"]
+
+
+async def test_coord_of_a_cs_without_rotary(pmac_api):
+    r = await pmac_api.get(f"{BASE}/coord/1")
+    assert r.status_code == 200
+    assert r.json() == {"cs": 1, "program": {"state": "idle", "line": None}, "rotary": None}
+
+
+async def test_unknown_cs_is_404(pmac_api):
+    r = await pmac_api.get(f"{BASE}/coord/17")
+    assert r.status_code == 404 and r.json()["code"] == "not_found"
+
+
+async def test_coord_routes_on_a_controller_that_is_not_a_pmac_are_404(pmac_api):
+    r = await pmac_api.get("/controllers/d/coord/1")
+    assert r.status_code == 404 and r.json()["code"] == "not_found"
+
+
+async def test_define_rotary_and_delete(pmac_api):
+    r = await pmac_api.put(f"{BASE}/coord/1/rotary", json={"size_words": 600})
+    assert r.status_code == 200
+    assert r.json() == {"size_words": 600, "used_words": 0, "free_words": 600,
+                        "lines_ahead": 0, "breq": False, "open": False}
+    assert (await pmac_api.delete(f"{BASE}/coord/1/rotary")).status_code == 204
+    assert (await pmac_api.get(f"{BASE}/coord/1")).json()["rotary"] is None
+
+
+async def test_define_rotary_out_of_order_is_409_conflict_with_err003(pmac_api):
+    """Seed 000: define from the highest-numbered CS down."""
+    await pmac_api.put(f"{BASE}/coord/1/rotary", json={"size_words": 20})
+    r = await pmac_api.put(f"{BASE}/coord/2/rotary", json={"size_words": 20})
+    assert r.status_code == 409
+    assert (r.json()["code"], r.json()["pmac_error"]) == ("conflict", "ERR003")
+
+
+async def test_lines_batch_run_and_events_without_moving_the_clock(pmac_api):
+    await pmac_api.put(f"{BASE}/coord/1/rotary", json={"size_words": 600})
+    r = await pmac_api.post(f"{BASE}/coord/1/rotary/lines",
+                            json={"lines": ["TM100 TA10 TS0 X1", "X2"], "first_seq": 1})
+    assert r.status_code == 200
+    assert r.json() == {"accepted": 2, "stored": 2, "lines_ahead": 2, "free_words": 595,
+                        "breq": True}
+    r = await pmac_api.post(f"{BASE}/coord/1/rotary/lines",
+                            json={"lines": ["X2", "X3"], "first_seq": 2})
+    assert (r.json()["accepted"], r.json()["stored"]) == (2, 1)
+    r = await pmac_api.post(f"{BASE}/coord/1/run")
+    assert r.json()["program"]["state"] == "running"
+    assert await clock_t(pmac_api) == 0.0
+    await pmac_api.post(f"{BASE}/clock/advance", json={"seconds": 1.0})
+    ev = (await pmac_api.get(f"{BASE}/events", params={"type": "move_end"})).json()["events"]
+    assert [e["n"] for e in ev] == [1, 2, 3]
+    coord = (await pmac_api.get(f"{BASE}/coord/1")).json()
+    assert coord["program"]["state"] == "waiting"
+    assert coord["rotary"]["used_words"] == 0
+
+
+async def test_bad_line_is_422_with_index_and_column_and_nothing_stored(pmac_api):
+    await pmac_api.put(f"{BASE}/coord/1/rotary", json={"size_words": 600})
+    r = await pmac_api.post(f"{BASE}/coord/1/rotary/lines", json={"lines": ["X1", "X2 Y@"]})
+    assert r.status_code == 422
+    body = r.json()
+    assert (body["code"], body["index"], body["column"], body["text"], body["pmac_error"]) == (
+        "parse_error", 1, 5, "X2 Y@", "ERR003")
+    assert (await pmac_api.get(f"{BASE}/coord/1")).json()["rotary"]["lines_ahead"] == 0
+
+
+async def test_batch_that_does_not_fit_is_409_buffer_full_err006(pmac_api):
+    await pmac_api.put(f"{BASE}/coord/1/rotary", json={"size_words": 3})
+    r = await pmac_api.post(f"{BASE}/coord/1/rotary/lines", json={"lines": ["X1 Y1", "X2 Y2"]})
+    assert r.status_code == 409
+    assert (r.json()["code"], r.json()["pmac_error"]) == ("buffer_full", "ERR006")
+    ev = (await pmac_api.get(f"{BASE}/events", params={"type": "line_loaded"})).json()
+    assert ev["events"] == []
+
+
+async def test_run_without_rotary_is_409_err015(pmac_api):
+    r = await pmac_api.post(f"{BASE}/coord/1/run")
+    assert r.status_code == 409 and r.json()["pmac_error"] == "ERR015"
+
+
+async def test_quit_and_abort(pmac_api):
+    await pmac_api.put(f"{BASE}/coord/1/rotary", json={"size_words": 600})
+    await pmac_api.post(f"{BASE}/coord/1/rotary/lines", json={"lines": ["TM1000 X10"] * 5})
+    await pmac_api.post(f"{BASE}/coord/1/run")
+    await pmac_api.post(f"{BASE}/clock/advance", json={"seconds": 0.5})
+    r = await pmac_api.post(f"{BASE}/coord/1/abort")
+    assert r.json()["program"]["state"] == "aborted"
+    r = await pmac_api.post(f"{BASE}/coord/1/run")
+    r = await pmac_api.post(f"{BASE}/coord/1/quit")
+    await pmac_api.post(f"{BASE}/clock/advance", json={"seconds": 10})
+    assert (await pmac_api.get(f"{BASE}/coord/1")).json()["program"]["state"] == "stopped"
+
+
+async def test_terminal_replies_and_err_codes(pmac_api):
+    async def term(cmd):
+        return (await pmac_api.post(f"{BASE}/terminal", json={"command": cmd})).json()
+
+    assert await term("I16..17") == {"reply": "5\r10", "error": None, "pending": False}
+    assert (await term("X1000"))["error"] == "ERR005"
+    assert (await term("&1 DEFINE ROT 100 B0 OPEN ROT"))["error"] is None
+    assert await term("X10") == {"reply": "", "error": None, "pending": False}
+    assert await term("PR") == {"reply": "1", "error": None, "pending": False}
+    assert 0 < await clock_t(pmac_api) < 0.01
+
+
+async def test_variables_route(pmac_api):
+    r = await pmac_api.put(f"{BASE}/variables/p5", json={"value": 2.5})
+    assert r.json() == {"name": "P5", "value": 2.5}
+    assert (await pmac_api.get(f"{BASE}/variables/I16")).json() == {"name": "I16", "value": 5.0}
+    assert (await pmac_api.get(f"{BASE}/variables/X1")).status_code == 404
