@@ -248,8 +248,11 @@ def sweep(
                 progress(done, len(runs))
     else:
         import concurrent.futures as cf
+        import multiprocessing as mp
 
-        with cf.ProcessPoolExecutor(max_workers=workers) as pool:
+        # spawn: a forked child of a process with threads (a Dask client, a server) can hang
+        ctx = mp.get_context("spawn")
+        with cf.ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
             futs = {
                 pool.submit(run_point, raw, paths, pt, **kw): i  # type: ignore[arg-type]
                 for i, pt in enumerate(runs)
