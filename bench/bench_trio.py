@@ -9,7 +9,8 @@ sequencing, loading, start and end with their events. Beside it, in the same run
 SimPy reference loop (``bench/reference_loop.py``: deque of lines, one timeout per 1 ms move,
 a refill process, a dict per event). Target: >= 0.1 x the reference.
 
-Prints both figures and writes ``bench/results/trio.json``.
+Each is run ``--repeat`` times, alternately, and the best of each is kept. Prints both figures
+and writes ``bench/results/trio.json``.
 """
 
 from __future__ import annotations
@@ -66,9 +67,16 @@ def trio_rate(n_moves: int) -> dict:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--moves", type=int, default=200_000)
+    ap.add_argument("--repeat", type=int, default=3,
+                    help="alternate the two runs this many times and keep the best of each "
+                         "(the machine is shared: the best run is the least disturbed one)")
     args = ap.parse_args()
-    ref = reference_rate(args.moves)
-    trio = trio_rate(args.moves)
+    refs, trios = [], []
+    for _ in range(max(1, args.repeat)):
+        refs.append(reference_rate(args.moves))
+        trios.append(trio_rate(args.moves))
+    ref = max(refs)
+    trio = max(trios, key=lambda r: r["moves_per_wall_s"])
     ratio = trio["moves_per_wall_s"] / ref
     print(f"reference loop : {ref:12,.0f} lines/s")
     print(f"trio 4-axis    : {trio['moves_per_wall_s']:12,.0f} moves/s  "
@@ -77,7 +85,13 @@ def main() -> None:
     print(f"ratio          : {ratio:.3f} x reference (target >= 0.1)")
     out = ROOT / "bench" / "results"
     out.mkdir(parents=True, exist_ok=True)
-    result = {"reference_lines_per_s": ref, "trio": trio, "ratio": ratio, "target_ratio": 0.1}
+    result = {
+        "reference_lines_per_s": ref,
+        "trio": trio,
+        "ratio": ratio,
+        "target_ratio": 0.1,
+        "runs": {"reference": refs, "trio": [r["moves_per_wall_s"] for r in trios]},
+    }
     (out / "trio.json").write_text(json.dumps(result, indent=2) + "\n")
 
 

@@ -95,7 +95,7 @@ class MotionBuffers:
         self.process_buffer: dict[int, Move] = {}
         self._waiters: dict[int, deque[Waiter]] = {}
         self._ntype: list[Move] = []  # moves in NTYPE, oldest first
-        self._active: list[Move] = []  # moves in MTYPE, oldest first
+        self._active: dict[Move, None] = {}  # moves in MTYPE, oldest first
         self._starting: dict[int, list[Move]] = {}  # placed straight into MTYPE, by start cycle
         self._ending: dict[int, list[Move]] = {}  # executing moves by the cycle they end
         self._ticks: set[int] = set()
@@ -173,7 +173,7 @@ class MotionBuffers:
             free_m = free_n and all(ax.mtype is None for ax in axes)
         if free_m and free_n:
             k = self.clock.after(self.env.now)
-            self._active.append(move)
+            self._active[move] = None
             self._starting.setdefault(k, []).append(move)
             for ax in axes:
                 ax.mtype = move
@@ -185,11 +185,13 @@ class MotionBuffers:
             for ax in axes:
                 ax.ntype = move
                 self._changed(ax)
-            self._kick()
+            if all(ax.mtype is None for ax in axes):  # a group move, some MTYPEs were busy
+                self._tick_at(self.clock.after(self.env.now))
             return "ntype"
+        # Some NTYPE is busy: it frees only in a servo period (or by CANCEL), which then
+        # schedules the next period for this move.
         self.process_buffer[p] = move
         self.log.emit("process_buffer", process=p, axis=move.axes[0], mtype=move.mtype)
-        self._kick()
         return "process_buffer"
 
     def place_or_wait(self, move: Move, on_placed: OnPlaced) -> Placed | Waiter:
@@ -217,7 +219,7 @@ class MotionBuffers:
             return
         if m.start_tick is None:  # placed, not yet started: it never runs
             self._starting[self._start_cycle(m)].remove(m)
-            self._active.remove(m)
+            del self._active[m]
             for a in m.axes:
                 ax = self.axes[a]
                 ax.mtype = None
@@ -305,7 +307,7 @@ class MotionBuffers:
             for m in list(self._ntype):
                 if all(axes[a].mtype is None for a in m.axes):
                     self._ntype.remove(m)
-                    self._active.append(m)
+                    self._active[m] = None
                     for a in m.axes:
                         ax = axes[a]
                         ax.ntype = None
@@ -319,7 +321,7 @@ class MotionBuffers:
         # 3. the MTYPE moves advance; those whose profile is complete end now
         ending = self._ending.pop(k, ())
         for m in ending:
-            self._active.remove(m)
+            del self._active[m]
             final = m.final_positions()
             for i, a in enumerate(m.axes):
                 ax = axes[a]
@@ -329,9 +331,10 @@ class MotionBuffers:
                 self._changed(ax)
         # 4. processes waiting at a move line: their move goes into the freed buffer
         if self._waiters:
+            pb = self.process_buffer
             for p in sorted(self._waiters):
                 q = self._waiters[p]
-                while q and p not in self.process_buffer:
+                while q and p not in pb:
                     w = q.popleft()
                     if not w.alive:
                         continue
@@ -339,8 +342,8 @@ class MotionBuffers:
                     assert placed is not None
                     w.alive = False
                     w.on_placed(placed)
-            for p in [p for p, q in self._waiters.items() if not q]:
-                del self._waiters[p]
+                if not q:
+                    del self._waiters[p]
         if self._can_progress():
             self._tick_at(k + 1)
 
