@@ -293,7 +293,8 @@ class PmacController(Controller):
                     free_words=rot.free_words,
                 )
             rot.store(line)
-            c.lines_arrived()
+            if c._plan_due is None:
+                c.lines_arrived()
             return LoadResult(1, 1, len(rot.pending), rot.size_words - rot.used_words, rot.breq)
         compiled: list[ProgramLine] = []
         for i, text in enumerate(texts):

@@ -160,7 +160,12 @@ class RotaryBuffer:
         if self._vars is None or self._ver != self._vars.version:
             self._limits()
         if ahead < self._i17:
-            self._set(True)
+            self.breq = True  # the rising half of the pulse: an interrupt to the host
+            emit("breq", cs=cs, level=True)
+            if self._rise:
+                waiters, self._rise = self._rise, []
+                for cb in waiters:
+                    cb()
         else:
             self.full = True
         return n
