@@ -86,6 +86,11 @@ def run_env_to(env: simpy.Environment, target: float, max_steps: int | None = No
         steps += 1
     if target > env.now:
         env.run(until=target)
+        if env.peek() <= env.now:
+            # SimPy >= 4.1 re-schedules the spent ``until`` event (no callbacks left) at the
+            # stop instant; every real event up to ``target`` was processed above, so this is
+            # it: consume it, or ``peek()`` would report a due event forever.
+            env.step()
     return True
 
 

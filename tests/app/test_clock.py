@@ -223,3 +223,25 @@ def test_realtime_wake_replans_for_an_event_scheduled_sooner():
     t_cmd, done = asyncio.run(main())
     assert len(done) == 1
     assert done[0].t == pytest.approx(t_cmd + 0.05)
+
+
+def test_moving_time_leaves_nothing_due_behind():
+    """After running to an instant, the next scheduled event is the ticker's, not a leftover."""
+    env, _ = _setup(0.01)
+    run_env_to(env, 0.0123)
+    assert env.now == 0.0123
+    assert env.peek() == pytest.approx(0.02)
+
+
+def test_realtime_task_wakes_once_per_event_not_in_a_loop():
+    async def main():
+        env, log = _setup(0.01)
+        clock = RealtimeClock(env, 1.0)
+        clock.start()
+        await asyncio.sleep(0.3)
+        await clock.stop()
+        return len(log), len(clock.lateness_s)
+
+    events, wakeups = asyncio.run(main())
+    assert events >= 20
+    assert wakeups <= 2 * events + 2
