@@ -326,9 +326,31 @@ class CoordSystem:
             pending = rot.pending
             while len(planned) < target and not self.blocked and pending:
                 n, line = rot.take()  # type: ignore[misc]
-                ops = line.ops
-                if len(ops) == 1 and ops[0][0] == OP_MOVE:
-                    self._plan_move(n, ops[0][1], ops[0][2])
+                simple = line.simple
+                if (
+                    simple is not None
+                    and self.time_mode
+                    and self.mode == "LINEAR"
+                    and not self.incremental
+                    and self._ver == self.vars.version
+                ):
+                    # Short cut for the streamed line: one LINEAR move, constant ABS values, TM.
+                    start = self.calc_pos
+                    end = start.copy()
+                    for axis, value in simple:
+                        if axis not in start:
+                            start[axis] = 0.0
+                        end[axis] = value
+                    ta = self._ta_s
+                    t = self._f / 1000.0
+                    if t < ta or t < motion.MIN_MOVE_S or t > motion.MAX_MOVE_S:
+                        t = motion.clamp_move_time(t, ta)
+                    move = Move(n, LINEAR, t, ta, start, end, None)
+                    self.calc_pos = end
+                    if self.sync_pending:
+                        move.sync = self.sync_pending
+                        self.sync_pending = []
+                    planned.append(move)
                 else:
                     self._calculate(n, line)
                 rot.line_calculated(n)
@@ -468,7 +490,12 @@ class CoordSystem:
         b_end = m.b_end = b + m.tm
         self.current = m
         if self._plan_due is None and not (self.blocked or self.quitting or self.single_step):
-            self._request_plan()
+            if self._ver != self.vars.version:
+                self._refresh()
+            p, r = self._period, self._rti
+            k = math.floor(t / p + 1e-6) + 1
+            tp = self._plan_due = -(-k // r) * r * p
+            Wake(self._env, tp, self._plan_cb_bound)
         kind = m.kind
         if kind in (DWELL, RAPID):
             m.b_start = t

@@ -40,6 +40,9 @@ class ProgramLine:
     words: int
     ops: tuple[tuple[Any, ...], ...]
     moves: int  # number of motion operations (moves, dwells, delays)
+    #: ``((axis, value), ...)`` when the line is nothing but one move with constant axis
+    #: values (the common streamed line): planning takes a short cut for it.
+    simple: tuple[tuple[str, float], ...] | None = None
 
 
 def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:
@@ -83,7 +86,15 @@ def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:
             moves += 1
         # Label, Message: stored, no action.
     flush()
-    return ProgramLine(text, max(1, len(stmts)), tuple(ops), moves)
+    simple = None
+    if (
+        len(ops) == 1
+        and ops[0][0] == OP_MOVE
+        and not ops[0][2]
+        and all(e.const is not None for _, e in ops[0][1])
+    ):
+        simple = tuple((a, float(e.const)) for a, e in ops[0][1])
+    return ProgramLine(text, max(1, len(stmts)), tuple(ops), moves, simple)
 
 
 def compile_line(text: str) -> ProgramLine:
