@@ -86,7 +86,7 @@ class Move:
 
     __slots__ = (
         "n", "kind", "tm", "ta", "start", "end", "sync", "prev", "_v",
-        "t_start", "b_start", "b_end", "ta_in", "ta_out", "stopping",
+        "b_start", "b_end", "ta_in", "ta_out", "stopping",
     )  # fmt: skip
 
     def __init__(
@@ -161,6 +161,7 @@ class CoordSystem:
         self.mode = "LINEAR"
         self.time_mode = False
         self.incremental: set[str] = set()
+        self._fast = False  # time mode, LINEAR, all axes absolute: the planning short cut
         self.calc_pos: dict[str, float] = {}
         self.rest_pos: dict[str, float] = {}
         self._ver = -1
@@ -327,13 +328,7 @@ class CoordSystem:
             while len(planned) < target and not self.blocked and pending:
                 n, line = rot.take()  # type: ignore[misc]
                 simple = line.simple
-                if (
-                    simple is not None
-                    and self.time_mode
-                    and self.mode == "LINEAR"
-                    and not self.incremental
-                    and self._ver == self.vars.version
-                ):
+                if simple is not None and self._fast and self._ver == self.vars.version:
                     # Short cut for the streamed line: one LINEAR move, constant ABS values, TM.
                     start = self.calc_pos
                     end = start.copy()
@@ -353,6 +348,9 @@ class CoordSystem:
                     planned.append(move)
                 else:
                     self._calculate(n, line)
+                    self._fast = (
+                        self.time_mode and self.mode == "LINEAR" and not self.incremental
+                    )
                 rot.line_calculated(n)
         if self.current is None:
             if planned:
@@ -486,7 +484,6 @@ class CoordSystem:
             for k, aop, value in m.sync:
                 self._sync_write(k, aop, value)
         emit("move_start", cs=cs, n=m.n)
-        m.t_start = t
         b_end = m.b_end = b + m.tm
         self.current = m
         if self._plan_due is None and not (self.blocked or self.quitting or self.single_step):
