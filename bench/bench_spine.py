@@ -4,8 +4,9 @@
 
 Prints the figures and writes ``bench/results/spine.json``:
 
-- ``log``: events/s appended by ``EventLog.emit`` alone, and with 10 subscribers reading by
-  seq from the ring in batches (what each WebSocket subscriber does), to the end;
+- ``log``: events/s appended by ``EventLog.emit`` alone, and with 10 bus subscribers
+  (``app.bus.Cursor``, what each WebSocket subscriber is) each reading every event from the
+  ring and encoding it to JSON;
 - ``ws_fanout``: a served motionsim (real uvicorn on 127.0.0.1, realtime clock) whose
   controller emits ``rate`` events per second; 100 WebSocket subscribers; latency = wall time
   at receipt − wall time at emission, p50 / p99, and how many messages arrived;
@@ -27,6 +28,7 @@ sys.path.insert(0, str(ROOT))
 
 import simpy  # noqa: E402
 
+from app.bus import Cursor  # noqa: E402
 from app.kinds import register_kind  # noqa: E402
 from app.settings import Settings  # noqa: E402
 from sim.controller import Controller, Reply  # noqa: E402
@@ -76,20 +78,16 @@ def bench_log(n: int) -> dict:
 
     env = simpy.Environment()
     log = EventLog(env, "b", capacity=100_000)
-    subs = [0] * 10
+    cursors = [Cursor(log, batch=256) for _ in range(10)]
     t0 = time.perf_counter()
     chunk = 1000
     for start in range(0, n, chunk):
         for i in range(start, start + chunk):
             log.emit("tick", k=i)
-        for s in range(len(subs)):
-            while True:
-                res = log.read(subs[s], None, 256)
-                if not res.events:
-                    break
-                for e in res.events:
-                    e.to_dict("b")
-                subs[s] = res.next
+        for cursor in cursors:
+            while cursor.behind:
+                for message in cursor.read():
+                    json.dumps(message)
     bus_rate = n / (time.perf_counter() - t0)
     return {"events": n, "emit_per_s": round(emit_rate), "emit_plus_10_readers_per_s":
             round(bus_rate)}
