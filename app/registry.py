@@ -50,6 +50,8 @@ class ControllerHandle:
         self.controller = controller
         self.clock = clock
         self.realtime_reply_cap_s = REALTIME_REPLY_CAP_S
+        self.closed = False
+        self._on_close: list[Callable[[], None]] = []
 
     @property
     def terminal_wait_s(self) -> float:
@@ -144,9 +146,30 @@ class ControllerHandle:
             return
         self.clock.set(factor=factor, paused=paused)
 
+    def on_close(self, callback: Callable[[], None]) -> Callable[[], None]:
+        """Call ``callback()`` when the controller is deleted; returns an unsubscribe."""
+        if self.closed:
+            callback()
+        else:
+            self._on_close.append(callback)
+
+        def cancel() -> None:
+            if callback in self._on_close:
+                self._on_close.remove(callback)
+
+        return cancel
+
     async def close(self) -> None:
-        """Stop the clock's task."""
+        """Stop the clock's task; tell subscribers (WebSockets) the controller is gone."""
+        self.closed = True
+        callbacks, self._on_close = self._on_close, []
+        for callback in callbacks:
+            callback()
         await self.clock.stop()
+
+    def snapshot(self) -> dict[str, Any]:
+        """:meth:`to_dict` at the current instant (a realtime environment is run to it first)."""
+        return self.apply(self.to_dict)
 
     def to_dict(self) -> dict[str, Any]:
         """The API's ``Controller``: id, kind, clock, merged with the kind's ``status()``."""

@@ -12,7 +12,7 @@ router = APIRouter(tags=["controllers"])
 
 @router.get("/controllers", response_model=list[ControllerOut])
 def list_controllers(registry: RegistryDep) -> list[dict]:
-    return [h.to_dict() for h in registry]
+    return [h.snapshot() for h in registry]
 
 
 @router.post("/controllers", status_code=201, response_model=ControllerOut)
@@ -25,7 +25,7 @@ def create_controller(body: ControllerIn, registry: RegistryDep) -> dict:
 
 @router.get("/controllers/{controller_id}", response_model=ControllerOut)
 def get_controller(handle: HandleDep) -> dict:
-    return handle.to_dict()
+    return handle.snapshot()
 
 
 @router.delete("/controllers/{controller_id}", status_code=204)

@@ -26,6 +26,11 @@ router = APIRouter(tags=["events"])
 #: Events read from the ring per batch before yielding to the event loop.
 WS_BATCH = 256
 
+#: Close codes: unknown controller; bad query; the controller was deleted.
+CLOSE_NOT_FOUND = 4404
+CLOSE_BAD_QUERY = 4422
+CLOSE_DELETED = 4410
+
 
 @router.get("/controllers/{controller_id}/events", response_model=EventsPage,
             response_model_exclude_unset=True)
@@ -55,26 +60,33 @@ async def stream_events(
     try:
         handle = websocket.app.state.registry.get(controller_id)
     except NotFound as exc:
-        await websocket.close(code=4404, reason=exc.message[:120])
+        await websocket.close(code=CLOSE_NOT_FOUND, reason=exc.message[:120])
         return
     if since < 0:
-        await websocket.close(code=4422, reason="since must be >= 0")
+        await websocket.close(code=CLOSE_BAD_QUERY, reason="since must be >= 0")
         return
     await websocket.accept()
     handle.ensure_running()
     cursor = Cursor(handle.controller.log, since, type, handle.id, WS_BATCH)
-    disconnected = asyncio.get_running_loop().create_task(_until_disconnect(websocket))
+    loop = asyncio.get_running_loop()
+    disconnected = loop.create_task(_until_disconnect(websocket))
+    deleted: asyncio.Future[None] = loop.create_future()
+    cancel = handle.on_close(lambda: deleted.done() or deleted.set_result(None))
     try:
         while not disconnected.done():
             for message in cursor.read():
                 await websocket.send_text(json.dumps(message))
+            if deleted.done():
+                await websocket.close(code=CLOSE_DELETED, reason="controller deleted")
+                break
             if cursor.behind:
                 await asyncio.sleep(0)  # more held: let others run, then continue
             else:
-                await cursor.wait(disconnected)
+                await cursor.wait(disconnected, deleted)
     except (WebSocketDisconnect, RuntimeError, ConnectionError):
         pass
     finally:
+        cancel()
         disconnected.cancel()
 
 

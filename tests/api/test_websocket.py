@@ -108,3 +108,13 @@ def test_live_events_of_a_realtime_controller_arrive_without_any_request():
         got = _recv(ws, 5)
     assert [e["n"] for e in got] == [1, 2, 3, 4, 5]
     assert [e["t"] for e in got] == pytest.approx([0.02, 0.04, 0.06, 0.08, 0.1])
+
+
+def test_deleting_the_controller_closes_its_streams_with_4410(tc):
+    with tc.websocket_connect("/controllers/d/events") as ws:
+        tc.post("/controllers/d/clock/advance", json={"seconds": 0.01})
+        assert _recv(ws, 1)[0]["seq"] == 1
+        assert tc.delete("/controllers/d").status_code == 204
+        with pytest.raises(WebSocketDisconnect) as exc:
+            ws.receive_text()
+    assert exc.value.code == 4410
