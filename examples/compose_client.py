@@ -56,7 +56,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--words", type=int, default=600, help="rotary buffer size (DEFINE ROT)")
     ap.add_argument("--lines", type=int, default=2000, help="program lines to stream")
     ap.add_argument("--batch", type=int, default=20, help="lines per POST")
-    ap.add_argument("--move-ms", type=int, default=10, help="TM of each move")
+    ap.add_argument("--move-ms", type=int, default=20, help="TM of each move (TA10 TS0)")
     args = ap.parse_args(argv)
 
     base = f"/controllers/{args.controller}/coord/{args.cs}"
@@ -67,11 +67,12 @@ def main(argv: list[str] | None = None) -> int:
         if r.status_code not in (204, 404, 409):
             r.raise_for_status()
         http.put(f"{base}/rotary", json={"size_words": args.words}).raise_for_status()
-        lines = ["INC", "LINEAR", f"TM{args.move_ms}", *program_lines(args.lines)]
+        header = ["INC", "LINEAR", "TA10", "TS0", f"TM{args.move_ms}"]
+        lines = [*header, *program_lines(args.lines)]
         sent = 0
         waits = 0
         started = False
-        while sent < len(lines):
+        while sent < len(lines):  # seq numbers: 1 = first header line
             batch = lines[sent:sent + args.batch]
             r = http.post(f"{base}/rotary/lines", json={"lines": batch, "first_seq": sent + 1})
             if r.status_code == 409 and r.json().get("code") == "buffer_full":

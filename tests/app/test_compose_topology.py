@@ -47,12 +47,12 @@ def test_the_example_client_streams_a_program_through_a_served_motionsim():
             capture_output=True, text=True, timeout=120, env=ENV, cwd=ROOT)
         assert client.returncode == 0, client.stderr
         summary = json.loads(client.stdout.splitlines()[-1])
-        assert summary["lines_sent"] == 303
+        assert summary["lines_sent"] == 305
         assert summary["breq_waits"] > 0           # the 600-word buffer filled up
         assert summary["program"]["state"] == "waiting"  # ran out of lines at the end
         with httpx.Client(base_url=served.url, trust_env=False) as http:
             loaded = http.get("/controllers/pmac/events",
                               params={"type": "line_loaded", "limit": 10_000}).json()["events"]
-        assert [e["n"] for e in loaded] == list(range(1, 304))
+        assert [e["n"] for e in loaded] == list(range(1, 306))
     finally:
         _stop(served)
