@@ -52,6 +52,9 @@ class LoadResult(NamedTuple):
     breq: bool
 
 
+_new_result = tuple.__new__  # builds a LoadResult without the Python-level __new__ frame
+
+
 class PmacController(Controller):
     """A Turbo PMAC with 16 coordinate systems, rotary buffers and a host command line."""
 
@@ -295,7 +298,9 @@ class PmacController(Controller):
             rot.store(line)
             if c._plan_due is None:
                 c.lines_arrived()
-            return LoadResult(1, 1, len(rot.pending), rot.size_words - rot.used_words, rot.breq)
+            return _new_result(
+                LoadResult, (1, 1, len(rot.pending), rot.size_words - rot.used_words, rot.breq)
+            )
         compiled: list[ProgramLine] = []
         for i, text in enumerate(texts):
             line = cache.get(text) if type(text) is str else None

@@ -552,10 +552,57 @@ class CoordSystem:
         self._after(math.ceil((m.b_end + m.ta_out / 2) / p - 1e-6) * p, self._stop_end_cb)
 
     def _handoff(self, ev: Any) -> None:
-        """The blend into the next move starts (``ev`` None: already checked by _dispatch)."""
+        """The blend into the next move starts (``ev`` None: already checked by _dispatch).
+
+        The streaming hot path: :meth:`_start` for a blended LINEAR/DELAY move, written out.
+        """
         if ev is not None and ev.gen != self._gen:
             return
-        self._start(self.planned.popleft(), self._env._now, self.current)
+        prev = self.current
+        m = self.planned.popleft()
+        if m.sync or prev is None or self.blocked or self.quitting or self.single_step:
+            self._start(m, self._env._now, prev)
+            return
+        t = self._env._now
+        emit = self._emit
+        cs = self.cs
+        n = m.n
+        emit("move_end", cs=cs, n=prev.n)
+        prev.prev = None
+        m.prev = prev
+        b = m.b_start = prev.b_end
+        rot = self.rotary
+        if rot is not None:
+            calc = rot.calculated
+            if calc and calc[0][0] < n:
+                rot.free_through(n - 1)
+        emit("move_start", cs=cs, n=n)
+        b_end = m.b_end = b + m.tm
+        self.current = m
+        if self._ver != self.vars.version:
+            self._refresh()
+        p = self._period
+        if self._plan_due is None:
+            r = self._rti
+            k = math.floor(t / p + 1e-6) + 1
+            tp = self._plan_due = -(-k // r) * r * p
+            Wake(self._env, tp, self._plan_cb_bound)
+        planned = self.planned
+        if self._isx13 == 0 and planned:
+            nxt = planned[0]
+            if nxt.kind == LINEAR or nxt.kind == DELAY:
+                lim = 2 * (m.tm - m.ta_in / 2)
+                ta_n = nxt.ta if nxt.ta <= lim else max(0.0, lim)
+                nxt.ta_in = ta_n
+                self._gen = g = self._gen + 1
+                th = math.ceil((b_end - ta_n / 2) / p - 1e-6) * p
+                ev = Wake(self._env, th if th > t else t, self._handoff_cb)
+                ev.gen = g  # type: ignore[attr-defined]
+                return
+        if self._isx13 > 0:
+            self._after(math.ceil((b_end - m.ta / 2) / p - 1e-6) * p, self._decide_cb)
+            return
+        self._decide(None)
 
     def _stop_end(self, _ev: Any) -> None:
         m = self.current
