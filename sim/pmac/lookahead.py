@@ -170,6 +170,7 @@ class CoordSystem:
         self._f = 1000.0
         self._isx90 = 1000.0
         self._rti = 3
+        self._tm_s = 1.0
 
     # -- state ----------------------------------------------------------------------------
 
@@ -199,6 +200,7 @@ class CoordSystem:
         self._f = v.I(isx(cs, 89))
         self._isx90 = v.I(isx(cs, 90))
         self._rti = int(v.I(8)) + 1
+        self._tm_s = motion.clamp_move_time(self._f / 1000.0, self._ta_s)  # TM mode move time
 
     def _depth(self) -> int:
         if self._ver != self.vars.version:
@@ -319,10 +321,14 @@ class CoordSystem:
             return
         rot = self.rotary
         planned = self.planned
+        if self._ver != self.vars.version:
+            self._refresh()
         if self.single_step:
             target = 0 if (self.current is not None or planned) else 1
         else:
-            target = self._depth() + (0 if self.current is not None else 1)
+            target = 2 if self._isx13 == 0 and self.mode == "LINEAR" else 1
+            if self.current is None:
+                target += 1
         if rot is not None and self.program == 0:
             pending = rot.pending
             while len(planned) < target and not self.blocked and pending:
@@ -336,11 +342,7 @@ class CoordSystem:
                         if axis not in start:
                             start[axis] = 0.0
                         end[axis] = value
-                    ta = self._ta_s
-                    t = self._f / 1000.0
-                    if t < ta or t < motion.MIN_MOVE_S or t > motion.MAX_MOVE_S:
-                        t = motion.clamp_move_time(t, ta)
-                    move = Move(n, LINEAR, t, ta, start, end, None)
+                    move = Move(n, LINEAR, self._tm_s, self._ta_s, start, end, None)
                     self.calc_pos = end
                     if self.sync_pending:
                         move.sync = self.sync_pending
