@@ -296,8 +296,8 @@ class PmacController(Controller):
                     free_words=rot.free_words,
                 )
             rot.store(line)
-            if c._plan_due is None:
-                c.lines_arrived()
+            if c._plan_due is None and (c.current is None or len(c.planned) < 2):
+                c.lines_arrived()  # (depth is at most 2: with 2 calculated it wants nothing)
             return _new_result(
                 LoadResult, (1, 1, len(rot.pending), rot.size_words - rot.used_words, rot.breq)
             )

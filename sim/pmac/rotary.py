@@ -40,6 +40,7 @@ class RotaryBuffer:
         size_words: size from ``DEFINE ROT``.
         log: the controller's event log.
         thresholds: returns ``(I16, I17)`` now (they may change at any time).
+        vars_: the variable store; its ``version`` tells when to call ``thresholds`` again.
     """
 
     __slots__ = (
@@ -67,7 +68,7 @@ class RotaryBuffer:
         size_words: int,
         log: EventLog,
         thresholds: Callable[[], tuple[float, float]],
-        vars_: Any = None,
+        vars_: Any,
     ) -> None:
         self.cs = cs
         self.size_words = size_words
@@ -89,8 +90,7 @@ class RotaryBuffer:
     def _limits(self) -> None:
         """Refresh the cached I16 / I17 (``vars_.version`` tells when they may have changed)."""
         self._i16, self._i17 = self._thresholds()
-        if self._vars is not None:
-            self._ver = self._vars.version
+        self._ver = self._vars.version
 
     # -- state ----------------------------------------------------------------------------
 
@@ -157,7 +157,7 @@ class RotaryBuffer:
         if self.breq:
             self.breq = False
             emit("breq", cs=cs, level=False)
-        if self._vars is None or self._ver != self._vars.version:
+        if self._ver != self._vars.version:
             self._limits()
         if ahead < self._i17:
             self.breq = True  # the rising half of the pulse: an interrupt to the host
@@ -181,7 +181,7 @@ class RotaryBuffer:
     def line_calculated(self, n: int) -> None:
         """Planning has worked through line ``n``: the I16 rule."""
         self._emit("line_calculated", cs=self.cs, n=n)
-        if self._vars is None or self._ver != self._vars.version:
+        if self._ver != self._vars.version:
             self._limits()
         if len(self.pending) < self._i16:
             self.full = False
