@@ -332,9 +332,9 @@ class CoordSystem:
         if rot is not None and self.program == 0:
             pending = rot.pending
             while len(planned) < target and not self.blocked and pending:
-                n, line = rot.take()  # type: ignore[misc]
-                simple = line.simple
+                simple = pending[0][1].simple
                 if simple is not None and self._fast and self._ver == self.vars.version:
+                    n, line = rot.take_simple()
                     # Short cut for the streamed line: one LINEAR move, constant ABS values, TM.
                     start = self.calc_pos
                     end = start.copy()
@@ -349,11 +349,12 @@ class CoordSystem:
                         self.sync_pending = []
                     planned.append(move)
                 else:
+                    n, line = rot.take()  # type: ignore[misc]
                     self._calculate(n, line)
                     self._fast = (
                         self.time_mode and self.mode == "LINEAR" and not self.incremental
                     )
-                rot.line_calculated(n)
+                    rot.line_calculated(n)
         if self.current is None:
             if planned:
                 if self.state == WAITING:

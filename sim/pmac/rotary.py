@@ -178,6 +178,21 @@ class RotaryBuffer:
         self.calculated.append((item[0], item[1].words))
         return item
 
+    def take_simple(self) -> tuple[int, ProgramLine]:
+        """Take the next line when its calculation emits nothing (a plain move line): the
+        ``line_calculated`` event and the I16 rule happen at once (:meth:`line_calculated`)."""
+        item = self.pending.popleft()
+        n = item[0]
+        self.calculated.append((n, item[1].words))
+        self._emit("line_calculated", cs=self.cs, n=n)
+        if self._ver != self._vars.version:
+            self._limits()
+        if len(self.pending) < self._i16:
+            self.full = False
+            if not self.breq:
+                self._set(True)
+        return item
+
     def line_calculated(self, n: int) -> None:
         """Planning has worked through line ``n``: the I16 rule."""
         self._emit("line_calculated", cs=self.cs, n=n)
