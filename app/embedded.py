@@ -42,7 +42,7 @@ class EmbeddedService:
 
         from api.main import create_app
 
-        sock = socket.socket(socket.AF_INET)
+        sock = socket.socket(socket.AF_INET, socket.SOCK_STREAM, socket.IPPROTO_TCP)  # NODELAY
         sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
         sock.bind((self.settings.host, self.settings.port))
         sock.listen(1024)

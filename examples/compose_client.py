@@ -88,13 +88,21 @@ def main(argv: list[str] | None = None) -> int:
             if not started:
                 http.post(f"{base}/run").raise_for_status()
                 started = True
-        done = http.post(clock_path, json={"event": {"type": "program", "cs": args.cs,
-                                                     "state": "waiting"},
-                                           "timeout_s": 60}).json()
         coord = http.get(base).json()
+        starved = coord["program"]["state"] == "waiting" and coord["rotary"]["lines_ahead"] > 0
+        if coord["program"]["state"] != "waiting" or coord["rotary"]["lines_ahead"] > 0:
+            http.post(clock_path, json={"event": {"type": "program", "cs": args.cs,
+                                                  "state": "waiting"},
+                                        "timeout_s": 60}).raise_for_status()
+            coord = http.get(base).json()
+        events = http.get(f"/controllers/{args.controller}/events",
+                          params={"type": "program", "limit": 100_000}).json()["events"]
+        waits_for_lines = [e["t"] for e in events
+                           if e.get("cs") == args.cs and e["state"] == "waiting"]
         print(json.dumps({"lines_sent": sent, "breq_waits": waits,
-                          "ran_out_at": (done["matched"] or {}).get("t"),
-                          "t": done["clock"]["t"], "program": coord["program"]}))
+                          "starved": len(waits_for_lines) - 1 + int(starved),
+                          "ran_out_at": waits_for_lines[-1] if waits_for_lines else None,
+                          "program": coord["program"]}))
     return 0
 
 

@@ -50,6 +50,7 @@ def test_the_example_client_streams_a_program_through_a_served_motionsim():
         assert summary["lines_sent"] == 305
         assert summary["breq_waits"] > 0           # the 600-word buffer filled up
         assert summary["program"]["state"] == "waiting"  # ran out of lines at the end
+        assert summary["starved"] == 0                    # virtual time: the host never lags
         with httpx.Client(base_url=served.url, trust_env=False) as http:
             loaded = http.get("/controllers/pmac/events",
                               params={"type": "line_loaded", "limit": 10_000}).json()["events"]
