@@ -334,7 +334,7 @@ class PmacController(Controller):
         try:
             line = compile_line(text)
         except ParseError as e:
-            raise e.at(index=index) from None
+            raise e.at(index=index, line=index + 1) from None
         if len(_LINE_CACHE) >= _LINE_CACHE_SIZE:
             _LINE_CACHE.clear()
         _LINE_CACHE[text] = line
