@@ -137,19 +137,13 @@ def serve(
         errors = "; ".join(f"{'.'.join(map(str, e['loc']))}: {e['msg']}" for e in exc.errors())
         raise _fail(f"invalid settings: {errors}", 2) from None
 
-    # IPPROTO_TCP explicitly: asyncio sets TCP_NODELAY only on sockets whose proto says TCP
-    # (accepted sockets inherit it); without it every response waits ~40 ms (Nagle + ACK).
-    sock = socket.socket(socket.AF_INET6 if ":" in settings.host else socket.AF_INET,
-                         socket.SOCK_STREAM, socket.IPPROTO_TCP)
-    sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    from app.sockets import bind_tcp
+
     try:
-        sock.bind((settings.host, settings.port))
-        sock.listen(2048)
+        sock = bind_tcp(settings.host, settings.port)
     except OSError as exc:
-        sock.close()
         raise _fail(f"cannot listen on http://{settings.host}:{settings.port}: "
                     f"{exc.strerror or exc}", 1) from None
-    sock.setblocking(False)
     settings = settings.model_copy(update={"port": sock.getsockname()[1]})
 
     from api.main import create_app

@@ -11,11 +11,11 @@ locks); the caller talks to it over HTTP / WebSocket / TCP like any client.
 from __future__ import annotations
 
 import asyncio
-import socket
 import threading
 from typing import Any
 
 from app.settings import Settings
+from app.sockets import bind_tcp
 
 
 class EmbeddedService:
@@ -42,11 +42,7 @@ class EmbeddedService:
 
         from api.main import create_app
 
-        sock = socket.socket(socket.AF_INET, socket.SOCK_STREAM, socket.IPPROTO_TCP)  # NODELAY
-        sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        sock.bind((self.settings.host, self.settings.port))
-        sock.listen(1024)
-        sock.setblocking(False)
+        sock = bind_tcp(self.settings.host, self.settings.port)
         self.port = sock.getsockname()[1]
         self.settings = self.settings.model_copy(update={"port": self.port})
         self.url = f"http://{self.settings.host}:{self.port}"
