@@ -32,7 +32,7 @@ What is modelled (TUM p236, p249-250, p339-341; TSRM p177, p429, p446; PUM p213;
   Ixx15 (motor 1's, cts/ms², one count = one axis unit ``[INF]``), calculated moves and
   queued synchronous writes are discarded (their lines freed); uncalculated lines stay.
 * **S** runs one move, then ``stopped``. **H** (feed hold) is modelled as Q ``[INF]``
-  (the Isx95 slew is not modelled).
+  (the Isx95 slew is not modelled); ``%`` is stored and reported but does not scale time.
 
 Program states (``program`` events): idle → running ⇄ waiting → stopped | aborted; running
 again only through ``R``/``S``. The legal transitions are the table ``TRANSITIONS``.
@@ -162,6 +162,9 @@ class CoordSystem:
         self.time_mode = False
         self.incremental: set[str] = set()
         self._fast = False  # time mode, LINEAR, all axes absolute: the planning short cut
+        #: ``%`` feedrate override, reported and settable; ``[INF]`` its time-base scaling of
+        #: moves and DELAY (and the Isx94 slew) is not modelled yet: motion runs at 100 %.
+        self.feed_override = 100.0
         self.calc_pos: dict[str, float] = {}
         self.rest_pos: dict[str, float] = {}
         self._ver = -1

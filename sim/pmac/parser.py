@@ -264,6 +264,10 @@ class _Parser:
             return st.AddressMotor(motor)
         if word in ("?", "??", "???"):
             return st.Query(word)
+        if word == "%":
+            if self.at("num"):
+                return st.FeedOverride(_number(self.take()[1]))
+            return st.Query("%")
         raise self.error(f"unexpected {word!r}", tok)
 
     def axis_definition(self) -> str | None:

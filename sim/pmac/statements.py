@@ -117,6 +117,13 @@ class Query:
 
 
 @dataclass(frozen=True, slots=True)
+class FeedOverride:
+    """``%{n}`` sets the addressed CS's feedrate override (``%`` alone reports it)."""
+
+    percent: float
+
+
+@dataclass(frozen=True, slots=True)
 class VarQuery:
     """``I16``, ``I16..17`` (``last``), ``I130,4,100`` (``count``, ``step``); also P, Q, M."""
 
@@ -259,6 +266,7 @@ OnlineStatement = (
     | Abort
     | Hold
     | Query
+    | FeedOverride
     | VarQuery
     | VarDefault
     | MDefinitionQuery

@@ -158,6 +158,8 @@ class Terminal:
             ctl.abort(state["cs"])
         elif t is st.Query:
             out.append(self._query(stmt.what, port))
+        elif t is st.FeedOverride:
+            ctl.coord_system(state["cs"]).feed_override = stmt.percent
         elif t is st.VarQuery:
             for n in stmt.numbers():
                 if not 0 <= n < 8192:
@@ -192,6 +194,8 @@ class Terminal:
         ctl = self.ctl
         cs_n = port.state["cs"]
         cs = ctl.coord_system(cs_n)
+        if what == "%":
+            return format_value(cs.feed_override)
         if what == "PR":
             return str(cs.rotary.lines_ahead if cs.rotary is not None else 0)
         if what == "??":

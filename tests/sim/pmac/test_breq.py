@@ -25,7 +25,7 @@ def test_breq_pulses_when_line_loaded_below_i17(rig):
     k_open = edges[0][0]
     assert edges[0] == (k_open, True)  # OPEN ROT: fewer than I17 ahead
     assert edges[1:] == [e for k in ks for e in ((k, False), (k, True))]
-    for k, type_, f in rig.events("line_loaded", "breq"):
+    for k, type_, _f in rig.events("line_loaded", "breq"):
         if type_ == "line_loaded":
             assert k in ks
 

@@ -8,6 +8,8 @@ states only take legal transitions (an illegal one raises inside the core).
 
 from __future__ import annotations
 
+import contextlib
+
 from hypothesis import settings
 from hypothesis import strategies as hs
 from hypothesis.stateful import RuleBasedStateMachine, invariant, rule
@@ -29,10 +31,8 @@ class PmacMachine(RuleBasedStateMachine):
 
     @rule(lines=hs.lists(hs.sampled_from(LINES), min_size=1, max_size=4))
     def load(self, lines):
-        try:
+        with contextlib.suppress(BufferFull):
             self.c.load_lines(1, lines)
-        except BufferFull:
-            pass
 
     @rule(cmd=hs.sampled_from(["R", "S", "Q", "A", "H", "OPEN ROT", "CLOSE", "X5", "PR",
                                "??", "I5113=5", "I5113=0"]))

@@ -14,7 +14,7 @@ def _load(rig, lines):
 
 
 def _first(rig, type_, **match):
-    for k, t, f in rig.events(type_):
+    for k, _t, f in rig.events(type_):
         if all(f.get(a) == b for a, b in match.items()):
             return k, f
     raise AssertionError(f"no {type_} {match}")

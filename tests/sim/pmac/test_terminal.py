@@ -167,3 +167,21 @@ def test_reply_comes_in_the_next_background_cycle(rig):
 @pytest.mark.parametrize("text", ["", "   ", "; just a comment"])
 def test_empty_line_answers_nothing(rig, text):
     assert (rig.cmd(text).reply, rig.cmd(text).error) == ("", None)
+
+
+def test_an_epics_style_poll_line_answers_one_line_per_item(rig):
+    """Spec §5.3: the EPICS driver polls ``#1P #1F i124 #1? &1?? ??? &1%`` — one line each."""
+    reply = rig.ok("#1P #1F i124 #1? &1?? ??? &1%")
+    lines = reply.split("\r")
+    assert len(lines) == 7
+    assert lines[0] == "0" and lines[2] == "0" and lines[6] == "100"
+    rig.ok("&1%50")
+    assert rig.ok("%") == "50"
+
+
+def test_q_variables_are_per_coordinate_system(rig):
+    """TSRM p23: Q-variables have one bank per coordinate system."""
+    rig.ok("&2 Q1=5")
+    assert rig.ok("&1 Q1") == "0"
+    assert rig.ok("&2 Q1") == "5"
+    assert rig.c.get_variable("&2Q1") == 5
