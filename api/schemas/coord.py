@@ -17,6 +17,8 @@ class RotaryPublic(BaseModel):
     lines_ahead: int
     breq: bool
     open: bool
+    full: bool = Field(False, description="the rotary-buffer-full status bit (`??` word 2 bit "
+                                          "16): set at I17 lines ahead, cleared below I16")
 
 
 class ProgramPublic(BaseModel):

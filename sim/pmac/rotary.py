@@ -115,6 +115,7 @@ class RotaryBuffer:
             "lines_ahead": len(self.pending),
             "breq": self.breq,
             "open": open_,
+            "full": self.full,
         }
 
     # -- BREQ -----------------------------------------------------------------------------

@@ -52,7 +52,7 @@ async def test_define_rotary_and_delete(pmac_api):
     r = await pmac_api.put(f"{BASE}/coord/1/rotary", json={"size_words": 600})
     assert r.status_code == 200
     assert r.json() == {"size_words": 600, "used_words": 0, "free_words": 600,
-                        "lines_ahead": 0, "breq": False, "open": False}
+                        "lines_ahead": 0, "breq": False, "open": False, "full": False}
     assert (await pmac_api.delete(f"{BASE}/coord/1/rotary")).status_code == 204
     assert (await pmac_api.get(f"{BASE}/coord/1")).json()["rotary"] is None
 
