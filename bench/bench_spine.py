@@ -10,6 +10,7 @@ Prints the figures and writes ``bench/results/spine.json``:
 - ``ws_fanout``: a served motionsim (real uvicorn on 127.0.0.1, realtime clock) whose
   controller emits ``rate`` events per second; 100 WebSocket subscribers; latency = wall time
   at receipt − wall time at emission, p50 / p99, and how many messages arrived;
+- ``rest``: sequential REST round trips (one keep-alive connection), p50 / p99;
 - ``realtime``: lateness of the realtime clock's wake-ups (wall time between an event's due
   instant and its processing), p50 / p99, idle and while the fan-out runs.
 """
@@ -110,6 +111,20 @@ async def _subscriber(url: str, latencies: list[float], counts: list[int], i: in
                 counts[i] += 1
 
 
+def _rest_round_trips(url: str, n: int) -> list[float]:
+    """Sequential ``GET /controllers/b/clock`` round trips on one keep-alive connection."""
+    import httpx
+
+    out = []
+    with httpx.Client(base_url=url, trust_env=False) as http:
+        http.get("/health")
+        for _ in range(n):
+            t0 = time.perf_counter()
+            http.get("/controllers/b/clock").raise_for_status()
+            out.append(time.perf_counter() - t0)
+    return out
+
+
 async def _subscribe_all(url: str, subscribers: int, warmup_s: float, seconds: float) -> dict:
     """Connect ``subscribers`` WebSockets, measure for ``seconds`` after ``warmup_s``."""
     latencies: list[float] = []
@@ -137,6 +152,8 @@ async def bench_fanout(subscribers: int, rate: float, seconds: float) -> dict:
     svc = EmbeddedService(settings).start()
     try:
         handle = svc.app.state.registry.get("b")
+        rtt = await asyncio.to_thread(_rest_round_trips, svc.url, 300)
+        handle.clock.lateness_s.clear()
         await asyncio.sleep(1.0)
         idle = list(handle.clock.lateness_s)
         url = svc.url.replace("http", "ws") + "/controllers/b/events?type=tick&since=" + str(
@@ -155,6 +172,8 @@ async def bench_fanout(subscribers: int, rate: float, seconds: float) -> dict:
         svc.stop()
     expected = rate * seconds * subscribers
     return {
+        "rest": {"requests": len(rtt), "round_trip_p50_ms": round(pct(rtt, 0.5) * 1e3, 3),
+                 "round_trip_p99_ms": round(pct(rtt, 0.99) * 1e3, 3)},
         "ws_fanout": {"subscribers": subscribers, "events_per_s": rate, "seconds": seconds,
                       "messages": res["messages"], "expected_messages": round(expected),
                       "latency_p50_ms": round(res["p50"] * 1e3, 3),
@@ -184,7 +203,9 @@ def main() -> None:
           f"{out['log']['emit_plus_10_readers_per_s']:,} events/s")
     fan = asyncio.run(bench_fanout(100, 100.0, 2.0 if args.quick else 5.0))
     out.update(fan)
-    f, r = fan["ws_fanout"], fan["realtime"]
+    f, r, h = fan["ws_fanout"], fan["realtime"], fan["rest"]
+    print(f"rest: GET clock round trip p50 {h['round_trip_p50_ms']} ms "
+          f"p99 {h['round_trip_p99_ms']} ms")
     print(f"ws fan-out: {f['subscribers']} subscribers x {f['events_per_s']:.0f} events/s: "
           f"{f['messages']}/{f['expected_messages']} messages, latency p50 "
           f"{f['latency_p50_ms']} ms p99 {f['latency_p99_ms']} ms")
