@@ -1,11 +1,12 @@
-"""``GET /health``: 200 once every listener accepts connections."""
+"""``GET /health``: 200 once every listener accepts connections; ``GET /``: what this is."""
 
 from __future__ import annotations
 
 from fastapi import APIRouter, Request
 from fastapi.responses import JSONResponse
 
-from api.schemas.common import Health
+from api.schemas.common import Health, ServiceInfo
+from app import __version__
 
 router = APIRouter(tags=["service"])
 
@@ -16,3 +17,11 @@ def health(request: Request) -> JSONResponse | Health:
     if not request.app.state.ready:
         return JSONResponse({"status": "starting"}, status_code=503)
     return Health(status="ok")
+
+
+@router.get("/", response_model=ServiceInfo)
+def root(request: Request) -> ServiceInfo:
+    """What this service is and where to look next."""
+    return ServiceInfo(service="motionsim", version=__version__, docs="/docs",
+                       openapi="/openapi.json",
+                       controllers=request.app.state.registry.ids())

@@ -28,6 +28,16 @@ class Health(BaseModel):
     status: str = Field(description="ok | starting")
 
 
+class ServiceInfo(BaseModel):
+    """The service's name, version, where its documentation is, and its controllers."""
+
+    service: str
+    version: str
+    docs: str
+    openapi: str
+    controllers: list[str]
+
+
 #: ``responses=`` for the app: the error body for the statuses every route may answer.
 ERROR_RESPONSES: dict[int | str, dict] = {
     404: {"model": ErrorBody, "description": "unknown controller or resource (`not_found`)"},
@@ -37,4 +47,4 @@ ERROR_RESPONSES: dict[int | str, dict] = {
           "description": "bad field or program text (`validation_error`, `parse_error`)"},
 }
 
-__all__ = ["ERROR_RESPONSES", "ErrorBody", "Health"]
+__all__ = ["ERROR_RESPONSES", "ErrorBody", "Health", "ServiceInfo"]

@@ -170,3 +170,11 @@ async def test_an_unexpected_exception_is_a_500_json_body(make_app):
         r = await c.get("/controllers/d/variables/V1")
     assert r.status_code == 500
     assert r.json() == {"code": "internal_error", "message": "internal error: RuntimeError: boom"}
+
+
+async def test_root_says_what_this_is_and_where_the_docs_are(api):
+    r = await api.get("/")
+    assert r.status_code == 200
+    body = r.json()
+    assert (body["service"], body["docs"], body["controllers"]) == ("motionsim", "/docs", ["d"])
+    assert (await api.get("/docs")).status_code == 200
