@@ -118,3 +118,15 @@ def test_deleting_the_controller_closes_its_streams_with_4410(tc):
         with pytest.raises(WebSocketDisconnect) as exc:
             ws.receive_text()
     assert exc.value.code == 4410
+
+
+def test_batch_mode_sends_arrays_of_events(tc):
+    tc.post("/controllers/d/clock/advance", json={"seconds": 0.03})
+    with tc.websocket_connect("/controllers/d/events?batch=true") as ws:
+        first = json.loads(ws.receive_text())
+        assert [e["seq"] for e in first] == [1, 2, 3]
+        tc.post("/controllers/d/clock/advance", json={"seconds": 0.02})
+        seen = []
+        while len(seen) < 2:
+            seen += json.loads(ws.receive_text())
+    assert [e["seq"] for e in seen] == [4, 5]
