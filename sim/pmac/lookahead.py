@@ -45,6 +45,7 @@ from collections import deque
 from typing import TYPE_CHECKING, Any
 
 from sim.pmac import motion
+from sim.pmac.expressions import pmac_and, pmac_or, pmac_xor
 from sim.pmac.program import (
     OP_ASSIGN,
     OP_AXISMODE,
@@ -72,6 +73,9 @@ TRANSITIONS: dict[str, frozenset[str]] = {
     STOPPED: frozenset({RUNNING, ABORTED}),
     ABORTED: frozenset({RUNNING}),
 }
+
+#: Synchronous read-modify-write forms.
+_BITWISE = {"&=": pmac_and, "|=": pmac_or, "^=": pmac_xor}
 
 # Move kinds.
 LINEAR, DWELL, DELAY, RAPID = 0, 1, 2, 3
@@ -204,11 +208,6 @@ class CoordSystem:
         self._isx90 = v.I(isx(cs, 90))
         self._rti = int(v.I(8)) + 1
         self._tm_s = motion.clamp_move_time(self._f / 1000.0, self._ta_s)  # TM mode move time
-
-    def _depth(self) -> int:
-        if self._ver != self.vars.version:
-            self._refresh()
-        return 2 if self._isx13 == 0 and self.mode == "LINEAR" else 1
 
     def _accel_s(self) -> float:
         if self._ver != self.vars.version:
@@ -647,10 +646,7 @@ class CoordSystem:
             vars_.write("M", k, value, self.cs, sync=True)
             return
         old = vars_.read("M", k, self.cs)
-        from sim.pmac.expressions import pmac_and, pmac_or, pmac_xor
-
-        f = {"&=": pmac_and, "|=": pmac_or, "^=": pmac_xor}[aop]
-        vars_.write("M", k, f(old, value), self.cs, sync=True)
+        vars_.write("M", k, _BITWISE[aop](old, value), self.cs, sync=True)
 
     # -- positions --------------------------------------------------------------------------
 
