@@ -11,6 +11,7 @@ Prints the figures and writes ``bench/results/spine.json``:
   controller emits ``rate`` events per second; 100 WebSocket subscribers; latency = wall time
   at receipt − wall time at emission, p50 / p99, and how many messages arrived;
 - ``rest``: sequential REST round trips (one keep-alive connection), p50 / p99;
+- ``ws_fanout_batch``: the same at 1000 events/s with ``batch=true`` (arrays per message);
 - ``realtime``: lateness of the realtime clock's wake-ups (wall time between an event's due
   instant and its processing), p50 / p99, idle and while the fan-out runs.
 """
@@ -105,10 +106,11 @@ async def _subscriber(url: str, latencies: list[float], counts: list[int], i: in
             except TimeoutError:
                 continue
             now = time.time()
-            ev = json.loads(msg)
-            if "wall" in ev:
-                latencies.append(now - ev["wall"])
-                counts[i] += 1
+            data = json.loads(msg)
+            for ev in data if isinstance(data, list) else (data,):
+                if "wall" in ev:
+                    latencies.append(now - ev["wall"])
+                    counts[i] += 1
 
 
 def _rest_round_trips(url: str, n: int) -> list[float]:
@@ -142,7 +144,8 @@ async def _subscribe_all(url: str, subscribers: int, warmup_s: float, seconds: f
     return {"messages": n, "p50": pct(latencies, 0.5), "p99": pct(latencies, 0.99)}
 
 
-async def bench_fanout(subscribers: int, rate: float, seconds: float) -> dict:
+async def bench_fanout(subscribers: int, rate: float, seconds: float,
+                       batch: bool = False) -> dict:
     """Server in this process (embedded), subscribers in a child process (no shared GIL)."""
     from app.embedded import EmbeddedService
 
@@ -157,7 +160,7 @@ async def bench_fanout(subscribers: int, rate: float, seconds: float) -> dict:
         await asyncio.sleep(1.0)
         idle = list(handle.clock.lateness_s)
         url = svc.url.replace("http", "ws") + "/controllers/b/events?type=tick&since=" + str(
-            handle.controller.log.last_seq)
+            handle.controller.log.last_seq) + ("&batch=true" if batch else "")
         warmup = 2.0
         child = await asyncio.create_subprocess_exec(
             sys.executable, __file__, "--child", url, str(subscribers), str(warmup),
@@ -175,6 +178,7 @@ async def bench_fanout(subscribers: int, rate: float, seconds: float) -> dict:
         "rest": {"requests": len(rtt), "round_trip_p50_ms": round(pct(rtt, 0.5) * 1e3, 3),
                  "round_trip_p99_ms": round(pct(rtt, 0.99) * 1e3, 3)},
         "ws_fanout": {"subscribers": subscribers, "events_per_s": rate, "seconds": seconds,
+                      "batch": batch,
                       "messages": res["messages"], "expected_messages": round(expected),
                       "latency_p50_ms": round(res["p50"] * 1e3, 3),
                       "latency_p99_ms": round(res["p99"] * 1e3, 3)},
@@ -212,6 +216,12 @@ def main() -> None:
     print(f"realtime lateness: idle p50 {r['idle_lateness_p50_ms']} ms p99 "
           f"{r['idle_lateness_p99_ms']} ms; under fan-out p50 {r['loaded_lateness_p50_ms']} ms "
           f"p99 {r['loaded_lateness_p99_ms']} ms")
+    fast = asyncio.run(bench_fanout(100, 1000.0, 2.0 if args.quick else 3.0, batch=True))
+    out["ws_fanout_batch"] = fast["ws_fanout"]
+    b = fast["ws_fanout"]
+    print(f"ws fan-out (batch=true): {b['subscribers']} subscribers x {b['events_per_s']:.0f} "
+          f"events/s: {b['messages']}/{b['expected_messages']} events, latency p50 "
+          f"{b['latency_p50_ms']} ms p99 {b['latency_p99_ms']} ms")
     out["python"] = sys.version.split()[0]
     results = ROOT / "bench" / "results"
     results.mkdir(parents=True, exist_ok=True)
