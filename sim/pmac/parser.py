@@ -214,14 +214,12 @@ class _Parser:
             return False
         if tok[0] == "num":
             return True
-        if tok[0] == "op" and tok[1] in ("(", "-"):
+        if tok[0] == "op" and tok[1] == "(":
+            return True
+        if tok[0] == "op" and tok[1] == "-":
             nxt = self.peek(1)
-            return tok[1] == "(" or (nxt is not None and nxt[0] in ("num",) or self.at_paren(1))
+            return nxt is not None and (nxt[0] == "num" or (nxt[0] == "op" and nxt[1] == "("))
         return False
-
-    def at_paren(self, k: int) -> bool:
-        tok = self.peek(k)
-        return tok is not None and tok[0] == "op" and tok[1] == "("
 
     # -- statements -----------------------------------------------------------------------
 
@@ -387,12 +385,10 @@ class _Parser:
 
     def _i_vector(self) -> bool:
         """With a buffer open, ``I100`` is a vector word unless it is an assignment."""
-        j = self.i
         tok = self.peek()
         if tok is not None and tok[0] == "num":
             nxt = self.peek(1)
             return not (nxt is not None and nxt[0] == "op" and nxt[1] in _ASSIGN_OPS)
-        self.i = j
         return True
 
     def value_const(self, tok: Token) -> float:

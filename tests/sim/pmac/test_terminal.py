@@ -185,3 +185,15 @@ def test_q_variables_are_per_coordinate_system(rig):
     assert rig.ok("&1 Q1") == "0"
     assert rig.ok("&2 Q1") == "5"
     assert rig.c.get_variable("&2Q1") == 5
+
+
+def test_send_and_cmd_are_stored_and_ignored(rig):
+    rig.rotary_setup()
+    rig.ok("OPEN ROT")
+    rig.ok('SEND"hello" N10 CMD"#1J+"')
+    assert [(f["text"], f["words"]) for _, _, f in rig.events("line_loaded")] == [
+        ('SEND"hello" N10 CMD"#1J+"', 3)
+    ]
+    rig.ok("CLOSE R")
+    rig.run_for(0.05)
+    assert rig.events("move_start") == []
