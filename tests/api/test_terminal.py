@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import asyncio
+
 import pytest
 
 pytestmark = pytest.mark.anyio
@@ -78,3 +80,27 @@ async def test_realtime_terminal_awaits_the_reply(api):
     assert r.json() == {"reply": "later", "error": None, "pending": False}
     ev = (await api.get("/controllers/rt/events", params={"type": "terminal_reply"})).json()
     assert ev["events"][0]["t"] >= 0.05
+
+
+async def test_realtime_terminal_gives_up_after_1s_simulated_and_the_reply_comes_as_an_event(api):
+    await api.post("/controllers", json={"id": "rt", "kind": "dummy",
+                                         "clock": {"mode": "realtime", "factor": 20}})
+    r = await api.post("/controllers/rt/terminal", json={"command": "SLOW"})
+    assert r.json() == {"reply": "", "error": None, "pending": True}
+    r = await api.post("/controllers/rt/clock/run-until",
+                       json={"event": {"type": "terminal_reply", "command": "SLOW"},
+                             "timeout_s": 10})
+    assert r.json()["matched"]["reply"] == "slow"
+
+
+async def test_paused_realtime_terminal_returns_pending_at_once(api):
+    await api.post("/controllers", json={"id": "rt", "kind": "dummy",
+                                         "clock": {"mode": "realtime", "paused": True}})
+    r = await api.post("/controllers/rt/terminal", json={"command": "ECHO x"})
+    assert r.json()["pending"] is True
+    t_paused = (await api.get("/controllers/rt/clock")).json()["t"]
+    await api.patch("/controllers/rt/clock", json={"paused": False})
+    await asyncio.sleep(0.05)
+    ev = (await api.get("/controllers/rt/events", params={"type": "terminal_reply"})).json()
+    assert [(e["reply"], e["t"]) for e in ev["events"]] == [("x", pytest.approx(t_paused
+                                                                                + 0.0005))]
