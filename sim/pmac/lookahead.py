@@ -5,8 +5,10 @@ What is modelled (TUM p236, p249-250, p339-341; TSRM p177, p429, p446; PUM p213;
 
 * **Planning at RTIs.** Working through program lines ("calculation") happens only at RTIs.
   On ``R`` the first moves are calculated at the next RTI and motion starts at that RTI
-  (I11 = 0: "start as soon as calculated"). Every time a move starts executing it asks for
-  planning of the next move, done at the next RTI strictly after the move's start.
+  (I11 = 0: "start as soon as calculated"), or I11 ms later (on a servo cycle); the same
+  delay applies whenever a sequence starts from rest after calculation (after a DWELL).
+  Every time a move starts executing it asks for planning of the next move, done at the
+  next RTI strictly after the move's start.
 * **Depth.** Calculation keeps this many moves calculated beyond the executing one: 2 for
   LINEAR with Isx13 = 0, else 1 (spec §4.2, §9.3: from rest the scan runs through the 3rd
   move). DWELL, DELAY and RAPID count as moves. A line is worked through whole.
@@ -178,6 +180,8 @@ class CoordSystem:
         self._isx90 = 1000.0
         self._rti = 3
         self._tm_s = 1.0
+        self._i11_s = 0.0
+        self._starting = False  # an I11 delay before the first move is running
 
     # -- state ----------------------------------------------------------------------------
 
@@ -208,6 +212,7 @@ class CoordSystem:
         self._isx90 = v.I(isx(cs, 90))
         self._rti = int(v.I(8)) + 1
         self._tm_s = motion.clamp_move_time(self._f / 1000.0, self._ta_s)  # TM mode move time
+        self._i11_s = max(0.0, v.I(11)) / 1000.0
 
     def _accel_s(self) -> float:
         if self._ver != self.vars.version:
@@ -238,7 +243,7 @@ class CoordSystem:
             self._plan_due = None
             self._set_state(STOPPED)
             return
-        self.quitting = True
+        self.quitting = True  # (an I11-delayed start still runs the calculated moves)
 
     def abort(self) -> None:
         """``A``: decelerate every axis now at Ixx15; discard lookahead and sync writes."""
@@ -247,6 +252,7 @@ class CoordSystem:
         now = self.sched.env.now
         self._plan_due = None
         self._gen += 1
+        self._starting = False
         self.quitting = False
         self.blocked = False
         self.single_step = False
@@ -357,13 +363,24 @@ class CoordSystem:
                         self.time_mode and self.mode == "LINEAR" and not self.incremental
                     )
                     rot.line_calculated(n)
-        if self.current is None:
+        if self.current is None and not self._starting:
             if planned:
                 if self.state == WAITING:
                     self._set_state(RUNNING)
-                self._start(planned.popleft(), self._env._now, None)
+                if self._i11_s > 0:
+                    # I11: the calculation delay before a sequence starts from rest.
+                    self._starting = True
+                    t = self.sched.servo_at_or_after(self._env._now + self._i11_s)
+                    self._after(t, self._delayed_start)
+                else:
+                    self._start(planned.popleft(), self._env._now, None)
             elif self.state == RUNNING:
                 self._set_state(WAITING)
+
+    def _delayed_start(self, _ev: Any) -> None:
+        self._starting = False
+        if self.current is None and self.planned:
+            self._start(self.planned.popleft(), self._env._now, None)
 
     def _calculate(self, n: int, line: ProgramLine) -> None:
         """Work through one line: assignments, modal settings, its move."""

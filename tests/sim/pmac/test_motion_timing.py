@@ -156,3 +156,11 @@ def test_incremental_mode(rig):
     """INC makes axis values distances."""
     _run(rig, ["INC TM100 TA10 TS0 X5", "X5"])
     assert rig.c.positions(1)["X"] == pytest.approx(10.0)
+
+
+def test_i11_delays_the_start_after_calculation(make_rig):
+    """PSRM I11 / spec §4.2: the first moves are calculated, then motion starts I11 ms later."""
+    rig = make_rig(i11=10)
+    _run(rig, ["TM100 TA10 TS0 X1", "X2"])
+    calc, starts = _by_n(rig, "line_calculated"), _by_n(rig, "move_start")
+    assert starts[1] - calc[1] == ceil_cycles(rig, 10)
