@@ -18,6 +18,7 @@ from app.clock import ClockMode, RealtimeClock, VirtualClock, make_clock
 from app.kinds import kind_class
 from sim.controller import Controller, Port, Reply
 from sim.errors import Conflict, InvalidValue, NotFound
+from sim.events import Event
 
 T = TypeVar("T")
 
@@ -29,6 +30,9 @@ TERMINAL_WAIT_S = 1.0
 
 #: Wall seconds a realtime terminal command waits for its reply before answering "pending".
 REALTIME_REPLY_CAP_S = 5.0
+
+#: Wall seconds a realtime run-until waits at most.
+RUN_UNTIL_WALL_CAP_S = 30.0
 
 _ID = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$")
 
@@ -97,6 +101,35 @@ class ControllerHandle:
         with contextlib.suppress(TimeoutError):
             await asyncio.wait_for(done, timeout=cap)
         return reply
+
+    async def run_until(self, pattern: Mapping[str, Any], timeout_s: float) -> Event | None:
+        """The first *new* event matching ``pattern`` (``{"type": ..., field: value}``).
+
+        Virtual: runs the simulation until it is emitted (the clock stops at its instant) or
+        ``timeout_s`` simulated seconds pass. Realtime: waits for it, at most ``timeout_s``
+        simulated seconds and at most ``RUN_UNTIL_WALL_CAP_S`` wall seconds. ``None`` if no
+        match.
+        """
+        clock = self.clock
+        log = self.controller.log
+        if isinstance(clock, VirtualClock):
+            return clock.run_until(log, pattern, timeout_s)
+        self.ensure_running()
+        clock.sync()
+        found: asyncio.Future[Event] = asyncio.get_running_loop().create_future()
+
+        def listener(event: Event) -> None:
+            if not found.done() and event.matches(pattern):
+                found.set_result(event)
+
+        unlisten = log.listen(listener)
+        try:
+            wall = timeout_s if clock.paused else timeout_s / clock.factor
+            return await asyncio.wait_for(found, timeout=min(wall, RUN_UNTIL_WALL_CAP_S))
+        except TimeoutError:
+            return None
+        finally:
+            unlisten()
 
     def apply(self, fn: Callable[..., T], *args: Any, **kwargs: Any) -> T:
         """Run a mutation (``fn(*args, **kwargs)``) at the current simulated instant.
@@ -272,4 +305,5 @@ class Registry:
             await handle.close()
 
 
-__all__ = ["REALTIME_REPLY_CAP_S", "TERMINAL_WAIT_S", "ControllerHandle", "Registry"]
+__all__ = ["REALTIME_REPLY_CAP_S", "RUN_UNTIL_WALL_CAP_S", "TERMINAL_WAIT_S", "ControllerHandle",
+           "Registry"]

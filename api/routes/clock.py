@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-import asyncio
-import time
-
 from fastapi import APIRouter
 
 from api.deps import HandleDep
@@ -14,9 +11,6 @@ from sim.errors import Conflict
 from sim.events import Event
 
 router = APIRouter(tags=["clock"])
-
-#: Wall seconds a realtime run-until may wait at most.
-RUN_UNTIL_WALL_CAP_S = 30.0
 
 
 @router.get("/controllers/{controller_id}/clock", response_model=ClockOut)
@@ -49,33 +43,8 @@ async def run_until(body: RunUntilIn, handle: HandleDep) -> dict:
     ``timeout_s`` simulated seconds pass. Realtime: waits for it, at most ``timeout_s`` of
     simulated time and at most 30 s of wall time.
     """
-    pattern = body.event.as_pattern()
-    clock = handle.clock
-    log = handle.controller.log
-    if isinstance(clock, VirtualClock):
-        matched = clock.run_until(log, pattern, body.timeout_s)
-        return {"matched": _wire(matched, handle.id), "clock": clock.to_dict()}
-    handle.ensure_running()
-    clock.sync()
-    loop = asyncio.get_running_loop()
-    found: asyncio.Future[Event] = loop.create_future()
-
-    def listener(event: Event) -> None:
-        if not found.done() and event.matches(pattern):
-            found.set_result(event)
-
-    unlisten = log.listen(listener)
-    try:
-        wall = body.timeout_s / clock.factor if not clock.paused else body.timeout_s
-        wall = min(wall, RUN_UNTIL_WALL_CAP_S)
-        end = time.monotonic() + wall
-        try:
-            matched = await asyncio.wait_for(found, timeout=max(0.0, end - time.monotonic()))
-        except TimeoutError:
-            matched = None
-    finally:
-        unlisten()
-    return {"matched": _wire(matched, handle.id), "clock": clock.to_dict()}
+    matched = await handle.run_until(body.event.as_pattern(), body.timeout_s)
+    return {"matched": _wire(matched, handle.id), "clock": handle.clock.to_dict()}
 
 
 def _wire(event: Event | None, controller: str) -> dict | None:
