@@ -459,7 +459,7 @@ class PmacController(Controller):
             "servo_period_s": self.scheduler.period_s,
             "rti_period_s": self.scheduler.rti_period_s(),
             "coord": {
-                n: c.state
+                str(n): c.state
                 for n, c in self.coord_systems.items()
                 if c.rotary is not None or c.state != "idle"
             },
