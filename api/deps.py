@@ -22,21 +22,28 @@ from app.registry import ControllerHandle, Registry
 from app.settings import Settings
 
 
-def get_registry(conn: HTTPConnection) -> Registry:
+async def get_registry(conn: HTTPConnection) -> Registry:
     """The registry of the app serving this request (or WebSocket)."""
     return conn.app.state.registry
 
 
-def get_settings(request: Request) -> Settings:
+async def get_settings(request: Request) -> Settings:
     return request.app.state.settings
 
 
-def get_handle(
+async def get_handle(
     registry: Annotated[Registry, Depends(get_registry)],
     controller_id: Annotated[str, Path(description="the controller's id, e.g. `pmac`")],
 ) -> ControllerHandle:
-    """The handle of ``{controller_id}``; raises ``NotFound`` (404)."""
-    return registry.get(controller_id)
+    """The handle of ``{controller_id}``; raises ``NotFound`` (404).
+
+    Resolved on the event loop (an ``async`` dependency), it binds the handle to that loop, so a
+    plain ``def`` route — which FastAPI runs in a worker thread — still applies its mutations
+    on the loop through ``handle.apply``.
+    """
+    handle = registry.get(controller_id)
+    handle.ensure_running()
+    return handle
 
 
 RegistryDep = Annotated[Registry, Depends(get_registry)]

@@ -9,6 +9,7 @@ timing rules) and :meth:`ControllerHandle.apply` (any other mutation, at the cur
 from __future__ import annotations
 
 import asyncio
+import concurrent.futures
 import contextlib
 import re
 from collections.abc import Callable, Iterator, Mapping
@@ -37,6 +38,14 @@ RUN_UNTIL_WALL_CAP_S = 30.0
 _ID = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$")
 
 
+def _running_on(loop: asyncio.AbstractEventLoop) -> bool:
+    """True when called from code running on ``loop``."""
+    try:
+        return asyncio.get_running_loop() is loop
+    except RuntimeError:
+        return False
+
+
 class ControllerHandle:
     """One running controller in the service.
 
@@ -56,6 +65,8 @@ class ControllerHandle:
         self.realtime_reply_cap_s = REALTIME_REPLY_CAP_S
         self.closed = False
         self._on_close: list[Callable[[], None]] = []
+        #: The event loop that owns this controller (its clock task, its routes).
+        self.loop: asyncio.AbstractEventLoop | None = None
 
     @property
     def terminal_wait_s(self) -> float:
@@ -136,14 +147,36 @@ class ControllerHandle:
 
         A realtime environment is first run to the wall instant, and the clock is woken
         afterwards because the mutation may have scheduled something sooner. Never moves a
-        virtual clock.
+        virtual clock. Safe to call from any thread: off the controller's loop it is run on
+        that loop (``call_soon_threadsafe``) and this call waits for the result.
         """
+        loop = self.loop
+        if loop is not None and not _running_on(loop) and loop.is_running():
+            return self._apply_on(loop, fn, args, kwargs)
         self.ensure_running()
         self.clock.sync()
         try:
             return fn(*args, **kwargs)
         finally:
             self.clock.wake()
+
+    def _apply_on(self, loop: asyncio.AbstractEventLoop, fn: Callable[..., T],
+                  args: tuple[Any, ...], kwargs: dict[str, Any]) -> T:
+        """Called from another thread (e.g. a FastAPI worker thread running a plain ``def``
+        route): hand the mutation to the owning loop and wait for its result, so the
+        simulation is only ever touched between steps, on its one loop."""
+        result: concurrent.futures.Future[T] = concurrent.futures.Future()
+
+        def run() -> None:
+            if not result.set_running_or_notify_cancel():
+                return
+            try:
+                result.set_result(self.apply(fn, *args, **kwargs))
+            except BaseException as exc:
+                result.set_exception(exc)
+
+        loop.call_soon_threadsafe(run)
+        return result.result()
 
     def open_port(self, name: str) -> Port:
         """A new host port on the controller (one per TCP connection)."""
@@ -156,12 +189,14 @@ class ControllerHandle:
     # -- clock -------------------------------------------------------------------------------
 
     def ensure_running(self) -> None:
-        """Start a realtime clock's task if a loop runs and it is not started yet."""
+        """Bind to the running loop (the first one seen) and start a realtime clock's task."""
+        try:
+            loop = asyncio.get_running_loop()
+        except RuntimeError:
+            return
+        if self.loop is None or self.loop.is_closed():
+            self.loop = loop
         if isinstance(self.clock, RealtimeClock) and not self.clock.running:
-            try:
-                asyncio.get_running_loop()
-            except RuntimeError:
-                return
             self.clock.start()
 
     async def set_clock(self, mode: ClockMode | None = None, *, factor: float | None = None,

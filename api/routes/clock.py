@@ -14,7 +14,7 @@ router = APIRouter(tags=["clock"])
 
 
 @router.get("/controllers/{controller_id}/clock", response_model=ClockOut)
-def get_clock(handle: HandleDep) -> dict:
+async def get_clock(handle: HandleDep) -> dict:
     handle.ensure_running()
     return handle.clock.to_dict()
 
@@ -26,7 +26,7 @@ async def patch_clock(body: ClockPatch, handle: HandleDep) -> dict:
 
 
 @router.post("/controllers/{controller_id}/clock/advance", response_model=ClockOut)
-def advance(body: AdvanceIn, handle: HandleDep) -> dict:
+async def advance(body: AdvanceIn, handle: HandleDep) -> dict:
     """Run a virtual clock forward (409 ``conflict`` on a realtime clock)."""
     clock = handle.clock
     if not isinstance(clock, VirtualClock):

@@ -11,12 +11,12 @@ router = APIRouter(tags=["controllers"])
 
 
 @router.get("/controllers", response_model=list[ControllerOut])
-def list_controllers(registry: RegistryDep) -> list[dict]:
+async def list_controllers(registry: RegistryDep) -> list[dict]:
     return [h.snapshot() for h in registry]
 
 
 @router.post("/controllers", status_code=201, response_model=ControllerOut)
-def create_controller(body: ControllerIn, registry: RegistryDep) -> dict:
+async def create_controller(body: ControllerIn, registry: RegistryDep) -> dict:
     """Create a controller of an installed ``kind`` (422 for an unknown kind or config key)."""
     handle = registry.add(body.kind, body.id, clock=body.clock.mode, factor=body.clock.factor,
                           paused=body.clock.paused, config=body.config)
@@ -24,7 +24,7 @@ def create_controller(body: ControllerIn, registry: RegistryDep) -> dict:
 
 
 @router.get("/controllers/{controller_id}", response_model=ControllerOut)
-def get_controller(handle: HandleDep) -> dict:
+async def get_controller(handle: HandleDep) -> dict:
     return handle.snapshot()
 
 
@@ -35,7 +35,7 @@ async def delete_controller(handle: HandleDep, registry: RegistryDep) -> Respons
 
 
 @router.post("/controllers/{controller_id}/reset", response_model=ControllerOut)
-def reset_controller(handle: HandleDep) -> dict:
+async def reset_controller(handle: HandleDep) -> dict:
     """The power cycle: factory defaults, buffers and programs gone; time goes on."""
     handle.apply(handle.controller.reset)
     return handle.to_dict()

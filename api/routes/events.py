@@ -34,7 +34,7 @@ CLOSE_DELETED = 4410
 
 @router.get("/controllers/{controller_id}/events", response_model=EventsPage,
             response_model_exclude_unset=True)
-def get_events(
+async def get_events(
     handle: HandleDep,
     since: Annotated[int, Query(ge=0, description="return events with seq > since")] = 0,
     type: Annotated[list[str] | None, Query(description="only these types (repeatable)")] = None,

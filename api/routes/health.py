@@ -13,14 +13,14 @@ router = APIRouter(tags=["service"])
 
 @router.get("/health", response_model=Health,
             responses={503: {"model": Health, "description": "still starting"}})
-def health(request: Request) -> JSONResponse | Health:
+async def health(request: Request) -> JSONResponse | Health:
     if not request.app.state.ready:
         return JSONResponse({"status": "starting"}, status_code=503)
     return Health(status="ok")
 
 
 @router.get("/", response_model=ServiceInfo)
-def root(request: Request) -> ServiceInfo:
+async def root(request: Request) -> ServiceInfo:
     """What this service is and where to look next."""
     return ServiceInfo(service="motionsim", version=__version__, docs="/docs",
                        openapi="/openapi.json",

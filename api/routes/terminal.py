@@ -23,7 +23,7 @@ async def post_terminal(body: TerminalIn, handle: HandleDep) -> dict:
 
 
 @router.get("/controllers/{controller_id}/terminal", response_model=TerminalState)
-def get_terminal(handle: HandleDep) -> dict:
+async def get_terminal(handle: HandleDep) -> dict:
     """Whether the command line is locked (Trio: a move waiting for a buffer) and what waits."""
     state = getattr(handle.controller, "terminal_state", None)
     if state is None:

@@ -20,13 +20,13 @@ NameParam = Annotated[str, Path(min_length=1, max_length=64, description="e.g. I
 
 
 @router.get("/controllers/{controller_id}/variables/{name}", response_model=VariableOut)
-def get_variable(handle: HandleDep, name: NameParam) -> dict:
+async def get_variable(handle: HandleDep, name: NameParam) -> dict:
     value = handle.apply(handle.controller.get_variable, name)
     return {"name": name.upper(), "value": value}
 
 
 @router.put("/controllers/{controller_id}/variables/{name}", response_model=VariableOut)
-def put_variable(handle: HandleDep, name: NameParam, body: VariableIn) -> dict:
+async def put_variable(handle: HandleDep, name: NameParam, body: VariableIn) -> dict:
     handle.apply(handle.controller.set_variable, name, body.value)
     value = handle.controller.get_variable(name)
     return {"name": name.upper(), "value": value}

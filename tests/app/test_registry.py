@@ -119,3 +119,29 @@ def test_remove_forgets_the_controller():
         return len(reg)
 
     assert asyncio.run(main()) == 0
+
+
+def test_apply_from_another_thread_runs_on_the_controllers_loop():
+    """A plain ``def`` FastAPI route runs in a worker thread; its mutation must not."""
+    import threading
+
+    async def main():
+        h = Registry().add("dummy", "a", clock="realtime")
+        h.ensure_running()
+        loop_thread = threading.get_ident()
+        ran_on = []
+
+        def mutate(value):
+            ran_on.append(threading.get_ident())
+            h.controller.set_variable("V1", value)
+            return value * 2
+
+        result = await asyncio.to_thread(h.apply, mutate, 21.0)
+        with pytest.raises(NotFound):
+            await asyncio.to_thread(h.apply, h.controller.get_variable, "nope")
+        await h.close()
+        return loop_thread, ran_on, result, h.controller.get_variable("V1")
+
+    loop_thread, ran_on, result, v1 = asyncio.run(main())
+    assert ran_on == [loop_thread]
+    assert (result, v1) == (42.0, 21.0)
