@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import pytest
 
 import tests.dummy_kind  # noqa: F401
@@ -83,3 +85,29 @@ def test_protocol_ports_are_reported_when_enabled(pytester):
     """)
     result = pytester.runpytest_inprocess("-p", "no:cacheprovider")
     result.assert_outcomes(passed=1)
+
+
+def test_a_stuck_websocket_subscriber_later_gets_a_gap_and_catches_up(motionsim):
+    """Over a real socket: a client that stops reading only falls behind in the ring (the
+    server holds no queue for it); when it reads again it gets a gap, then the newest events,
+    in order, with no duplicates."""
+    from websockets.sync.client import connect
+
+    url = motionsim.url.replace("http", "ws") + "/controllers/d/events"
+    with connect(url, compression=None, proxy=None, max_queue=4) as ws:
+        motionsim.advance("d", 1500.0)  # 150 000 ticks, more than the 100 000-event ring
+        last = motionsim.controller("d")["ticks"]
+        seqs, gaps = [], []
+        while not seqs or seqs[-1] < last:
+            msg = json.loads(ws.recv(timeout=20))
+            if msg["type"] == "gap":
+                gaps.append((msg["from"], msg["to"]))
+            else:
+                seqs.append(msg["seq"])
+    assert len(gaps) == 1
+    start, end = gaps[0]
+    assert seqs == sorted(set(seqs))
+    assert seqs[-1] == last == 150_000
+    assert end >= last - 100_000          # the ring held the last 100 000
+    assert all(s < start or s > end for s in seqs)
+    assert len(seqs) + (end - start + 1) == last
