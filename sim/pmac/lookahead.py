@@ -33,8 +33,9 @@ What is modelled (TUM p236, p249-250, p339-341; TSRM p177, p429, p446; PUM p213;
   program is ``stopped``. **A** stops at once: every axis decelerates at the motor abort rate
   Ixx15 (motor 1's, cts/ms², one count = one axis unit ``[INF]``), calculated moves and
   queued synchronous writes are discarded (their lines freed); uncalculated lines stay.
-* **S** runs one move, then ``stopped``. **H** (feed hold) is modelled as Q ``[INF]``
-  (the Isx95 slew is not modelled); ``%`` is stored and reported but does not scale time.
+* **S** runs one move, then ``stopped``. **H** (feed hold) freezes the time base like ``%0``
+  and ``R`` resumes; ``%n`` scales moves (not DWELLs) at once — Isx94/Isx95 slews are not
+  modelled ``[INF]`` (:meth:`CoordSystem.set_feed_override`).
 
 Program states (``program`` events): idle → running ⇄ waiting → stopped | aborted; running
 again only through ``R``/``S``. The legal transitions are the table ``TRANSITIONS``.
@@ -168,14 +169,19 @@ class CoordSystem:
         self.time_mode = False
         self.incremental: set[str] = set()
         self._fast = False  # time mode, LINEAR, all axes absolute: the planning short cut
-        #: ``%`` feedrate override, reported and settable; ``[INF]`` its time-base scaling of
-        #: moves and DELAY (and the Isx94 slew) is not modelled yet: motion runs at 100 %.
+        #: ``%`` feedrate override (the CS time base), see :meth:`set_feed_override`.
         self.feed_override = 100.0
         self.calc_pos: dict[str, float] = {}
         self.rest_pos: dict[str, float] = {}
         self._ver = -1
         self._isx13 = 0.0
         self._ta_s = 0.0
+        self._ta_prog = 0.0
+        self._scale = 1.0
+        self._pct_before_hold = 100.0  # the override to return to after %0 / H
+        self._frozen_at = 0.0
+        self._held = False
+        self._decided: Move | None = None  # segmented mode: the move whose blend is decided
         self._f = 1000.0
         self._isx90 = 1000.0
         self._rti = 3
@@ -207,11 +213,15 @@ class CoordSystem:
         v, cs = self.vars, self.cs
         self._ver = v.version
         self._isx13 = v.I(isx(cs, 13))
-        self._ta_s = motion.accel_time_s(v.I(isx(cs, 87)), v.I(isx(cs, 88)))
+        pct = self.feed_override if self.feed_override > 0 else self._pct_before_hold
+        self._scale = 100.0 / pct  # time-base stretch: real seconds per program second
+        self._ta_prog = motion.accel_time_s(v.I(isx(cs, 87)), v.I(isx(cs, 88)))
+        self._ta_s = self._ta_prog * self._scale
         self._f = v.I(isx(cs, 89))
         self._isx90 = v.I(isx(cs, 90))
         self._rti = int(v.I(8)) + 1
-        self._tm_s = motion.clamp_move_time(self._f / 1000.0, self._ta_s)  # TM mode move time
+        # TM-mode move time, real seconds
+        self._tm_s = motion.clamp_move_time(self._f / 1000.0, self._ta_prog) * self._scale
         self._i11_s = max(0.0, v.I(11)) / 1000.0
 
     def _accel_s(self) -> float:
@@ -227,7 +237,10 @@ class CoordSystem:
     # -- on-line commands -----------------------------------------------------------------
 
     def run(self, single_step: bool = False) -> None:
-        """``R`` / ``S``: start (or resume) calculation at the next RTI."""
+        """``R`` / ``S``: start (or resume) calculation at the next RTI; after ``H``, resume."""
+        if self._held:
+            self._held = False
+            self.set_feed_override(self._pct_before_hold)
         self.single_step = single_step
         self.quitting = False
         if self.state != RUNNING and self.state != WAITING:
@@ -244,6 +257,93 @@ class CoordSystem:
             self._set_state(STOPPED)
             return
         self.quitting = True  # (an I11-delayed start still runs the calculated moves)
+
+    def hold(self) -> None:
+        """``H``: feed hold — the time base goes to 0 (like ``%0``); ``R`` resumes ``[INF]``:
+        the Isx95 slew is not modelled, the hold and the resume are instant."""
+        if self.feed_override > 0:
+            self._held = True
+            self.set_feed_override(0.0)
+
+    def set_feed_override(self, percent: float) -> None:
+        """``%n``: the CS time base. Moves, DELAYs and RAPIDs run at ``n`` % speed; DWELLs
+        and RTI planning stay in real time. ``%0`` freezes motion where it is.
+
+        A change applies at once ``[INF]`` (the Isx94 slew is not modelled): the rest of the
+        executing move is stretched around now (positions stay continuous), calculated moves
+        are rescaled, later ones are calculated at the new rate.
+        """
+        pct = max(0.0, float(percent))
+        old = self.feed_override
+        if pct == old:
+            return
+        now = self._env._now
+        m = self.current
+        moving = m is not None and self._abort is None and m.kind != DWELL
+        if old == 0:
+            old_eff = self._pct_before_hold
+            if moving:
+                self._shift(m, now - self._frozen_at)  # type: ignore[arg-type]
+        else:
+            old_eff = old
+        self.feed_override = pct
+        self._ver = -1  # re-read the scale
+        if pct == 0:
+            self._pct_before_hold = old_eff
+            self._frozen_at = now
+            if moving:
+                self._gen += 1  # nothing happens while frozen
+            return
+        self._held = False
+        k = old_eff / pct  # new stretch / old stretch
+        for p in self.planned:
+            p.tm *= k
+            p.ta *= k
+            p.ta_in *= k
+            p._v = None
+        if moving:
+            self._stretch(m, now, k)  # type: ignore[arg-type]
+            self._reschedule()
+        elif m is None and self.planned and not self._starting and self.running:
+            self._start(self.planned.popleft(), now, None)
+
+    @staticmethod
+    def _shift(m: Move, dt: float) -> None:
+        m.b_start += dt
+        m.b_end += dt
+
+    @staticmethod
+    def _stretch(m: Move, t: float, k: float) -> None:
+        """Stretch the executing move's remaining profile by ``k`` around ``t``."""
+        m.b_start = t + (m.b_start - t) * k
+        m.b_end = t + (m.b_end - t) * k
+        m.tm *= k
+        m.ta *= k
+        m.ta_in *= k
+        m.ta_out *= k
+        m._v = None
+        prev = m.prev
+        if prev is not None:
+            prev.tm *= k
+            prev._v = None
+
+    def _reschedule(self) -> None:
+        """Re-aim the pending execution wake-up after the time base changed."""
+        m = self.current
+        if m is None:
+            return
+        p = self._period
+        if m.kind == RAPID or m.kind == DWELL:
+            self._after(math.ceil(m.b_end / p - 1e-6) * p, self._stop_end_cb)
+        elif m.stopping:
+            self._after(math.ceil((m.b_end + m.ta_out / 2) / p - 1e-6) * p, self._stop_end_cb)
+        elif self._segmented() and self._decided is not m:
+            self._after(math.ceil((m.b_end - m.ta / 2) / p - 1e-6) * p, self._decide_cb)
+        elif self.planned:
+            nxt = self.planned[0]
+            self._after(math.ceil((m.b_end - nxt.ta_in / 2) / p - 1e-6) * p, self._handoff_cb)
+        else:
+            self._decide(None)
 
     def abort(self) -> None:
         """``A``: decelerate every axis now at Ixx15; discard lookahead and sync writes."""
@@ -266,7 +366,7 @@ class CoordSystem:
             self.calc_pos = dict(self.rest_pos)
             return
         pos = self.positions(now)
-        vel = self._velocities(m, now)
+        vel = self._velocities(m, now) if self.feed_override > 0 else {}
         rate = self.vars.I(ixx(1, 15)) * 1e6  # cts/ms² -> units/s²
         vmax = max((abs(v) for v in vel.values()), default=0.0)
         t_stop = vmax / rate if rate > 0 else 0.0
@@ -363,7 +463,7 @@ class CoordSystem:
                         self.time_mode and self.mode == "LINEAR" and not self.incremental
                     )
                     rot.line_calculated(n)
-        if self.current is None and not self._starting:
+        if self.current is None and not self._starting and self.feed_override > 0:
             if planned:
                 if self.state == WAITING:
                     self._set_state(RUNNING)
@@ -379,7 +479,7 @@ class CoordSystem:
 
     def _delayed_start(self, _ev: Any) -> None:
         self._starting = False
-        if self.current is None and self.planned:
+        if self.current is None and self.planned and self.feed_override > 0:
             self._start(self.planned.popleft(), self._env._now, None)
 
     def _calculate(self, n: int, line: ProgramLine) -> None:
@@ -422,7 +522,8 @@ class CoordSystem:
                 self.blocked = True
             elif code == OP_DELAY:
                 ta = self._accel_s()
-                tm = motion.clamp_move_time(max(0.0, op[1](vars_, cs)) / 1000.0, ta)
+                tm = motion.clamp_move_time(max(0.0, op[1](vars_, cs)) / 1000.0, self._ta_prog)
+                tm *= self._scale
                 self._append(Move(n, DELAY, tm, ta, self.calc_pos, self.calc_pos, None))
 
     def _append(self, move: Move) -> None:
@@ -449,7 +550,8 @@ class CoordSystem:
             speed = vars_.I(ixx(1, 22)) * 1000.0  # cts/ms -> units/s
             dist = max((abs(end[a] - start[a]) for a in end), default=0.0)
             t = (dist / speed if speed > 0 else 0.0) + vars_.I(ixx(1, 21)) / 1000.0
-            move = Move(n, RAPID, max(t, motion.MIN_MOVE_S), 0.0, start, end, None)
+            t = max(t, motion.MIN_MOVE_S) * self._scale
+            move = Move(n, RAPID, t, 0.0, start, end, None)
             self.calc_pos = end
             self._append(move)
             self.blocked = True
@@ -470,8 +572,7 @@ class CoordSystem:
             else:
                 dist = motion.vector_distance({a: end[a] - start[a] for a in end})
             t = motion.feed_time_s(dist, self._f, self._isx90)
-        if t < ta or t < motion.MIN_MOVE_S or t > motion.MAX_MOVE_S:
-            t = motion.clamp_move_time(t, ta)
+        t = motion.clamp_move_time(t, self._ta_prog) * self._scale
         move = Move(n, LINEAR, t, ta, start, end, None)
         self.calc_pos = end
         if self.sync_pending:
@@ -558,6 +659,7 @@ class CoordSystem:
         """Blend into the next calculated move, or plan the stop at the end of this one."""
         m = self.current
         assert m is not None
+        self._decided = m
         planned = self.planned
         if planned and not self.single_step:
             nxt = planned[0]
@@ -641,8 +743,8 @@ class CoordSystem:
         """Motion has come to rest: start what is calculated, or stop / wait."""
         rot = self.rotary
         if self.planned:
-            nxt = self.planned.popleft()
-            self._start(nxt, self._env._now, None)
+            if self.feed_override > 0:
+                self._start(self.planned.popleft(), self._env._now, None)
             return
         if rot is not None:
             rot.free_calculated()
@@ -680,6 +782,8 @@ class CoordSystem:
         """Commanded axis positions at ``t`` (default now), from the move profile."""
         if t is None:
             t = self.sched.env.now
+        if self.feed_override == 0 and t > self._frozen_at:
+            t = self._frozen_at
         m = self.current
         if m is None:
             return dict(self.rest_pos)

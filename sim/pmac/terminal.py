@@ -152,14 +152,16 @@ class Terminal:
             ctl.run(state["cs"], pointer=None)
         elif t is st.Step:
             ctl.run(state["cs"], pointer=None, single_step=True)
-        elif t is st.Quit or t is st.Hold:
+        elif t is st.Quit:
             ctl.quit(state["cs"])
+        elif t is st.Hold:
+            ctl.coord_system(state["cs"]).hold()
         elif t is st.Abort:
             ctl.abort(state["cs"])
         elif t is st.Query:
             out.append(self._query(stmt.what, port))
         elif t is st.FeedOverride:
-            ctl.coord_system(state["cs"]).feed_override = stmt.percent
+            ctl.coord_system(state["cs"]).set_feed_override(stmt.percent)
         elif t is st.VarQuery:
             for n in stmt.numbers():
                 if not 0 <= n < 8192:

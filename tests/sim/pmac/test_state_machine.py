@@ -35,7 +35,8 @@ class PmacMachine(RuleBasedStateMachine):
             self.c.load_lines(1, lines)
 
     @rule(cmd=hs.sampled_from(["R", "S", "Q", "A", "H", "OPEN ROT", "CLOSE", "X5", "PR",
-                               "??", "I5113=5", "I5113=0", "I11=3", "I11=0"]))
+                               "??", "I5113=5", "I5113=0", "I11=3", "I11=0",
+                               "%50", "%0", "%100", "%200"]))
     def terminal(self, cmd):
         reply = self.c.terminal(cmd)
         while not reply.done:

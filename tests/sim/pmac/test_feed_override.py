@@ -1,0 +1,89 @@
+"""Feedrate override ``%`` and feed hold ``H`` (TSRM p191, p260; spec §4.3). The Isx94 / Isx95
+slews are not modelled: a change applies at once."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+
+def _by_n(rig, type_):
+    return {f["n"]: k for k, _, f in rig.events(type_)}
+
+
+def ceil_cycles(rig, ms: float) -> int:
+    return math.ceil(rig.ms_cycles(ms) - 1e-6)
+
+
+def test_override_set_before_the_move_scales_its_time(make_rig):
+    rig = make_rig()
+    rig.rotary_setup()
+    rig.ok("%50")
+    rig.c.load_lines(1, ["TM200 TA50 TS0 X5"])
+    rig.ok("R")
+    rig.run_until_idle()
+    start, end = _by_n(rig, "move_start")[1], _by_n(rig, "move_end")[1]
+    assert end - start == ceil_cycles(rig, 500)  # (TM + Ta) / 0.5
+
+
+def test_override_change_mid_move_stretches_the_rest_and_keeps_position_continuous(rig):
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["TM1000 TA100 TS0 X100"])
+    rig.ok("R")
+    rig.run_for(0.4)
+    start = _by_n(rig, "move_start")[1] * rig.period
+    before = rig.c.positions(1)["X"]
+    t_change = rig.c.now
+    rig.c.coord_system(1).set_feed_override(50)
+    assert rig.c.positions(1)["X"] == pytest.approx(before, abs=1e-9)
+    rig.run_until_idle()
+    end = _by_n(rig, "move_end")[1] * rig.period
+    remaining = start + 1.1 - t_change  # at 100 % the move would end at start + TM + Ta
+    assert end == pytest.approx(t_change + 2 * remaining, abs=rig.period)
+    assert rig.c.positions(1)["X"] == pytest.approx(100.0)
+
+
+def test_percent_zero_freezes_motion_and_resuming_continues(rig):
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["TM1000 TA100 TS0 X100", "X200"])
+    rig.ok("R")
+    rig.run_for(0.3)
+    rig.ok("%0")
+    x = rig.c.positions(1)["X"]
+    rig.run_for(5.0)
+    assert rig.c.positions(1)["X"] == x
+    assert rig.events("move_end") == []
+    rig.ok("%100")
+    rig.run_until_idle()
+    assert sorted(_by_n(rig, "move_end")) == [1, 2]
+    assert rig.c.positions(1)["X"] == pytest.approx(200.0)
+
+
+def test_h_holds_and_r_resumes(rig):
+    """TSRM p260: H is a feed hold (time base to 0); R resumes."""
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["TM1000 TA100 TS0 X100"])
+    rig.ok("R")
+    rig.run_for(0.3)
+    rig.ok("H")
+    x = rig.c.positions(1)["X"]
+    rig.run_for(2.0)
+    assert rig.c.positions(1)["X"] == x and rig.events("move_end") == []
+    assert rig.ok("%") == "0"
+    rig.ok("R")
+    assert rig.ok("%") == "100"
+    rig.run_until_idle()
+    assert rig.c.positions(1)["X"] == pytest.approx(100.0)
+
+
+def test_dwell_is_not_scaled_by_the_override(make_rig):
+    """TSRM p429: DWELL is real time, not scaled by %."""
+    rig = make_rig()
+    rig.rotary_setup()
+    rig.ok("%25")
+    rig.c.load_lines(1, ["DWELL100"])
+    rig.ok("R")
+    rig.run_until_idle()
+    start, end = _by_n(rig, "move_start")[1], _by_n(rig, "move_end")[1]
+    assert end - start == ceil_cycles(rig, 100)
