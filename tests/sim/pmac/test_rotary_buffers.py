@@ -131,3 +131,15 @@ def test_on_line_command_in_a_program_line_is_a_parse_error(rig):
     with pytest.raises(ParseError) as e:
         rig.c.load_lines(1, ["X1 R"])
     assert e.value.column == 4
+
+
+def test_the_manuals_two_cs_open_rot_example_runs_both(rig):
+    """PSRM OPEN ROTARY example: two rotary buffers filled and run with the buffers open."""
+    for line in ("&2 DEFINE ROT 100", "&1 DEFINE ROT 100", "&1 B0 &2 B0", "OPEN ROT",
+                 "&1 X10 Y10 F5", "&2 X30 Y30 F10", "&1R &2R"):
+        rig.ok(line)
+    rig.run_until_idle()
+    ends = {(f["cs"], f["n"]) for _, _, f in rig.events("move_end")}
+    assert ends == {(1, 1), (2, 1)}
+    assert rig.c.positions(1) == {"X": 10.0, "Y": 10.0}
+    assert rig.c.positions(2) == {"X": 30.0, "Y": 30.0}
