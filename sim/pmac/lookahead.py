@@ -80,6 +80,9 @@ TRANSITIONS: dict[str, frozenset[str]] = {
 #: Synchronous read-modify-write forms.
 _BITWISE = {"&=": pmac_and, "|=": pmac_or, "^=": pmac_xor}
 
+_ceil = math.ceil
+_floor = math.floor
+
 # Move kinds.
 LINEAR, DWELL, DELAY, RAPID = 0, 1, 2, 3
 
@@ -157,8 +160,9 @@ class CoordSystem:
         self.quitting = False
         self.single_step = False
         self._plan_due: float | None = None
-        self._gen = 0  # generation of the pending execution wake-up; bumped to cancel it
-        self._dispatch_cb = self._dispatch
+        #: The pending execution wake-up (handoff, decision, stop); cancelled by emptying its
+        #: callbacks (SimPy then processes it as a no-op).
+        self._pending: Wake | None = None
         self._plan_cb_bound = self._plan_cb
         self._handoff_cb = self._handoff
         self._stop_end_cb = self._stop_end
@@ -292,7 +296,7 @@ class CoordSystem:
             self._pct_before_hold = old_eff
             self._frozen_at = now
             if moving:
-                self._gen += 1  # nothing happens while frozen
+                self._cancel()  # nothing happens while frozen
             return
         self._held = False
         k = old_eff / pct  # new stretch / old stretch
@@ -351,7 +355,7 @@ class CoordSystem:
             return
         now = self.sched.env.now
         self._plan_due = None
-        self._gen += 1
+        self._cancel()
         self._starting = False
         self.quitting = False
         self.blocked = False
@@ -388,7 +392,7 @@ class CoordSystem:
     def detach(self) -> None:
         """Forget every scheduled wake-up (the controller is being reset)."""
         self._plan_due = None
-        self._gen += 1
+        self._cancel()
         self.state = IDLE
 
     # -- lines arriving -------------------------------------------------------------------
@@ -636,24 +640,27 @@ class CoordSystem:
                 lim = 2 * (m.tm - m.ta_in / 2)
                 ta_n = nxt.ta if nxt.ta <= lim else max(0.0, lim)
                 nxt.ta_in = ta_n
-                self._gen = g = self._gen + 1
-                th = math.ceil((b_end - ta_n / 2) / p - 1e-6) * p
-                ev = Wake(self._env, th if th > t else t, self._handoff_cb)
-                ev.gen = g  # type: ignore[attr-defined]
+                pend = self._pending
+                if pend is not None and pend.callbacks:
+                    pend.callbacks.clear()
+                th = _ceil((b_end - ta_n / 2) / p - 1e-6) * p
+                self._pending = Wake(self._env, th if th > t else t, self._handoff_cb)
                 return
         self._decide(None)
 
     def _after(self, t: float, fn: Any) -> None:
-        """Call ``fn(None)`` at ``t`` unless another ``_after`` or an abort supersedes it."""
-        self._gen += 1
+        """Call ``fn(event)`` at ``t``, superseding (cancelling) the pending wake-up."""
+        self._cancel()
         env = self._env
-        ev = Wake(env, t if t > env._now else env._now, self._dispatch_cb)
-        ev.gen = self._gen  # type: ignore[attr-defined]
-        ev.fn = fn  # type: ignore[attr-defined]
+        self._pending = Wake(env, t if t > env._now else env._now, fn)
 
-    def _dispatch(self, ev: Any) -> None:
-        if ev.gen == self._gen:
-            ev.fn(None)
+    def _cancel(self) -> None:
+        """Cancel the pending execution wake-up, if it has not happened yet."""
+        pend = self._pending
+        if pend is not None:
+            if pend.callbacks:
+                pend.callbacks.clear()
+            self._pending = None
 
     def _decide(self, _ev: Any) -> None:
         """Blend into the next calculated move, or plan the stop at the end of this one."""
@@ -676,12 +683,10 @@ class CoordSystem:
         self._after(math.ceil((m.b_end + m.ta_out / 2) / p - 1e-6) * p, self._stop_end_cb)
 
     def _handoff(self, ev: Any) -> None:
-        """The blend into the next move starts (``ev`` None: already checked by _dispatch).
+        """The blend into the next move starts.
 
         The streaming hot path: :meth:`_start` for a blended LINEAR/DELAY move, written out.
         """
-        if ev is not None and ev.gen != self._gen:
-            return
         prev = self.current
         m = self.planned.popleft()
         if m.sync or prev is None or self.blocked or self.quitting or self.single_step:
@@ -718,10 +723,11 @@ class CoordSystem:
                 lim = 2 * (m.tm - m.ta_in / 2)
                 ta_n = nxt.ta if nxt.ta <= lim else max(0.0, lim)
                 nxt.ta_in = ta_n
-                self._gen = g = self._gen + 1
-                th = math.ceil((b_end - ta_n / 2) / p - 1e-6) * p
-                ev = Wake(self._env, th if th > t else t, self._handoff_cb)
-                ev.gen = g  # type: ignore[attr-defined]
+                pend = self._pending
+                if pend is not None and pend.callbacks:
+                    pend.callbacks.clear()
+                th = _ceil((b_end - ta_n / 2) / p - 1e-6) * p
+                self._pending = Wake(self._env, th if th > t else t, self._handoff_cb)
                 return
         if self._isx13 > 0:
             self._after(math.ceil((b_end - m.ta / 2) / p - 1e-6) * p, self._decide_cb)
