@@ -338,14 +338,14 @@ class CoordSystem:
             return
         p = self._period
         if m.kind == RAPID or m.kind == DWELL:
-            self._after(math.ceil(m.b_end / p - 1e-6) * p, self._stop_end_cb)
+            self._after(_ceil(m.b_end / p - 1e-6) * p, self._stop_end_cb)
         elif m.stopping:
-            self._after(math.ceil((m.b_end + m.ta_out / 2) / p - 1e-6) * p, self._stop_end_cb)
+            self._after(_ceil((m.b_end + m.ta_out / 2) / p - 1e-6) * p, self._stop_end_cb)
         elif self._segmented() and self._decided is not m:
-            self._after(math.ceil((m.b_end - m.ta / 2) / p - 1e-6) * p, self._decide_cb)
+            self._after(_ceil((m.b_end - m.ta / 2) / p - 1e-6) * p, self._decide_cb)
         elif self.planned:
             nxt = self.planned[0]
-            self._after(math.ceil((m.b_end - nxt.ta_in / 2) / p - 1e-6) * p, self._handoff_cb)
+            self._after(_ceil((m.b_end - nxt.ta_in / 2) / p - 1e-6) * p, self._handoff_cb)
         else:
             self._decide(None)
 
@@ -418,7 +418,7 @@ class CoordSystem:
         if self._ver != self.vars.version:
             self._refresh()
         p, m = self._period, self._rti
-        k = math.floor(self._env._now / p + 1e-6) + 1
+        k = _floor(self._env._now / p + 1e-6) + 1
         t = -(-k // m) * m * p
         self._plan_due = t
         Wake(self._env, t, self._plan_cb_bound)
@@ -617,7 +617,7 @@ class CoordSystem:
             if self._ver != self.vars.version:
                 self._refresh()
             p, r = self._period, self._rti
-            k = math.floor(t / p + 1e-6) + 1
+            k = _floor(t / p + 1e-6) + 1
             tp = self._plan_due = -(-k // r) * r * p
             Wake(self._env, tp, self._plan_cb_bound)
         kind = m.kind
@@ -631,7 +631,7 @@ class CoordSystem:
             self._refresh()
         p = self._period
         if self._isx13 > 0:
-            self._after(math.ceil((b_end - m.ta / 2) / p - 1e-6) * p, self._decide_cb)
+            self._after(_ceil((b_end - m.ta / 2) / p - 1e-6) * p, self._decide_cb)
             return
         planned = self.planned
         if planned and not self.single_step:
@@ -675,12 +675,12 @@ class CoordSystem:
                 ta_n = nxt.ta if nxt.ta <= lim else max(0.0, lim)
                 nxt.ta_in = ta_n
                 p = self._period
-                self._after(math.ceil((m.b_end - ta_n / 2) / p - 1e-6) * p, self._handoff_cb)
+                self._after(_ceil((m.b_end - ta_n / 2) / p - 1e-6) * p, self._handoff_cb)
                 return
         m.stopping = True
         m.ta_out = self._accel_s() if m.kind != DWELL else 0.0
         p = self._period
-        self._after(math.ceil((m.b_end + m.ta_out / 2) / p - 1e-6) * p, self._stop_end_cb)
+        self._after(_ceil((m.b_end + m.ta_out / 2) / p - 1e-6) * p, self._stop_end_cb)
 
     def _handoff(self, ev: Any) -> None:
         """The blend into the next move starts.
@@ -713,7 +713,7 @@ class CoordSystem:
         p = self._period
         if self._plan_due is None:
             r = self._rti
-            k = math.floor(t / p + 1e-6) + 1
+            k = _floor(t / p + 1e-6) + 1
             tp = self._plan_due = -(-k // r) * r * p
             Wake(self._env, tp, self._plan_cb_bound)
         planned = self.planned
@@ -730,7 +730,7 @@ class CoordSystem:
                 self._pending = Wake(self._env, th if th > t else t, self._handoff_cb)
                 return
         if self._isx13 > 0:
-            self._after(math.ceil((b_end - m.ta / 2) / p - 1e-6) * p, self._decide_cb)
+            self._after(_ceil((b_end - m.ta / 2) / p - 1e-6) * p, self._decide_cb)
             return
         self._decide(None)
 
