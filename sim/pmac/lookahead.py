@@ -703,8 +703,8 @@ class CoordSystem:
         rot = self.rotary
         if rot is not None:
             calc = rot.calculated
-            if calc and calc[0][0] < n:
-                rot.free_through(n - 1)
+            while calc and calc[0][0] < n:  # = rot.free_through(n - 1), written out
+                rot.used_words -= calc.popleft()[1]
         emit("move_start", cs=cs, n=n)
         b_end = m.b_end = b + m.tm
         self.current = m
