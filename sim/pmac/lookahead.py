@@ -13,8 +13,10 @@ What is modelled (TUM p236, p249-250, p339-341; TSRM p177, p429, p446; PUM p213;
   LINEAR with Isx13 = 0, else 1 (spec §4.2, §9.3: from rest the scan runs through the 3rd
   move). DWELL, DELAY and RAPID count as moves. A line is worked through whole.
 * **Breaks.** ``DWELL`` and ``RAPID`` stop lookahead: nothing after them is calculated until
-  they are finished (then at the next RTI). ``DELAY`` is a zero-distance move, calculated
-  through and blended like any move.
+  they are finished (then at the next RTI). With Isx92 = 1 (read at ``R``/``S``) every move
+  is such a break: no blending, each move ends in a stop before the next is calculated (the
+  Isx81/Isx82 in-position wait and dwell are not modelled). ``DELAY`` is a zero-distance
+  move, calculated through and blended like any move.
 * **Blending.** Consecutive LINEAR/CIRCLE/DELAY moves blend (:mod:`sim.pmac.motion`); the
   next move starts — ``move_start``, its synchronous M writes, the previous ``move_end`` — at
   the start of the blend ramp, on a servo cycle. A DWELL or RAPID is preceded by a stop.
@@ -173,6 +175,7 @@ class CoordSystem:
         self.time_mode = False
         self.incremental: set[str] = set()
         self._fast = False  # time mode, LINEAR, all axes absolute: the planning short cut
+        self.no_blend = False  # Isx92 = 1 at the last R / S: stop and re-plan after each move
         #: ``%`` feedrate override (the CS time base), see :meth:`set_feed_override`.
         self.feed_override = 100.0
         self.calc_pos: dict[str, float] = {}
@@ -247,6 +250,9 @@ class CoordSystem:
             self.set_feed_override(self._pct_before_hold)
         self.single_step = single_step
         self.quitting = False
+        # Isx92 (move blend disable) is read only at R / S (TSRM p190).
+        self.no_blend = self.vars.I(isx(self.cs, 92)) == 1
+        self._fast = False  # re-derived at the next calculated line
         if self.state != RUNNING and self.state != WAITING:
             self._set_state(RUNNING)
         self._request_plan()
@@ -464,7 +470,10 @@ class CoordSystem:
                     n, line = rot.take()  # type: ignore[misc]
                     self._calculate(n, line)
                     self._fast = (
-                        self.time_mode and self.mode == "LINEAR" and not self.incremental
+                        self.time_mode
+                        and self.mode == "LINEAR"
+                        and not self.incremental
+                        and not self.no_blend
                     )
                     rot.line_calculated(n)
         if self.current is None and not self._starting and self.feed_override > 0:
@@ -529,6 +538,8 @@ class CoordSystem:
                 tm = motion.clamp_move_time(max(0.0, op[1](vars_, cs)) / 1000.0, self._ta_prog)
                 tm *= self._scale
                 self._append(Move(n, DELAY, tm, ta, self.calc_pos, self.calc_pos, None))
+                if self.no_blend:
+                    self.blocked = True
 
     def _append(self, move: Move) -> None:
         if self.sync_pending:
@@ -583,6 +594,8 @@ class CoordSystem:
             move.sync = self.sync_pending
             self.sync_pending = []
         self.planned.append(move)
+        if self.no_blend:
+            self.blocked = True  # Isx92 = 1: every move is a lookahead break
 
     # -- execution ------------------------------------------------------------------------
 
@@ -741,7 +754,7 @@ class CoordSystem:
         self.current = None
         m.prev = None
         self.rest_pos = dict(m.end)
-        if m.kind == DWELL or m.kind == RAPID:
+        if m.kind == DWELL or m.kind == RAPID or self.no_blend:
             self.blocked = False
         self._motion_stopped()
 
@@ -816,7 +829,7 @@ class CoordSystem:
         w1 = w2 = 0
         if self.running:
             w1 |= 1 << 0
-            if not self.single_step:
+            if not self.single_step and not self.no_blend:
                 w1 |= 1 << 4
         if self.single_step:
             w1 |= 1 << 1

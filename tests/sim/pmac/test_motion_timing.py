@@ -164,3 +164,20 @@ def test_i11_delays_the_start_after_calculation(make_rig):
     _run(rig, ["TM100 TA10 TS0 X1", "X2"])
     calc, starts = _by_n(rig, "line_calculated"), _by_n(rig, "move_start")
     assert starts[1] - calc[1] == ceil_cycles(rig, 10)
+
+
+def test_isx92_disables_blending_and_lookahead(make_rig):
+    """TSRM p190 / TUM p341: with Isx92 = 1 every move stops, and the next move is calculated
+    (at the next RTI) only after it; continuous-motion-request bit is 0."""
+    rig = make_rig(i5192=1)
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["TM100 TA10 TS0 X1", "X2", "X3"])
+    rig.ok("R")
+    word1 = int(rig.ok("??")[:6], 16)
+    assert word1 & 1 and not word1 & (1 << 4)
+    rig.run_until_idle()
+    calc, starts, ends = (_by_n(rig, t) for t in ("line_calculated", "move_start", "move_end"))
+    for n in (1, 2, 3):
+        assert ends[n] - starts[n] == ceil_cycles(rig, 110)  # every move from rest to rest
+    for n in (2, 3):
+        assert calc[n] == starts[n] == next_rti(ends[n - 1])

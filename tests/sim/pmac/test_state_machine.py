@@ -36,7 +36,7 @@ class PmacMachine(RuleBasedStateMachine):
 
     @rule(cmd=hs.sampled_from(["R", "S", "Q", "A", "H", "OPEN ROT", "CLOSE", "X5", "PR",
                                "??", "I5113=5", "I5113=0", "I11=3", "I11=0",
-                               "%50", "%0", "%100", "%200"]))
+                               "%50", "%0", "%100", "%200", "I5192=1", "I5192=0"]))
     def terminal(self, cmd):
         reply = self.c.terminal(cmd)
         while not reply.done:
