@@ -52,6 +52,8 @@ from dataclasses import dataclass
 from enum import IntEnum
 from typing import Final
 
+from api.wire import NEED_DATA, NeedData, ProtocolError
+
 #: Header layout: RequestType, Request, wValue, wIndex, wLength — 16-bit fields big-endian.
 HEADER: Final = struct.Struct(">BBHHH")
 HEADER_SIZE: Final = HEADER.size  # 8
@@ -115,21 +117,6 @@ _DOWNLOAD_ONLY: Final = frozenset(
     {VR.PMAC_SENDLINE, VR.PMAC_GETRESPONSE, VR.PMAC_WRITEBUFFER, VR.PMAC_SETMEM,
      VR.PMAC_SETBIT, VR.PMAC_SETBITS, VR.FWDOWNLOAD}
 )
-
-
-class ProtocolError(Exception):
-    """The byte stream is not the PMAC Ethernet protocol; the connection must be closed."""
-
-
-class _NeedData:
-    __slots__ = ()
-
-    def __repr__(self) -> str:
-        return "NEED_DATA"
-
-
-#: :meth:`PmacEthernetCodec.next_request` has no complete request yet.
-NEED_DATA: Final = _NeedData()
 
 
 # -- requests (frozen values) ------------------------------------------------------------
@@ -354,7 +341,7 @@ class PmacEthernetCodec:
         """Bytes received but not yet part of a complete request (a request cut short)."""
         return len(self._buf)
 
-    def next_request(self) -> Request | _NeedData:
+    def next_request(self) -> Request | NeedData:
         """The next complete request, or :data:`NEED_DATA`.
 
         Raises:

@@ -21,16 +21,22 @@ from collections.abc import AsyncIterator
 from typing import Any
 
 from api.pmac_ethernet.protocol import (
-    NEED_DATA,
     Answer,
     CtrlResponse,
     GetResponse,
     PmacEthernetCodec,
     PortWrite,
-    ProtocolError,
     SendLine,
     WriteBuffer,
     illegal_character,
+)
+from api.wire import (
+    NEED_DATA,
+    WireSession,
+    await_reply,
+    peer_name,
+    serve_connection,
+    start_server,
 )
 from sim.errors import Halted, MotionSimError
 
@@ -41,41 +47,7 @@ class _NoAnswer(Exception):
     """The controller will not answer (watchdog tripped)."""
 
 
-class Disconnected(Exception):
-    """The host went away while its command was still waiting for the controller."""
-
-
-async def await_reply(reply: Any, gone: asyncio.Event | None = None) -> Any:
-    """Wait for a :class:`sim.controller.Reply` to complete (a pending PMAC reply arrives when
-    the clock reaches the background cycle that answers it).
-
-    Raises:
-        Disconnected: ``gone`` was set first (the host closed the connection).
-    """
-    if reply.done:
-        return reply
-    loop = asyncio.get_running_loop()
-    fut: asyncio.Future[Any] = loop.create_future()
-
-    def done(r: Any) -> None:
-        if not fut.done():
-            fut.set_result(r)
-
-    reply.add_done_callback(done)
-    if gone is None:
-        return await fut
-    waiter = asyncio.ensure_future(gone.wait())
-    try:
-        await asyncio.wait({fut, waiter}, return_when=asyncio.FIRST_COMPLETED)
-    finally:
-        waiter.cancel()
-    if fut.done():
-        return fut.result()
-    fut.cancel()
-    raise Disconnected()
-
-
-class PmacSession:
+class PmacSession(WireSession):
     """One host connection's protocol logic, without the socket (the server and the replay
     both drive it).
 
@@ -85,32 +57,11 @@ class PmacSession:
         recorder: an :class:`app.recorder.Recorder`, or None.
     """
 
+    protocol = "pmac"
+
     def __init__(self, handle: Any, name: str, recorder: Any = None, peer: str = "") -> None:
-        self.handle = handle
-        self.port = handle.open_port(name)
         self.codec = PmacEthernetCodec()
-        self.recorder = recorder
-        self.session = (
-            recorder.open_session("pmac", handle.id, self._now(), peer) if recorder else 0
-        )
-        self.closed = False
-        #: Set when the host has gone: a command still waiting for its reply is given up.
-        self.gone = asyncio.Event()
-
-    def _now(self) -> float:
-        """Simulated now (a realtime clock's reading, which runs ahead of a lazily synced env)."""
-        try:
-            return float(self.handle.clock.t)
-        except Exception:  # noqa: BLE001 - a stand-in handle without a clock
-            return float(getattr(self.handle.controller, "now", 0.0))
-
-    def receive(self, data: bytes) -> None:
-        """Bytes from the host (``b""`` = the host closed its side)."""
-        if self.recorder and data:
-            self.recorder.record(self.session, "in", data, self._now())
-        self.codec.receive_data(data)
-        if not data:
-            self.gone.set()
+        super().__init__(handle, name, recorder, peer)
 
     async def replies(self) -> AsyncIterator[bytes]:
         """Execute every complete request received so far; yield each answer's bytes.
@@ -126,9 +77,7 @@ class PmacSession:
                 out = await self._answer(request)
             except _NoAnswer:
                 continue
-            if self.recorder:
-                self.recorder.record(self.session, "out", out, self._now())
-            yield out
+            yield self._out(out)
 
     async def _answer(self, request: Any) -> bytes:
         if isinstance(request, (GetResponse, SendLine)):
@@ -175,64 +124,6 @@ class PmacSession:
             return Answer(error=exc.pmac_error or "ERR003")
         return Answer.from_reply(reply.reply, reply.error)
 
-    def close(self) -> None:
-        """The host went away: release the port (and any buffer it held open)."""
-        if self.closed:
-            return
-        self.closed = True
-        with contextlib.suppress(Exception):
-            self.handle.close_port(self.port)
-        if self.recorder:
-            self.recorder.close_session(self.session, self._now())
-
-
-async def _serve_connection(
-    handle: Any, reader: asyncio.StreamReader, writer: asyncio.StreamWriter, recorder: Any
-) -> None:
-    peer = writer.get_extra_info("peername")
-    peer_s = f"{peer[0]}:{peer[1]}" if isinstance(peer, tuple) else str(peer)
-    session = PmacSession(handle, f"tcp:{peer_s}", recorder, peer_s)
-    wake = asyncio.Event()
-
-    async def read_loop() -> None:
-        try:
-            while True:
-                data = await reader.read(65536)
-                session.receive(data)
-                wake.set()
-                if not data:
-                    return
-        except (ConnectionError, OSError):
-            session.receive(b"")
-            wake.set()
-
-    reading = asyncio.create_task(read_loop())
-    try:
-        while True:
-            await wake.wait()
-            wake.clear()
-            async for out in session.replies():
-                writer.write(out)
-                await writer.drain()
-            if session.codec.eof:
-                break
-    except Disconnected:
-        pass
-    except ProtocolError as exc:
-        log.warning("PMAC Ethernet %s: %s; closing the connection", peer_s, exc)
-    except (ConnectionError, OSError):
-        pass
-    except Exception:  # noqa: BLE001 - one broken connection must not take the server down
-        log.exception("PMAC Ethernet %s: unexpected error; closing the connection", peer_s)
-    finally:
-        reading.cancel()
-        with contextlib.suppress(BaseException):
-            await reading
-        session.close()
-        writer.close()
-        with contextlib.suppress(Exception):
-            await writer.wait_closed()
-
 
 async def serve_pmac(
     handle: Any, host: str = "127.0.0.1", port: int = 1025, *, recorder: Any = None
@@ -243,12 +134,12 @@ async def serve_pmac(
     the port bound.
     """
 
-    async def on_connect(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
-        # the server shutting down cancels its connections: end quietly
-        with contextlib.suppress(asyncio.CancelledError):
-            await _serve_connection(handle, reader, writer, recorder)
+    async def connect(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        peer = peer_name(writer)
+        session = PmacSession(handle, f"tcp:{peer}", recorder, peer)
+        await serve_connection(session, reader, writer, log)
 
-    return await asyncio.start_server(on_connect, host, port)
+    return await start_server(connect, host, port)
 
 
-__all__ = ["Disconnected", "PmacSession", "await_reply", "serve_pmac"]
+__all__ = ["PmacSession", "serve_pmac"]

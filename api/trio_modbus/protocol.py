@@ -27,25 +27,13 @@ import struct
 from dataclasses import dataclass
 from typing import Final
 
+from api.wire import NEED_DATA, NeedData, ProtocolError
+
 MBAP: Final = struct.Struct(">HHHB")
 MAX_READ: Final = 125
 MAX_WRITE: Final = 123
 
 ILLEGAL_FUNCTION, ILLEGAL_ADDRESS, ILLEGAL_VALUE = 1, 2, 3
-
-
-class ProtocolError(Exception):
-    """Not Modbus TCP: close the connection."""
-
-
-class _NeedData:
-    __slots__ = ()
-
-    def __repr__(self) -> str:
-        return "NEED_DATA"
-
-
-NEED_DATA: Final = _NeedData()
 
 
 @dataclass(frozen=True, slots=True)
@@ -106,7 +94,7 @@ class ModbusCodec:
     def receive_data(self, data: bytes) -> None:
         self._buf += data
 
-    def next_request(self) -> ModbusRequest | _NeedData:
+    def next_request(self) -> ModbusRequest | NeedData:
         if len(self._buf) < MBAP.size:
             return NEED_DATA
         tid, pid, length, unit = MBAP.unpack_from(self._buf)

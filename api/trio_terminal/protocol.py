@@ -25,6 +25,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Final
 
+from api.wire import NEED_DATA, NeedData
+
 PROMPT: Final = b">>"
 EOL: Final = b"\r\n"
 #: Longest command line kept ``[INF]``.
@@ -33,17 +35,6 @@ MAX_LINE: Final = 1024
 IAC, DONT, DO, WONT, WILL, SB, SE = 255, 254, 253, 252, 251, 250, 240
 OPT_ECHO, OPT_SGA = 1, 3
 _BS, _DEL, _ESC, _CR, _LF, _NUL = 0x08, 0x7F, 0x1B, 0x0D, 0x0A, 0x00
-
-
-class _NeedData:
-    __slots__ = ()
-
-    def __repr__(self) -> str:
-        return "NEED_DATA"
-
-
-#: :meth:`TrioTerminalCodec.next_line` has no complete line yet.
-NEED_DATA: Final = _NeedData()
 
 
 @dataclass(frozen=True, slots=True)
@@ -92,7 +83,7 @@ class TrioTerminalCodec:
         self._out.clear()
         return out
 
-    def next_line(self) -> Line | _NeedData:
+    def next_line(self) -> Line | NeedData:
         """The next complete line, or :data:`NEED_DATA` (bytes after it stay unread — and
         unechoed — until the next call)."""
         raw = self._raw

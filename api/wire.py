@@ -1,0 +1,216 @@
+"""What the controllers' TCP protocol adapters share: the sans-I/O sentinel, the session base
+and the one asyncio connection loop.
+
+Each protocol (PMAC Ethernet, the Trio command line) is a codec (bytes ↔ typed requests, no
+sockets) plus a *session*: one host connection's logic — it opens a controller port, records
+the bytes it sees, runs each request through ``handle.command`` and yields the bytes to send.
+:func:`serve_connection` is the only code here that touches asyncio streams; the replay
+(:mod:`app.replay`) drives sessions without any socket.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import logging
+from collections.abc import AsyncIterator, Callable
+from typing import Any, Final
+
+
+class NeedData:
+    """The type of :data:`NEED_DATA` (for annotations)."""
+
+    __slots__ = ()
+
+    def __repr__(self) -> str:
+        return "NEED_DATA"
+
+
+#: A codec has no complete request (or line) yet: feed it more bytes.
+NEED_DATA: Final = NeedData()
+
+
+class Disconnected(Exception):
+    """The host went away while its command was still waiting for the controller."""
+
+
+class ProtocolError(Exception):
+    """The byte stream breaks the protocol; the connection must be closed."""
+
+
+async def await_reply(reply: Any, gone: asyncio.Event | None = None) -> Any:
+    """Wait for a :class:`sim.controller.Reply` to complete (a pending PMAC reply arrives when
+    the clock reaches the background cycle that answers it; a locked Trio terminal when the
+    move is buffered).
+
+    Raises:
+        Disconnected: ``gone`` was set first (the host closed the connection).
+    """
+    if reply.done:
+        return reply
+    loop = asyncio.get_running_loop()
+    fut: asyncio.Future[Any] = loop.create_future()
+
+    def done(r: Any) -> None:
+        if not fut.done():
+            fut.set_result(r)
+
+    reply.add_done_callback(done)
+    if gone is None:
+        return await fut
+    waiter = asyncio.ensure_future(gone.wait())
+    try:
+        await asyncio.wait({fut, waiter}, return_when=asyncio.FIRST_COMPLETED)
+    finally:
+        waiter.cancel()
+    if fut.done():
+        return fut.result()
+    fut.cancel()
+    raise Disconnected()
+
+
+class WireSession:
+    """One host connection to a controller, without the socket.
+
+    Subclasses set ``protocol`` (the recorder's name for it) and ``codec`` (with
+    ``receive_data`` and an ``eof`` flag) and implement :meth:`replies`.
+
+    Args:
+        handle: the :class:`app.registry.ControllerHandle` served.
+        name: the controller port's name (``"tcp:127.0.0.1:5555"``), for messages.
+        recorder: an :class:`app.recorder.Recorder`, or None.
+        peer: the host's address, for the transcript.
+    """
+
+    protocol: str = ""
+    codec: Any
+
+    def __init__(self, handle: Any, name: str, recorder: Any = None, peer: str = "") -> None:
+        self.handle = handle
+        self.port = handle.open_port(name)
+        self.recorder = recorder
+        self.session = (
+            recorder.open_session(self.protocol, handle.id, self._now(), peer) if recorder else 0
+        )
+        self.closed = False
+        #: Set when the host has gone: a command still waiting for its reply is given up.
+        self.gone = asyncio.Event()
+
+    def _now(self) -> float:
+        """Simulated now (a realtime clock's reading, which runs ahead of a lazily synced env)."""
+        try:
+            return float(self.handle.clock.t)
+        except Exception:  # noqa: BLE001 - a stand-in handle without a clock
+            return float(getattr(self.handle.controller, "now", 0.0))
+
+    def receive(self, data: bytes) -> None:
+        """Bytes from the host (``b""`` = the host closed its side)."""
+        if self.recorder and data:
+            self.recorder.record(self.session, "in", data, self._now())
+        self.codec.receive_data(data)
+        if not data:
+            self.gone.set()
+
+    def _out(self, data: bytes) -> bytes:
+        """Record bytes about to be sent to the host; return them."""
+        if self.recorder and data:
+            self.recorder.record(self.session, "out", data, self._now())
+        return data
+
+    def replies(self) -> AsyncIterator[bytes]:
+        """Handle everything complete received so far; yield the bytes to send."""
+        raise NotImplementedError
+
+    def close(self) -> None:
+        """The host went away: release the port (and any buffer it held open)."""
+        if self.closed:
+            return
+        self.closed = True
+        with contextlib.suppress(Exception):
+            self.handle.close_port(self.port)
+        if self.recorder:
+            self.recorder.close_session(self.session, self._now())
+
+
+def peer_name(writer: asyncio.StreamWriter) -> str:
+    """``host:port`` of the connection's remote end."""
+    peer = writer.get_extra_info("peername")
+    return f"{peer[0]}:{peer[1]}" if isinstance(peer, tuple) else str(peer)
+
+
+async def serve_connection(
+    session: WireSession,
+    reader: asyncio.StreamReader,
+    writer: asyncio.StreamWriter,
+    log: logging.Logger,
+) -> None:
+    """Pump one connection: bytes in → ``session.receive``; ``session.replies()`` → bytes out.
+
+    Reading runs as its own task so that a host going away is noticed while a command is still
+    waiting for the controller. A broken stream or an unexpected error closes this connection
+    only; the server and the other connections keep running.
+    """
+    peer = peer_name(writer)
+    wake = asyncio.Event()
+
+    async def read_loop() -> None:
+        try:
+            while True:
+                data = await reader.read(65536)
+                session.receive(data)
+                wake.set()
+                if not data:
+                    return
+        except (ConnectionError, OSError):
+            session.receive(b"")
+            wake.set()
+
+    reading = asyncio.create_task(read_loop())
+    try:
+        while True:
+            await wake.wait()
+            wake.clear()
+            async for out in session.replies():
+                writer.write(out)
+                await writer.drain()
+            if session.codec.eof:
+                break
+    except (Disconnected, ConnectionError, OSError):
+        pass
+    except ProtocolError as exc:
+        log.warning("%s %s: %s; closing the connection", session.protocol, peer, exc)
+    except Exception:  # noqa: BLE001 - one broken connection must not take the server down
+        log.exception("%s %s: unexpected error; closing the connection", session.protocol, peer)
+    finally:
+        reading.cancel()
+        with contextlib.suppress(BaseException):
+            await reading
+        session.close()
+        writer.close()
+        with contextlib.suppress(Exception):
+            await writer.wait_closed()
+
+
+async def start_server(
+    connect: Callable[[asyncio.StreamReader, asyncio.StreamWriter], Any], host: str, port: int
+) -> asyncio.Server:
+    """``asyncio.start_server`` whose connections end quietly when the server shuts down."""
+
+    async def on_connect(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        with contextlib.suppress(asyncio.CancelledError):
+            await connect(reader, writer)
+
+    return await asyncio.start_server(on_connect, host, port)
+
+
+__all__ = [
+    "NEED_DATA",
+    "Disconnected",
+    "NeedData",
+    "ProtocolError",
+    "WireSession",
+    "await_reply",
+    "peer_name",
+    "serve_connection",
+    "start_server",
+]
