@@ -86,6 +86,10 @@ def serve(
         metavar="PORT",
         help="Trio command-line (telnet) port for controller 'trio'; 0 disables, 'auto' picks "
              "a free port. [default: 23, skipped if it cannot be bound]")] = None,
+    modbus_port: Annotated[str | None, typer.Option(
+        metavar="PORT",
+        help="Trio Modbus TCP port (VR() as holding registers) for controller 'trio'; "
+             "'auto' picks a free port. [default: 0 = disabled]")] = None,
     config: Annotated[Path | None, typer.Option(
         metavar="FILE", exists=True, dir_okay=False, readable=True,
         help="YAML/JSON settings file: controllers, their kinds, clocks and initial "
@@ -120,6 +124,7 @@ def serve(
         "host": host, "port": port,
         "pmac_port": _protocol_port(pmac_port, "--pmac-port"),
         "trio_port": _protocol_port(trio_port, "--trio-port"),
+        "modbus_port": _protocol_port(modbus_port, "--modbus-port"),
     }
     if clock is not None or factor is not None:
         clock_data = dict(file_data.get("clock") or {})

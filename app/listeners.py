@@ -5,9 +5,11 @@ is installed and awaits its server function with the controller's handle::
 
     api.pmac_ethernet.server.serve_pmac(handle, host, port, **kwargs) -> asyncio.Server
     api.trio_terminal.server.serve_trio(handle, host, port, **kwargs) -> asyncio.Server
+    api.trio_modbus.server.serve_modbus(handle, host, port, **kwargs) -> asyncio.Server
 
 ``port`` 0 asks the OS for a free port; the port actually bound is read back from
-``server.sockets``. The settings decide, per protocol (``pmac_port`` / ``trio_port``):
+``server.sockets``. The settings decide, per protocol (``pmac_port`` / ``trio_port`` /
+``modbus_port``, which defaults to 0):
 
 - ``None`` — the default port (1025 / 23). If it cannot be bound (23 is privileged for a
   non-root user; a port in use), or the adapter or the controller is missing, one line says so
@@ -30,7 +32,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from app.registry import Registry
-from app.settings import DEFAULT_PMAC_PORT, DEFAULT_TRIO_PORT, Settings
+from app.settings import DEFAULT_MODBUS_PORT, DEFAULT_PMAC_PORT, DEFAULT_TRIO_PORT, Settings
 
 
 class ListenerError(RuntimeError):
@@ -65,6 +67,8 @@ PROTOCOLS: tuple[Protocol, ...] = (
              "pmac_port", "pmac_controller"),
     Protocol("telnet", "api.trio_terminal.server", "serve_trio", DEFAULT_TRIO_PORT,
              "trio_port", "trio_controller"),
+    Protocol("modbus", "api.trio_modbus.server", "serve_modbus", DEFAULT_MODBUS_PORT,
+             "modbus_port", "trio_controller"),
 )
 
 

@@ -10,6 +10,7 @@ The config file has the same fields, e.g.::
     port: 8000
     clock: {mode: virtual}
     pmac_port: 1025          # 0 = disabled, "auto" = a free port (printed)
+    modbus_port: 502         # Trio Modbus TCP (VR() registers); default 0 = disabled
     controllers:
       - {id: pmac, kind: pmac, config: {i16: 5, i17: 10}}
       - {id: trio, kind: trio, clock: {mode: realtime, factor: 10}}
@@ -29,6 +30,8 @@ from pydantic_settings import BaseSettings, SettingsConfigDict
 #: The PMAC Ethernet protocol's port, and the Trio command line's (telnet) port.
 DEFAULT_PMAC_PORT = 1025
 DEFAULT_TRIO_PORT = 23
+#: The Trio Modbus TCP slave's port (VR() as holding registers); off unless asked for.
+DEFAULT_MODBUS_PORT = 502
 
 
 class ClockSpec(BaseModel):
@@ -73,6 +76,8 @@ class Settings(BaseSettings):
     controllers: list[ControllerSpec] | None = None
     pmac_port: ProtocolPort | None = None
     trio_port: ProtocolPort | None = None
+    modbus_port: ProtocolPort | None = Field(
+        0, description="Trio Modbus TCP port; 0 (default) = disabled, None = 502")
     pmac_controller: str = "pmac"
     trio_controller: str = "trio"
     log_capacity: int = Field(100_000, ge=100_000,
@@ -80,7 +85,7 @@ class Settings(BaseSettings):
     plugins: list[str] = Field(default_factory=list,
                                description="modules imported at start (may register kinds)")
 
-    @field_validator("pmac_port", "trio_port")
+    @field_validator("pmac_port", "trio_port", "modbus_port")
     @classmethod
     def _port_range(cls, v: ProtocolPort | None) -> ProtocolPort | None:
         if isinstance(v, int) and not 0 <= v <= 65535:
@@ -108,6 +113,7 @@ def build_settings(config_file: str | Path | None = None, **overrides: Any) -> S
 
 
 __all__ = [
+    "DEFAULT_MODBUS_PORT",
     "DEFAULT_PMAC_PORT",
     "DEFAULT_TRIO_PORT",
     "ClockSpec",

@@ -111,3 +111,33 @@ def test_missing_controller_or_adapter(fake_adapter, monkeypatch):
     assert "no_such_adapter_mod is not installed" in lines[0]
     with pytest.raises(L.ListenerError):
         asyncio.run(_start(Settings(pmac_port="auto")))
+
+
+def test_modbus_listener_is_off_by_default_and_served_when_asked():
+    """The Trio Modbus TCP slave starts only with ``modbus_port``; it serves VR() registers."""
+
+    async def main():
+        reg = Registry()
+        handle = reg.add("trio", "trio", clock="virtual")
+        off = await L.start_listeners(reg, Settings(pmac_port=0, trio_port=0), out=lambda _: None)
+        lines: list[str] = []
+        on = await L.start_listeners(
+            reg, Settings(pmac_port=0, trio_port=0, modbus_port="auto"), out=lines.append
+        )
+        handle.controller.set_variable("VR(3)", 42.0)
+        reader, writer = await asyncio.open_connection("127.0.0.1", on[0].port)
+        # MBAP: transaction 1, protocol 0, length 6, unit 1; FC 3 read 1 register from 3
+        writer.write(bytes([0, 1, 0, 0, 0, 6, 1, 3, 0, 3, 0, 1]))
+        await writer.drain()
+        answer = await asyncio.wait_for(reader.readexactly(11), 5)
+        writer.close()
+        for listener in on:
+            listener.server.close()
+        await reg.close()
+        return off, on, lines, answer
+
+    off, on, lines, answer = asyncio.run(main())
+    assert off == []
+    assert [(x.protocol, x.controller) for x in on] == [("modbus", "trio")]
+    assert lines == [f"motionsim listening modbus://127.0.0.1:{on[0].port} (controller trio)"]
+    assert answer[7:] == bytes([3, 2, 0, 42])
