@@ -27,6 +27,24 @@ What is modelled (TUM p236, p249-250, p339-341; TSRM p177, p429, p446; PUM p213;
   blend must be known when the move starts); with Isx13 > 0 (segmentation mode) a move
   calculated before the current move's deceleration to a stop begins is blended in (seed 000
   "blend into the new move without stopping"), otherwise it starts from rest.
+* **The calculation deadline** (TUM p339: "If the program fails to keep ahead, and the time
+  for the next move comes without the proper data in place for the trajectory generators,
+  Turbo PMAC will abort the program and bring all motors in the coordinate system to a stop";
+  TUM p236: planning only at RTIs, one request per move start). The instant a move's successor
+  is needed is its decision point: with Isx13 = 0 the move's start (its blend into the next
+  move is fixed then — that is why two moves are calculated ahead, TUM p339) ``[INF]``; with
+  Isx13 > 0 the start of its deceleration, Ta/2 before its programmed end. If there is no
+  successor then, the move would blend (LINEAR / DELAY), calculation was not stopped on
+  purpose (``Q``, ``S``, a DWELL / RAPID / Isx92 break) and the oldest uncalculated rotary line
+  was already in the buffer when planning last ran, calculation *fell behind*: **run-time
+  error**. The program aborts at that instant exactly as with ``A`` (the ``program`` event
+  carries ``error="run_time_error"``), ``??`` word 2 bit 22 is set until the next ``R`` / ``S``
+  or reset. Nothing calculated is left to discard then (the queue is empty by definition);
+  queued synchronous writes are dropped with it. Example: 1 ms moves with I8 = 2 (RTI every
+  1.33 ms) abort on the third move; with I8 = 0, or 5 ms moves, planning keeps up. A line that
+  arrived *after* the last planning is a run-out (below), not an error. The I11 deadline for
+  the first move of a sequence is not modelled: calculation takes no simulated time, so the
+  first moves are always ready at the RTI that calculates them.
 * **Assignments.** Plain ``=`` assignments act at calculation (1-2 moves early, so ``M1=1``
   between ``X10`` and ``X20`` fires when the move to X10 starts). Synchronous ones (``==``,
   ``&=``, ``|=``, ``^=``) are evaluated at calculation and written at the start of the next
@@ -195,16 +213,21 @@ class CoordSystem:
         self._tm_s = 1.0
         self._i11_s = 0.0
         self._starting = False  # an I11 delay before the first move is running
+        #: The program was aborted because calculation fell behind (``??`` word 2 bit 22),
+        #: until the next ``R`` / ``S`` or reset.
+        self.run_time_error = False
+        #: The rotary line count when planning last had its chance (see the module docstring).
+        self._seen_n = 0
 
     # -- state ----------------------------------------------------------------------------
 
-    def _set_state(self, state: str) -> None:
+    def _set_state(self, state: str, **extra: Any) -> None:
         if state == self.state:
             return
         if state not in TRANSITIONS[self.state]:
             raise AssertionError(f"program state {self.state} -> {state} is not legal")
         self.state = state
-        self._emit("program", cs=self.cs, state=state)
+        self._emit("program", cs=self.cs, state=state, **extra)
 
     @property
     def running(self) -> bool:
@@ -250,6 +273,7 @@ class CoordSystem:
             self.set_feed_override(self._pct_before_hold)
         self.single_step = single_step
         self.quitting = False
+        self.run_time_error = False
         # Isx92 (move blend disable) is read only at R / S (TSRM p190).
         self.no_blend = self.vars.I(isx(self.cs, 92)) == 1
         self._fast = False  # re-derived at the next calculated line
@@ -355,8 +379,12 @@ class CoordSystem:
         else:
             self._decide(None)
 
-    def abort(self) -> None:
-        """``A``: decelerate every axis now at Ixx15; discard lookahead and sync writes."""
+    def abort(self, error: str | None = None) -> None:
+        """``A``: decelerate every axis now at Ixx15; discard lookahead and sync writes.
+
+        ``error`` names why the controller aborted by itself (``"run_time_error"``); it goes
+        into the ``program`` event.
+        """
         if not self.running:
             return
         now = self.sched.env.now
@@ -368,7 +396,10 @@ class CoordSystem:
         self.single_step = False
         self.sync_pending.clear()
         self.planned.clear()
-        self._set_state(ABORTED)
+        if error is None:
+            self._set_state(ABORTED)
+        else:
+            self._set_state(ABORTED, error=error)
         m = self.current
         if m is None:
             if self.rotary is not None:
@@ -448,6 +479,7 @@ class CoordSystem:
             if self.current is None:
                 target += 1
         if rot is not None and self.program == 0:
+            self._seen_n = rot.n_loaded
             pending = rot.pending
             while len(planned) < target and not self.blocked and pending:
                 simple = pending[0][1].simple
@@ -690,10 +722,29 @@ class CoordSystem:
                 p = self._period
                 self._after(_ceil((m.b_end - ta_n / 2) / p - 1e-6) * p, self._handoff_cb)
                 return
+        elif self._fell_behind(m):
+            self.run_time_error = True
+            self.abort("run_time_error")
+            return
         m.stopping = True
         m.ta_out = self._accel_s() if m.kind != DWELL else 0.0
         p = self._period
         self._after(_ceil((m.b_end + m.ta_out / 2) / p - 1e-6) * p, self._stop_end_cb)
+
+    def _fell_behind(self, m: Move) -> bool:
+        """No successor is calculated at ``m``'s decision point: is it a calculation deadline
+        missed (run-time error, TUM p339) rather than a run-out (PUM p213)?
+
+        Missed when ``m`` would blend, calculation was not stopped on purpose (Q, S, a DWELL /
+        RAPID / Isx92 break), and the oldest uncalculated line was already in the buffer when
+        planning last ran — so planning had its chance and did not get that far.
+        """
+        if not m.blends or self.quitting or self.single_step or self.blocked:
+            return False
+        rot = self.rotary
+        if rot is None or not rot.pending or self.state != RUNNING:
+            return False
+        return rot.pending[0][0] <= self._seen_n
 
     def _handoff(self, ev: Any) -> None:
         """The blend into the next move starts.
@@ -845,11 +896,15 @@ class CoordSystem:
             w2 |= 1 << 16
         if self.current is None:
             w2 |= 1 << 17
+        if self.run_time_error:
+            w2 |= 1 << 22
         return w1, w2, 0
 
     def to_dict(self) -> dict[str, Any]:
         """The API's ``program`` object."""
         out: dict[str, Any] = {"state": self.state}
+        if self.run_time_error:
+            out["error"] = "run_time_error"
         if self.current is not None:
             out["line"] = self.current.n
         return out
