@@ -14,7 +14,7 @@ duration_s: 0.3
 controllers:
   pmac:
     kind: pmac
-    config: {i16: 5, i17: 10}
+    config: {i8: 0, i16: 5, i17: 10}  # RTI every servo cycle: 1 ms moves
     rotary:
       - {cs: 1, size_words: 400}
 hosts:
@@ -57,7 +57,7 @@ def test_terminal_and_set_variable_faults_act_at_their_time():
 
 
 def test_core_error_at_setup_names_the_scenario_field():
-    scn = loads_scenario(BASE.replace("config: {i16: 5, i17: 10}", "config: {i16: 5, q99: 1}"))
+    scn = loads_scenario(BASE.replace("i17: 10}", "q99: 1}"))
     with pytest.raises(ScenarioError) as info:
         run(scn)
     assert info.value.field == "controllers.pmac.config"

@@ -19,7 +19,7 @@ duration_s: 0.25
 controllers:
   pmac:
     kind: pmac
-    config: {i16: 5, i17: 10}
+    config: {i8: 0, i16: 5, i17: 10}  # RTI every servo cycle: 1 ms moves
     rotary:
       - {cs: 1, size_words: 400}
 hosts:
