@@ -16,6 +16,9 @@ For each episode found by :mod:`app.scenarios.metrics`:
 * PMAC ``lookahead_break`` — motion stopped with lines in the buffer because move planning
   does not look past a DWELL or a RAPID move (TUM p341): ``lookahead_dwell`` /
   ``lookahead_rapid``.
+* PMAC ``run_time_error`` — ``calculation_fell_behind``: the controller aborted the program
+  because a move's successor was not calculated in time (TUM p339); move planning runs once
+  per RTI (every I8+1 servo cycles), so moves shorter than the RTI period outrun it.
 * Trio ``axis_blocked`` — ``process_blocked_on_other_axis``: the axis had room and moves still
   to come, but the process (or host) feeding it was blocked on another axis's move line
   (TN20-16).
@@ -145,6 +148,27 @@ def lookahead_breaks(
     return out
 
 
+def diagnose_run_time_error(
+    s: Starvation, c: CsTrace, rti_period_s: float | None = None
+) -> Starvation:
+    """Explain a ``run_time_error`` episode: which moves outran the RTI planning."""
+    if s.cause != "run_time_error":
+        return s  # an error this diagnosis does not know
+    s.cause = "calculation_fell_behind"
+    starts = sorted(t for t in c.move_start.values() if t <= s.start)[-6:]
+    steps = [b - a for a, b in zip(starts, starts[1:], strict=False)]
+    move_s = sum(steps) / len(steps) if steps else None
+    s.facts.update(move_s=move_s, rti_period_s=rti_period_s)
+    moves = f"moves of about {_ms(move_s)}" if move_s is not None else "moves"
+    rti = f" ({_ms(rti_period_s)})" if rti_period_s is not None else ""
+    s.detail = (
+        f"calculation fell behind: {moves} are shorter than the RTI period{rti} in which move "
+        f"planning runs, and at {s.start:.6f} s a move's successor was not calculated — "
+        f"run-time error, program aborted (lower I8, or use longer moves)"
+    )
+    return s
+
+
 def diagnose_axis_blocked(s: Starvation) -> Starvation:
     s.cause = "process_blocked_on_other_axis"
     on = s.facts.get("blocked_on")
@@ -157,4 +181,9 @@ def diagnose_axis_blocked(s: Starvation) -> Starvation:
     return s
 
 
-__all__ = ["diagnose_axis_blocked", "diagnose_buffer_empty", "lookahead_breaks"]
+__all__ = [
+    "diagnose_axis_blocked",
+    "diagnose_buffer_empty",
+    "diagnose_run_time_error",
+    "lookahead_breaks",
+]

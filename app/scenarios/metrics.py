@@ -11,6 +11,7 @@ PMAC, per coordinate system with a rotary buffer:
 * starvations: the program ``waiting`` (it ran out of rotary lines) while lines are still to
   come — a later ``line_loaded``, or fewer lines loaded than the host had to send. Count,
   total ``time_starved_s``, longest.
+* run-time errors: the program aborted by the controller (calculation fell behind).
 * ``breq_rising`` edges and their rate, host writes and interrupts, line latency
   (``line_loaded`` → ``move_start`` of the same line).
 * ``mvar_lead``: for each M-variable write, how long before the move that follows it in the
@@ -59,7 +60,8 @@ class Starvation:
     """One episode where motion could not go on although work remained.
 
     ``kind``: ``buffer_empty`` (PMAC program waiting for lines), ``lookahead_break`` (PMAC motion
-    stopped at a DWELL / RAPID with lines in the buffer), ``axis_blocked`` (Trio axis idle
+    stopped at a DWELL / RAPID with lines in the buffer), ``run_time_error`` (PMAC program
+    aborted by the controller, until the next ``R``), ``axis_blocked`` (Trio axis idle
     while its process waited on another axis). ``cause`` and ``detail`` come from the diagnosis.
     """
 
@@ -112,6 +114,7 @@ class CsTrace:
     host_writes: list[tuple[float, int]] = field(default_factory=list)
     host_irqs: list[tuple[float, bool, float]] = field(default_factory=list)  # t, missed, lat
     mvars: list[tuple[float, str, bool]] = field(default_factory=list)
+    errors: list[tuple[float, str]] = field(default_factory=list)  # program aborted: t, error
     host_done: float | None = None
     host_sent: int | None = None
 
@@ -151,6 +154,8 @@ def pmac_traces(events: Iterable[Event]) -> dict[int, CsTrace]:
             tr(f["cs"]).breq.append((e.t, bool(f["level"])))
         elif typ == "program" and "cs" in f:
             tr(f["cs"]).program.append((e.t, f["state"]))
+            if f.get("error"):
+                tr(f["cs"]).errors.append((e.t, str(f["error"])))
         elif typ == "host_write" and "cs" in f:
             tr(f["cs"]).host_writes.append((e.t, f.get("lines", 1)))
         elif typ == "host_irq" and "cs" in f:
@@ -192,6 +197,17 @@ def starvations(
         unsent = total_lines is not None and n_loaded < total_lines
         if later_load or unsent:
             out.append(Starvation(controller, "buffer_empty", iv.start, iv.end, cs=c.cs))
+    return out
+
+
+def run_time_errors(c: CsTrace, t_end: float, controller: str = "") -> list[Starvation]:
+    """Programs the controller aborted itself (``program`` event with an ``error``), each
+    until the program runs again (the next ``R``) or the end of the run."""
+    out = []
+    for t, error in c.errors:
+        again = [t1 for t1, state in c.program if t1 > t and state == "running"]
+        end = again[0] if again else t_end
+        out.append(Starvation(controller, "run_time_error", t, end, cs=c.cs, cause=error))
     return out
 
 
@@ -288,6 +304,7 @@ def pmac_cs_metrics(
     return {
         "lines_loaded": len(c.loaded),
         "lines_executed": len(c.move_start),
+        "run_time_errors": len(c.errors),
         "starvations": len(starv),
         "time_starved_s": sum(s.length for s in starv),
         "longest_starvation_s": max((s.length for s in starv), default=0.0),

@@ -8,12 +8,14 @@ from typing import Any
 from app.scenarios.diagnosis import (
     diagnose_axis_blocked,
     diagnose_buffer_empty,
+    diagnose_run_time_error,
     lookahead_breaks,
 )
 from app.scenarios.metrics import (
     Starvation,
     pmac_cs_metrics,
     pmac_traces,
+    run_time_errors,
     trio_metrics,
     waiting_intervals,
 )
@@ -37,6 +39,7 @@ HEADLINE = (
     "axis_stalls",
     "mvar_lead_max_s",
     "lines_executed",
+    "run_time_errors",
 )
 
 
@@ -47,6 +50,7 @@ def pmac_report(
     controller: str = "",
     i16: int = 5,
     total_lines: dict[int, int | None] | None = None,
+    rti_period_s: float | None = None,
 ) -> dict[str, Any]:
     """Metrics of a PMAC log, per coordinate system, with diagnosed starvations."""
     out: dict[str, Any] = {"kind": "pmac", "cs": {}}
@@ -60,7 +64,11 @@ def pmac_report(
         breaks = lookahead_breaks(c, waiting_intervals(c, t_end), controller)
         m["lookahead_breaks"] = len(breaks)
         m["lookahead_stopped_s"] = sum(b.length for b in breaks)
-        episodes += starv + breaks
+        errors = [
+            diagnose_run_time_error(s, c, rti_period_s)
+            for s in run_time_errors(c, t_end, controller)
+        ]
+        episodes += starv + breaks + errors
         out["cs"][cs] = m
     out["starvation_list"] = sorted(episodes, key=lambda s: s.start)
     return out
@@ -86,7 +94,11 @@ def report(result: RunResult) -> dict[str, Any]:
         if spec.kind == "pmac":
             i16, _ = spec.i16_i17()
             totals = {r.cs: result.total_lines(cid, r.cs) for r in spec.rotary}
-            r = pmac_report(events, result.t_end, controller=cid, i16=i16, total_lines=totals)
+            rti = result.controllers[cid].status().get("rti_period_s")
+            r = pmac_report(
+                events, result.t_end, controller=cid, i16=i16, total_lines=totals,
+                rti_period_s=rti,
+            )  # fmt: skip
         else:
             servo_s = float(spec.config.get("servo_period_ms", 1.0)) / 1000
             r = trio_report(events, result.t_end, controller=cid, servo_period_s=servo_s)
@@ -148,6 +160,7 @@ def headline(per: dict[str, Any]) -> dict[str, Any]:
         "axis_stalls": sum(r["starvations"] for r in trio) if trio else None,
         "mvar_lead_max_s": max(leads) if leads else None,
         "lines_executed": executed if cs_rows else None,
+        "run_time_errors": total("run_time_errors"),
     }
 
 

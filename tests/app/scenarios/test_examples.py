@@ -26,7 +26,8 @@ def run_example(name: str, **overrides):
 
 def test_every_example_is_listed_here():
     tested = {"rotary_breq.yaml", "pr_polling.yaml", "breq_missed.yaml", "m1_sync.yaml",
-              "tn20_stall_and_fix.yaml", "trio_feeders.yaml", "lookahead_breaks.yaml"}  # fmt: skip
+              "tn20_stall_and_fix.yaml", "trio_feeders.yaml", "lookahead_breaks.yaml",
+              "calc_behind.yaml"}  # fmt: skip
     assert {p.name for p in EXAMPLES.glob("*.yaml")} == tested
 
 
@@ -40,6 +41,21 @@ def test_rotary_breq_host_within_i16_lines_never_starves_slower_one_does():
     slow_eps = [s for s in rep["starvations"] if s["controller"] == "slow"]
     assert {s["cause"] for s in slow_eps} == {"host_latency"}
     assert all(s["host_response_s"] > s["covered_s"] for s in slow_eps)
+
+
+def test_1ms_moves_outrun_the_default_rti_and_abort_with_a_run_time_error():
+    """TUM p339: planning once per 1.33 ms RTI cannot feed 1 ms moves; I8=0 can."""
+    _, rep = run_example("calc_behind.yaml")
+    slow = rep["controllers"]["default_rti"]["cs"][1]
+    fast = rep["controllers"]["fast_rti"]["cs"][1]
+    assert slow["run_time_errors"] == 1 and slow["lines_executed"] == 3
+    assert slow["starvations"] == 0  # the buffer never ran dry: calculation was the limit
+    assert fast["run_time_errors"] == 0 and fast["lines_executed"] == 300
+    (ep,) = rep["starvations"]
+    assert ep["controller"] == "default_rti" and ep["cause"] == "calculation_fell_behind"
+    assert ep["move_s"] < ep["rti_period_s"]
+    assert "calculation fell behind" in ep["detail"]
+    assert rep["headline"]["run_time_errors"] == 1
 
 
 def test_pr_polling_with_manual_water_marks_never_starves():

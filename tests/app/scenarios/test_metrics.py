@@ -161,3 +161,25 @@ def test_one_servo_period_hand_over_is_not_a_stall():
     f.at(0.010, "axis", axis=0, mtype=0, ntype=0)
     f.at(0.011, "axis", axis=0, mtype=1, ntype=0)
     assert trio_report(f.events(), 0.1)["idle_while_blocked_s"] == 0
+
+
+def test_a_run_time_error_is_an_episode_until_the_next_r_diagnosed_as_calculation_behind():
+    """TUM p339: the controller aborted the program (``program`` event with ``error``)."""
+    f = Feed()
+    for n in range(1, 8):
+        f.load(0.0, n, f"X{n}")
+    f.at(0.0, "program", cs=1, state="running")
+    for n in (1, 2, 3):
+        t = (n - 1) * 0.001
+        f.at(t, "line_calculated", cs=1, n=n).at(t, "move_start", cs=1, n=n)
+    f.at(0.002, "program", cs=1, state="aborted", error="run_time_error")
+    f.at(0.004, "move_end", cs=1, n=3)
+    f.at(0.007, "program", cs=1, state="running")
+    rep = pmac_report(f.events(), 0.010, i16=5, rti_period_s=0.00133)
+    assert rep["cs"][1]["run_time_errors"] == 1
+    assert rep["cs"][1]["starvations"] == 0  # not a buffer running dry
+    (s,) = rep["starvation_list"]
+    assert (s.kind, s.cause) == ("run_time_error", "calculation_fell_behind")
+    assert (s.start, s.end) == (pytest.approx(0.002), pytest.approx(0.007))
+    assert s.facts["move_s"] == pytest.approx(0.001)
+    assert "calculation fell behind" in s.detail and "1.330 ms" in s.detail
