@@ -2,7 +2,8 @@
 
 Timing rules (spec §9.1; TSRM p188-189, p477; PUM p169, p175; Quick Ref p49):
 
-* acceleration time ``Ta = max(TA, 2·TS)`` in whole ms (TA and TS rounded when executed);
+* acceleration time ``Ta = max(TA, 2·TS)`` in whole ms (TA and TS rounded half up when
+  executed);
 * a LINEAR move's time is ``TM`` (move-by-time mode) or vector distance over the FRAX axes
   (X, Y, Z) ``/ F × Isx90`` ms (feedrate mode, the power-on mode with F = Isx89); a move with
   no FRAX distance uses the distance of all its axes ``[INF]``;
@@ -27,14 +28,23 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
+_floor = math.floor
+
 MAX_MOVE_S = 8_388_607 / 1000.0
 MIN_MOVE_S = 0.0005
 FRAX = ("X", "Y", "Z")
 
 
+def whole_ms(ms: float) -> int:
+    """TA / TS as the controller uses them: whole milliseconds, halves rounded up
+    (``TA0.5`` → 1 ms, ``TA2.5`` → 3 ms; not Python's round-half-to-even) ``[INF]``: the
+    manual says only that they are used as integer ms (spec §9.1)."""
+    return _floor(ms + 0.5)
+
+
 def accel_time_s(ta_ms: float, ts_ms: float) -> float:
-    """``Ta = max(TA, 2·TS)`` with TA and TS rounded to whole ms, in seconds."""
-    return max(round(ta_ms), 2 * round(ts_ms)) / 1000.0
+    """``Ta = max(TA, 2·TS)`` with TA and TS in whole ms (:func:`whole_ms`), in seconds."""
+    return max(0, whole_ms(ta_ms), 2 * whole_ms(ts_ms)) / 1000.0
 
 
 def clamp_move_time(t_s: float, ta_s: float) -> float:
@@ -160,4 +170,5 @@ __all__ = [
     "ramp_position",
     "vector_distance",
     "velocity_at",
+    "whole_ms",
 ]
