@@ -5,8 +5,7 @@ What is modelled (TUM p236, p249-250, p339-341; TSRM p177, p429, p446; PUM p213;
 
 * **Planning at RTIs.** Working through program lines ("calculation") happens only at RTIs.
   On ``R`` the first moves are calculated at the next RTI and motion starts at that RTI
-  (I11 = 0: "start as soon as calculated"), or I11 ms later (on a servo cycle); the same
-  delay applies whenever a sequence starts from rest after calculation (after a DWELL).
+  (I11 = 0: "start as soon as calculated"), or I11 ms after the ``R`` (below).
   Every time a move starts executing it asks for planning of the next move, done at the
   next RTI strictly after the move's start.
 * **Depth.** Calculation keeps this many moves calculated beyond the executing one: 2 for
@@ -42,9 +41,13 @@ What is modelled (TUM p236, p249-250, p339-341; TSRM p177, p429, p446; PUM p213;
   or reset. Nothing calculated is left to discard then (the queue is empty by definition);
   queued synchronous writes are dropped with it. Example: 1 ms moves with I8 = 2 (RTI every
   1.33 ms) abort on the third move; with I8 = 0, or 5 ms moves, planning keeps up. A line that
-  arrived *after* the last planning is a run-out (below), not an error. The I11 deadline for
-  the first move of a sequence is not modelled: calculation takes no simulated time, so the
-  first moves are always ready at the RTI that calculates them.
+  arrived *after* the last planning is a run-out (below), not an error.
+* **I11** (PSRM I11: "the delay from when the run signal is taken ... and when the first
+  programmed move starts"; 0 = as soon as calculated). A sequence starting from rest — ``R``,
+  a line arriving while ``waiting``, the end of a lookahead break — has its first move due
+  I11 ms later (on a servo cycle). Calculation happens at the next RTI; if that is later than
+  the due instant and there are lines to calculate, it is a run-time error at the due
+  instant (the abort above, no motion). With nothing to calculate it is a run-out.
 * **Assignments.** Plain ``=`` assignments act at calculation (1-2 moves early, so ``M1=1``
   between ``X10`` and ``X20`` fires when the move to X10 starts). Synchronous ones (``==``,
   ``&=``, ``|=``, ``^=``) are evaluated at calculation and written at the start of the next
@@ -213,6 +216,10 @@ class CoordSystem:
         self._tm_s = 1.0
         self._i11_s = 0.0
         self._starting = False  # an I11 delay before the first move is running
+        #: I11: the instant the first move of the sequence being started is due, and the
+        #: wake-up that checks it was calculated by then (:meth:`_arm_i11`).
+        self._go_t: float | None = None
+        self._i11_wake: Wake | None = None
         #: The program was aborted because calculation fell behind (``??`` word 2 bit 22),
         #: until the next ``R`` / ``S`` or reset.
         self.run_time_error = False
@@ -280,6 +287,8 @@ class CoordSystem:
         if self.state != RUNNING and self.state != WAITING:
             self._set_state(RUNNING)
         self._request_plan()
+        if self.current is None and not self._starting:
+            self._arm_i11()
 
     def quit(self) -> None:
         """``Q``: finish the calculated moves, calculate nothing more, then ``stopped``."""
@@ -447,6 +456,8 @@ class CoordSystem:
             target += 1
         if len(self.planned) < target:
             self._request_plan()
+            if self.current is None and not self.planned and self._i11_s > 0:
+                self._arm_i11()
 
     def _request_plan(self) -> None:
         """Ask for move planning at the next RTI (the first cycle divisible by I8+1 after now)."""
@@ -515,15 +526,48 @@ class CoordSystem:
                 if self._i11_s > 0:
                     # I11: the calculation delay before a sequence starts from rest.
                     self._starting = True
-                    t = self.sched.servo_at_or_after(self._env._now + self._i11_s)
-                    self._after(t, self._delayed_start)
+                    now = self._env._now
+                    t = self._go_t
+                    if t is None:
+                        t = self.sched.servo_at_or_after(now + self._i11_s)
+                    self._after(t if t > now else now, self._delayed_start)
                 else:
                     self._start(planned.popleft(), self._env._now, None)
             elif self.state == RUNNING:
                 self._set_state(WAITING)
 
+    def _arm_i11(self) -> None:
+        """A sequence is to start from rest now (``R``, a line arriving while ``waiting``, the
+        end of a lookahead break): with I11 > 0 its first move is due I11 ms from now, on a
+        servo cycle, and must be calculated by then (PSRM I11; TUM p339)."""
+        wake = self._i11_wake
+        if wake is not None and wake.callbacks:
+            wake.callbacks.clear()
+        self._i11_wake = None
+        if self._ver != self.vars.version:
+            self._refresh()
+        if self._i11_s <= 0:
+            self._go_t = None
+            return
+        t = self._go_t = self.sched.servo_at_or_after(self._env._now + self._i11_s)
+        # created after the planning request: planning at this same instant is in time
+        self._i11_wake = Wake(self._env, t, self._i11_deadline)
+
+    def _i11_deadline(self, _ev: Any) -> None:
+        """The I11 time is up: the first move must be calculated now. Nothing calculated with
+        lines waiting to be (not a run-out, not stopped) is a run-time error."""
+        self._i11_wake = None
+        if self.current is not None or self.planned or self.state != RUNNING:
+            return
+        rot = self.rotary
+        if self.blocked or self.quitting or rot is None or not rot.pending:
+            return
+        self.run_time_error = True
+        self.abort("run_time_error")
+
     def _delayed_start(self, _ev: Any) -> None:
         self._starting = False
+        self._go_t = None
         if self.current is None and self.planned and self.feed_override > 0:
             self._start(self.planned.popleft(), self._env._now, None)
 
@@ -826,6 +870,7 @@ class CoordSystem:
         elif self.state == RUNNING:
             if rot is not None and rot.pending and not self.blocked:
                 self._request_plan()
+                self._arm_i11()
             else:
                 self._set_state(WAITING)
 

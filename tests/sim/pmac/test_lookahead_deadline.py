@@ -144,3 +144,57 @@ def test_segmented_mode_deadline_is_the_start_of_deceleration(make_rig):
     # the RTI that would have calculated line 4
     assert starts == [(k0, 2), (k0 + ceil_cycles(rig, 1), 3)]
     assert program[-1][0] == k0 + ceil_cycles(rig, 2) < next_rti(k0 + ceil_cycles(rig, 1))
+
+
+def _run_at(rig, lines, k_before_r: int):
+    """Load ``lines`` and send ``R`` ``k_before_r`` servo cycles into the run."""
+    rig.rotary_setup()
+    rig.c.load_lines(1, lines)
+    if k_before_r:
+        rig.run_for(k_before_r * rig.period)
+    rig.ok("R")
+    (k_r, _, f), = rig.events("program")
+    assert f["state"] == "running"
+    return k_r
+
+
+def test_i11_shorter_than_the_wait_for_calculation_is_a_run_time_error(make_rig):
+    """PSRM I11: the first move starts I11 ms after the run signal; calculated only at the
+    next RTI (here I8 = 5: every 6 servo cycles), it is not ready when I11 = 1 ms is up."""
+    rig = make_rig(i8=5, i11=1)
+    k_r = _run_at(rig, ["TM10 TA1 TS0 X1", "X2"], 3)
+    k_due = k_r + ceil_cycles(rig, 1)
+    assert next_rti(k_r, 6) > k_due
+    rig.run_until_idle()
+    assert _program(rig) == [
+        (k_r, {"cs": 1, "state": "running"}),
+        (k_due, {"cs": 1, "state": "aborted", "error": "run_time_error"}),
+    ]
+    assert rig.events("move_start") == [] and rig.events("line_calculated") == []
+    assert int(rig.ok("??")[6:12], 16) & (1 << 22)
+
+
+def test_i11_long_enough_starts_the_first_move_i11_after_r(make_rig):
+    rig = make_rig(i8=5, i11=3)
+    k_r = _run_at(rig, ["TM10 TA1 TS0 X1", "X2"], 3)
+    rig.run_until_idle()
+    (k_calc, _, _), *_ = rig.events("line_calculated")
+    (k_start, _, _), *_ = rig.events("move_start")
+    assert k_calc == next_rti(k_r, 6) < k_start == k_r + ceil_cycles(rig, 3)
+    assert [f["state"] for _, f in _program(rig)] == ["running", "waiting"]
+
+
+def test_i11_with_an_empty_buffer_is_waiting_and_a_late_line_starts_i11_after_it(make_rig):
+    """Nothing to calculate is a run-out, not a missed deadline: the I11 time counts from the
+    line's arrival ("the move sent")."""
+    rig = make_rig(i11=5)
+    rig.rotary_setup()
+    rig.ok("R")
+    rig.run_for(40 * rig.period)
+    assert [f["state"] for _, f in _program(rig)] == ["running", "waiting"]
+    k_load = round(rig.c.now / rig.period)
+    rig.c.load_lines(1, ["TM10 TA1 TS0 X1"])
+    rig.run_until_idle()
+    assert [f["state"] for _, f in _program(rig)] == ["running", "waiting", "running", "waiting"]
+    (k_start, _, _), = rig.events("move_start")
+    assert k_start == k_load + ceil_cycles(rig, 5)

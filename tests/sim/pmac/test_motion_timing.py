@@ -159,11 +159,13 @@ def test_incremental_mode(rig):
 
 
 def test_i11_delays_the_start_after_calculation(make_rig):
-    """PSRM I11 / spec §4.2: the first moves are calculated, then motion starts I11 ms later."""
+    """PSRM I11: "the delay from when the run signal is taken ... and when the first programmed
+    move starts"; the moves are calculated (at the first RTI) before that."""
     rig = make_rig(i11=10)
     _run(rig, ["TM100 TA10 TS0 X1", "X2"])
     calc, starts = _by_n(rig, "line_calculated"), _by_n(rig, "move_start")
-    assert starts[1] - calc[1] == ceil_cycles(rig, 10)
+    (k_r, _, _), *_ = rig.events("program")  # R taken: running
+    assert calc[1] == next_rti(k_r) < starts[1] == k_r + ceil_cycles(rig, 10)
 
 
 def test_isx92_disables_blending_and_lookahead(make_rig):
