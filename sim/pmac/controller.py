@@ -424,6 +424,8 @@ class PmacController(Controller):
         moving = False
         if m is not None:
             moving = self.coord_systems[m[0]].moving
+            if self.coord_systems[m[0]].run_time_error:
+                w1 |= 1 << 14  # data block error: its CS aborted on a run-time error
             w2 |= (1 << 15) | ((m[0] - 1) << 20)
         if not moving:
             w1 |= 1 << 13

@@ -198,3 +198,20 @@ def test_i11_with_an_empty_buffer_is_waiting_and_a_late_line_starts_i11_after_it
     assert [f["state"] for _, f in _program(rig)] == ["running", "waiting", "running", "waiting"]
     (k_start, _, _), = rig.events("move_start")
     assert k_start == k_load + ceil_cycles(rig, 5)
+
+
+def test_run_time_error_sets_the_motor_data_block_error_bit(rig):
+    """PSRM ``?``: motor word 1 bit 14 "data block error" for a motor in the aborted CS."""
+    rig.ok("&1 #1->1000X")
+    rig.ok("&1 #2->1000Y")  # (not moved by the program, still in the CS)
+    rig.ok("&2 #3->1000X")
+    _start(rig, [HEADER] + [f"X{i}" for i in range(1, 30)])
+    rig.run_until_idle()
+
+    def word1(motor: int) -> int:
+        return int(rig.ok(f"#{motor}?")[:6], 16)
+
+    assert word1(1) & (1 << 14) and word1(2) & (1 << 14)
+    assert not word1(3) & (1 << 14)  # another coordinate system
+    rig.ok("&1 I8=0 R")
+    assert not word1(1) & (1 << 14)
