@@ -4,8 +4,8 @@ Everything the simulator does per line is counted: parse (cached by text) + stor
 move planning at RTIs + execution (blending, move start/end) + events. The host is a SimPy
 process that sends one line per BREQ interrupt and waits for the next rising edge when BREQ
 stays low (I16 = 5, I17 = 10). Lines are ``X{i % 1000}`` after a ``TA1 TS0 TM5`` header:
-5 ms blended moves (moves shorter than the 1.33 ms RTI would starve planning and stop, which
-the simulator models; simulated time does not enter the rate).
+5 ms blended moves (moves shorter than the 1.33 ms RTI would outrun planning and abort the
+program with a run-time error, TUM p339; simulated time does not enter the rate).
 
 Prints simulated lines per wall second, the bare SimPy reference loop's rate
 (:func:`bench.reference_loop.reference_rate`, same run) and their ratio (target ≥ 0.25), plus
