@@ -25,11 +25,14 @@ from typing import Any, NamedTuple
 import simpy
 
 from sim.controller import Controller, Port, Reply
-from sim.errors import BufferFull, Conflict, InvalidValue, NotFound, ParseError
+from sim.errors import BufferFull, Conflict, Halted, InvalidValue, NotFound, ParseError
+from sim.pmac.cpu import CONFIG_KEYS as CPU_CONFIG_KEYS
+from sim.pmac.cpu import Processor
 from sim.pmac.lookahead import CoordSystem
+from sim.pmac.plc import PlcTable
 from sim.pmac.program import ProgramLine, compile_line
 from sim.pmac.rotary import RotaryBuffer
-from sim.pmac.scheduler import BackgroundCycle, Scheduler
+from sim.pmac.scheduler import Scheduler
 from sim.pmac.terminal import Terminal
 from sim.pmac.variables import N_CS, N_MOTORS, Variables, parse_name
 from sim.timing import pmac_servo_period_s
@@ -83,6 +86,13 @@ class PmacController(Controller):
     @staticmethod
     def _check_config(config: Mapping[str, Any]) -> None:
         for key, value in config.items():
+            if key in CPU_CONFIG_KEYS:
+                # processor-time costs in µs (sim.pmac.cpu)
+                if isinstance(value, bool) or not isinstance(value, int | float):
+                    raise InvalidValue(f"{key} must be a number", field=key)
+                if not (math.isfinite(value) and value >= 0):
+                    raise InvalidValue(f"{key} must be >= 0 (microseconds)", field=key)
+                continue
             if key in ("servo_hz", "background_cycles") or _CONFIG_KEY.match(key):
                 if isinstance(value, bool) or not isinstance(value, int | float):
                     raise InvalidValue(f"{key} must be a number", field=key)
@@ -112,10 +122,11 @@ class PmacController(Controller):
         period = 1.0 / hz if hz else pmac_servo_period_s(int(self.vars.I(10)))
         if not hasattr(self, "scheduler"):
             self.scheduler = Scheduler(self.env, period, lambda: int(self.vars.I(8)) + 1)
-            self.background = BackgroundCycle(
-                self.scheduler, int(self.config.get("background_cycles", 1))
-            )
+            self.background = Processor(self, int(self.config.get("background_cycles", 1)))
             self._terminal = Terminal(self)
+        self.halted = False  # the watchdog tripped (sim.pmac.watchdog); until reset
+        self.plcs = PlcTable(self)
+        self.background.power_on()
         self.coord_systems = {n: CoordSystem(self, n) for n in range(1, N_CS + 1)}
         self.gather_words: int | None = None
         self.buffer_holder: Port | None = None
@@ -140,12 +151,20 @@ class PmacController(Controller):
         return port
 
     def close_port(self, port: Port) -> None:
+        if hasattr(self, "plcs"):
+            self.plcs.abandon(port)
         if getattr(self, "buffer_holder", None) is port:
             self.buffer_holder = None
         super().close_port(port)
 
     def terminal(self, command: str, port: Port | None = None) -> Reply:
-        """Send one command line; it is answered in the next background cycle."""
+        """Send one command line; it is answered in the next background cycle.
+
+        Raises:
+            Halted: the watchdog has tripped; the controller answers nothing until reset.
+        """
+        if self.halted:
+            raise Halted("the watchdog has tripped: the controller answers nothing until reset")
         port = port or self.rest_port
         reply = Reply(command)
         t0 = self.env.now
@@ -158,6 +177,20 @@ class PmacController(Controller):
 
         self.background.submit(job)
         return reply
+
+    def submit_program_command(self, text: str) -> None:
+        """``CMD"text"`` from a PLC: queued for the background command interpreter.
+
+        Runs on a port of its own whose addressing starts at motor 1 / CS 1 for every command
+        (non-modal, TSRM p422); replies and errors go nowhere (no host asked) ``[INF]``.
+        """
+        port = self.plcs._cmd_port
+
+        def job() -> None:
+            port.state.update(cs=1, motor=1)
+            self._terminal.execute(text, port)
+
+        self.background.submit(job)
 
     # -- coordinate systems and rotary buffers --------------------------------------------
 
@@ -276,6 +309,8 @@ class PmacController(Controller):
             ParseError: a bad line (``index``, ``column``, ``text``; ERR003).
             BufferFull: the new lines do not fit (ERR006); nothing stored.
         """
+        if self.halted:
+            raise Halted("the watchdog has tripped: the controller answers nothing until reset")
         c = self.coord_systems.get(cs) if type(cs) is int else None
         rot = c.rotary if c is not None else None
         if rot is None:
@@ -445,6 +480,8 @@ class PmacController(Controller):
         if not math.isfinite(value):
             raise InvalidValue("value must be finite", field="value")
         self.vars.write(kind, n, float(value), cs)
+        if kind == "I":
+            self.background.poke()  # I5 / I8 / I40 may change what the processor runs
 
     # -- life cycle -----------------------------------------------------------------------
 
@@ -458,6 +495,8 @@ class PmacController(Controller):
 
     def status(self) -> dict[str, Any]:
         return {
+            "cpu": self.background.load(),
+            "watchdog": {"tripped": self.halted, "t": self.background.watchdog.t_trip},
             "servo_period_s": self.scheduler.period_s,
             "rti_period_s": self.scheduler.rti_period_s(),
             "coord": {

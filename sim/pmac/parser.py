@@ -27,6 +27,7 @@ from typing import Any
 
 from sim.errors import ParseError
 from sim.pmac import expressions as ex
+from sim.pmac import plc_statements as plc_st
 from sim.pmac import statements as st
 
 _WORDS = [
@@ -35,6 +36,7 @@ _WORDS = [
     "VERSION", "VER", "CID", "CPU", "VID", "TYPE", "SIZE", "SEND", "CMD",
     "ATAN2", "ATAN", "ASIN", "ACOS", "SIN", "COS", "TAN", "SQRT", "EXP", "LN", "ABS", "INT",
     "INC", "PR", "TA", "TS", "TM",
+    "ENABLE", "DISABLE", "ENA", "DIS", "PLCC", "PLC", "CLEAR",
 ]  # fmt: skip
 _WORDS.sort(key=len, reverse=True)
 
@@ -302,9 +304,15 @@ class _Parser:
             what = self.take()
             if what[1] in ("ROTARY", "ROT"):
                 return st.OpenRotary()
-            raise self.error("only OPEN ROT is supported", what)
+            if what[1] == "PLC":
+                return plc_st.OpenPlc(self.plc_number())
+            raise self.error("only OPEN ROT and OPEN PLC are supported", what)
         if word == "CLOSE":
             return st.Close()
+        if word in ("ENABLE", "ENA", "DISABLE", "DIS"):
+            return plc_st.EnablePlc(self.plc_list(), word in ("ENABLE", "ENA"))
+        if word == "CLEAR":
+            return plc_st.Clear()
         if word in ("LINEAR", "LIN"):
             return st.MoveMode("LINEAR")
         if word in ("RAPID", "RPD"):
@@ -335,6 +343,34 @@ class _Parser:
         if word in _FUNCS:
             raise self.error(f"{word} is a function, not a command", tok)
         return self.letter_statement(tok)
+
+    def plc_number(self) -> int:
+        tok = self.peek()
+        n = self.integer()
+        if n >= plc_st.N_PLCS:
+            raise self.error(f"no PLC {n} (0..{plc_st.N_PLCS - 1})", tok)
+        return n
+
+    def plc_list(self) -> tuple[int, ...]:
+        """``PLC n[,n...]`` or ``PLC n..m`` after ENABLE / DISABLE."""
+        what = self.take()
+        if what[1] == "PLCC":
+            raise self.error("compiled PLCs (PLCC) are not simulated", what)
+        if what[1] != "PLC":
+            raise self.error("expected PLC", what)
+        first = self.plc_number()
+        if self.at("op", ".."):
+            self.take()
+            tok = self.peek()
+            last = self.plc_number()
+            if last < first:
+                raise self.error("bad PLC range", tok)
+            return tuple(range(first, last + 1))
+        out = [first]
+        while self.at("op", ","):
+            self.take()
+            out.append(self.plc_number())
+        return tuple(out)
 
     def axis_list(self) -> tuple[str, ...] | None:
         if not self.at("op", "("):
@@ -453,6 +489,19 @@ def parse_line(text: str, open_: bool = False) -> list[tuple[Any, int, int]]:
     return _Parser(text, open_).statements()
 
 
+def parse_expression(text: str) -> ex.Expr:
+    """One whole expression (``P1+2*M3``); used for PLC conditions.
+
+    Raises:
+        ParseError: with ``column`` (1-based), ERR003; also when text follows the expression.
+    """
+    p = _Parser(text, False)
+    expr = p.expression()
+    if p.peek() is not None:
+        raise p.error("unexpected text after the expression")
+    return expr
+
+
 def parse_program_line(text: str) -> list[Any]:
     """The program statements of one rotary-buffer line (as with the buffer open).
 
@@ -472,4 +521,4 @@ def parse_program_line(text: str) -> list[Any]:
     return out
 
 
-__all__ = ["parse_line", "parse_program_line", "tokenize"]
+__all__ = ["parse_expression", "parse_line", "parse_program_line", "tokenize"]

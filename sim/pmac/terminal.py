@@ -24,10 +24,12 @@ ERR006 (a line that does not fit, or no rotary buffer in the addressed CS while 
 
 from __future__ import annotations
 
+import re
 from typing import TYPE_CHECKING, Any
 
 from sim.controller import Port
 from sim.errors import MotionSimError, ParseError
+from sim.pmac import plc_statements as plc_st
 from sim.pmac import statements as st
 from sim.pmac.parser import parse_line
 from sim.pmac.program import compile_statements
@@ -35,6 +37,8 @@ from sim.pmac.variables import N_CS, N_MOTORS, format_value
 
 if TYPE_CHECKING:
     from sim.pmac.controller import PmacController
+
+_OPEN_PLC = re.compile(r"OPEN\s*PLC\s*\d+", re.IGNORECASE)
 
 VERSION = "1.947  "
 CARD_ID = "603382"
@@ -63,6 +67,21 @@ class Terminal:
     def execute(self, text: str, port: Port) -> tuple[str, str | None]:
         """Run one command line; returns ``(reply, error)``."""
         ctl = self.ctl
+        if ctl.plcs.editing(port) is not None:
+            # OPEN PLC: lines go into the PLC; what follows a CLOSE is on-line again.
+            reply, error, rest = ctl.plcs.enter_line(text, port)
+            if error is None and rest and rest.strip():
+                more, error = self.execute(rest, port)
+                reply = "\r".join(x for x in (reply, more) if x)
+            return reply, error
+        m = _OPEN_PLC.search(text)
+        if m is not None and text[m.end() :].strip():
+            # ``OPEN PLC 1 CLEAR ...``: the rest of the line is already PLC text.
+            reply, error = self.execute(text[: m.end()], port)
+            if error is not None or ctl.plcs.editing(port) is None:
+                return reply, error
+            more, error = self.execute(text[m.end() :], port)
+            return "\r".join(x for x in (reply, more) if x), error
         try:
             stmts = parse_line(text, open_=ctl.buffer_holder is port)
         except ParseError as e:
@@ -172,6 +191,13 @@ class Terminal:
                 ctl.vars.set_default(n)
         elif t is st.MDefinitionQuery:
             out.append("*")
+        elif t is plc_st.OpenPlc:
+            ctl.plcs.open(stmt.n, port)
+            return
+        elif t is plc_st.EnablePlc:
+            ctl.plcs.set_enabled(stmt.numbers, stmt.enable)
+        elif t is plc_st.Clear:
+            raise CommandError("ERR005")  # CLEAR needs an open PLC buffer [INF]
         else:  # pragma: no cover - every parsed statement type is handled above
             raise CommandError("ERR003")
 
