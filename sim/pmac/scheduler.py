@@ -14,12 +14,12 @@ Nothing here runs once per servo cycle: :meth:`Scheduler.call_at` schedules one 
 to the instant where something happens (the next RTI, a move's end), computed from integer
 cycle indices.
 
-Seam for issue 4 (PLC 0, background PLCs, processor time, watchdog): ``BackgroundCycle``
-services one host command per cycle and asks :meth:`BackgroundCycle.cycle_cycles` how long
-the next cycle is (in servo cycles, default 1); a processor-time model overrides that method
-(or sets ``cycle_cycles``) and adds its PLC scans in :meth:`BackgroundCycle.run_cycle`. The
-RTI's tasks are called from :meth:`Scheduler.next_rti_after` instants by the coordinate
-systems; PLC 0 would be a further RTI client.
+The controller's background loop is :class:`sim.pmac.cpu.Processor` (issue 4): PLC 0 at
+every RTI, one background PLC scan and one host command per background cycle, each charged
+processor time, and the watchdog (:mod:`sim.pmac.watchdog`). :class:`BackgroundCycle` below is
+the plain loop it replaced (one host command per ``cycle_cycles`` servo cycles), kept for
+callers that want a card with no processor model. The coordinate systems' move planning keys
+off :meth:`Scheduler.next_rti_after` instants.
 """
 
 from __future__ import annotations

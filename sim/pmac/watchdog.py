@@ -59,6 +59,7 @@ class Watchdog:
         ctl = self.ctl
         self.tripped = True
         self.t_trip = ctl.env.now
+        ctl.halted = True
         limit = self.limit_cycles()
         ctl.log.emit(
             "watchdog",
