@@ -26,6 +26,9 @@ class ProgramPublic(BaseModel):
 
     state: Literal["idle", "running", "waiting", "stopped", "aborted"]
     line: int | None = Field(None, description="line number of the executing move, if any")
+    error: Literal["run_time_error"] | None = Field(
+        None, description="why the controller aborted the program itself: `run_time_error` = "
+        "move calculation fell behind execution (TUM p339); cleared by the next run")
 
 
 class CoordPublic(BaseModel):

@@ -35,7 +35,8 @@ async def clock_t(api) -> float:
 async def test_coord_of_a_cs_without_rotary(pmac_api):
     r = await pmac_api.get(f"{BASE}/coord/1")
     assert r.status_code == 200
-    assert r.json() == {"cs": 1, "program": {"state": "idle", "line": None}, "rotary": None}
+    assert r.json() == {"cs": 1, "program": {"state": "idle", "line": None, "error": None},
+                        "rotary": None}
 
 
 async def test_unknown_cs_is_404(pmac_api):
