@@ -557,7 +557,7 @@ class CoordSystem:
         """The I11 time is up: the first move must be calculated now. Nothing calculated with
         lines waiting to be (not a run-out, not stopped) is a run-time error."""
         self._i11_wake = None
-        if self.current is not None or self.planned or self.state != RUNNING:
+        if self.current is not None or self.planned or not self.running:
             return
         rot = self.rotary
         if self.blocked or self.quitting or rot is None or not rot.pending:

@@ -215,3 +215,23 @@ def test_run_time_error_sets_the_motor_data_block_error_bit(rig):
     assert not word1(3) & (1 << 14)  # another coordinate system
     rig.ok("&1 I8=0 R")
     assert not word1(1) & (1 << 14)
+
+
+def test_i11_too_short_for_a_line_arriving_while_waiting_is_a_run_time_error(make_rig):
+    """The same deadline when the sequence is started by a line arriving (PSRM I11: "or the
+    move sent if executing immediately")."""
+    rig = make_rig(i8=5, i11=1)
+    rig.rotary_setup()
+    rig.ok("R")
+    k = rig.cyc(rig.c.now)
+    rig.run_for((next_rti(k, 6) - k) * rig.period + 1e-9)  # just past an RTI
+    k_load = round(rig.c.now / rig.period)
+    rig.c.load_lines(1, ["TM10 TA1 TS0 X1"])
+    rig.run_until_idle()
+    k_due = k_load + ceil_cycles(rig, 1)
+    assert next_rti(k_load, 6) > k_due
+    assert [(k, f["state"]) for k, f in _program(rig)] == [
+        (k, "running"), (next_rti(k, 6), "waiting"), (k_due, "aborted")
+    ]
+    assert _program(rig)[-1][1]["error"] == "run_time_error"
+    assert rig.events("move_start") == []
