@@ -19,35 +19,36 @@ What is modelled (TUM p236, p249-250, p339-341; TSRM p177, p429, p446; PUM p213;
 * **Blending.** Consecutive LINEAR/CIRCLE/DELAY moves blend (:mod:`sim.pmac.motion`); the
   next move starts — ``move_start``, its synchronous M writes, the previous ``move_end`` — at
   the start of the blend ramp, on a servo cycle. A DWELL or RAPID is preceded by a stop.
-* **Running out** of lines is not an error: when motion has stopped and there is nothing
-  left to calculate the program is ``waiting`` (still running); a new line is calculated at
-  the next RTI and starts at once, without a new ``R``. With Isx13 = 0 a move that starts
-  executing with no next move calculated ends in a stop ``[INF]`` (without segmentation the
-  blend must be known when the move starts); with Isx13 > 0 (segmentation mode) a move
-  calculated before the current move's deceleration to a stop begins is blended in (seed 000
-  "blend into the new move without stopping"), otherwise it starts from rest.
-* **The calculation deadline** (TUM p339: "If the program fails to keep ahead, and the time
-  for the next move comes without the proper data in place for the trajectory generators,
-  Turbo PMAC will abort the program and bring all motors in the coordinate system to a stop";
-  TUM p236: planning only at RTIs, one request per move start). The instant a move's successor
-  is needed is its decision point: with Isx13 = 0 the move's start (its blend into the next
-  move is fixed then — that is why two moves are calculated ahead, TUM p339) ``[INF]``; with
-  Isx13 > 0 the start of its deceleration, Ta/2 before its programmed end. If there is no
-  successor then, the move would blend (LINEAR / DELAY), calculation was not stopped on
-  purpose (``Q``, ``S``, a DWELL / RAPID / Isx92 break) and the oldest uncalculated rotary line
-  was already in the buffer when planning last ran, calculation *fell behind*: **run-time
-  error**. The program aborts at that instant exactly as with ``A`` (the ``program`` event
-  carries ``error="run_time_error"``), ``??`` word 2 bit 22 is set until the next ``R`` / ``S``
-  or reset. Nothing calculated is left to discard then (the queue is empty by definition);
-  queued synchronous writes are dropped with it. Example: 1 ms moves with I8 = 2 (RTI every
-  1.33 ms) abort on the third move; with I8 = 0, or 5 ms moves, planning keeps up. A line that
-  arrived *after* the last planning is a run-out (below), not an error.
+* **Running out** of lines is not an error: when motion has stopped and there is nothing left to
+  calculate the program is ``waiting`` (still running); a new line is calculated at the next RTI
+  and starts at once, without a new ``R``. With Isx13 = 0 a move that starts executing with no
+  next move calculated (and no calculation deadline missed, below) ends in a stop ``[INF]``
+  (without segmentation the blend must be known when the move starts); with Isx13 > 0
+  (segmentation mode) a move calculated before the current move's deceleration to a stop begins
+  is blended in (seed 000 "blend into the new move without stopping"), otherwise it starts from
+  rest.
+* **The calculation deadline** (TUM p339: "If the program fails to keep ahead, and the time for
+  the next move comes without the proper data in place for the trajectory generators, Turbo PMAC
+  will abort the program and bring all motors in the coordinate system to a stop"; TUM p236:
+  planning only at RTIs, one request per move start). The instant a move's successor is needed
+  is its decision point: with Isx13 = 0 the move's start (its blend into the next move is fixed
+  then — that is why two moves are calculated ahead, TUM p339) ``[INF]``; with Isx13 > 0 the
+  start of its deceleration, Ta/2 before its programmed end. If there is no successor then, the
+  move would blend (LINEAR / DELAY), calculation was not stopped on purpose (``Q``, ``S``, a
+  DWELL / RAPID / Isx92 break) and the oldest uncalculated rotary line was already in the buffer
+  when planning last ran, calculation *fell behind*: **run-time error**. The program aborts at
+  that instant exactly as with ``A`` (the ``program`` event carries ``error="run_time_error"``),
+  ``??`` word 2 bit 22 is set until the next ``R`` / ``S`` or reset (and motor ``?`` word 1 bit
+  14, "data block error"). Nothing calculated is left to discard then (the queue is empty by
+  definition); queued synchronous writes are dropped with it. Example: 1 ms moves with I8 = 2
+  (RTI every 1.33 ms) abort on the third move; with I8 = 0, or 5 ms moves, planning keeps up. A
+  line that arrived *after* the last planning is a run-out (above), not an error.
 * **I11** (PSRM I11: "the delay from when the run signal is taken ... and when the first
-  programmed move starts"; 0 = as soon as calculated). A sequence starting from rest — ``R``,
-  a line arriving while ``waiting``, the end of a lookahead break — has its first move due
-  I11 ms later (on a servo cycle). Calculation happens at the next RTI; if that is later than
-  the due instant and there are lines to calculate, it is a run-time error at the due
-  instant (the abort above, no motion). With nothing to calculate it is a run-out.
+  programmed move starts"; 0 = as soon as calculated). A sequence starting from rest — ``R``, a
+  line arriving while ``waiting``, the end of a lookahead break — has its first move due I11 ms
+  later (on a servo cycle). Calculation happens at the next RTI; if that is later than the due
+  instant and there are lines to calculate, it is a run-time error at the due instant (the abort
+  above, no motion). With nothing to calculate it is a run-out.
 * **Assignments.** Plain ``=`` assignments act at calculation (1-2 moves early, so ``M1=1``
   between ``X10`` and ``X20`` fires when the move to X10 starts). Synchronous ones (``==``,
   ``&=``, ``|=``, ``^=``) are evaluated at calculation and written at the start of the next
