@@ -225,10 +225,11 @@ class Processor:
         t_next = min(self._next_rti, self.watchdog.deadline())
         if r > 0:
             if self._latched:
-                t_next = min(t_next, self._servo_ceil(now + self._fg / r))
+                t_next = min(t_next, self._servo_ceil(now + max(0.0, self._fg) / r))
             bg = self._bg
             if bg is not None:
-                t_bg = max(self._servo_ceil(now + (self._fg + bg.left) / r), bg.min_end)
+                work = max(0.0, self._fg) + bg.left
+                t_bg = max(self._servo_ceil(now + work / r), bg.min_end)
                 t_next = min(t_next, t_bg)
         self._wake = Wake(self.env, max(t_next, now), self._on_wake)
 
@@ -243,7 +244,9 @@ class Processor:
             return
         r = self._rate()
         cap = dt * r
-        use = min(self._fg, cap)
+        # Latched: the next RTI's tasks start the moment these end, so the foreground keeps
+        # the processor (``_fg`` goes below 0: work already done for the latched tasks).
+        use = cap if self._latched else min(self._fg, cap)
         self._fg -= use
         cap -= use
         self._win[1] += use
@@ -268,12 +271,12 @@ class Processor:
             return
         self._in_wake = True
         try:
+            if self._latched and self._fg <= _EPS:
+                self._latched = False
+                self._fg = max(0.0, self._fg + self._plc0())
             if now >= self._next_rti - 1e-9:
                 self._rti(now)
                 self._next_rti = self.scheduler.next_rti_after(now)
-            if self._latched and self._fg <= _EPS:
-                self._latched = False
-                self._fg += self._plc0()
             bg = self._bg
             if bg is not None and bg.left <= _EPS and now >= bg.min_end - 1e-9:
                 self._end_bg(now)

@@ -1,0 +1,83 @@
+"""The watchdog: no background cycle within I40 servo cycles (0 → 4096) trips the card.
+
+Seed 003: a PLC 0 that is too long starves the background, "the watchdog timer will trip,
+shutting down the card". TSRM p57 / TUM p215 (spec §9.6): motors killed, outputs off, the CPU
+stops and will not communicate until the power is cycled.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from sim.errors import Halted
+
+
+def oversized_plc0(rig) -> int:
+    """Enable a PLC 0 of 500 statements (≈ 1.66 ms > the 1.33 ms RTI); the enable's cycle."""
+    rig.c.plcs.load(0, "\n".join(["M1=M1+1"] + ["P10=P10+1"] * 499))
+    return rig.cyc(rig.cmd("ENABLE PLC 0").t_done)
+
+
+def test_an_oversized_plc0_trips_the_watchdog_after_4096_servo_cycles(rig):
+    k_enable = oversized_plc0(rig)
+    rig.run_for(2.5)
+    (trip,) = rig.events("watchdog")
+    # The last background pass is the housekeeping right after the ENABLE's cycle (the next
+    # servo cycle); from the next RTI on PLC 0 keeps the processor. I40 = 0 → 4096 cycles.
+    assert trip[0] == k_enable + 1 + 4096
+    assert trip[0] * rig.period == pytest.approx(1.81, abs=0.01)
+    assert "I40" in trip[2]["reason"]
+
+
+def test_i40_sets_the_watchdog_time(make_rig):
+    rig = make_rig(i40=300)
+    k_enable = oversized_plc0(rig)
+    rig.run_for(0.5)
+    (trip,) = rig.events("watchdog")
+    assert trip[0] == k_enable + 1 + 300
+
+
+def test_a_plc0_that_fits_never_trips(rig):
+    """380 statements ≈ 1.26 ms: sluggish background, but it still cycles."""
+    rig.c.plcs.load(0, "\n".join(["P10=P10+1"] * 380))
+    rig.ok("ENABLE PLC 0")
+    rig.run_for(3.0)
+    assert rig.events("watchdog") == [] and rig.events("rti_overrun") == []
+    assert rig.ok("I40") == "0"
+
+
+def test_the_trip_kills_motion_stops_programs_and_turns_outputs_off(rig):
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["TM1000 X100", "X200", "X300"])
+    rig.ok("M5=1 &1 R")
+    oversized_plc0(rig)
+    rig.run_for(2.5)
+    trip_seq = rig.c.log.events("watchdog")[0].seq
+    later = [(rig.cyc(e.t), e.type, dict(e.fields)) for e in rig.c.log.read(trip_seq).events]
+    k_trip = rig.cyc(rig.c.log.events("watchdog")[0].t)
+    assert ("program", {"cs": 1, "state": "aborted", "error": "watchdog"}) in [
+        (t, f) for _, t, f in later
+    ]
+    outputs_off = {f["name"] for _, t, f in later if t == "mvar" and f["value"] == 0}
+    assert {"M1", "M5"} <= outputs_off
+    assert all(c == k_trip for c, _, _ in later)
+    n = rig.c.log.last_seq
+    rig.run_for(2.0)
+    assert rig.c.log.last_seq == n  # the card is stopped: nothing happens any more
+    assert rig.c.coord(1)["program"]["state"] == "aborted"
+
+
+def test_a_tripped_card_answers_nothing_until_reset(rig):
+    oversized_plc0(rig)
+    rig.run_for(2.5)
+    with pytest.raises(Halted) as e:
+        rig.c.terminal("I16")
+    assert e.value.code == "watchdog"
+    with pytest.raises(Halted):
+        rig.c.load_lines(1, ["X1"])
+    assert rig.c.status()["watchdog"]["tripped"] is True
+    rig.c.reset()
+    assert rig.ok("I16") == "5"
+    assert rig.c.status()["watchdog"]["tripped"] is False
+    rig.run_for(3.0)
+    assert len(rig.events("watchdog")) == 1  # PLCs were erased by the power cycle
