@@ -424,7 +424,10 @@ class PlcTable:
             if p.program is None and not p.enabled and editing != p.n:
                 continue
             permitted = bool(i5 & (1 if p.n == 0 else 2))
-            out.append(p.to_dict(permitted, editing == p.n))
+            item = p.to_dict(permitted, editing == p.n)
+            if self.ctl.halted:
+                item["state"] = "stopped"  # the watchdog tripped: nothing runs
+            out.append(item)
         return out
 
 

@@ -42,7 +42,7 @@ Cond = Callable[[Any, int], bool]
 
 _KEYWORDS = (
     "ENDWHILE", "ENDW", "ENDIF", "ENDI", "WHILE", "ELSE", "IF", "ENABLE", "ENA", "DISABLE",
-    "DIS", "CLEAR", "CLOSE", "AND", "OR",
+    "DIS", "CLEAR", "CLOSE", "OPEN", "AND", "OR",
 )  # fmt: skip
 _KW = re.compile(
     r'"[^"]*"|(?<![A-Za-z0-9_])(?P<kw>' + "|".join(_KEYWORDS) + r")(?![A-Za-z])",
@@ -317,6 +317,11 @@ def parse_plc_line(text: str) -> list[tuple[Any, int]]:
             if len(stmts) > 1:
                 raise _error("unexpected text", col + stmts[1][1], text)
             pos = end
+        elif kw == "OPEN":
+            # OPEN while a buffer is open: "buffer already in use" (TSRM p381).
+            raise ParseError(
+                "a buffer is already open: CLOSE first", column=col, text=text, pmac_error="ERR007"
+            )
         else:  # AND / OR outside a condition
             raise _error(f"{kw} continuation lines are not supported", col, text)
     return out

@@ -1,0 +1,98 @@
+"""``/controllers/{id}/plcs``: the PMAC's PLC programs (issue 4; TSRM p39, p381; seed 003).
+
+``GET /plcs`` lists each PLC with a program (state, scans, last scan time) and I5;
+``GET|PUT /plcs/{n}`` reads / replaces one program whole (422 ``parse_error`` with ``line``
+and ``column``, nothing changed); ``POST /plcs/{n}/enable|disable`` are ``ENABLE PLC n`` /
+``DISABLE PLC n``. Everything acts at the current simulated instant and never moves the clock.
+The terminal commands (``OPEN PLC n``, ``CLEAR``, ``CLOSE``, ``ENABLE PLC``...) do the same
+through the host port.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Any
+
+from fastapi import APIRouter, Path
+
+from api.deps import HandleDep
+from api.schemas.plcs import PlcDetail, PlcList, PlcProgramIn
+from app.registry import ControllerHandle
+from sim.errors import Halted, NotFound
+
+router = APIRouter(tags=["plcs"])
+
+BASE = "/controllers/{controller_id}/plcs"
+N = Annotated[int, Path(description="PLC number 0..31")]
+
+
+def _plcs(handle: ControllerHandle) -> Any:
+    plcs = getattr(handle.controller, "plcs", None)
+    if plcs is None:
+        raise NotFound(f"controller {handle.id!r} is a {handle.kind}, it has no PLC programs")
+    return plcs
+
+
+def _detail(handle: ControllerHandle, n: int) -> dict[str, Any]:
+    plcs = _plcs(handle)
+    plc = plcs.plc(n)
+    i5 = plcs.i5()
+    out = plc.to_dict(bool(i5 & (1 if n == 0 else 2)), plcs.editing() == n)
+    if handle.controller.halted:
+        out["state"] = "stopped"
+    out["program"] = list(plc.program.lines) if plc.program is not None else []
+    return out
+
+
+def _running(handle: ControllerHandle) -> None:
+    if handle.controller.halted:
+        raise Halted("the watchdog has tripped: the controller answers nothing until reset")
+
+
+@router.get(BASE, response_model=PlcList)
+async def list_plcs(handle: HandleDep) -> dict[str, Any]:
+    plcs = _plcs(handle)
+
+    def read() -> dict[str, Any]:
+        return {"i5": plcs.i5(), "plcs": plcs.to_list()}
+
+    return handle.apply(read)
+
+
+@router.get(BASE + "/{n}", response_model=PlcDetail)
+async def get_plc(handle: HandleDep, n: N) -> dict[str, Any]:
+    return handle.apply(_detail, handle, n)
+
+
+@router.put(BASE + "/{n}", response_model=PlcDetail)
+async def put_plc(handle: HandleDep, n: N, body: PlcProgramIn) -> dict[str, Any]:
+    """Replace PLC ``n``'s program (like OPEN PLC n CLEAR ... CLOSE, all or nothing)."""
+    plcs = _plcs(handle)
+
+    def load() -> dict[str, Any]:
+        _running(handle)
+        plcs.load(n, body.text)
+        return _detail(handle, n)
+
+    return handle.apply(load)
+
+
+def _set(handle: ControllerHandle, n: int, enable: bool) -> dict[str, Any]:
+    plcs = _plcs(handle)
+
+    def act() -> dict[str, Any]:
+        _running(handle)
+        plcs.plc(n)  # 404 for a bad number
+        plcs.set_enabled((n,), enable)
+        return _detail(handle, n)
+
+    return handle.apply(act)
+
+
+@router.post(BASE + "/{n}/enable", response_model=PlcDetail)
+async def enable_plc(handle: HandleDep, n: N) -> dict[str, Any]:
+    return _set(handle, n, True)
+
+
+@router.post(BASE + "/{n}/disable", response_model=PlcDetail)
+async def disable_plc(handle: HandleDep, n: N) -> dict[str, Any]:
+    return _set(handle, n, False)

@@ -1,0 +1,112 @@
+"""PMAC PLC programs over REST: GET /plcs, PUT / enable / disable, load figure, watchdog."""
+
+from __future__ import annotations
+
+from collections.abc import AsyncIterator
+
+import httpx
+import pytest
+
+from api.main import create_app
+from tests.conftest import dummy_settings
+
+pytestmark = pytest.mark.anyio
+
+BASE = "/controllers/p"
+
+
+@pytest.fixture
+async def pmac_api() -> AsyncIterator[httpx.AsyncClient]:
+    settings = dummy_settings(controllers=[
+        {"id": "p", "kind": "pmac", "clock": {"mode": "virtual"}},
+        {"id": "d", "kind": "dummy", "clock": {"mode": "virtual"}},
+    ])
+    app = create_app(settings)
+    async with app.router.lifespan_context(app):
+        transport = httpx.ASGITransport(app=app)
+        async with httpx.AsyncClient(transport=transport, base_url="http://motionsim") as client:
+            yield client
+
+
+async def advance(api, seconds: float) -> None:
+    r = await api.post(f"{BASE}/clock/advance", json={"seconds": seconds})
+    assert r.status_code == 200
+
+
+async def test_put_enable_and_list_plc0_scans_once_per_rti(pmac_api):
+    r = await pmac_api.put(f"{BASE}/plcs/0", json={"text": "P1=P1+1\nIF (P1>10)\nM1=1\nENDIF"})
+    assert r.status_code == 200
+    assert r.json()["program"] == ["P1=P1+1", "IF (P1>10)", "M1=1", "ENDIF"]
+    assert r.json()["state"] == "disabled"
+    r = await pmac_api.post(f"{BASE}/plcs/0/enable")
+    assert (r.status_code, r.json()["state"]) == (200, "running")
+    await advance(pmac_api, 1.0)
+    body = (await pmac_api.get(f"{BASE}/plcs")).json()
+    assert body["i5"] == 1
+    (plc,) = body["plcs"]
+    assert plc["plc"] == 0 and abs(plc["scans"] - 753) <= 1
+    assert 0.998 < plc["last_scan_t"] <= 1.0
+    ev = (await pmac_api.get(f"{BASE}/events", params={"type": "plc"})).json()["events"]
+    assert [(e["plc"], e["state"]) for e in ev] == [(0, "enabled")]
+
+
+async def test_malformed_text_is_422_with_line_and_column_and_changes_nothing(pmac_api):
+    await pmac_api.put(f"{BASE}/plcs/3", json={"text": "P1=1"})
+    r = await pmac_api.put(f"{BASE}/plcs/3", json={"text": "P1=2\nIF (P1 >> 2)\nENDIF"})
+    assert r.status_code == 422
+    body = r.json()
+    assert (body["code"], body["line"], body["column"], body["pmac_error"]) == (
+        "parse_error", 2, 9, "ERR003")
+    assert (await pmac_api.get(f"{BASE}/plcs/3")).json()["program"] == ["P1=1"]
+
+
+async def test_a_background_plc_needs_i5(pmac_api):
+    await pmac_api.put(f"{BASE}/plcs/2", json={"text": "P2=P2+1"})
+    r = await pmac_api.post(f"{BASE}/plcs/2/enable")
+    assert r.json()["state"] == "enabled"  # I5=1: background PLCs are not permitted
+    await pmac_api.put(f"{BASE}/variables/I5", json={"value": 3})
+    assert (await pmac_api.get(f"{BASE}/plcs/2")).json()["state"] == "running"
+    await advance(pmac_api, 0.1)
+    assert (await pmac_api.get(f"{BASE}/variables/P2")).json()["value"] > 100
+    r = await pmac_api.post(f"{BASE}/plcs/2/disable")
+    assert r.json()["state"] == "disabled"
+
+
+async def test_terminal_entry_and_err007(pmac_api):
+    async def term(cmd: str) -> dict:
+        return (await pmac_api.post(f"{BASE}/terminal", json={"command": cmd})).json()
+
+    assert (await term("OPEN PLC 5 CLEAR"))["error"] is None
+    assert (await term("IF (M1=0) CMD\"#1J+\"")) ["error"] is None
+    assert (await term("X10"))["error"] == "ERR003"
+    assert (await term("OPEN ROT"))["error"] == "ERR007"
+    assert (await term("CLOSE"))["error"] is None
+    assert (await pmac_api.get(f"{BASE}/plcs/5")).json()["lines"] == 1
+
+
+async def test_unknown_plc_or_not_a_pmac_is_404(pmac_api):
+    assert (await pmac_api.get(f"{BASE}/plcs/32")).status_code == 404
+    r = await pmac_api.get("/controllers/d/plcs")
+    assert r.status_code == 404 and r.json()["code"] == "not_found"
+
+
+async def test_controller_reports_the_cpu_load(pmac_api):
+    cpu = (await pmac_api.get(BASE)).json()["cpu"]
+    assert set(cpu) >= {"servo", "rti", "background", "background_cycle_s"}
+
+
+async def test_watchdog_trip_then_reset(pmac_api):
+    text = "\n".join(["P10=P10+1"] * 500)
+    await pmac_api.put(f"{BASE}/plcs/0", json={"text": text})
+    await pmac_api.post(f"{BASE}/plcs/0/enable")
+    await advance(pmac_api, 2.0)
+    ev = (await pmac_api.get(f"{BASE}/events", params={"type": "watchdog"})).json()["events"]
+    assert len(ev) == 1 and ev[0]["t"] == pytest.approx(4097 * 0.00044270837, abs=1e-6)
+    r = await pmac_api.post(f"{BASE}/terminal", json={"command": "PR"})
+    assert r.status_code == 409 and r.json()["code"] == "watchdog"
+    plcs = (await pmac_api.get(f"{BASE}/plcs")).json()["plcs"]
+    assert plcs[0]["state"] == "stopped"
+    assert (await pmac_api.post(f"{BASE}/reset")).status_code == 200
+    r = await pmac_api.post(f"{BASE}/terminal", json={"command": "I5"})
+    assert r.json() == {"reply": "1", "error": None, "pending": False}
+    assert (await pmac_api.get(f"{BASE}/plcs")).json()["plcs"] == []
