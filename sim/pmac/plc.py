@@ -24,6 +24,9 @@ What is modelled (seed 003; TUM p237, p253, p376; TSRM p39, p381, p422-424; spec
   host command line on a port of its own whose ``&n``/``#n`` addressing is not modal (every
   command starts at motor 1, CS 1, TSRM p422); it is not interpreted before the scan ends.
   ``SEND"..."`` sends a line to the host: it is recorded as the PLC's ``last_send``.
+* ``DISABLE PLC n`` inside PLC ``n`` lets the current scan run to its end (a scan is not
+  interrupted by other background work, seed 003); the next scan of ``n`` starts at the top
+  once it is enabled again ``[INF]``.
 * Assignments to M-variables are the PLC's I/O (``mvar`` events).
 """
 
@@ -401,10 +404,8 @@ class PlcTable:
                 plc.last_send = op[1]
                 pc += 1
             else:  # OP_ENABLE
-                self.set_enabled(op[1], op[2])
+                self.set_enabled(op[1], op[2])  # its own DISABLE: the scan still ends
                 pc += 1
-                if not plc.enabled:
-                    break
         else:
             pc = 0
         if plc.enabled:

@@ -309,14 +309,15 @@ def parse_plc_line(text: str) -> list[tuple[Any, int]]:
         elif kw in ("ENABLE", "DISABLE"):
             nxt = _next_keyword(text, pos)
             end = nxt.start() if nxt is not None else n
+            seg = text[col - 1 : end]
+            head = re.match(r"\s*\w+\s*PLCC?\s*[\d\s,.]*", seg, re.IGNORECASE)
+            stop = head.end() if head is not None else len(seg)
             try:
-                stmts = parse_line(text[col - 1 : end])
+                stmts = parse_line(seg[:stop])
             except ParseError as e:
                 raise _shift(e, col - 1, text) from None
             out.append((stmts[0][0], col))
-            if len(stmts) > 1:
-                raise _error("unexpected text", col + stmts[1][1], text)
-            pos = end
+            pos = col - 1 + stmts[0][2]
         elif kw == "OPEN":
             # OPEN while a buffer is open: "buffer already in use" (TSRM p381).
             raise ParseError(

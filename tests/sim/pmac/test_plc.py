@@ -194,3 +194,16 @@ def test_reset_erases_plcs(rig):
     n = len(mvals(rig, "M1"))
     rig.run_for(0.1)
     assert len(mvals(rig, "M1")) == n and rig.c.plcs.to_list() == []
+
+
+def test_a_startup_plc_enables_another_and_disables_itself(rig):
+    """The usual start-up pattern: PLC 1 runs once, enables PLC 2, disables itself."""
+    rig.ok("I5=3")
+    rig.c.plcs.load(2, "M2=M2+1")
+    enter(rig, "M1=1 ENABLE PLC 2 DISABLE PLC 1 P9=1", n=1)
+    rig.ok("ENABLE PLC 1")
+    rig.run_for(0.01)
+    got = [(f["plc"], f["state"]) for _, _, f in rig.events("plc")]
+    assert got == [(1, "enabled"), (2, "enabled"), (1, "disabled")]
+    assert mvals(rig, "M1") == [1] and len(mvals(rig, "M2")) > 5
+    assert rig.c.get_variable("P9") == 1  # the scan runs to its end after its own DISABLE
