@@ -317,7 +317,11 @@ class Processor:
         clock = self.clock
         k = clock.index(now)
         plcs = self.ctl.plcs
-        plc: Plc | None = plcs.next_background()
+        plc: Plc | None = None
+        if abs(now - clock.t(k)) < 1e-9:
+            plc = plcs.next_background()
+        # else: waking between servo cycles, the free-running housekeeping pass in progress
+        # answers; PLC scans start with the next cycle (every instant stays on a servo cycle).
         work = self.costs.housekeeping_s
         if plc is not None:
             work += self._scan_cost(plcs.scan(plc))

@@ -129,3 +129,14 @@ def test_without_plcs_the_processor_model_sleeps(rig):
     rig.ok("I16")
     rig.run_until_idle(limit_s=5.0)
     assert rig.c.env.peek() == float("inf")
+
+
+def test_every_plc_effect_falls_on_a_servo_cycle(make_rig):
+    """Enabling a background PLC between servo cycles: its scans still start on cycles."""
+    rig = make_rig(i5=3)
+    rig.c.plcs.load(1, "M2=M2+1")
+    rig.run_for(0.0101)  # between two servo cycles
+    rig.c.plcs.set_enabled((1,), True)
+    rig.run_for(0.01)
+    cycles = [c for c, _, f in rig.events("mvar")]  # rig.cyc asserts whole cycles
+    assert len(cycles) > 10 and cycles == sorted(set(cycles))
