@@ -74,12 +74,35 @@ class _Builder:
     def __init__(self) -> None:
         self.ops: list[list[Any]] = []
         self.stack: list[tuple[str, int, int | None, bool]] = []  # (kind, pc, else_pc, inline)
+        #: OR-groups of AND-ed conditions of the IF/WHILE that ``AND``/``OR`` lines may extend.
+        self.cond_at: int | None = None
+        self.groups: list[list[Any]] = []
 
     def copy(self) -> _Builder:
         b = _Builder()
         b.ops = [list(op) for op in self.ops]
         b.stack = list(self.stack)
+        b.cond_at = self.cond_at
+        b.groups = [list(g) for g in self.groups]
         return b
+
+    def _extend(self, s: pp.CondLine, col: int, text: str) -> None:
+        """``AND (...)`` / ``OR (...)`` line: extend the condition of the IF/WHILE above."""
+        if self.cond_at is None:
+            raise ParseError(
+                f"{s.op} line without an IF or WHILE just above", column=col, text=text,
+                pmac_error="ERR003",
+            )
+        if s.op == "AND":
+            self.groups[-1].append(s.cond)
+        else:
+            self.groups.append([s.cond])
+        groups = [tuple(g) for g in self.groups]
+
+        def cond(v: Any, c: int) -> bool:
+            return any(all(f(v, c) for f in g) for g in groups)
+
+        self.ops[self.cond_at][1] = cond
 
     def add_line(self, text: str, stmts: list[tuple[Any, int]]) -> None:
         depth = len(self.stack)
@@ -92,6 +115,14 @@ class _Builder:
     def add(self, s: Any, col: int, text: str) -> None:
         ops, stack = self.ops, self.stack
         t = type(s)
+        if t is pp.CondLine:
+            self._extend(s, col, text)
+            return
+        if t is pp.If or t is pp.While:
+            self.cond_at = None if s.inline else len(ops)
+            self.groups = [[s.cond]]
+        else:
+            self.cond_at = None
         if t is pp.Set:
             ops.append([OP_SET, s.kind, s.index, s.value])
         elif t is pp.If:

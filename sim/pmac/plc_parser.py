@@ -13,8 +13,10 @@ A PLC line holds one or more of:
 
 Conditions: ``expression comparator expression`` with the comparators ``=`` ``!=`` ``>``
 ``!>`` ``<`` ``!<`` (TUM p253), combined with ``AND`` / ``OR`` inside the parentheses, and
-parenthesised sub-conditions. ``AND`` binds tighter than ``OR`` ``[INF]``; the manual's
-multi-line ``AND (...)`` / ``OR (...)`` continuation lines are not supported (ERR003).
+parenthesised sub-conditions. ``AND`` binds tighter than ``OR`` ``[INF]``. In PLCs a
+condition may go on over the following lines, each starting ``AND (...)`` or ``OR (...)``
+(TUM p253: multi-line conditions are for PLCs only); they extend the ``IF``/``WHILE`` just
+above them with the same precedence. An ``AND``/``OR`` line anywhere else is ERR003.
 Synchronous assignments (``M1==1``) and motion statements belong to motion programs and are
 refused in PLCs (ERR003).
 
@@ -119,7 +121,16 @@ class Send:
     text: str
 
 
-PlcStatement = If | Else | EndIf | While | EndWhile | Set | Cmd | Send | plc_st.EnablePlc
+@dataclass(frozen=True, slots=True)
+class CondLine:
+    """A continuation line ``AND (condition)`` / ``OR (condition)`` of the IF/WHILE above."""
+
+    op: str
+    cond: Cond
+    text: str
+
+
+PlcStatement = CondLine | If | Else | EndIf | While | EndWhile | Set | Cmd | Send | plc_st.EnablePlc
 
 
 # -- conditions -----------------------------------------------------------------------------
@@ -323,13 +334,23 @@ def parse_plc_line(text: str) -> list[tuple[Any, int]]:
             raise ParseError(
                 "a buffer is already open: CLOSE first", column=col, text=text, pmac_error="ERR007"
             )
-        else:  # AND / OR outside a condition
-            raise _error(f"{kw} continuation lines are not supported", col, text)
+        else:  # AND / OR: a continuation line of a multi-line condition
+            if out:
+                raise _error(f"{kw} must start its line", col, text)
+            while pos < n and text[pos].isspace():
+                pos += 1
+            if pos >= n or text[pos] != "(":
+                raise _error(f"{kw} needs (condition)", pos + 1, text)
+            close = _matching_paren(text, pos)
+            cond = parse_condition(text[pos + 1 : close], pos + 1, text)
+            out.append((CondLine(kw, cond, text[pos : close + 1]), col))
+            pos = close + 1
     return out
 
 
 __all__ = [
     "Cmd",
+    "CondLine",
     "Else",
     "EndIf",
     "EndWhile",

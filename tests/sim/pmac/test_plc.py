@@ -207,3 +207,22 @@ def test_a_startup_plc_enables_another_and_disables_itself(rig):
     assert got == [(1, "enabled"), (2, "enabled"), (1, "disabled")]
     assert mvals(rig, "M1") == [1] and len(mvals(rig, "M2")) > 5
     assert rig.c.get_variable("P9") == 1  # the scan runs to its end after its own DISABLE
+
+
+def test_a_multi_line_condition_with_and_or_lines(rig):
+    """TUM p253: in PLCs a condition may continue on ``AND (...)`` / ``OR (...)`` lines."""
+    enter(rig, "IF (P1=1)", "AND (P2=1)", "OR (P3=1)", "M1=1", "ELSE", "M1=2", "ENDIF", n=0)
+    rig.ok("ENABLE PLC 0")
+    seen = []
+    for p1, p2, p3 in [(1, 1, 0), (1, 0, 0), (0, 0, 1), (0, 1, 0)]:
+        rig.ok(f"P1={p1} P2={p2} P3={p3}")
+        rig.run_for(0.005)
+        seen.append(rig.c.get_variable("M1"))
+    assert seen == [1, 2, 1, 2]
+
+
+def test_an_and_line_must_follow_an_if_or_while(rig):
+    rig.ok("OPEN PLC 1 CLEAR")
+    rig.ok("P1=1")
+    assert rig.cmd("AND (P2=1)").error == "ERR003"
+    rig.ok("CLOSE")
