@@ -2,12 +2,16 @@
 
 from __future__ import annotations
 
+import asyncio
 from collections.abc import AsyncIterator
 
 import httpx
 import pytest
 
 from api.main import create_app
+from api.pmac_ethernet.protocol import getresponse
+from api.pmac_ethernet.server import serve_pmac
+from app.registry import Registry
 from tests.conftest import dummy_settings
 
 pytestmark = pytest.mark.anyio
@@ -110,3 +114,35 @@ async def test_watchdog_trip_then_reset(pmac_api):
     r = await pmac_api.post(f"{BASE}/terminal", json={"command": "I5"})
     assert r.json() == {"reply": "1", "error": None, "pending": False}
     assert (await pmac_api.get(f"{BASE}/plcs")).json()["plcs"] == []
+
+
+def test_a_tripped_card_is_silent_on_its_tcp_port():
+    """TUM p215: after a watchdog trip the CPU "will not communicate": no bytes come back."""
+    async def main() -> tuple[bytes, bytes]:
+        registry = Registry()
+        handle = registry.add("pmac", "p", clock="virtual")
+        server = await serve_pmac(handle, "127.0.0.1", 0)
+        port = server.sockets[0].getsockname()[1]
+        try:
+            reader, writer = await asyncio.open_connection("127.0.0.1", port)
+            writer.write(getresponse("i3=2 PR"))
+            before = await asyncio.wait_for(reader.read(4096), 2.0)
+            plcs = handle.controller.plcs
+            handle.apply(plcs.load, 0, "\n".join(["P10=P10+1"] * 500))
+            handle.apply(plcs.set_enabled, (0,), True)
+            handle.clock.advance(2.0)
+            writer.write(getresponse("PR"))
+            try:
+                after = await asyncio.wait_for(reader.read(4096), 0.3)
+            except TimeoutError:
+                after = b""
+            writer.close()
+            return before, after
+        finally:
+            server.close()
+            await server.wait_closed()
+            await registry.close()
+
+    before, after = asyncio.run(main())
+    assert before == b"0\r\x06"
+    assert after == b""
