@@ -349,6 +349,11 @@ class Processor:
 
     # -- reports ----------------------------------------------------------------------------
 
+    def global_status_word1(self) -> int:
+        """First word of ``???``: bit 9 "real-time interrupt warning" once an RTI's tasks took
+        longer than one RTI period (TSRM p290; latched until reset ``[INF]``)."""
+        return (1 << 9) if self.rti_overruns else 0
+
     def load(self) -> dict[str, float]:
         """``{"servo", "rti", "background", "background_cycle_s"}``: shares of the processor
         (background = what servo and RTI leave, idle time included) over the last full second

@@ -231,7 +231,7 @@ class Terminal:
         if what == "?":
             return _hex_words(*ctl.motor_status(port.state["motor"]))
         if what == "???":
-            return _hex_words(0, 0)
+            return _hex_words(ctl.background.global_status_word1(), 0)
         if what == "SIZE":
             return str(ctl.size_words())
         if what == "VER":

@@ -140,3 +140,14 @@ def test_every_plc_effect_falls_on_a_servo_cycle(make_rig):
     rig.run_for(0.01)
     cycles = [c for c, _, f in rig.events("mvar")]  # rig.cyc asserts whole cycles
     assert len(cycles) > 10 and cycles == sorted(set(cycles))
+
+
+def test_an_rti_overrun_sets_the_real_time_interrupt_warning_bit(rig):
+    """TSRM p290: ``???`` first word bit 9 = real-time interrupt warning (latched)."""
+    assert rig.ok("???") == "000000000000"
+    # One long scan (the 20th), then short ones: the host can read the status again.
+    rig.c.plcs.load(0, "P1=P1+1\nIF (P1=20)\n" + "P10=P10+1\n" * 500 + "ENDIF")
+    rig.ok("ENABLE PLC 0")
+    rig.run_for(0.1)
+    assert len(rig.events("rti_overrun")) == 1
+    assert rig.ok("???") == "000200000000"
