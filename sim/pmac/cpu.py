@@ -109,7 +109,7 @@ class _BgCycle:
 class Processor:
     """Runs the RTI's PLC 0 and the background cycle on a shared processor-time budget.
 
-    Replaces the plain background loop: ``submit(job)`` queues a host command, answered at the
+    ``submit(job)`` queues a host command, answered at the
     end of a background cycle; :meth:`poke` tells it that something changed (a PLC enabled,
     I5 or I8 written). Owned by :class:`sim.pmac.controller.PmacController`.
     """

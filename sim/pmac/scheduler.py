@@ -1,4 +1,4 @@
-"""Turbo PMAC task timing: servo interrupt, real-time interrupt (RTI), background cycle.
+"""Turbo PMAC task timing: the servo interrupt and real-time interrupt (RTI) instants.
 
 The controller's tasks, highest priority first (TUM p236-237, spec §4.1, §9.3):
 
@@ -6,27 +6,20 @@ The controller's tasks, highest priority first (TUM p236-237, spec §4.1, §9.3)
   ``servo_hz`` in the config overrides it). Moves start and end on servo cycles.
 * **RTI** every I8+1 servo cycles (default I8 = 2 → every 3rd cycle, ≈ 1.33 ms): motion-program
   move planning for each CS that asked for it, then PLC 0. A CS asks for planning when a move
-  starts executing; the planning is done at the next RTI.
-* **background cycle**: host-command processing, PLC 1-31, housekeeping — whatever time is
-  left. :class:`BackgroundCycle` answers the host-command queue, one command line per cycle.
+  starts executing; the planning is done at the next RTI (:meth:`Scheduler.next_rti_after`).
+* **background**: host-command processing, PLC 1-31, housekeeping — whatever time is left;
+  modelled with its processor-time budget by :class:`sim.pmac.cpu.Processor` (issue 4), with
+  the watchdog in :mod:`sim.pmac.watchdog`.
 
-Nothing here runs once per servo cycle: :meth:`Scheduler.call_at` schedules one SimPy timeout
-to the instant where something happens (the next RTI, a move's end), computed from integer
-cycle indices.
-
-The controller's background loop is :class:`sim.pmac.cpu.Processor` (issue 4): PLC 0 at
-every RTI, one background PLC scan and one host command per background cycle, each charged
-processor time, and the watchdog (:mod:`sim.pmac.watchdog`). :class:`BackgroundCycle` below is
-the plain loop it replaced (one host command per ``cycle_cycles`` servo cycles), kept for
-callers that want a card with no processor model. The coordinate systems' move planning keys
-off :meth:`Scheduler.next_rti_after` instants.
+Nothing here runs once per servo cycle: a :class:`Wake` puts one already-triggered event on the
+SimPy queue at the instant where something happens (the next RTI, a move's end), computed from
+integer cycle indices.
 """
 
 from __future__ import annotations
 
 import math
-from collections import deque
-from collections.abc import Callable, Generator
+from collections.abc import Callable
 from heapq import heappush
 from typing import Any
 
@@ -90,59 +83,5 @@ class Scheduler:
         """``t`` rounded up to a servo cycle."""
         return math.ceil(t / self._period - 1e-6) * self._period
 
-    def call_at(self, t: float, fn: Callback) -> None:
-        """Call ``fn(event)`` at simulated time ``t`` (now if ``t`` is past)."""
-        env = self.env
-        now = env._now  # type: ignore[attr-defined]
-        Wake(env, t if t > now else now, fn)
 
-
-class BackgroundCycle:
-    """The background task loop: services queued host commands, one per cycle.
-
-    A command line received at ``t`` is executed at the end of the first background cycle
-    that ends strictly after ``t``; cycles are ``cycle_cycles()`` servo cycles long and end on
-    servo cycles (light load: 1 cycle, so the reply comes one servo period after the command
-    at most ``[INF]``). Later queued commands take one cycle each.
-    """
-
-    def __init__(self, scheduler: Scheduler, cycle_cycles: int = 1) -> None:
-        self.scheduler = scheduler
-        self.env = scheduler.env
-        self._cycle_cycles = max(1, int(cycle_cycles))
-        self.queue: deque[Callable[[], None]] = deque()
-        self._wake: simpy.Event | None = None
-        self.cycles = 0
-        self.process = self.env.process(self._loop())
-
-    def cycle_cycles(self) -> int:
-        """Length of the next background cycle in servo cycles (issue 4 overrides this)."""
-        return self._cycle_cycles
-
-    def submit(self, job: Callable[[], None]) -> None:
-        """Queue a host command (a callable executed inside a background cycle)."""
-        self.queue.append(job)
-        if self._wake is not None and not self._wake.triggered:
-            self._wake.succeed()
-
-    def run_cycle(self) -> None:
-        """What one background cycle does: here, answer one queued host command."""
-        if self.queue:
-            self.queue.popleft()()
-
-    def _loop(self) -> Generator[simpy.Event, Any, None]:
-        env = self.env
-        clock = self.scheduler.clock
-        while True:
-            if not self.queue:
-                self._wake = env.event()
-                yield self._wake
-                self._wake = None
-            k = clock.after(env.now) + self.cycle_cycles() - 1
-            t = clock.t(k)
-            yield env.timeout(max(0.0, t - env.now))
-            self.cycles += 1
-            self.run_cycle()
-
-
-__all__ = ["BackgroundCycle", "Scheduler"]
+__all__ = ["Scheduler", "Wake"]
