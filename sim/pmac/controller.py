@@ -413,7 +413,15 @@ class PmacController(Controller):
 
     def rotary(self, cs: int) -> dict[str, Any] | None:
         rot = self.coord_system(cs).rotary
-        return None if rot is None else rot.to_dict(self.buffer_holder is not None)
+        return None if rot is None else rot.to_dict(self.rotary_open())
+
+    def rotary_open(self) -> bool:
+        """The rotary buffers are open for entry: ``OPEN ROT`` and no ``CLOSE`` yet.
+
+        ``buffer_holder`` is the port holding *any* buffer open (only one may, ERR007); while
+        it holds a PLC open (``OPEN PLC n``) the rotary buffers stay closed.
+        """
+        return self.buffer_holder is not None and self.plcs.editing() is None
 
     def positions(self, cs: int, t: float | None = None) -> dict[str, float]:
         """Commanded axis positions of ``cs`` now (or at a ``t`` within the current move)."""

@@ -46,6 +46,13 @@ CPU = "DSP56321"
 TYPE = "TURBO2"
 
 
+#: On-line commands that still act on-line while the port holds a PLC buffer open.
+_ONLINE_IN_PLC = (
+    st.AddressCS, st.AddressMotor, st.Query, st.VarQuery, st.MDefinitionQuery, st.FeedOverride,
+    st.Run, st.Step, st.Quit, st.Hold, st.Abort,
+)  # fmt: skip
+
+
 class CommandError(Exception):
     """Stop executing the line; answer ``code``."""
 
@@ -70,6 +77,8 @@ class Terminal:
         if ctl.plcs.editing(port) is not None:
             # OPEN PLC: lines go into the PLC; what follows a CLOSE is on-line again.
             reply, error, rest = ctl.plcs.enter_line(text, port)
+            if error == "ERR003" and self._online_only(text):
+                return self._run(text, port, open_=False)  # not PLC text: on-line commands
             if error is None and rest and rest.strip():
                 more, error = self.execute(rest, port)
                 reply = "\r".join(x for x in (reply, more) if x)
@@ -82,8 +91,26 @@ class Terminal:
                 return reply, error
             more, error = self.execute(text[m.end() :], port)
             return "\r".join(x for x in (reply, more) if x), error
+        return self._run(text, port, open_=ctl.buffer_holder is port)
+
+    @staticmethod
+    def _online_only(text: str) -> bool:
+        """Is ``text`` made only of on-line commands that have no PLC-program form (queries,
+        ``&n``, ``#n``, ``%n``, ``R``/``S``/``Q``/``A``/``H``)? With a buffer open the card
+        stores what it can and executes the rest on-line (seed 000) ``[INF]`` for PLC buffers:
+        so the ``&1%`` / ``??`` / ``PR`` polls of a host driver keep working while it enters a
+        PLC."""
         try:
-            stmts = parse_line(text, open_=ctl.buffer_holder is port)
+            stmts = parse_line(text, open_=False)
+        except ParseError:
+            return False
+        return bool(stmts) and all(isinstance(item[0], _ONLINE_IN_PLC) for item in stmts)
+
+    def _run(self, text: str, port: Port, open_: bool) -> tuple[str, str | None]:
+        """Parse the whole line, then execute it left to right."""
+        ctl = self.ctl
+        try:
+            stmts = parse_line(text, open_=open_)
         except ParseError as e:
             return "", e.pmac_error or "ERR003"
         out: list[str] = []

@@ -141,3 +141,23 @@ async def test_variables_route(pmac_api):
     assert r.json() == {"name": "P5", "value": 2.5}
     assert (await pmac_api.get(f"{BASE}/variables/I16")).json() == {"name": "I16", "value": 5.0}
     assert (await pmac_api.get(f"{BASE}/variables/X1")).status_code == 404
+
+
+async def test_rotary_open_is_true_only_after_open_rot(pmac_api):
+    """``rotary.open`` follows ``OPEN ROT`` / ``CLOSE``; ``OPEN PLC n`` leaves it false."""
+    await pmac_api.put(f"{BASE}/coord/1/rotary", json={"size_words": 100})
+
+    async def rotary_open() -> bool:
+        return (await pmac_api.get(f"{BASE}/coord/1")).json()["rotary"]["open"]
+
+    async def term(command: str) -> None:
+        r = await pmac_api.post(f"{BASE}/terminal", json={"command": command})
+        assert r.json()["error"] is None
+
+    await term("OPEN PLC 2")
+    assert await rotary_open() is False
+    await term("CLOSE")
+    await term("OPEN ROT")
+    assert await rotary_open() is True
+    await term("CLOSE")
+    assert await rotary_open() is False

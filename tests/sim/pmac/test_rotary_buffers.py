@@ -143,3 +143,22 @@ def test_the_manuals_two_cs_open_rot_example_runs_both(rig):
     assert ends == {(1, 1), (2, 1)}
     assert rig.c.positions(1) == {"X": 10.0, "Y": 10.0}
     assert rig.c.positions(2) == {"X": 30.0, "Y": 30.0}
+
+
+def test_only_open_rot_opens_the_rotary_buffers(rig):
+    """PSRM OPEN ROTARY: ``OPEN ROT`` opens the rotary buffers; ``OPEN PLC n`` opens a PLC
+    buffer only, so the rotary buffer's ``open`` flag stays false and a program line typed
+    meanwhile goes into the PLC, not into the rotary buffer."""
+    rig.rotary_setup(words=100)
+    assert rig.c.rotary(1)["open"] is False
+    rig.ok("OPEN PLC 1")
+    assert rig.c.rotary(1)["open"] is False
+    assert int(rig.ok("SIZE")) < 0  # SIZE is negative while any buffer is open
+    rig.ok("P1=1")
+    rig.ok("CLOSE")
+    assert rig.c.rotary(1)["open"] is False
+    assert rig.events("line_loaded", "breq") == []
+    rig.ok("OPEN ROT")
+    assert rig.c.rotary(1)["open"] is True
+    rig.ok("CLOSE")
+    assert rig.c.rotary(1)["open"] is False

@@ -197,3 +197,38 @@ def test_send_and_cmd_are_stored_and_ignored(rig):
     rig.ok("CLOSE R")
     rig.run_for(0.05)
     assert rig.events("move_start") == []
+
+
+@pytest.mark.parametrize("entry", ["closed", "OPEN ROT", "OPEN PLC 1"])
+def test_percent_queries_and_sets_the_addressed_cs_override(rig, entry):
+    """TSRM ``%`` (spec §5.3, §4.3): ``%`` answers the addressed CS's feedrate override, ``%n``
+    sets it; ``&n`` in front addresses the CS first. The EPICS driver polls ``&1%`` — also
+    while it holds a buffer open for entry, where ``%`` is not program text and acts on-line."""
+    rig.ok("&1 DEFINE ROT 100")
+    if entry != "closed":
+        rig.ok(entry)
+    assert rig.ok("%") == "100"
+    assert rig.ok("&1%") == "100"
+    assert rig.ok("&2%") == "100"
+    rig.ok("%50")  # the port addresses CS 2 now
+    assert rig.ok("&1%") == "100"
+    assert rig.ok("&2%") == "50"
+    rig.ok("&1%50")
+    assert rig.ok("&1%") == "50"
+    assert rig.ok("&1% &2%") == "50\r50"
+    assert rig.c.coord_system(1).feed_override == 50
+    assert rig.events("line_loaded") == []  # nothing was stored in a buffer
+
+
+def test_plc_entry_still_answers_on_line_queries_and_stores_plc_text(rig):
+    """With a PLC open, PLC text is stored; a line of on-line-only commands (``SIZE``,
+    ``PR``, ``I16``) is answered on-line ``[INF]``; anything else is ERR003 as before."""
+    rig.ok("&1 DEFINE ROT 100")
+    rig.ok("OPEN PLC 1 CLEAR")
+    assert int(rig.ok("SIZE")) < 0
+    assert rig.ok("PR") == "0"
+    assert rig.ok("I16") == "5"
+    rig.ok("P1=P1+1")
+    assert rig.cmd("X10").error == "ERR003"
+    rig.ok("CLOSE")
+    assert rig.c.plcs.plc(1).program.lines == ("P1=P1+1",)
