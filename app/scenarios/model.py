@@ -31,7 +31,7 @@ from pydantic import (
 )
 
 from app.scenarios.errors import ScenarioError, dotted
-from app.scenarios.source import load_yaml, locate, read_text
+from app.scenarios.source import load_yaml, locate, read_text, value_line
 
 NonNeg = Annotated[float, Field(ge=0, allow_inf_nan=False)]
 Pos = Annotated[float, Field(gt=0, allow_inf_nan=False)]
@@ -237,6 +237,42 @@ class RotarySpec(Strict):
     size_words: int = Field(ge=1)
 
 
+class PlcSpec(Strict):
+    """PMAC PLC program ``plc`` (0-31): ``text`` (one statement line per line, as entered
+    between ``OPEN PLC n CLEAR`` and ``CLOSE``) or ``file``.
+
+    ``enabled`` (default true) enables it at t = 0; ``enable_at_ms`` instead sends
+    ``ENABLE PLC n`` to the card's command line at that time, as a host would (it takes
+    effect when the background answers the command). PLC 0 runs every RTI when I5 is 1 or 3;
+    PLCs 1-31 in the background when I5 is 2 or 3 (a PLC enabled where I5 forbids its class
+    is refused here: it would never run).
+    """
+
+    plc: int = Field(ge=0, le=31)
+    text: str | None = None
+    file: str | None = None
+    enabled: bool | None = None
+    enable_at_ms: NonNeg | None = None
+
+    @model_validator(mode="after")
+    def _one_source(self, info: ValidationInfo) -> PlcSpec:
+        if (self.text is None) == (self.file is None):
+            raise ValueError("give exactly one of text, file")
+        if self.enabled and self.enable_at_ms is not None:
+            raise ValueError("enabled at t = 0 already: drop enable_at_ms or set enabled: false")
+        if self.file is not None:
+            try:
+                text, _ = read_text(self.file, (info.context or {}).get("base_dir"))
+            except OSError as exc:
+                raise ValueError(f"cannot read PLC file {self.file!r}: {exc.strerror}") from None
+            object.__setattr__(self, "text", text)
+        return self
+
+    @property
+    def enabled_at_start(self) -> bool:
+        return self.enabled if self.enabled is not None else self.enable_at_ms is None
+
+
 class RunSpec(Strict):
     """Run Trio program ``program`` (on ``process``, or the next free one)."""
 
@@ -247,7 +283,10 @@ class RunSpec(Strict):
 class ControllerSpec(Strict):
     """One controller: ``kind``, initial ``config`` (the kind's own keys, e.g. ``i16``) and set-up.
 
-    PMAC: ``rotary`` buffers to define (highest CS first is done for you). Trio: ``axes``
+    PMAC: ``rotary`` buffers to define (highest CS first is done for you), ``plcs`` (PLC
+    programs, :class:`PlcSpec`), ``cpu_sample_ms``: how often the run records the processor
+    load (``status()["cpu"]``) as a ``cpu_sample`` event — default every 50 ms when the
+    controller has PLCs, else never. Trio: ``axes``
     parameters (``{0: {speed: 10}}``), ``programs`` (name -> BASIC text) and ``run``.
     Both: ``variables`` (``P1``, ``VR(5)``) and ``setup`` terminal commands, at t = 0.
     """
@@ -255,6 +294,8 @@ class ControllerSpec(Strict):
     kind: Literal["pmac", "trio"]
     config: dict[str, Any] = Field(default_factory=dict)
     rotary: list[RotarySpec] = Field(default_factory=list)
+    plcs: list[PlcSpec] = Field(default_factory=list)
+    cpu_sample_ms: Pos | None = None
     variables: dict[str, float] = Field(default_factory=dict)
     setup: list[str] = Field(default_factory=list)
     axes: dict[int, dict[str, float]] = Field(default_factory=dict)
@@ -280,9 +321,25 @@ class ControllerSpec(Strict):
             css = [r.cs for r in self.rotary]
             if len(css) != len(set(css)):
                 raise ValueError("rotary: one buffer per coordinate system")
-        elif self.rotary:
-            raise ValueError("rotary is for kind pmac, not trio")
+            nums = [p.plc for p in self.plcs]
+            if len(nums) != len(set(nums)):
+                raise ValueError("plcs: one entry per PLC number")
+        else:
+            for name in ("rotary", "plcs", "cpu_sample_ms"):
+                if getattr(self, name):
+                    raise ValueError(f"{name} is for kind pmac, not trio")
         return self
+
+    def i5(self) -> int:
+        """I5 at power-on (default 1: PLC 0 may run, PLCs 1-31 may not)."""
+        cfg = {k.lower(): v for k, v in self.config.items()}
+        return int(cfg.get("i5", 1)) & 3
+
+    def sample_period_s(self) -> float | None:
+        """How often to sample ``status()["cpu"]`` (None: never)."""
+        if self.cpu_sample_ms is not None:
+            return self.cpu_sample_ms / 1000
+        return 0.05 if self.plcs else None
 
     def i16_i17(self) -> tuple[int, int]:
         cfg = {k.lower(): v for k, v in self.config.items()}
@@ -305,11 +362,19 @@ class _PmacHost(_Host):
 
 
 class PrPollingSpec(_PmacHost):
-    """Polls ``PR`` every ``poll_period_ms``; refills from ``low_water`` to ``high_water``."""
+    """Polls ``PR`` every ``poll_period_ms``; refills from ``low_water`` to ``high_water``.
+
+    ``pr_via``: ``terminal`` (default) sends ``&cs PR`` to the card's command line and waits
+    for the reply, which the card gives at the end of a background cycle (so PLC 0 and the
+    RTI's load show in the reply time; ``reply_timeout_ms`` before giving up on a poll);
+    ``status`` reads the count directly, with no command processing.
+    """
 
     type: Literal["pr_polling"]
     poll_period_ms: Pos
     pr_latency: DelaySpec = DelaySpec(ms=0)
+    pr_via: Literal["terminal", "status"] = "terminal"
+    reply_timeout_ms: Pos = 1000.0
     lines_per_write: int = Field(1, ge=1)
     high_water: int = Field(1000, ge=1)
     low_water: int = Field(500, ge=0)
@@ -520,6 +585,46 @@ def _cross_checks(s: Scenario) -> list[tuple[tuple[Any, ...], str]]:
     return problems
 
 
+def _plc_checks(
+    s: Scenario, lines: dict[tuple[Any, ...], int]
+) -> list[tuple[tuple[Any, ...], str, int | None]]:
+    """Each PLC program compiles (errors at the file line of the bad PLC line), and I5 lets
+    every enabled PLC run."""
+    from sim.errors import ParseError
+    from sim.pmac.plc import compile_plc
+
+    out: list[tuple[tuple[Any, ...], str, int | None]] = []
+    for cid, spec in s.controllers.items():
+        i5 = spec.i5()
+        for i, p in enumerate(spec.plcs):
+            path: tuple[Any, ...] = ("controllers", cid, "plcs", i)
+            try:
+                compile_plc(p.text or "")
+            except ParseError as e:
+                where = f"{p.file} line {e.line}" if p.file else f"PLC {p.plc} line {e.line}"
+                msg = f"{where}, column {e.column}: {e.message}"
+                if e.text:
+                    msg += f" in {e.text.strip()!r}"
+                if p.file is not None:
+                    out.append(((*path, "file"), msg, lines.get((*path, "file"))))
+                else:
+                    first = value_line(lines, (*path, "text"))
+                    line = first + (e.line or 1) - 1 if first is not None else None
+                    out.append(((*path, "text"), msg, line))
+                continue
+            permitted = i5 & (1 if p.plc == 0 else 2)
+            if (p.enabled_at_start or p.enable_at_ms is not None) and not permitted:
+                what = "PLC 0 (foreground)" if p.plc == 0 else f"PLC {p.plc} (background)"
+                need = "1 or 3" if p.plc == 0 else "2 or 3"
+                out.append((
+                    (*path, "enabled" if p.enabled is not None else "plc"),
+                    f"{what} is enabled but I5 = {i5} does not let it run "
+                    f"(set config.i5 to {need}, or enabled: false)",
+                    None,
+                ))  # fmt: skip
+    return out
+
+
 def parse_scenario(
     data: Any,
     *,
@@ -542,12 +647,12 @@ def parse_scenario(
         raise ScenarioError(
             first["message"], file=file, line=first["line"], field=first["field"], errors=errors
         ) from None
-    problems = _cross_checks(scn)
+    problems = [(p, m, None) for p, m in _cross_checks(scn)] + _plc_checks(scn, lines)
     if problems:
         errors = []
-        for path, msg in problems:
+        for path, msg, exact in problems:
             _, line = locate(data, path, lines)
-            errors.append({"field": dotted(path), "line": line, "message": msg})
+            errors.append({"field": dotted(path), "line": exact or line, "message": msg})
         first = errors[0]
         raise ScenarioError(
             first["message"], file=file, line=first["line"], field=first["field"], errors=errors
@@ -593,6 +698,7 @@ __all__ = [
     "DelaySpec",
     "GenerateSpec",
     "NaiveSpec",
+    "PlcSpec",
     "PrPollingSpec",
     "ProgramSpec",
     "Scenario",

@@ -1,8 +1,9 @@
 """Running a scenario in virtual time.
 
 Builds the controllers (each with its own ``simpy.Environment``), sets them up at t = 0
-(variables, rotary buffers from the highest CS down as the manual requires, Trio axes and
-programs, terminal commands), starts the host models and faults, and runs until
+(variables, rotary buffers from the highest CS down as the manual requires, PMAC PLC programs
+and their enables, Trio axes and programs, terminal commands), starts the host models, the
+processor-load sampler (``cpu_sample`` events) and faults, and runs until
 ``duration_s`` — or until the ``stop_event`` is logged by any controller, the controllers then
 kept in lock-step so they all stop at that instant.
 
@@ -13,6 +14,7 @@ event log byte for byte.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import json
 import random
@@ -32,7 +34,7 @@ from app.scenarios.model import (
     TrioFeederSpec,
 )
 from sim.controller import Controller
-from sim.errors import MotionSimError
+from sim.errors import Halted, MotionSimError
 from sim.events import Event
 
 
@@ -118,6 +120,7 @@ def build(scn: Scenario) -> tuple[dict[str, Controller], dict[str, Any]]:
     from sim.hosts import (
         BlindFeeder,
         BreqInterruptHost,
+        CpuMonitor,
         MovesBufferedFeeder,
         NaiveHost,
         NtypeFeeder,
@@ -141,6 +144,14 @@ def build(scn: Scenario) -> tuple[dict[str, Controller], dict[str, Any]]:
             for i, rot in sorted(enumerate(spec.rotary), key=lambda p: -p[1].cs):
                 path = ("controllers", cid, "rotary", i)
                 ctl.define_rotary(rot.cs, rot.size_words)  # type: ignore[attr-defined]
+            for i, plc in enumerate(spec.plcs):
+                path = ("controllers", cid, "plcs", i)
+                ctl.plcs.load(plc.plc, plc.text or "")  # type: ignore[attr-defined]
+                if plc.enabled_at_start:
+                    ctl.plcs.set_enabled((plc.plc,), True)  # type: ignore[attr-defined]
+                elif plc.enable_at_ms is not None:
+                    _at(ctl.env, plc.enable_at_ms / 1000,
+                        _command(ctl, f"ENABLE PLC {plc.plc}"))  # fmt: skip
             for axis, params in spec.axes.items():
                 path = ("controllers", cid, "axes", axis)
                 ctl.set_axis(axis, **params)  # type: ignore[attr-defined]
@@ -160,6 +171,11 @@ def build(scn: Scenario) -> tuple[dict[str, Controller], dict[str, Any]]:
             err.details.update({k: v for k, v in exc.details.items() if k not in err.details})
             raise err from None
         controllers[cid] = ctl
+
+    for cid, spec in scn.controllers.items():
+        period = spec.sample_period_s() if spec.kind == "pmac" else None
+        if period is not None:
+            CpuMonitor(controllers[cid], period).start()
 
     hosts: dict[str, Any] = {}
     for i, (name, h) in enumerate(zip(scn.host_names(), scn.hosts, strict=True)):
@@ -194,6 +210,8 @@ def build(scn: Scenario) -> tuple[dict[str, Controller], dict[str, Any]]:
                     lines_per_write=h.lines_per_write,
                     high_water=h.high_water,
                     low_water=h.low_water,
+                    via_terminal=h.pr_via == "terminal",
+                    reply_timeout_s=h.reply_timeout_ms / 1000,
                     **common,
                 )  # fmt: skip
             elif isinstance(h, BreqInterruptSpec):
@@ -220,7 +238,7 @@ def build(scn: Scenario) -> tuple[dict[str, Controller], dict[str, Any]]:
         else:
             ctl = controllers[f.controller or next(iter(controllers))]
             if isinstance(f, TerminalFault):
-                _at(ctl.env, f.at_ms / 1000, _bind(ctl.terminal, f.command))
+                _at(ctl.env, f.at_ms / 1000, _command(ctl, f.command))
             else:
                 assert isinstance(f, SetVariableFault)
                 _at(ctl.env, f.at_ms / 1000, _bind(ctl.set_variable, f.name, f.value))
@@ -229,6 +247,16 @@ def build(scn: Scenario) -> tuple[dict[str, Controller], dict[str, Any]]:
 
 def _bind(fn: Callable[..., Any], *args: Any) -> Callable[[], Any]:
     return lambda: fn(*args)
+
+
+def _command(ctl: Controller, text: str) -> Callable[[], Any]:
+    """Send ``text`` to the terminal then; a card whose watchdog tripped answers nothing."""
+
+    def send() -> None:
+        with contextlib.suppress(Halted):
+            ctl.terminal(text)
+
+    return send
 
 
 def _stall(host: Any, until: float) -> Callable[[], Any]:

@@ -17,6 +17,10 @@ from app.scenarios.errors import ScenarioError
 
 Path_ = tuple[Any, ...]
 
+#: Last element of a path whose line is where a block scalar's text (``text: |``) begins, so
+#: an error inside embedded program text (a PLC) can name the file line of the bad line.
+VALUE_LINE = "<value line>"
+
 
 def load_yaml(text: str, filename: str = "<scenario>") -> tuple[Any, dict[Path_, int]]:
     """Parse ``text``; return the data and ``{path: line}`` (path ``()`` is the document)."""
@@ -41,6 +45,8 @@ def load_yaml(text: str, filename: str = "<scenario>") -> tuple[Any, dict[Path_,
 
 def _walk(loader: yaml.SafeLoader, node: yaml.Node, path: Path_, out: dict[Path_, int]) -> None:
     out.setdefault(path, node.start_mark.line + 1)
+    if isinstance(node, yaml.ScalarNode) and node.style in ("|", ">"):
+        out[(*path, VALUE_LINE)] = node.start_mark.line + 2  # the line after the indicator
     if isinstance(node, yaml.MappingNode):
         for key_node, value_node in node.value:
             key = loader.construct_object(key_node, deep=True)
@@ -94,4 +100,10 @@ def read_text(path: str | Path, base_dir: Path | None = None) -> tuple[str, Path
     return p.read_text(encoding="utf-8"), p
 
 
-__all__ = ["load_yaml", "locate", "read_text"]
+def value_line(lines: dict[Path_, int], path: Path_) -> int | None:
+    """The file line where the text of the scalar at ``path`` begins (its key's line for a
+    one-line value, the line after ``|`` / ``>`` for a block)."""
+    return lines.get((*path, VALUE_LINE), lines.get(path))
+
+
+__all__ = ["VALUE_LINE", "load_yaml", "locate", "read_text", "value_line"]

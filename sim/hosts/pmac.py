@@ -24,6 +24,14 @@ Hosts add their own events to the controller's log so a run can be explained aft
 * ``host_irq`` — ``host``, ``cs``, ``missed`` (bool), ``latency_s``: a BREQ edge serviced after
   ``latency_s`` (``missed`` false) or lost while the interrupt was masked (``missed`` true).
 * ``host_done`` — ``host``, ``cs``, ``sent``: the whole program has been sent.
+* ``host_pr`` — ``host``, ``cs``, ``lines_ahead``, ``reply_s``: a ``PR`` sent as a terminal
+  command was answered ``reply_s`` after the card received it (PR-polling host with
+  ``via_terminal``). The card answers host commands at the end of a background cycle, so this
+  grows when PLC 0 and the RTI leave the background little processor time (seed 003).
+* ``host_timeout`` — ``host``, ``cs``, ``command``, ``waited_s``: no reply within the host's
+  reply timeout (the host gives up on that poll and polls again on its period).
+* ``host_stopped`` — ``host``, ``cs``, ``reason``: the controller refused the host (the
+  watchdog tripped: a tripped card answers nothing), the host stops.
 """
 
 from __future__ import annotations
@@ -32,7 +40,7 @@ import random
 from collections.abc import Generator, Sequence
 from typing import Any
 
-from sim.errors import BufferFull
+from sim.errors import BufferFull, Halted
 from sim.hosts.distributions import Delay, fixed
 
 _ZERO = fixed(0.0)
@@ -77,6 +85,7 @@ class PmacHost:
         self._started = False
         self.process = None
         self.stall_until = 0.0
+        self.stopped: str | None = None
 
     def stall(self, until_s: float) -> None:
         """Fault: the host does nothing until ``until_s`` (a busy or paused PC)."""
@@ -84,7 +93,14 @@ class PmacHost:
 
     @property
     def remaining(self) -> int:
-        return len(self.lines) - self.sent
+        """Lines still to send (0 once the host has stopped: it will send nothing more)."""
+        return 0 if self.stopped is not None else len(self.lines) - self.sent
+
+    def stop(self, reason: str) -> None:
+        """The controller refused the host for good (``Halted``): stop, with a ``host_stopped``."""
+        if self.stopped is None:
+            self.stopped = reason
+            self.log.emit("host_stopped", host=self.name, cs=self.cs, reason=reason)
 
     def start(self) -> None:
         """Start the host's SimPy process."""
@@ -106,13 +122,16 @@ class PmacHost:
         if delay > 0:
             yield self.env.timeout(delay)
         count = min(count, self.remaining)
-        while count > 0:
+        while count > 0 and self.stopped is None:
             batch = self.lines[self.sent : self.sent + count]
             try:
                 res = self.controller.load_lines(self.cs, batch, first_seq=self.sent + 1)
             except BufferFull:
                 count //= 2
                 continue
+            except Halted as exc:
+                self.stop(str(exc))
+                return None
             self.sent += count
             self.writes += 1
             self.log.emit(
@@ -130,9 +149,12 @@ class PmacHost:
 
     def start_program_once(self) -> None:
         """``&cs B0 R`` the first time it is called (if this host starts the program)."""
-        if not self._started and self.start_program and self.sent:
+        if not self._started and self.start_program and self.sent and self.stopped is None:
             self._started = True
-            self.controller.run(self.cs)
+            try:
+                self.controller.run(self.cs)
+            except Halted as exc:
+                self.stop(str(exc))
 
     def _finish(self) -> None:
         if self.done_t is None:
@@ -154,6 +176,16 @@ class PrPollingHost(PmacHost):
         lines_per_write: lines sent in one write while refilling.
         high_water, low_water: refill starts at ``lines_ahead <= low_water`` and stops at
             ``lines_ahead >= high_water`` (the manual's 1000 / 500).
+        via_terminal: send ``&{cs}PR`` to the card's command line (on a port of the host's
+            own) and read the count from its reply, as host software does; the reply comes at
+            the end of a background cycle (``host_pr`` events record how long it took).
+            Without it the count is read directly at the instant the query arrives (a
+            stand-in with no command processing, e.g. a dual-ported-RAM status read).
+        reply_timeout_s: with ``via_terminal``, how long the host waits for the reply before
+            giving up on that poll (``host_timeout``).
+
+    ``pr_latency`` is the link time to the card: the query reaches the card that much after
+    the poll starts; the reply travels back at once ``[INF]`` (the manual gives no split).
     """
 
     def __init__(
@@ -164,9 +196,13 @@ class PrPollingHost(PmacHost):
         lines_per_write: int = 1,
         high_water: int = 1000,
         low_water: int = 500,
+        via_terminal: bool = False,
+        reply_timeout_s: float = 1.0,
         **kwargs: Any,
     ) -> None:
         super().__init__(*args, **kwargs)
+        if reply_timeout_s <= 0:
+            raise ValueError("reply_timeout_s must be > 0")
         if poll_period_s <= 0:
             raise ValueError("poll_period_s must be > 0")
         if not 0 <= low_water < high_water:
@@ -178,6 +214,49 @@ class PrPollingHost(PmacHost):
         self.lines_per_write = lines_per_write
         self.high_water = high_water
         self.low_water = low_water
+        self.via_terminal = via_terminal
+        self.reply_timeout_s = reply_timeout_s
+        self.port: Any = None
+        self.replies: list[float] = []
+        self.timeouts = 0
+
+    def ask_pr(self) -> Generator[Any, Any, int | None]:
+        """``&cs PR`` on the card's command line; the count, or None (timeout or stopped)."""
+        env = self.env
+        ctl = self.controller
+        if self.port is None:
+            self.port = ctl.open_port(self.name)
+        command = f"&{self.cs}PR"
+        t_sent = env.now
+        try:
+            reply = ctl.terminal(command, self.port)
+        except Halted as exc:
+            self.stop(str(exc))
+            return None
+        if not reply.done:
+            answered = env.event()
+            reply.add_done_callback(lambda _r: answered.triggered or answered.succeed())
+            yield answered | env.timeout(self.reply_timeout_s)
+        if not reply.done:
+            self.timeouts += 1
+            self.log.emit(
+                "host_timeout", host=self.name, cs=self.cs, command=command,
+                waited_s=env.now - t_sent,
+            )  # fmt: skip
+            return None
+        t_done = reply.t_done if reply.t_done is not None else env.now
+        if reply.error:
+            self.log.emit(
+                "host_timeout", host=self.name, cs=self.cs, command=command,
+                waited_s=t_done - t_sent, error=reply.error,
+            )  # fmt: skip
+            return None
+        ahead = int(float(reply.reply.split()[0])) if reply.reply.strip() else 0
+        self.replies.append(t_done - t_sent)
+        self.log.emit(
+            "host_pr", host=self.name, cs=self.cs, lines_ahead=ahead, reply_s=t_done - t_sent
+        )
+        return ahead
 
     def _run(self) -> Generator:
         env = self.env
@@ -187,8 +266,13 @@ class PrPollingHost(PmacHost):
             delay = self.pr_latency.draw(self.rng)
             if delay > 0:
                 yield env.timeout(delay)
-            ahead = self.lines_ahead()
-            if ahead <= self.low_water:
+            if self.via_terminal:
+                ahead = yield from self.ask_pr()
+                if self.stopped is not None:
+                    return
+            else:
+                ahead = self.lines_ahead()
+            if ahead is not None and ahead <= self.low_water:
                 while self.remaining > 0 and ahead < self.high_water:
                     want = min(self.lines_per_write, self.high_water - ahead)
                     res = yield from self.write(want)
