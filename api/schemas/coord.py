@@ -26,9 +26,10 @@ class ProgramPublic(BaseModel):
 
     state: Literal["idle", "running", "waiting", "stopped", "aborted"]
     line: int | None = Field(None, description="line number of the executing move, if any")
-    error: Literal["run_time_error"] | None = Field(
+    error: Literal["run_time_error", "watchdog"] | None = Field(
         None, description="why the controller aborted the program itself: `run_time_error` = "
-        "move calculation fell behind execution (TUM p339); cleared by the next run")
+        "move calculation fell behind execution (TUM p339); `watchdog` = the watchdog tripped "
+        "and killed the motors; cleared by the next run (or the reset)")
 
 
 class CoordPublic(BaseModel):

@@ -221,9 +221,9 @@ class CoordSystem:
         #: wake-up that checks it was calculated by then (:meth:`_arm_i11`).
         self._go_t: float | None = None
         self._i11_wake: Wake | None = None
-        #: The program was aborted because calculation fell behind (``??`` word 2 bit 22),
-        #: until the next ``R`` / ``S`` or reset.
-        self.run_time_error = False
+        #: Why the controller aborted the program by itself, until the next ``R`` / ``S`` or
+        #: reset: ``"run_time_error"`` (calculation fell behind) or ``"watchdog"``.
+        self.error: str | None = None
         #: The rotary line count when planning last had its chance (see the module docstring).
         self._seen_n = 0
 
@@ -245,6 +245,12 @@ class CoordSystem:
     @property
     def moving(self) -> bool:
         return self.current is not None
+
+    @property
+    def run_time_error(self) -> bool:
+        """Aborted because calculation fell behind (``??`` word 2 bit 22, motor ``?`` word 1
+        bit 14)."""
+        return self.error == "run_time_error"
 
     def _refresh(self) -> None:
         """Re-read the CS I-variables (Isx13, Isx87, Isx88) after any I-variable change."""
@@ -281,7 +287,7 @@ class CoordSystem:
             self.set_feed_override(self._pct_before_hold)
         self.single_step = single_step
         self.quitting = False
-        self.run_time_error = False
+        self.error = None
         # Isx92 (move blend disable) is read only at R / S (TSRM p190).
         self.no_blend = self.vars.I(isx(self.cs, 92)) == 1
         self._fast = False  # re-derived at the next calculated line
@@ -409,6 +415,7 @@ class CoordSystem:
         if error is None:
             self._set_state(ABORTED)
         else:
+            self.error = error
             self._set_state(ABORTED, error=error)
         m = self.current
         if m is None:
@@ -435,6 +442,40 @@ class CoordSystem:
         self.rest_pos = stop
         self._emit("move_end", cs=self.cs, n=m.n)
         self._motion_stopped()
+
+    def kill(self, error: str) -> None:
+        """Motors killed (watchdog trip; TSRM p57, TUM p215): amplifiers off, no deceleration.
+
+        The commanded positions freeze where they are at this instant: the executing move (or
+        an ``A`` deceleration) ends now (``move_end``), calculated moves and queued synchronous
+        writes are dropped with their words, a running program is ``aborted`` with ``error``,
+        and nothing is left scheduled for this CS.
+        """
+        now = self._env._now
+        m = self.current
+        was_running = self.running
+        if m is not None:
+            self.rest_pos = self.positions(now)
+        self._plan_due = None
+        self._cancel()
+        wake = self._i11_wake
+        if wake is not None and wake.callbacks:
+            wake.callbacks.clear()
+        self._i11_wake = self._go_t = None
+        self._starting = self.quitting = self.blocked = self.single_step = False
+        self.sync_pending.clear()
+        self.planned.clear()
+        self._abort = None
+        self.calc_pos = dict(self.rest_pos)
+        if self.rotary is not None:
+            self.rotary.free_calculated()
+        if m is not None:
+            self.current = None
+            m.prev = None
+            self._emit("move_end", cs=self.cs, n=m.n)
+        if was_running:
+            self.error = error
+            self._set_state(ABORTED, error=error)
 
     def detach(self) -> None:
         """Forget every scheduled wake-up (the controller is being reset)."""
@@ -563,7 +604,6 @@ class CoordSystem:
         rot = self.rotary
         if self.blocked or self.quitting or rot is None or not rot.pending:
             return
-        self.run_time_error = True
         self.abort("run_time_error")
 
     def _delayed_start(self, _ev: Any) -> None:
@@ -768,7 +808,6 @@ class CoordSystem:
                 self._after(_ceil((m.b_end - ta_n / 2) / p - 1e-6) * p, self._handoff_cb)
                 return
         elif self._fell_behind(m):
-            self.run_time_error = True
             self.abort("run_time_error")
             return
         m.stopping = True
@@ -949,8 +988,8 @@ class CoordSystem:
     def to_dict(self) -> dict[str, Any]:
         """The API's ``program`` object."""
         out: dict[str, Any] = {"state": self.state}
-        if self.run_time_error:
-            out["error"] = "run_time_error"
+        if self.error is not None:
+            out["error"] = self.error
         if self.current is not None:
             out["line"] = self.current.n
         return out

@@ -10,9 +10,10 @@ power cycle (:meth:`sim.pmac.controller.PmacController.reset`) brings it back.
 
 Modelled: the trip instant is the servo cycle ``last_reload + limit`` ``[INF]`` (the
 one-cycle difference between "counter reaches 0" and "counter below 0" is not resolved by the
-manual text found). On a trip: every running coordinate system is aborted with
-``error="watchdog"`` and its scheduled motion is dropped (motors killed: no deceleration
-ramp); every M-variable that is not 0 is written 0 (outputs off, ``mvar`` events); a
+manual text found). On a trip: the motors are killed — every coordinate system's
+commanded positions freeze at the trip instant (no deceleration ramp; a moving CS gets its
+``move_end`` then), its lookahead is dropped and a running program is aborted with
+``error="watchdog"`` (:meth:`sim.pmac.lookahead.CoordSystem.kill`); every M-variable that is not 0 is written 0 (outputs off, ``mvar`` events); a
 ``watchdog`` event with the ``reason``; from then on the controller answers nothing
 (:class:`sim.errors.Halted`) and its processor runs no task until reset.
 """
@@ -66,12 +67,7 @@ class Watchdog:
             reason=f"no background cycle completed within {limit} servo cycles (I40)",
         )
         for c in ctl.coord_systems.values():
-            was_running = c.running
-            if was_running:
-                c.abort(error="watchdog")
-            c.detach()
-            if was_running:
-                c.state = "aborted"
+            c.kill("watchdog")
         vars_ = ctl.vars
         for n in sorted(k for k, v in vars_.m.items() if v != 0):
             vars_.write("M", n, 0.0)

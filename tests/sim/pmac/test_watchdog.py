@@ -81,3 +81,37 @@ def test_a_tripped_card_answers_nothing_until_reset(rig):
     assert rig.c.status()["watchdog"]["tripped"] is False
     rig.run_for(3.0)
     assert len(rig.events("watchdog")) == 1  # PLCs were erased by the power cycle
+
+
+def test_the_trip_freezes_commanded_positions_at_the_trip_instant(make_rig):
+    """TSRM p57 / TUM p215: the trip kills the motors — no deceleration, no extrapolation of the
+    cut-off move. The position read any time later is the profile's position at the trip
+    instant (a twin card without the PLC 0, read at that instant, gives the same number); the
+    move ends there (``move_end`` at the trip cycle) and the program reports the watchdog."""
+    rig, twin = make_rig(), make_rig()
+    for r in (rig, twin):
+        r.rotary_setup()
+        r.ok("&1 #1->X")
+        r.c.load_lines(1, ["TM1000 X100", "X200", "X300"])
+        r.ok("&1 R")
+    oversized_plc0(rig)
+    rig.run_for(2.5)
+    t_trip = rig.c.status()["watchdog"]["t"]
+    k_trip = rig.cyc(t_trip)
+    twin.run_for(t_trip - twin.c.now)
+    assert twin.c.now == pytest.approx(t_trip, abs=1e-12)
+    x_trip = twin.c.positions(1)["X"]
+    assert 100.0 < x_trip < 200.0  # the trip cut move 2 short
+    assert rig.c.positions(1)["X"] == pytest.approx(x_trip, abs=1e-9)
+    rig.run_for(1.0)
+    assert rig.c.positions(1)["X"] == pytest.approx(x_trip, abs=1e-9)
+    assert rig.events("move_start", "move_end")[-2:] == [
+        (rig.cyc(rig.c.log.events("move_start")[-1].t), "move_start", {"cs": 1, "n": 2}),
+        (k_trip, "move_end", {"cs": 1, "n": 2}),
+    ]
+    assert rig.events("program")[-1] == (
+        k_trip, "program", {"cs": 1, "state": "aborted", "error": "watchdog"}
+    )
+    assert rig.c.coord(1)["program"] == {"state": "aborted", "error": "watchdog"}
+    assert rig.c.coord(1)["rotary"]["used_words"] == 0  # lookahead dropped with the motion
+    assert rig.c.motor_status(1)[0] & (1 << 13)  # motor 1 not moving (desired velocity zero)
