@@ -10,12 +10,13 @@ power cycle (:meth:`sim.pmac.controller.PmacController.reset`) brings it back.
 
 Modelled: the trip instant is the servo cycle ``last_reload + limit`` ``[INF]`` (the
 one-cycle difference between "counter reaches 0" and "counter below 0" is not resolved by the
-manual text found). On a trip: the motors are killed — every coordinate system's
-commanded positions freeze at the trip instant (no deceleration ramp; a moving CS gets its
-``move_end`` then), its lookahead is dropped and a running program is aborted with
-``error="watchdog"`` (:meth:`sim.pmac.lookahead.CoordSystem.kill`); every M-variable that is not 0 is written 0 (outputs off, ``mvar`` events); a
-``watchdog`` event with the ``reason``; from then on the controller answers nothing
-(:class:`sim.errors.Halted`) and its processor runs no task until reset.
+manual text found). On a trip: the motors are killed — every coordinate system's commanded
+positions freeze at the trip instant (no deceleration ramp; a moving CS gets its ``move_end``
+then), its lookahead is dropped and a running program is aborted with ``error="watchdog"``
+(:meth:`sim.pmac.lookahead.CoordSystem.kill`); every M-variable that is not 0 is written 0
+(outputs off, ``mvar`` events); a ``watchdog`` event with the ``reason``; from then on the
+controller answers nothing (:class:`sim.errors.Halted`) and its processor runs no task until
+reset.
 """
 
 from __future__ import annotations
