@@ -347,6 +347,8 @@ class CoordSystem:
         self._held = False
         k = old_eff / pct  # new stretch / old stretch
         for p in self.planned:
+            if p.kind == DWELL:
+                continue  # DWELL is real time, never scaled by % (TSRM p429)
             p.tm *= k
             p.ta *= k
             p.ta_in *= k

@@ -87,3 +87,16 @@ def test_dwell_is_not_scaled_by_the_override(make_rig):
     rig.run_until_idle()
     start, end = _by_n(rig, "move_start")[1], _by_n(rig, "move_end")[1]
     assert end - start == ceil_cycles(rig, 100)
+
+
+def test_an_override_change_leaves_a_calculated_dwell_in_real_time(rig):
+    """TSRM p429: a DWELL already calculated when ``%`` changes still lasts its own time; the
+    moves around it are rescaled."""
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["TM1000 TA100 TS0 X100", "DWELL500", "X200"])
+    rig.ok("R")
+    rig.run_for(0.3)
+    rig.ok("%50")
+    rig.run_until_idle()
+    start, end = _by_n(rig, "move_start")[2], _by_n(rig, "move_end")[2]
+    assert end - start == ceil_cycles(rig, 500)
