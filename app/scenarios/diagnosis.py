@@ -19,6 +19,15 @@ For each episode found by :mod:`app.scenarios.metrics`:
 * PMAC ``run_time_error`` — ``calculation_fell_behind``: the controller aborted the program
   because a move's successor was not calculated in time (TUM p339); move planning runs once
   per RTI (every I8+1 servo cycles), so moves shorter than the RTI period outrun it.
+  - ``host_commands_unanswered``: the host polls ``PR`` and its polls went unanswered
+    (``host_timeout``) between its last write and the buffer running dry: the card answers
+    host commands in the background, which PLC 0 and the RTI left no processor time.
+
+* PMAC ``watchdog`` — the card tripped (seed 003; TUM p215): ``plc0_too_long`` when PLC 0's
+  scan alone needs more processor time than one RTI period leaves after the servo task (the
+  RTI overruns every time and the background never completes a cycle), ``rti_tasks_too_long``
+  when PLC 0 plus move planning do, else ``background_starved``. The detail names the scan
+  (statements, µs), the RTI period, I40 and when the last background cycle ended.
 * Trio ``axis_blocked`` — ``process_blocked_on_other_axis``: the axis had room and moves still
   to come, but the process (or host) feeding it was blocked on another axis's move line
   (TN20-16).
@@ -37,6 +46,10 @@ _DWELL = re.compile(r"\bDWELL\b", re.I)
 
 def _ms(s: float) -> str:
     return f"{s * 1e3:.3f} ms"
+
+
+def _us(s: float) -> str:
+    return f"{s * 1e6:.0f} µs"
 
 
 def diagnose_buffer_empty(s: Starvation, c: CsTrace, i16: int) -> Starvation:
@@ -104,6 +117,105 @@ def diagnose_buffer_empty(s: Starvation, c: CsTrace, i16: int) -> Starvation:
             f"; {_ms(gap)} between its writes around the starvation" if gap else ""
         )
     return s
+
+
+def diagnose_unanswered(s: Starvation, c: CsTrace) -> Starvation:
+    """A ``buffer_empty`` starvation of a PR-polling host whose polls timed out since its
+    last write: the card did not answer (its background was starved), not a slow host."""
+    if s.kind != "buffer_empty":
+        return s
+    last_write = max((t for t in c.loaded.values() if t <= s.start), default=0.0)
+    lost = [(t, w) for t, w in c.host_timeouts if last_write < t <= s.end]
+    if not lost:
+        return s
+    t_first = lost[0][0] - lost[0][1]
+    before = sum(1 for t, _ in lost if t <= s.start)
+    s.cause = "host_commands_unanswered"
+    for stale in ("covered_s", "host_response_s"):
+        s.facts.pop(stale, None)
+    s.facts.update(first_unanswered_s=t_first, host_timeouts=len(lost))
+    s.detail = (
+        f"the host's PR polls went unanswered from {t_first:.6f} s ({before} timed out before "
+        f"the buffer ran dry at {s.start:.6f} s, {len(lost)} in all): the card answers host "
+        f"commands in the background, which got no processor time, so the host never "
+        f"learned it had to refill"
+    )
+    return s
+
+
+def diagnose_watchdog(
+    controller: str,
+    t_trip: float,
+    t_end: float,
+    *,
+    limit_cycles: int,
+    i40: int,
+    servo_period_s: float,
+    rti_period_s: float,
+    servo_share: float,
+    plc0_statements: int | None,
+    plc0_scan_s: float | None,
+    planning_s: float = 0.0,
+    rti_overruns: int = 0,
+    first_overrun_s: float | None = None,
+    plc0_enabled_s: float | None = None,
+) -> Starvation:
+    """Explain a watchdog trip: which foreground work left the background no time.
+
+    Args:
+        limit_cycles: servo cycles the watchdog allows (I40, 4096 when I40 = 0).
+        servo_share: share of the processor the servo task takes.
+        plc0_statements, plc0_scan_s: PLC 0's last scan before the trip and its cost.
+        planning_s: move planning per RTI before the trip (processor seconds).
+    """
+    window = limit_cycles * servo_period_s
+    last_bg = t_trip - window  # the model: trip = last background cycle end + I40 cycles
+    room = rti_period_s * max(0.0, 1.0 - servo_share)
+    scan = plc0_scan_s or 0.0
+    i40_text = f"I40 = {i40}" + (f" → {limit_cycles}" if i40 <= 0 else "")
+    within = (
+        f"the background could not complete a cycle within {i40_text} servo cycles "
+        f"({window:.3f} s): its last cycle ended at {last_bg:.6f} s and the watchdog tripped "
+        f"at {t_trip:.6f} s"
+    )
+    servo = f" ({_us(room)} left after the servo task)" if servo_share > 0 else ""
+    if plc0_statements and scan > room:
+        cause = "plc0_too_long"
+        detail = (
+            f"PLC 0 scan of {plc0_statements} statements ≈ {_us(scan)} exceeds the RTI period "
+            f"{_us(rti_period_s)}{servo}: {within}"
+        )
+    elif plc0_statements and scan + planning_s > room:
+        cause = "rti_tasks_too_long"
+        detail = (
+            f"PLC 0 scan of {plc0_statements} statements ≈ {_us(scan)} plus move planning "
+            f"≈ {_us(planning_s)} per RTI exceed the RTI period {_us(rti_period_s)}{servo}: "
+            f"{within}"
+        )
+    else:
+        cause = "background_starved"
+        detail = f"servo and RTI tasks left the background no processor time: {within}"
+    if rti_overruns and first_overrun_s is not None:
+        detail += f"; {rti_overruns} RTIs overran from {first_overrun_s:.6f} s"
+    if plc0_enabled_s is not None:
+        detail += f"; PLC 0 was enabled at {plc0_enabled_s:.6f} s"
+    return Starvation(
+        controller,
+        "watchdog",
+        t_trip,
+        max(t_trip, t_end),
+        cause=cause,
+        detail=detail,
+        facts={
+            "plc0_statements": plc0_statements,
+            "plc0_scan_s": plc0_scan_s,
+            "rti_period_s": rti_period_s,
+            "planning_s": planning_s,
+            "limit_cycles": limit_cycles,
+            "last_background_s": last_bg,
+            "rti_overruns": rti_overruns,
+        },
+    )
 
 
 def lookahead_breaks(
@@ -185,5 +297,7 @@ __all__ = [
     "diagnose_axis_blocked",
     "diagnose_buffer_empty",
     "diagnose_run_time_error",
+    "diagnose_unanswered",
+    "diagnose_watchdog",
     "lookahead_breaks",
 ]

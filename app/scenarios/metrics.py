@@ -13,9 +13,13 @@ PMAC, per coordinate system with a rotary buffer:
   total ``time_starved_s``, longest.
 * run-time errors: the program aborted by the controller (calculation fell behind).
 * ``breq_rising`` edges and their rate, host writes and interrupts, line latency
-  (``line_loaded`` → ``move_start`` of the same line).
+  (``line_loaded`` → ``move_start`` of the same line); a PR-polling host's reply latency
+  (``host_pr``: command received → answered) and its unanswered polls (``host_timeout``).
 * ``mvar_lead``: for each M-variable write, how long before the move that follows it in the
   program actually starts (0 for ``M1==1``, about a move early for ``M1=1``).
+
+The card's processor (RTI overruns, background cycle, the watchdog) is in
+:mod:`app.scenarios.cpu_metrics`.
 
 Trio, per axis: time with MTYPE / NTYPE / process buffer occupied, and the time an axis stood
 idle between its moves while a process (or a feeding host) was blocked waiting on another axis.
@@ -117,6 +121,8 @@ class CsTrace:
     errors: list[tuple[float, str]] = field(default_factory=list)  # program aborted: t, error
     host_done: float | None = None
     host_sent: int | None = None
+    host_prs: list[tuple[float, float]] = field(default_factory=list)  # t, reply_s
+    host_timeouts: list[tuple[float, float]] = field(default_factory=list)  # t, waited_s
 
 
 def pmac_traces(events: Iterable[Event]) -> dict[int, CsTrace]:
@@ -154,12 +160,16 @@ def pmac_traces(events: Iterable[Event]) -> dict[int, CsTrace]:
             tr(f["cs"]).breq.append((e.t, bool(f["level"])))
         elif typ == "program" and "cs" in f:
             tr(f["cs"]).program.append((e.t, f["state"]))
-            if f.get("error"):
+            if f.get("error") and f["error"] != "watchdog":  # a trip is not a run-time error
                 tr(f["cs"]).errors.append((e.t, str(f["error"])))
         elif typ == "host_write" and "cs" in f:
             tr(f["cs"]).host_writes.append((e.t, f.get("lines", 1)))
         elif typ == "host_irq" and "cs" in f:
             tr(f["cs"]).host_irqs.append((e.t, bool(f.get("missed")), f.get("latency_s", 0.0)))
+        elif typ == "host_pr" and "cs" in f:
+            tr(f["cs"]).host_prs.append((e.t, float(f["reply_s"])))
+        elif typ == "host_timeout" and "cs" in f:
+            tr(f["cs"]).host_timeouts.append((e.t, float(f.get("waited_s", 0.0))))
         elif typ == "host_done" and "cs" in f:
             c = tr(f["cs"])
             c.host_done, c.host_sent = e.t, f.get("sent")
@@ -300,6 +310,7 @@ def pmac_cs_metrics(
     rising = sum(1 for (_, lvl) in c.breq if lvl)
     span = max(t_end - t_start, 1e-12)
     lat = _stats(line_latency(c))
+    pr = _stats([r for _, r in c.host_prs])
     leads = mvar_leads(c)
     return {
         "lines_loaded": len(c.loaded),
@@ -317,6 +328,10 @@ def pmac_cs_metrics(
         "line_latency_mean_s": lat["mean"],
         "line_latency_p99_s": lat["p99"],
         "line_latency_max_s": lat["max"],
+        "pr_replies": len(c.host_prs),
+        "pr_reply_mean_s": pr["mean"],
+        "pr_reply_max_s": pr["max"],
+        "host_timeouts": len(c.host_timeouts),
         "mvar": leads,
         "starvation_list": starv,
     }

@@ -2,7 +2,9 @@
 
 * PMAC, one figure per coordinate system: lines ahead over time (what ``PR`` reports) with
   I16 and I17 marked, starvations shaded (red: buffer empty, orange: lookahead stopped), and
-  below it BREQ as a step trace with the host's writes as ticks.
+  below it BREQ as a step trace with the host's writes as ticks. A watchdog trip is a red
+  vertical line across both panels, labelled with its time, the stopped card hatched after
+  it; a PLC 0 being enabled is a dotted grey line.
 * Trio, one figure per controller: per axis a timeline of MTYPE, NTYPE and the process buffer
   occupied, with the time the axis idled while its process was blocked shaded.
 """
@@ -67,6 +69,14 @@ def plot_pmac_cs(
         if s.get("cs") == cs:
             ax1.axvspan(s["start_s"], s["end_s"], color=_SHADE.get(s["kind"], "grey"), alpha=0.3)
             ax2.axvspan(s["start_s"], s["end_s"], color=_SHADE.get(s["kind"], "grey"), alpha=0.3)
+    for t, label, style in _card_marks(events):
+        for ax in (ax1, ax2):
+            ax.axvline(t, **style)
+            if style["color"] == "tab:red" and t < t_end:  # the card is stopped from here
+                ax.axvspan(t, t_end, facecolor="none", edgecolor="gray", hatch="//", lw=0)
+        ax1.annotate(label, (t, 0.55), xycoords=("data", "axes fraction"), xytext=(4, 0),
+                     textcoords="offset points", fontsize=8, color=style["color"],
+                     backgroundcolor="white")  # fmt: skip
     ax1.set_ylabel("lines ahead")
     ax1.set_title(title)
     ax1.legend(loc="upper right", fontsize=8)
@@ -87,6 +97,19 @@ def plot_pmac_cs(
     fig.savefig(path)
     plt.close(fig)
     return path
+
+
+def _card_marks(events: list[Any]) -> list[tuple[float, str, dict[str, Any]]]:
+    """Instants that concern the whole card: PLC 0 enabled, the watchdog trip."""
+    out = []
+    for e in events:
+        if e.type == "watchdog":
+            style = {"color": "tab:red", "lw": 1.5}
+            out.append((e.t, f"watchdog trip {e.t:.3f} s", style))
+        elif e.type == "plc" and e.fields.get("plc") == 0 and e.fields.get("state") == "enabled":
+            style = {"color": "dimgray", "lw": 1, "ls": ":"}
+            out.append((e.t, f"PLC 0 enabled {e.t:.3f} s", style))
+    return out
 
 
 def plot_trio(

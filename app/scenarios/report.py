@@ -1,14 +1,18 @@
 """A run's metrics: per controller / coordinate system / axis, the starvations with their
-diagnosis, and one flat row of headline numbers (what a sweep tabulates)."""
+diagnosis (a watchdog trip is one too), the PMAC processor (``cpu``), and one flat row of
+headline numbers (what a sweep tabulates)."""
 
 from __future__ import annotations
 
 from typing import Any
 
+from app.scenarios.cpu_metrics import CpuTrace, cpu_metrics, cpu_trace
 from app.scenarios.diagnosis import (
     diagnose_axis_blocked,
     diagnose_buffer_empty,
     diagnose_run_time_error,
+    diagnose_unanswered,
+    diagnose_watchdog,
     lookahead_breaks,
 )
 from app.scenarios.metrics import (
@@ -21,6 +25,7 @@ from app.scenarios.metrics import (
 )
 from app.scenarios.runner import RunResult
 from sim.events import Event
+from sim.timing import pmac_servo_period_s
 
 #: The flat metrics of a run, in table order (a sweep's columns).
 HEADLINE = (
@@ -40,7 +45,17 @@ HEADLINE = (
     "mvar_lead_max_s",
     "lines_executed",
     "run_time_errors",
+    "rti_overruns",
+    "watchdog_trips",
+    "watchdog_trip_s",
+    "pr_reply_mean_s",
+    "pr_reply_max_s",
+    "host_timeouts",
+    "background_cycle_max_s",
 )
+
+#: Turbo PMAC default servo period (I10 = 3713707): 442.7 µs.
+_SERVO_S = pmac_servo_period_s(3713707)
 
 
 def pmac_report(
@@ -51,8 +66,19 @@ def pmac_report(
     i16: int = 5,
     total_lines: dict[int, int | None] | None = None,
     rti_period_s: float | None = None,
+    servo_period_s: float | None = None,
+    config: dict[str, Any] | None = None,
+    i40: int | None = None,
+    plc0_statements: int | None = None,
 ) -> dict[str, Any]:
-    """Metrics of a PMAC log, per coordinate system, with diagnosed starvations."""
+    """Metrics of a PMAC log, per coordinate system, with diagnosed starvations; the card's
+    processor under ``"cpu"`` (a watchdog trip diagnosed as an episode).
+
+    Args:
+        config: the controller's config (processor costs ``cpu_*_us``, ``i40``).
+        i40: I40 at the end of the run (else from ``config``, else 0).
+        plc0_statements: PLC 0's last scan, when the log has no ``cpu_sample`` to say it.
+    """
     out: dict[str, Any] = {"kind": "pmac", "cs": {}}
     episodes: list[Starvation] = []
     for cs, c in sorted(pmac_traces(events).items()):
@@ -61,6 +87,7 @@ def pmac_report(
         starv = m.pop("starvation_list")
         for s in starv:
             diagnose_buffer_empty(s, c, i16)
+            diagnose_unanswered(s, c)
         breaks = lookahead_breaks(c, waiting_intervals(c, t_end), controller)
         m["lookahead_breaks"] = len(breaks)
         m["lookahead_stopped_s"] = sum(b.length for b in breaks)
@@ -70,8 +97,64 @@ def pmac_report(
         ]
         episodes += starv + breaks + errors
         out["cs"][cs] = m
+    ct = cpu_trace(events)
+    out["cpu"] = cpu_metrics(ct)
+    if ct.trip is not None:
+        trip = _watchdog_episode(
+            ct, t_end, controller, config or {}, i40, plc0_statements,
+            servo_period_s or _SERVO_S, rti_period_s,
+        )  # fmt: skip
+        episodes.append(trip)
+        # the background cycle that never completed: from the last one to the trip
+        open_cycle = trip.start - trip.facts["last_background_s"]
+        out["cpu"]["background_cycle_max_s"] = max(
+            open_cycle, out["cpu"]["background_cycle_max_s"] or 0.0
+        )
     out["starvation_list"] = sorted(episodes, key=lambda s: s.start)
     return out
+
+
+def _watchdog_episode(
+    ct: CpuTrace,
+    t_end: float,
+    controller: str,
+    config: dict[str, Any],
+    i40: int | None,
+    plc0_statements: int | None,
+    servo_s: float,
+    rti_s: float | None,
+) -> Starvation:
+    """The trip as an episode, with the PLC 0 / RTI arithmetic that explains it."""
+    from sim.pmac.cpu import CpuCosts
+    from sim.pmac.watchdog import DEFAULT_LIMIT_CYCLES
+
+    assert ct.trip is not None
+    t_trip = ct.trip[0]
+    cfg = {k.lower(): v for k, v in config.items()}
+    costs = CpuCosts.from_config(cfg)
+    if i40 is None:
+        i40 = int(cfg.get("i40", 0))
+    limit = DEFAULT_LIMIT_CYCLES if i40 <= 0 else i40
+    if rti_s is None:
+        rti_s = (int(cfg.get("i8", 2)) + 1) * servo_s
+    before = [f for t, f in ct.samples if t <= t_trip]
+    stmts = int(before[-1].get("plc0_statements", 0)) if before else plc0_statements
+    scan = costs.plc_scan_s + costs.plc_statement_s * stmts if stmts else None
+    servo_share = float(before[-1]["servo"]) if before else 0.0
+    # move planning per RTI over the last second before the trip
+    t0 = max(0.0, t_trip - 1.0)
+    lines = sum(1 for t in ct.lines_calculated if t0 < t <= t_trip)
+    rtis = max(1.0, (t_trip - t0) / rti_s)
+    planning = costs.rti_base_s + costs.plan_line_s * lines / rtis
+    plc0_on = [t for t, n, on in ct.enabled if n == 0 and on and t <= t_trip]
+    return diagnose_watchdog(
+        controller, t_trip, t_end,
+        limit_cycles=limit, i40=i40, servo_period_s=servo_s, rti_period_s=rti_s,
+        servo_share=servo_share, plc0_statements=stmts, plc0_scan_s=scan,
+        planning_s=planning, rti_overruns=len(ct.overruns),
+        first_overrun_s=ct.overruns[0][0] if ct.overruns else None,
+        plc0_enabled_s=plc0_on[-1] if plc0_on else None,
+    )  # fmt: skip
 
 
 def trio_report(
@@ -94,10 +177,15 @@ def report(result: RunResult) -> dict[str, Any]:
         if spec.kind == "pmac":
             i16, _ = spec.i16_i17()
             totals = {r.cs: result.total_lines(cid, r.cs) for r in spec.rotary}
-            rti = result.controllers[cid].status().get("rti_period_s")
+            ctl: Any = result.controllers[cid]
+            status = ctl.status()
+            plcs = getattr(ctl, "plcs", None)
             r = pmac_report(
                 events, result.t_end, controller=cid, i16=i16, total_lines=totals,
-                rti_period_s=rti,
+                rti_period_s=status.get("rti_period_s"),
+                servo_period_s=status.get("servo_period_s"), config=spec.config,
+                i40=int(ctl.get_variable("I40")),
+                plc0_statements=plcs.plc(0).last_statements if plcs is not None else None,
             )  # fmt: skip
         else:
             servo_s = float(spec.config.get("servo_period_ms", 1.0)) / 1000
@@ -135,6 +223,12 @@ def headline(per: dict[str, Any]) -> dict[str, Any]:
         x["lead_s"] for m in cs_rows for x in m.get("mvar", []) if x.get("lead_s") is not None
     ]
     executed = sum(m["lines_executed"] for m in cs_rows)
+    cpus = [r["cpu"] for r in per.values() if r["kind"] == "pmac" and "cpu" in r]
+    trips = [c["watchdog_trip_s"] for c in cpus if c["watchdog_trip_s"] is not None]
+    replies = [(m["pr_reply_mean_s"], m["pr_replies"]) for m in cs_rows
+               if m.get("pr_reply_mean_s") is not None]  # fmt: skip
+    cycles = [c["background_cycle_max_s"] for c in cpus
+              if c.get("background_cycle_max_s") is not None]  # fmt: skip
     weighted = [
         (m["line_latency_mean_s"], m["lines_executed"])
         for m in cs_rows
@@ -161,6 +255,17 @@ def headline(per: dict[str, Any]) -> dict[str, Any]:
         "mvar_lead_max_s": max(leads) if leads else None,
         "lines_executed": executed if cs_rows else None,
         "run_time_errors": total("run_time_errors"),
+        "rti_overruns": sum(c["rti_overruns"] for c in cpus) if cpus else None,
+        "watchdog_trips": len(trips) if cpus else None,
+        "watchdog_trip_s": min(trips) if trips else None,
+        "pr_reply_mean_s": (
+            sum(v * n for v, n in replies) / max(1, sum(n for _, n in replies))
+            if replies
+            else None
+        ),
+        "pr_reply_max_s": extreme("pr_reply_max_s", max),
+        "host_timeouts": total("host_timeouts"),
+        "background_cycle_max_s": max(cycles) if cycles else None,
     }
 
 

@@ -1,5 +1,6 @@
 """The Rich summary printed after a run: one row per coordinate system / Trio controller,
-then each starvation with its diagnosis."""
+the PMAC processor (when PLCs ran, an RTI overran or the watchdog tripped), then each
+starvation with its diagnosis."""
 
 from __future__ import annotations
 
@@ -45,6 +46,9 @@ def summary_tables(rep: dict[str, Any], *, max_starvations: int = 20) -> list[Ta
                 )  # fmt: skip
     if pm.row_count:
         tables.append(pm)
+    cpu = _cpu_table(rep)
+    if cpu.row_count:
+        tables.append(cpu)
     if trio.row_count:
         tables.append(trio)
     st = Table(title="starvations and why")
@@ -52,7 +56,12 @@ def summary_tables(rep: dict[str, Any], *, max_starvations: int = 20) -> list[Ta
         st.add_column(col, no_wrap=col != "detail")
     episodes = rep["starvations"]
     for s in episodes[:max_starvations]:
-        where = f"&{s['cs']}" if "cs" in s else f"axis {s.get('axis')}"
+        if "cs" in s:
+            where = f"&{s['cs']}"
+        elif "axis" in s:
+            where = f"axis {s['axis']}"
+        else:
+            where = "card"
         st.add_row(
             s["controller"], where, _f(s["start_s"], " s", 1, 4), _f(s["length_s"], " ms", 1e3),
             s["cause"], s["detail"],
@@ -62,6 +71,25 @@ def summary_tables(rep: dict[str, Any], *, max_starvations: int = 20) -> list[Ta
     if episodes:
         tables.append(st)
     return tables
+
+
+def _cpu_table(rep: dict[str, Any]) -> Table:
+    t = Table(title=f"{rep['scenario']} — PMAC processor")
+    for col in ("controller", "PLC 0 stmts", "RTI overruns", "bg cycle mean", "bg cycle max",
+                "PR reply mean", "PR reply max", "timeouts", "watchdog trip"):  # fmt: skip
+        t.add_column(col, justify="left" if col == "controller" else "right")
+    for cid, r in rep["controllers"].items():
+        c = r.get("cpu")
+        if not c or not (c["cpu_samples"] or c["rti_overruns"] or c["watchdog_tripped"]):
+            continue
+        t.add_row(
+            cid, _f(c["plc0_statements_max"]), _f(c["rti_overruns"]),
+            _f(c["background_cycle_mean_s"], " ms", 1e3),
+            _f(c["background_cycle_max_s"], " ms", 1e3),
+            _f(c["pr_reply_mean_s"], " ms", 1e3), _f(c["pr_reply_max_s"], " ms", 1e3),
+            _f(c["host_timeouts"]), _f(c["watchdog_trip_s"], " s", 1, 4),
+        )  # fmt: skip
+    return t
 
 
 def print_summary(rep: dict[str, Any], console: Console | None = None) -> None:
@@ -74,6 +102,10 @@ def print_summary(rep: dict[str, Any], console: Console | None = None) -> None:
                 f"[yellow]{cid}: the first {r['events_lost']} events left the log before they "
                 "were read; metrics cover the rest (set log_capacity in the scenario)[/yellow]"
             )
+    for cid, r in rep["controllers"].items():
+        stopped = (r.get("cpu") or {}).get("stopped")
+        if stopped:
+            console.print(f"[red]{cid}: the watchdog tripped; stopped: {'; '.join(stopped)}[/red]")
     if not rep["starvations"]:
         console.print("[green]no starvation[/green]")
 
