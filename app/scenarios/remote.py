@@ -4,10 +4,11 @@ The controllers are created on the server with a realtime clock (``factor`` simu
 per wall second) and set up through the REST API; the host models then run *here*, as the
 user's host software would, over HTTP: a PR-polling host reads ``lines_ahead``, a BREQ host
 polls the ``breq`` flag (it cannot take a PC interrupt over HTTP), the naive host posts back
-to back, Trio feeders post moves (``?wait=true`` for the blind one). Faults and host latency
-distributions other than the poll period are not replayed: the network and the server supply
-their own. At the end the server's event logs are fetched and the same metrics and summary
-as a virtual run are printed.
+to back, Trio feeders post moves (``?wait=true`` for the blind one). PMAC PLC programs are
+stored (``PUT /plcs/{n}``) and those enabled at t = 0 enabled; ``enable_at_ms``, faults and
+host latency distributions other than the poll period are not replayed: the network and the
+server supply their own. At the end the server's event logs are fetched and the same metrics
+and summary as a virtual run are printed.
 """
 
 from __future__ import annotations
@@ -129,6 +130,11 @@ def play(scn: Scenario, server: str, *, factor: float = 1.0, echo: Any = print) 
                     c.set_variable(cid, name, value)
                 for rot in sorted(spec.rotary, key=lambda r: -r.cs):
                     c.define_rotary(cid, rot.cs, rot.size_words)
+                for plc in spec.plcs:
+                    base = f"/controllers/{cid}/plcs/{plc.plc}"
+                    c.request("PUT", base, json={"text": plc.text or ""})
+                    if plc.enabled_at_start:
+                        c.request("POST", base + "/enable")
                 for axis, params in spec.axes.items():
                     c.set_axis(cid, axis, **params)
                 for name, text in spec.programs.items():
