@@ -83,7 +83,7 @@ from sim.pmac.program import (
     OP_MOVE,
     ProgramLine,
 )
-from sim.pmac.scheduler import Wake
+from sim.pmac.scheduler import Wake, wake_at
 from sim.pmac.variables import isx, ixx
 
 if TYPE_CHECKING:
@@ -184,6 +184,7 @@ class CoordSystem:
         self.quitting = False
         self.single_step = False
         self._plan_due: float | None = None
+        self._plan_wake: Wake | None = None  # the last planning wake-up (re-used, wake_at)
         #: The pending execution wake-up (handoff, decision, stop); cancelled by emptying its
         #: callbacks (SimPy then processes it as a no-op).
         self._pending: Wake | None = None
@@ -513,7 +514,7 @@ class CoordSystem:
         k = _floor(self._env._now / p + 1e-6) + 1
         t = -(-k // m) * m * p
         self._plan_due = t
-        Wake(self._env, t, self._plan_cb_bound)
+        self._plan_wake = wake_at(self._env, t, self._plan_cb_bound, self._plan_wake)
 
     # -- planning (RTI) -------------------------------------------------------------------
 
@@ -751,7 +752,7 @@ class CoordSystem:
             p, r = self._period, self._rti
             k = _floor(t / p + 1e-6) + 1
             tp = self._plan_due = -(-k // r) * r * p
-            Wake(self._env, tp, self._plan_cb_bound)
+            self._plan_wake = wake_at(self._env, tp, self._plan_cb_bound, self._plan_wake)
         kind = m.kind
         if kind in (DWELL, RAPID):
             m.b_start = t
@@ -776,15 +777,17 @@ class CoordSystem:
                 if pend is not None and pend.callbacks:
                     pend.callbacks.clear()
                 th = _ceil((b_end - ta_n / 2) / p - 1e-6) * p
-                self._pending = Wake(self._env, th if th > t else t, self._handoff_cb)
+                self._pending = wake_at(self._env, th if th > t else t, self._handoff_cb, pend)
                 return
         self._decide(None)
 
     def _after(self, t: float, fn: Any) -> None:
         """Call ``fn(event)`` at ``t``, superseding (cancelling) the pending wake-up."""
-        self._cancel()
+        pend = self._pending
+        if pend is not None and pend.callbacks:
+            pend.callbacks.clear()
         env = self._env
-        self._pending = Wake(env, t if t > env._now else env._now, fn)
+        self._pending = wake_at(env, t if t > env._now else env._now, fn, pend)
 
     def _cancel(self) -> None:
         """Cancel the pending execution wake-up, if it has not happened yet."""
@@ -865,7 +868,7 @@ class CoordSystem:
             r = self._rti
             k = _floor(t / p + 1e-6) + 1
             tp = self._plan_due = -(-k // r) * r * p
-            Wake(self._env, tp, self._plan_cb_bound)
+            self._plan_wake = wake_at(self._env, tp, self._plan_cb_bound, self._plan_wake)
         planned = self.planned
         if self._isx13 == 0 and planned:
             nxt = planned[0]
@@ -877,7 +880,7 @@ class CoordSystem:
                 if pend is not None and pend.callbacks:
                     pend.callbacks.clear()
                 th = _ceil((b_end - ta_n / 2) / p - 1e-6) * p
-                self._pending = Wake(self._env, th if th > t else t, self._handoff_cb)
+                self._pending = wake_at(self._env, th if th > t else t, self._handoff_cb, pend)
                 return
         if self._isx13 > 0:
             self._after(_ceil((b_end - m.ta / 2) / p - 1e-6) * p, self._decide_cb)

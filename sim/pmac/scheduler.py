@@ -49,6 +49,27 @@ class Wake(simpy.events.Event):
         self.callbacks = [fn]
         heappush(env._queue, (t, NORMAL, next(env._eid), self))  # type: ignore[attr-defined]
 
+    @property
+    def processed(self) -> bool:
+        """SimPy has taken it off the queue and called it (it sets ``callbacks`` to None)."""
+        return self.callbacks is None
+
+
+def wake_at(env: simpy.Environment, t: float, fn: Callback, old: Wake | None = None) -> Wake:
+    """Call ``fn(event)`` at the absolute instant ``t``: a :class:`Wake`.
+
+    ``old`` is a wake-up of the caller's that may be re-used: once SimPy has processed it
+    (``callbacks is None``) nothing else refers to it, so it is put on the queue again instead
+    of allocating a new event — one allocation less per move on the streaming path. Cancelled
+    wake-ups (callbacks emptied, still queued) are never re-used. The queue entry is the same
+    as a new Wake's (same ``eid`` order), so the schedule is unchanged.
+    """
+    if old is not None and old.callbacks is None:
+        old.callbacks = [fn]
+        heappush(env._queue, (t, NORMAL, next(env._eid), old))  # type: ignore[attr-defined]
+        return old
+    return Wake(env, t, fn)
+
 
 class Scheduler:
     """Servo and RTI instants of one controller.
@@ -84,4 +105,4 @@ class Scheduler:
         return math.ceil(t / self._period - 1e-6) * self._period
 
 
-__all__ = ["Scheduler", "Wake"]
+__all__ = ["Scheduler", "Wake", "wake_at"]
