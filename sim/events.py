@@ -130,7 +130,7 @@ class EventLog:
         """Append an event stamped with the current simulated time; return its ``seq``."""
         seq = self._last + 1
         self._last = seq
-        rec = (seq, self._env.now, type_, fields)
+        rec = (seq, self._env._now, type_, fields)  # _now: no property call (hot path)
         self._ring[(seq - 1) % self.capacity] = rec
         if self._listeners:
             event = Event(*rec)
