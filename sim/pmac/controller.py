@@ -430,7 +430,7 @@ class PmacController(Controller):
     def wait_breq(self, cs: int) -> simpy.Event:
         """An event that fires at the next rising BREQ edge of ``cs`` (a host's interrupt)."""
         ev = self.env.event()
-        self._rotary_of(cs).on_rise(lambda: ev.succeed())
+        self._rotary_of(cs).on_rise(ev.succeed)
         return ev
 
     # -- motors ----------------------------------------------------------------------------
