@@ -37,8 +37,8 @@ class Param:
 
 
 def portable_raw(scn: Any) -> dict[str, Any]:
-    """The scenario data with files inlined (empirical latencies, program files), so a run
-    needs no file on the worker that runs it."""
+    """The scenario data with files inlined (empirical latencies, program files, PLC files),
+    so a run needs no file on the worker that runs it."""
     raw = copy.deepcopy(scn.raw)
     for i, h in enumerate(scn.hosts):
         rh = raw["hosts"][i]
@@ -50,6 +50,12 @@ def portable_raw(scn: Any) -> dict[str, Any]:
         prog = getattr(h, "program", None)
         if prog is not None and prog.file is not None:
             rh["program"] = {"lines": list(prog.lines or [])}
+    for cid, spec in scn.controllers.items():
+        for i, plc in enumerate(spec.plcs):
+            if plc.file is not None:
+                rp = raw["controllers"][cid]["plcs"][i]
+                rp.pop("file")
+                rp["text"] = plc.text
     return raw
 
 

@@ -18,6 +18,7 @@ from app.scenarios.outputs import write_outputs
 from app.scenarios.plots import _card_marks
 from app.scenarios.report import report
 from app.scenarios.runner import run
+from sim.timing import pmac_servo_period_s
 
 EXAMPLE = Path(__file__).resolve().parents[3] / "examples" / "scenarios" / "plc0_watchdog.yaml"
 
@@ -199,3 +200,19 @@ def test_same_seed_same_log():
     a = run(load_scenario(EXAMPLE))
     b = run(load_scenario(EXAMPLE))
     assert a.to_jsonl() == b.to_jsonl()
+
+
+def test_i40_sets_the_trip_time_in_a_sweep():
+    """A sweep over I40: each servo cycle of I40 moves the trip by one servo cycle."""
+    from app.scenarios.sweep import Param, portable_raw, sweep
+
+    raw = portable_raw(load_scenario(EXAMPLE))  # PLC files inlined: no file needed to run
+    raw = dict(raw, duration_s=1.5, controllers={"long_plc0": raw["controllers"]["long_plc0"]},
+               hosts=[raw["hosts"][2]])  # fmt: skip
+    param = Param("i40", ("controllers", "long_plc0", "config", "i40"), [])
+    rows = sweep(raw, [param], [{"i40": 1000}, {"i40": 2000}], workers=1)
+    assert [r["error"] for r in rows] == ["", ""]
+    assert [r["watchdog_trips"] for r in rows] == [1, 1]
+    period = pmac_servo_period_s(3713707)
+    gap = rows[1]["watchdog_trip_s"] - rows[0]["watchdog_trip_s"]
+    assert round(gap / period) == 1000 and abs(gap - 1000 * period) < 1e-9
