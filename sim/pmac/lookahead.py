@@ -519,14 +519,17 @@ class CoordSystem:
     # -- planning (RTI) -------------------------------------------------------------------
 
     def _plan_cb(self, _ev: Any) -> None:
-        if self._plan_due is None or self._plan_due > self._env._now:
+        due = self._plan_due
+        if due is None or due > self._env._now:
             return
         self._plan_due = None
-        if self.blocked or self.quitting or (self.state != RUNNING and self.state != WAITING):
+        state = self.state
+        if self.blocked or self.quitting or (state != RUNNING and state != WAITING):
             return
         rot = self.rotary
         planned = self.planned
-        if self._ver != self.vars.version:
+        vars_ = self.vars
+        if self._ver != vars_.version:
             self._refresh()
         if self.single_step:
             target = 0 if (self.current is not None or planned) else 1
@@ -537,10 +540,10 @@ class CoordSystem:
         if rot is not None and self.program == 0:
             self._seen_n = rot.n_loaded
             pending = rot.pending
-            while len(planned) < target and not self.blocked and pending:
+            while pending and len(planned) < target and not self.blocked:
                 simple = pending[0][1].simple
-                if simple is not None and self._fast and self._ver == self.vars.version:
-                    n, line = rot.take_simple()
+                if simple is not None and self._fast and self._ver == vars_.version:
+                    n = rot.take_simple()
                     # Short cut for the streamed line: one LINEAR move, constant ABS values, TM.
                     start = self.calc_pos
                     end = start.copy()

@@ -179,20 +179,21 @@ class RotaryBuffer:
         self.calculated.append((item[0], item[1].words))
         return item
 
-    def take_simple(self) -> tuple[int, ProgramLine]:
-        """Take the next line when its calculation emits nothing (a plain move line): the
-        ``line_calculated`` event and the I16 rule happen at once (:meth:`line_calculated`)."""
-        item = self.pending.popleft()
-        n = item[0]
-        self.calculated.append((n, item[1].words))
+    def take_simple(self) -> int:
+        """Take the next line when its calculation emits nothing (a plain move line) and
+        return its number: the ``line_calculated`` event and the I16 rule happen at once
+        (:meth:`line_calculated`)."""
+        pending = self.pending
+        n, line = pending.popleft()
+        self.calculated.append((n, line.words))
         self._emit("line_calculated", cs=self.cs, n=n)
         if self._ver != self._vars.version:
             self._limits()
-        if len(self.pending) < self._i16:
+        if len(pending) < self._i16:
             self.full = False
             if not self.breq:
                 self._set(True)
-        return item
+        return n
 
     def line_calculated(self, n: int) -> None:
         """Planning has worked through line ``n``: the I16 rule."""
