@@ -510,11 +510,7 @@ class CoordSystem:
             return
         if self._ver != self.vars.version:
             self._refresh()
-        p, m = self._period, self._rti
-        k = _floor(self._env._now / p + 1e-6) + 1
-        t = -(-k // m) * m * p
-        self._plan_due = t
-        self._plan_wake = wake_at(self._env, t, self._plan_cb_bound, self._plan_wake)
+        self._plan_at_rti_after(self._env._now)
 
     # -- planning (RTI) -------------------------------------------------------------------
 
@@ -723,13 +719,17 @@ class CoordSystem:
     # -- execution ------------------------------------------------------------------------
 
     def _start(self, m: Move, t: float, prev: Move | None) -> None:
-        """Move ``m`` starts executing at ``t`` (blended from ``prev``, or from rest).
+        """Move ``m`` starts executing at ``t`` (now), blended from ``prev`` or from rest.
 
-        This is the per-line hot path of a stream, so the blend decision of the common case
-        (Isx13 = 0, LINEAR into LINEAR) is written out here rather than in :meth:`_decide`.
+        The previous move ends (``move_end``) and this one starts (``move_start``, after its
+        synchronous M writes) at the same instant; the words of lines executed are freed; the
+        "plan the next move" flag is served at the next RTI; then what ends this move is
+        scheduled — the hand-off into the next calculated move, the segmented-mode decision
+        point, or the stop. This is also the per-line hot path of a stream.
         """
         emit = self._emit
         cs = self.cs
+        n = m.n
         if prev is not None:
             emit("move_end", cs=cs, n=prev.n)
             prev.prev = None  # keep only one step of history
@@ -741,18 +741,20 @@ class CoordSystem:
         rot = self.rotary
         if rot is not None:
             calc = rot.calculated
-            if calc and calc[0][0] < m.n:
-                rot.free_through(m.n - 1)
+            if calc and calc[0][0] < n:
+                rot.free_through(n - 1)
         if m.sync:
             for k, aop, value in m.sync:
                 self._sync_write(k, aop, value)
-        emit("move_start", cs=cs, n=m.n)
-        b_end = m.b_end = b + m.tm
+        emit("move_start", cs=cs, n=n)
+        m.b_end = b + m.tm
         self.current = m
+        if self._ver != self.vars.version:
+            self._refresh()
+        p = self._period
         if self._plan_due is None and not (self.blocked or self.quitting or self.single_step):
-            if self._ver != self.vars.version:
-                self._refresh()
-            p, r = self._period, self._rti
+            # = self._plan_at_rti_after(t), written out (the per-line path)
+            r = self._rti
             k = _floor(t / p + 1e-6) + 1
             tp = self._plan_due = -(-k // r) * r * p
             self._plan_wake = wake_at(self._env, tp, self._plan_cb_bound, self._plan_wake)
@@ -763,26 +765,41 @@ class CoordSystem:
             m.stopping = True
             self._after(self.sched.servo_at_or_after(m.b_end), self._stop_end_cb)
             return
-        if self._ver != self.vars.version:
-            self._refresh()
-        p = self._period
         if self._isx13 > 0:
-            self._after(_ceil((b_end - m.ta / 2) / p - 1e-6) * p, self._decide_cb)
+            self._after(_ceil((m.b_end - m.ta / 2) / p - 1e-6) * p, self._decide_cb)
             return
         planned = self.planned
         if planned and not self.single_step:
             nxt = planned[0]
             if nxt.kind == LINEAR or nxt.kind == DELAY:
+                # = self._blend_into(m, nxt), written out (the per-line path)
                 lim = 2 * (m.tm - m.ta_in / 2)
                 ta_n = nxt.ta if nxt.ta <= lim else max(0.0, lim)
                 nxt.ta_in = ta_n
                 pend = self._pending
                 if pend is not None and pend.callbacks:
                     pend.callbacks.clear()
-                th = _ceil((b_end - ta_n / 2) / p - 1e-6) * p
+                th = _ceil((m.b_end - ta_n / 2) / p - 1e-6) * p
                 self._pending = wake_at(self._env, th if th > t else t, self._handoff_cb, pend)
                 return
         self._decide(None)
+
+    def _plan_at_rti_after(self, t: float) -> None:
+        """Set the "plan the next move" flag: planning at the first RTI strictly after ``t``
+        (cycles divisible by I8+1; TUM p236). The caller has refreshed the I-variables."""
+        p, r = self._period, self._rti
+        k = _floor(t / p + 1e-6) + 1
+        tp = self._plan_due = -(-k // r) * r * p
+        self._plan_wake = wake_at(self._env, tp, self._plan_cb_bound, self._plan_wake)
+
+    def _blend_into(self, m: Move, nxt: Move) -> None:
+        """``m`` blends into ``nxt``: ``nxt``'s ramp is clipped to ``2·(TM − Ta/2)`` of ``m``
+        (spec §9.1) and the hand-off is at the start of that ramp, on a servo cycle."""
+        lim = 2 * (m.tm - m.ta_in / 2)
+        ta_n = nxt.ta if nxt.ta <= lim else max(0.0, lim)
+        nxt.ta_in = ta_n
+        p = self._period
+        self._after(_ceil((m.b_end - ta_n / 2) / p - 1e-6) * p, self._handoff_cb)
 
     def _after(self, t: float, fn: Any) -> None:
         """Call ``fn(event)`` at ``t``, superseding (cancelling) the pending wake-up."""
@@ -809,11 +826,7 @@ class CoordSystem:
         if planned and not self.single_step:
             nxt = planned[0]
             if (nxt.kind == LINEAR or nxt.kind == DELAY) and (m.kind == LINEAR or m.kind == DELAY):
-                lim = 2 * (m.tm - m.ta_in / 2)
-                ta_n = nxt.ta if nxt.ta <= lim else max(0.0, lim)
-                nxt.ta_in = ta_n
-                p = self._period
-                self._after(_ceil((m.b_end - ta_n / 2) / p - 1e-6) * p, self._handoff_cb)
+                self._blend_into(m, nxt)
                 return
         elif self._fell_behind(m):
             self.abort("run_time_error")
@@ -838,57 +851,9 @@ class CoordSystem:
             return False
         return rot.pending[0][0] <= self._seen_n
 
-    def _handoff(self, ev: Any) -> None:
-        """The blend into the next move starts.
-
-        The streaming hot path: :meth:`_start` for a blended LINEAR/DELAY move, written out.
-        """
-        prev = self.current
-        m = self.planned.popleft()
-        if m.sync or prev is None or self.blocked or self.quitting or self.single_step:
-            self._start(m, self._env._now, prev)
-            return
-        t = self._env._now
-        emit = self._emit
-        cs = self.cs
-        n = m.n
-        emit("move_end", cs=cs, n=prev.n)
-        prev.prev = None
-        m.prev = prev
-        b = m.b_start = prev.b_end
-        rot = self.rotary
-        if rot is not None:
-            calc = rot.calculated
-            while calc and calc[0][0] < n:  # = rot.free_through(n - 1), written out
-                rot.used_words -= calc.popleft()[1]
-        emit("move_start", cs=cs, n=n)
-        b_end = m.b_end = b + m.tm
-        self.current = m
-        if self._ver != self.vars.version:
-            self._refresh()
-        p = self._period
-        if self._plan_due is None:
-            r = self._rti
-            k = _floor(t / p + 1e-6) + 1
-            tp = self._plan_due = -(-k // r) * r * p
-            self._plan_wake = wake_at(self._env, tp, self._plan_cb_bound, self._plan_wake)
-        planned = self.planned
-        if self._isx13 == 0 and planned:
-            nxt = planned[0]
-            if nxt.kind == LINEAR or nxt.kind == DELAY:
-                lim = 2 * (m.tm - m.ta_in / 2)
-                ta_n = nxt.ta if nxt.ta <= lim else max(0.0, lim)
-                nxt.ta_in = ta_n
-                pend = self._pending
-                if pend is not None and pend.callbacks:
-                    pend.callbacks.clear()
-                th = _ceil((b_end - ta_n / 2) / p - 1e-6) * p
-                self._pending = wake_at(self._env, th if th > t else t, self._handoff_cb, pend)
-                return
-        if self._isx13 > 0:
-            self._after(_ceil((b_end - m.ta / 2) / p - 1e-6) * p, self._decide_cb)
-            return
-        self._decide(None)
+    def _handoff(self, _ev: Any) -> None:
+        """The blend into the next calculated move starts now."""
+        self._start(self.planned.popleft(), self._env._now, self.current)
 
     def _stop_end(self, _ev: Any) -> None:
         m = self.current
