@@ -144,11 +144,7 @@ class Processor:
         self._win = [self.env.now, 0.0]  # window start, RTI work done in it
         self._last_rti_share: float | None = None
 
-    # -- the public surface of the old background loop ------------------------------------
-
-    def cycle_cycles(self) -> int:
-        """Minimum length of a background cycle in servo cycles (``background_cycles``)."""
-        return self._min_cycles
+    # -- host commands and changes ---------------------------------------------------------
 
     def submit(self, job: Callable[[], None]) -> None:
         """Queue a host command (executed at the end of a background cycle)."""
