@@ -209,10 +209,14 @@ class Terminal:
         elif t is st.FeedOverride:
             ctl.coord_system(state["cs"]).set_feed_override(stmt.percent)
         elif t is st.VarQuery:
+            # I9 bit 0 (PSRM I9, spec §9.8): 0 reports the value only (``5``), 1 the whole
+            # statement (``I16=5``); bit 1 (hex for address I-variables) is not modelled.
+            full = int(ctl.vars.I(9)) & 1
             for n in stmt.numbers():
                 if not 0 <= n < 8192:
                     raise CommandError("ERR003")
-                out.append(format_value(ctl.vars.read(stmt.kind, n, state["cs"])))
+                value = format_value(ctl.vars.read(stmt.kind, n, state["cs"]))
+                out.append(f"{stmt.kind}{n}={value}" if full else value)
         elif t is st.VarDefault:
             for n in range(stmt.first, stmt.last + 1):
                 ctl.vars.set_default(n)

@@ -232,3 +232,15 @@ def test_plc_entry_still_answers_on_line_queries_and_stores_plc_text(rig):
     assert rig.cmd("X10").error == "ERR003"
     rig.ok("CLOSE")
     assert rig.c.plcs.plc(1).program.lines == ("P1=P1+1",)
+
+
+def test_i9_bit0_reports_variables_as_whole_statements(rig):
+    """PSRM I9 / TSRM p42 (spec §9.8): with I9 bit 0 = 0 a query answers the value only; with
+    bit 0 = 1 the full statement, one line per variable."""
+    assert rig.ok("I16") == "5"
+    rig.ok("I9=3 P7=1.5")
+    assert rig.ok("I16") == "I16=5"
+    assert rig.ok("I16..17") == "I16=5\rI17=10"
+    assert rig.ok("P7") == "P7=1.5"
+    rig.ok("I9=2")
+    assert rig.ok("P7") == "1.5"
