@@ -9,8 +9,9 @@ What is modelled (TUM p236, p249-250, p339-341; TSRM p177, p429, p446; PUM p213;
   Every time a move starts executing it asks for planning of the next move, done at the
   next RTI strictly after the move's start.
 * **Depth.** Calculation keeps this many moves calculated beyond the executing one: 2 for
-  LINEAR with Isx13 = 0, else 1 (spec §4.2, §9.3: from rest the scan runs through the 3rd
-  move). DWELL, DELAY and RAPID count as moves. A line is worked through whole.
+  LINEAR with Isx13 = 0 (and CIRCLE, which runs as LINEAR without segmentation, TSRM p177),
+  else 1 (spec §4.2, §9.3: from rest the scan runs through the 3rd move). DWELL, DELAY and
+  RAPID count as moves. A line is worked through whole.
 * **Breaks.** ``DWELL`` and ``RAPID`` stop lookahead: nothing after them is calculated until
   they are finished (then at the next RTI). With Isx92 = 1 (read at ``R``/``S``) every move
   is such a break: no blending, each move ends in a stop before the next is calculated (the
@@ -496,13 +497,17 @@ class CoordSystem:
             return
         if self._ver != self.vars.version:
             self._refresh()
-        target = 2 if self._isx13 == 0 and self.mode == "LINEAR" else 1
-        if self.current is None:
-            target += 1
-        if len(self.planned) < target:
+        if len(self.planned) < self._depth():
             self._request_plan()
             if self.current is None and not self.planned and self._i11_s > 0:
                 self._arm_i11()
+
+    def _depth(self) -> int:
+        """How many moves calculation keeps ready (TUM p339, spec §4.2): 2 beyond the executing
+        one with Isx13 = 0 — LINEAR, and CIRCLE, which then runs as LINEAR (TSRM p177) — else
+        1; one more from rest, where no move is executing yet. (The caller has refreshed.)"""
+        depth = 2 if self._isx13 == 0 and self.mode != "RAPID" else 1
+        return depth + 1 if self.current is None else depth
 
     def _request_plan(self) -> None:
         """Ask for move planning at the next RTI (the first cycle divisible by I8+1 after now)."""
@@ -530,9 +535,7 @@ class CoordSystem:
         if self.single_step:
             target = 0 if (self.current is not None or planned) else 1
         else:
-            target = 2 if self._isx13 == 0 and self.mode == "LINEAR" else 1
-            if self.current is None:
-                target += 1
+            target = self._depth()
         if rot is not None and self.program == 0:
             self._seen_n = rot.n_loaded
             pending = rot.pending

@@ -106,6 +106,16 @@ def test_linear_calculates_two_moves_ahead(rig):
         assert calc[n] == next_rti(starts[n - 2])
 
 
+def test_circles_without_segmentation_run_as_linear_and_calculate_two_moves_ahead(rig):
+    """TSRM p177 (spec §4.3): CIRCLE1/2 need Isx13 > 0; with Isx13 = 0 they run as LINEAR
+    moves, so lookahead is LINEAR's two moves (TUM p339, spec §4.2)."""
+    _run(rig, ["CIRCLE1 TM100 TA10 TS0 X1 I1", "X2 I1", "X3 I1", "X4 I1", "X5 I1", "X6 I1"])
+    calc, starts = _by_n(rig, "line_calculated"), _by_n(rig, "move_start")
+    assert calc[1] == calc[2] == calc[3] == starts[1]
+    for n in (4, 5, 6):
+        assert calc[n] == next_rti(starts[n - 2])
+
+
 def test_segmented_mode_calculates_one_move_ahead(make_rig):
     """Spec §9.3: with Isx13 > 0, one move ahead."""
     rig = make_rig(i5113=10)
