@@ -196,10 +196,9 @@ def test_the_watchdog_trip_is_marked_on_the_lines_ahead_plot(example, tmp_path):
     assert png.stat().st_size > 20_000
 
 
-def test_same_seed_same_log():
-    a = run(load_scenario(EXAMPLE))
-    b = run(load_scenario(EXAMPLE))
-    assert a.to_jsonl() == b.to_jsonl()
+def test_same_seed_same_log(example):
+    result, _ = example
+    assert run(load_scenario(EXAMPLE)).to_jsonl() == result.to_jsonl()
 
 
 def test_i40_sets_the_trip_time_in_a_sweep():

@@ -3,6 +3,7 @@ short run on 127.0.0.1, simulated time 10x the wall clock)."""
 
 from __future__ import annotations
 
+from app.client import MotionSimClient
 from app.embedded import EmbeddedService
 from app.scenarios.model import loads_scenario
 from app.scenarios.remote import play
@@ -16,6 +17,9 @@ controllers:
     kind: pmac
     rotary:
       - {cs: 1, size_words: 200}
+    plcs:
+      - {plc: 0, text: "P1=P1+1"}
+      - {plc: 2, text: "P2=P2+1", enabled: false}
 hosts:
   - type: pr_polling
     poll_period_ms: 20
@@ -32,7 +36,13 @@ def test_realtime_play_streams_the_program_and_reports_from_server_events():
     settings = Settings(port=0, pmac_port=0, trio_port=0)
     with EmbeddedService(settings) as svc:
         rep = play(scn, svc.url, factor=10.0, echo=lambda *_: None)
+        with MotionSimClient(svc.url) as c:
+            scans, stored = c.get_variable("rt_pmac", "P1"), c.get_variable("rt_pmac", "P2")
+            plc2 = c.request("GET", "/controllers/rt_pmac/plcs/2")
     m = rep["controllers"]["rt_pmac"]["cs"][1]
     assert m["lines_loaded"] == 105  # header + 100 moves, all sent over HTTP
     assert m["lines_executed"] > 50
     assert m["host_writes"] == 0  # no host_* events: the host was remote
+    # PLC programs stored over REST; PLC 0 enabled (scans every RTI), PLC 2 only stored
+    assert scans > 100 and stored == 0
+    assert plc2["program"] == ["P2=P2+1"] and plc2["enabled"] is False
