@@ -169,8 +169,8 @@ class Terminal:
                 raise CommandError("ERR003")
             state["cs"] = stmt.cs
             rot = ctl.coord_system(stmt.cs).rotary
-            if ctl.buffer_holder is port and rot is not None:
-                rot.reevaluate()
+            if rot is not None and ctl.buffer_holder is port and ctl.rotary_open():
+                rot.reevaluate()  # seed 000: a change of the addressed CS re-evaluates BREQ
         elif t is st.AddressMotor:
             if stmt.motor is None:
                 out.append(str(state["motor"]))

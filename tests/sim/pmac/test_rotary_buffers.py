@@ -154,6 +154,7 @@ def test_only_open_rot_opens_the_rotary_buffers(rig):
     rig.ok("OPEN PLC 1")
     assert rig.c.rotary(1)["open"] is False
     assert int(rig.ok("SIZE")) < 0  # SIZE is negative while any buffer is open
+    rig.ok("&2 &1")  # on-line addressing: no BREQ re-evaluation, the rotary buffer is closed
     rig.ok("P1=1")
     rig.ok("CLOSE")
     assert rig.c.rotary(1)["open"] is False
