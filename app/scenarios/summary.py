@@ -78,10 +78,11 @@ def _cpu_table(rep: dict[str, Any]) -> Table:
     for col in ("controller", "PLC 0 stmts", "RTI overruns", "bg cycle mean", "bg cycle max",
                 "PR reply mean", "PR reply max", "timeouts", "watchdog trip"):  # fmt: skip
         t.add_column(col, justify="left" if col == "controller" else "right")
-    for cid, r in rep["controllers"].items():
-        c = r.get("cpu")
-        if not c or not (c["cpu_samples"] or c["rti_overruns"] or c["watchdog_tripped"]):
-            continue
+    cpus = {cid: r["cpu"] for cid, r in rep["controllers"].items() if r.get("cpu")}
+    if not any(c["cpu_samples"] or c["rti_overruns"] or c["watchdog_tripped"]
+               for c in cpus.values()):  # fmt: skip
+        return t  # no PLCs, no overrun, no trip: nothing to compare
+    for cid, c in cpus.items():
         t.add_row(
             cid, _f(c["plc0_statements_max"]), _f(c["rti_overruns"]),
             _f(c["background_cycle_mean_s"], " ms", 1e3),

@@ -215,3 +215,18 @@ def test_i40_sets_the_trip_time_in_a_sweep():
     period = pmac_servo_period_s(3713707)
     gap = rows[1]["watchdog_trip_s"] - rows[0]["watchdog_trip_s"]
     assert round(gap / period) == 1000 and abs(gap - 1000 * period) < 1e-9
+
+
+def test_the_summary_compares_the_cards_processors_and_says_what_stopped(example):
+    from rich.console import Console
+
+    from app.scenarios.summary import print_summary, summary_tables
+
+    _, rep = example
+    (cpu,) = [t for t in summary_tables(rep) if str(t.title).endswith("PMAC processor")]
+    assert cpu.row_count == 3
+    console = Console(record=True, width=250)
+    print_summary(rep, console)
+    text = console.export_text()
+    assert "plc0_too_long" in text and "host_commands_unanswered" in text
+    assert "long_plc0: the watchdog tripped; stopped: &1 program aborted" in text
