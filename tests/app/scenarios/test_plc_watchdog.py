@@ -230,3 +230,13 @@ def test_the_summary_compares_the_cards_processors_and_says_what_stopped(example
     text = console.export_text()
     assert "plc0_too_long" in text and "host_commands_unanswered" in text
     assert "long_plc0: the watchdog tripped; stopped: &1 program aborted" in text
+
+
+def test_the_load_figure_at_the_end_of_the_run(example):
+    """``status()["cpu"]`` at the end: the short PLC 0's share of the RTI period."""
+    _, rep = example
+    end = rep["controllers"]["short_plc0"]["cpu"]["at_end"]
+    scan = 5e-6 + 250 * 3.3e-6
+    assert end["rti"] == pytest.approx(scan / (3 * 442.708e-6), rel=0.05)  # + planning
+    assert end["background"] == pytest.approx(1 - end["rti"])
+    assert rep["controllers"]["long_plc0"]["cpu"]["at_end"] is None  # tripped
