@@ -49,11 +49,6 @@ class Wake(simpy.events.Event):
         self.callbacks = [fn]
         heappush(env._queue, (t, NORMAL, next(env._eid), self))  # type: ignore[attr-defined]
 
-    @property
-    def processed(self) -> bool:
-        """SimPy has taken it off the queue and called it (it sets ``callbacks`` to None)."""
-        return self.callbacks is None
-
 
 def wake_at(env: simpy.Environment, t: float, fn: Callback, old: Wake | None = None) -> Wake:
     """Call ``fn(event)`` at the absolute instant ``t``: a :class:`Wake`.
