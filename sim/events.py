@@ -33,7 +33,7 @@ EVENT_FIELDS: dict[str, tuple[str, ...]] = {
     "move_start": ("cs|axis", "n|mtype"),
     "move_end": ("cs|axis", "n|mtype"),
     "mvar": ("name", "value", "sync"),
-    "program": ("cs|process", "state", "error"),  # PMAC error: "run_time_error" (aborted)
+    "program": ("cs|process", "state", "error"),  # PMAC error: "run_time_error" / "watchdog"
     "axis": ("axis", "mtype", "ntype"),
     "process_buffer": ("process", "axis", "mtype"),
     "process": ("process", "state", "line", "blocked_on", "error"),
