@@ -116,6 +116,21 @@ async def test_watchdog_trip_then_reset(pmac_api):
     assert (await pmac_api.get(f"{BASE}/plcs")).json()["plcs"] == []
 
 
+async def test_a_trip_aborts_the_running_program_with_error_watchdog(pmac_api):
+    """The trip kills the motors: ``coord/1`` shows the program aborted by the watchdog, no
+    executing line, and the rotary buffer's calculated lines released."""
+    await pmac_api.put(f"{BASE}/coord/1/rotary", json={"size_words": 100})
+    await pmac_api.post(f"{BASE}/coord/1/rotary/lines",
+                        json={"lines": ["TM1000 X100", "X200", "X300"]})
+    await pmac_api.post(f"{BASE}/coord/1/run")
+    await pmac_api.put(f"{BASE}/plcs/0", json={"text": "\n".join(["P10=P10+1"] * 500)})
+    await pmac_api.post(f"{BASE}/plcs/0/enable")
+    await advance(pmac_api, 2.0)
+    coord = (await pmac_api.get(f"{BASE}/coord/1")).json()
+    assert coord["program"] == {"state": "aborted", "line": None, "error": "watchdog"}
+    assert coord["rotary"]["used_words"] == 0
+
+
 def test_a_tripped_card_is_silent_on_its_tcp_port():
     """TUM p215: after a watchdog trip the CPU "will not communicate": no bytes come back."""
     async def main() -> tuple[bytes, bytes]:
