@@ -190,7 +190,7 @@ class CoordSystem:
         #: callbacks (SimPy then processes it as a no-op).
         self._pending: Wake | None = None
         self._plan_cb_bound = self._plan_cb
-        self._handoff_cb = self._handoff
+        self._handoff_cb = self._start_next  # the blend into the next move starts
         self._stop_end_cb = self._stop_end
         self._decide_cb = self._decide
         self._abort: tuple[float, float, dict[str, float], dict[str, float]] | None = None
@@ -359,7 +359,7 @@ class CoordSystem:
             self._stretch(m, now, k)  # type: ignore[arg-type]
             self._reschedule()
         elif m is None and self.planned and not self._starting and self.running:
-            self._start(self.planned.popleft(), now, None)
+            self._start_next()
 
     @staticmethod
     def _shift(m: Move, dt: float) -> None:
@@ -579,7 +579,7 @@ class CoordSystem:
                         t = self.sched.servo_at_or_after(now + self._i11_s)
                     self._after(t if t > now else now, self._delayed_start)
                 else:
-                    self._start(planned.popleft(), self._env._now, None)
+                    self._start_next()
             elif self.state == RUNNING:
                 self._set_state(WAITING)
 
@@ -615,7 +615,7 @@ class CoordSystem:
         self._starting = False
         self._go_t = None
         if self.current is None and self.planned and self.feed_override > 0:
-            self._start(self.planned.popleft(), self._env._now, None)
+            self._start_next()
 
     def _calculate(self, n: int, line: ProgramLine) -> None:
         """Work through one line: assignments, modal settings, its move."""
@@ -721,8 +721,9 @@ class CoordSystem:
 
     # -- execution ------------------------------------------------------------------------
 
-    def _start(self, m: Move, t: float, prev: Move | None) -> None:
-        """Move ``m`` starts executing at ``t`` (now), blended from ``prev`` or from rest.
+    def _start_next(self, _ev: Any = None) -> None:
+        """The next calculated move starts executing now: blended from the executing move
+        (the hand-off wake-up), or from rest.
 
         The previous move ends (``move_end``) and this one starts (``move_start``, after its
         synchronous M writes) at the same instant; the words of lines executed are freed; the
@@ -730,6 +731,9 @@ class CoordSystem:
         scheduled — the hand-off into the next calculated move, the segmented-mode decision
         point, or the stop. This is also the per-line hot path of a stream.
         """
+        m = self.planned.popleft()
+        prev = self.current
+        t = self._env._now
         emit = self._emit
         cs = self.cs
         n = m.n
@@ -854,10 +858,6 @@ class CoordSystem:
             return False
         return rot.pending[0][0] <= self._seen_n
 
-    def _handoff(self, _ev: Any) -> None:
-        """The blend into the next calculated move starts now."""
-        self._start(self.planned.popleft(), self._env._now, self.current)
-
     def _stop_end(self, _ev: Any) -> None:
         m = self.current
         assert m is not None
@@ -874,7 +874,7 @@ class CoordSystem:
         rot = self.rotary
         if self.planned:
             if self.feed_override > 0:
-                self._start(self.planned.popleft(), self._env._now, None)
+                self._start_next()
             return
         if rot is not None:
             rot.free_calculated()
