@@ -132,6 +132,17 @@ class PmacController(Controller):
         self.buffer_holder: Port | None = None
         self.motors: dict[int, tuple[int, str]] = {}
 
+    def _alive(self) -> None:
+        """Refuse anything that acts on the card once the watchdog has tripped (TSRM p57: it
+        stops and will not communicate until the power is cycled); reads stay available to
+        the REST observer.
+
+        Raises:
+            Halted: the watchdog has tripped.
+        """
+        if self.halted:
+            raise Halted("the watchdog has tripped: the controller answers nothing until reset")
+
     def _m_written(self, n: int, value: float, sync: bool) -> None:
         self.log.emit("mvar", name=f"M{n}", value=value, sync=sync)
 
@@ -163,8 +174,7 @@ class PmacController(Controller):
         Raises:
             Halted: the watchdog has tripped; the controller answers nothing until reset.
         """
-        if self.halted:
-            raise Halted("the watchdog has tripped: the controller answers nothing until reset")
+        self._alive()
         port = port or self.rest_port
         reply = Reply(command)
         t0 = self.env.now
@@ -221,6 +231,7 @@ class PmacController(Controller):
         ``[INF]`` also refused (ERR003) when ``cs`` already has one, ERR007 while buffers are
         open, ERR006 when memory is short.
         """
+        self._alive()
         c = self.coord_system(cs)
         if isinstance(words, bool) or not isinstance(words, int) or words < 1:
             raise InvalidValue("size_words must be a positive whole number", field="size_words")
@@ -246,6 +257,7 @@ class PmacController(Controller):
 
     def delete_rotary(self, cs: int) -> None:
         """``&cs DELETE ROT``: erase the buffer and free its memory (ERR001 while running)."""
+        self._alive()
         c = self.coord_system(cs)
         if c.rotary is None:
             return
@@ -310,7 +322,7 @@ class PmacController(Controller):
             BufferFull: the new lines do not fit (ERR006); nothing stored.
         """
         if self.halted:
-            raise Halted("the watchdog has tripped: the controller answers nothing until reset")
+            self._alive()
         c = self.coord_systems.get(cs) if type(cs) is int else None
         rot = c.rotary if c is not None else None
         if rot is None:
@@ -388,6 +400,7 @@ class PmacController(Controller):
         Raises:
             Conflict: ERR015 when the CS does not point at a rotary buffer.
         """
+        self._alive()
         c = self.coord_system(cs)
         if pointer is not None and not c.running:
             c.program = pointer
@@ -400,10 +413,12 @@ class PmacController(Controller):
 
     def quit(self, cs: int) -> None:
         """``Q``."""
+        self._alive()
         self.coord_system(cs).quit()
 
     def abort(self, cs: int) -> None:
         """``A``."""
+        self._alive()
         self.coord_system(cs).abort()
 
     def coord(self, cs: int) -> dict[str, Any]:
@@ -482,6 +497,7 @@ class PmacController(Controller):
         return self.vars.read(kind, n, cs)
 
     def set_variable(self, name: str, value: float) -> None:
+        self._alive()
         kind, n, cs = parse_name(name)
         if isinstance(value, bool) or not isinstance(value, int | float):
             raise InvalidValue("value must be a number", field="value")

@@ -115,3 +115,23 @@ def test_the_trip_freezes_commanded_positions_at_the_trip_instant(make_rig):
     assert rig.c.coord(1)["program"] == {"state": "aborted", "error": "watchdog"}
     assert rig.c.coord(1)["rotary"]["used_words"] == 0  # lookahead dropped with the motion
     assert rig.c.motor_status(1)[0] & (1 << 13)  # motor 1 not moving (desired velocity zero)
+
+
+def test_a_tripped_card_refuses_resource_commands_but_can_be_read(rig):
+    """TSRM p57: the tripped card does nothing until the power cycle — run / quit / abort /
+    DEFINE ROT / variable writes are refused like the terminal; its state stays readable."""
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["TM1000 X100", "X200", "X300"])
+    rig.ok("&1 R")
+    oversized_plc0(rig)
+    rig.run_for(2.5)
+    n = rig.c.log.last_seq
+    for act in (lambda: rig.c.run(1), lambda: rig.c.quit(1), lambda: rig.c.abort(1),
+                lambda: rig.c.define_rotary(2, 10), lambda: rig.c.delete_rotary(1),
+                lambda: rig.c.set_variable("P1", 1)):
+        with pytest.raises(Halted):
+            act()
+    rig.run_for(1.0)
+    assert rig.c.log.last_seq == n  # nothing moved
+    assert rig.c.coord(1)["program"]["state"] == "aborted"
+    assert rig.c.get_variable("I40") == 0
