@@ -241,22 +241,23 @@ def build(scn: Scenario) -> tuple[dict[str, Controller], dict[str, Any]]:
                 _at(ctl.env, f.at_ms / 1000, _command(ctl, f.command))
             else:
                 assert isinstance(f, SetVariableFault)
-                _at(ctl.env, f.at_ms / 1000, _bind(ctl.set_variable, f.name, f.value))
+                _at(ctl.env, f.at_ms / 1000, _quiet(ctl.set_variable, f.name, f.value))
     return controllers, hosts
-
-
-def _bind(fn: Callable[..., Any], *args: Any) -> Callable[[], Any]:
-    return lambda: fn(*args)
 
 
 def _command(ctl: Controller, text: str) -> Callable[[], Any]:
     """Send ``text`` to the terminal then; a card whose watchdog tripped answers nothing."""
+    return _quiet(ctl.terminal, text)
 
-    def send() -> None:
+
+def _quiet(fn: Callable[..., Any], *args: Any) -> Callable[[], Any]:
+    """``fn(*args)`` then, ignoring a card whose watchdog tripped (it refuses everything)."""
+
+    def call() -> None:
         with contextlib.suppress(Halted):
-            ctl.terminal(text)
+            fn(*args)
 
-    return send
+    return call
 
 
 def _stall(host: Any, until: float) -> Callable[[], Any]:

@@ -240,3 +240,22 @@ def test_the_load_figure_at_the_end_of_the_run(example):
     assert end["rti"] == pytest.approx(scan / (3 * 442.708e-6), rel=0.05)  # + planning
     assert end["background"] == pytest.approx(1 - end["rti"])
     assert rep["controllers"]["long_plc0"]["cpu"]["at_end"] is None  # tripped
+
+
+def test_faults_after_the_trip_find_a_silent_card_and_the_run_goes_on():
+    raw = load_scenario(EXAMPLE).raw
+    faults = [
+        {"type": "terminal", "controller": "long_plc0", "at_ms": 2200, "command": "&1R"},
+        {"type": "set_variable", "controller": "long_plc0", "at_ms": 2300, "name": "P1",
+         "value": 1},
+    ]  # fmt: skip
+    scn = parse_scenario(
+        dict(raw, duration_s=2.5, controllers={"long_plc0": raw["controllers"]["long_plc0"]},
+             hosts=[raw["hosts"][2]], faults=faults),
+        base_dir=EXAMPLE.parent,
+    )  # fmt: skip
+    result = run(scn)
+    ctl = result.controllers["long_plc0"]
+    (trip,) = ctl.log.events("watchdog")
+    assert trip.t < 2.2 and result.t_end == 2.5
+    assert ctl.get_variable("P1") == 0 and ctl.coord(1)["program"]["state"] == "aborted"
