@@ -11,7 +11,7 @@ import pytest
 from api.main import create_app
 from api.pmac_ethernet.protocol import getresponse
 from api.pmac_ethernet.server import serve_pmac
-from app.registry import Registry
+from tests.api.wire_helpers import connect, serving
 from tests.conftest import dummy_settings
 
 pytestmark = pytest.mark.anyio
@@ -134,12 +134,8 @@ async def test_a_trip_aborts_the_running_program_with_error_watchdog(pmac_api):
 def test_a_tripped_card_is_silent_on_its_tcp_port():
     """TUM p215: after a watchdog trip the CPU "will not communicate": no bytes come back."""
     async def main() -> tuple[bytes, bytes]:
-        registry = Registry()
-        handle = registry.add("pmac", "p", clock="virtual")
-        server = await serve_pmac(handle, "127.0.0.1", 0)
-        port = server.sockets[0].getsockname()[1]
-        try:
-            reader, writer = await asyncio.open_connection("127.0.0.1", port)
+        async with serving(serve_pmac, "pmac", "p") as (handle, port):
+            reader, writer = await connect(port)
             writer.write(getresponse("i3=2 PR"))
             before = await asyncio.wait_for(reader.read(4096), 2.0)
             plcs = handle.controller.plcs
@@ -153,10 +149,6 @@ def test_a_tripped_card_is_silent_on_its_tcp_port():
                 after = b""
             writer.close()
             return before, after
-        finally:
-            server.close()
-            await server.wait_closed()
-            await registry.close()
 
     before, after = asyncio.run(main())
     assert before == b"0\r\x06"

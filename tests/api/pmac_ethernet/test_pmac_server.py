@@ -10,10 +10,9 @@ import asyncio
 
 import pytest
 
-import tests.api.wire_standins  # noqa: F401 - registers the stand-in kinds
 from api.pmac_ethernet.protocol import VR, VR_DOWNLOAD, getresponse, pack_request
 from api.pmac_ethernet.server import serve_pmac
-from app.registry import Registry
+from tests.api.wire_helpers import connect, run_served
 
 TIMEOUT = 2.0
 
@@ -24,7 +23,7 @@ class Client:
 
     @classmethod
     async def connect(cls, port: int) -> Client:
-        return cls(*await asyncio.open_connection("127.0.0.1", port))
+        return cls(*await connect(port))
 
     async def send(self, packet: bytes, n: int | None = None) -> bytes:
         self.writer.write(packet)
@@ -44,22 +43,10 @@ class Client:
         await self.writer.wait_closed()
 
 
-def run(scenario):
-    """Run ``scenario(handle, port)`` against a served stand-in PMAC on a virtual clock."""
-
-    async def main():
-        registry = Registry()
-        handle = registry.add("wirepmac", "pmac", clock="virtual")
-        server = await serve_pmac(handle, "127.0.0.1", 0)
-        port = server.sockets[0].getsockname()[1]
-        try:
-            return await scenario(handle, port)
-        finally:
-            server.close()
-            await server.wait_closed()
-            await registry.close()
-
-    return asyncio.run(main())
+def run(scenario, kind: str = "wirepmac"):
+    """Run ``scenario(handle, port)`` against a served PMAC (the stand-in unless ``kind`` says
+    otherwise) on a virtual clock."""
+    return run_served(serve_pmac, kind, "pmac", scenario)
 
 
 def test_dls_pmaclib_connect_handshake_switches_framing_to_i3_2() -> None:
@@ -250,25 +237,16 @@ def test_rest_terminal_is_one_more_port_for_the_one_open_buffer_rule() -> None:
     connection's OPEN → ERR007 and its buffered line → ERR005, nothing stored; after the REST
     port's CLOSE the TCP port may open them."""
 
-    async def main():
-        registry = Registry()
-        handle = registry.add("pmac", "pmac", clock="virtual")
-        server = await serve_pmac(handle, "127.0.0.1", 0)
-        port = server.sockets[0].getsockname()[1]
-        try:
-            for cmd in ("&1 DEFINE ROT 100", "OPEN ROT"):
-                assert (await handle.command(cmd)).error is None
-            c = await Client.connect(port)
-            got = [await c.ask("OPEN ROT"), await c.ask("X1")]
-            assert (await handle.command("CLOSE")).error is None
-            got += [await c.ask("OPEN ROT"), await c.ask("X2"), await c.ask("CLOSE")]
-            await c.close()
-            return got, [e["text"] for e in handle.controller.log.events("line_loaded")]
-        finally:
-            server.close()
-            await server.wait_closed()
-            await registry.close()
+    async def scenario(handle, port):
+        for cmd in ("&1 DEFINE ROT 100", "OPEN ROT"):
+            assert (await handle.command(cmd)).error is None
+        c = await Client.connect(port)
+        got = [await c.ask("OPEN ROT"), await c.ask("X1")]
+        assert (await handle.command("CLOSE")).error is None
+        got += [await c.ask("OPEN ROT"), await c.ask("X2"), await c.ask("CLOSE")]
+        await c.close()
+        return got, [e["text"] for e in handle.controller.log.events("line_loaded")]
 
-    got, loaded = asyncio.run(main())
+    got, loaded = run(scenario, kind="pmac")
     assert got == [b"\x07ERR007\r", b"\x07ERR005\r", b"\x06", b"\x06", b"\x06"]
     assert loaded == ["X2"]

@@ -7,39 +7,30 @@ import asyncio
 import json
 from pathlib import Path
 
-import tests.api.wire_standins  # noqa: F401 - registers the stand-in kinds
 from api.pmac_ethernet.protocol import VR, VR_DOWNLOAD, getresponse, pack_request
 from api.pmac_ethernet.server import serve_pmac
-from app.recorder import Recorder, read_transcript
-from app.registry import Registry
+from app.recorder import read_transcript
 from app.replay import main as replay_main
 from app.replay import replay
+from tests.api.wire_helpers import connect, serving
 
 
 def record_session(path: Path) -> None:
     async def scenario():
-        registry = Registry()
-        handle = registry.add("wirepmac", "pmac", clock="virtual")
-        recorder = Recorder.for_handles(path, [handle])
-        server = await serve_pmac(handle, "127.0.0.1", 0, recorder=recorder)
-        port = server.sockets[0].getsockname()[1]
-        reader, writer = await asyncio.open_connection("127.0.0.1", port)
-        for cmd in ("i6=1 i3=2 ver", "cid", "OPEN ROT", "X1", "BOGUS"):
-            writer.write(getresponse(cmd))
-            await writer.drain()
+        async with serving(serve_pmac, "wirepmac", "pmac", record_to=path) as (handle, port):
+            reader, writer = await connect(port)
+            for cmd in ("i6=1 i3=2 ver", "cid", "OPEN ROT", "X1", "BOGUS"):
+                writer.write(getresponse(cmd))
+                await writer.drain()
+                await asyncio.wait_for(reader.read(4096), 2)
+            writer.write(pack_request(VR_DOWNLOAD, VR.PMAC_FLUSH))
+            await asyncio.wait_for(reader.readexactly(1), 2)
+            handle.clock.advance(0.25)
+            writer.write(getresponse("I16 I17"))
             await asyncio.wait_for(reader.read(4096), 2)
-        writer.write(pack_request(VR_DOWNLOAD, VR.PMAC_FLUSH))
-        await asyncio.wait_for(reader.readexactly(1), 2)
-        handle.clock.advance(0.25)
-        writer.write(getresponse("I16 I17"))
-        await asyncio.wait_for(reader.read(4096), 2)
-        writer.close()
-        await writer.wait_closed()
-        await asyncio.sleep(0.05)
-        server.close()
-        await server.wait_closed()
-        recorder.close()
-        await registry.close()
+            writer.close()
+            await writer.wait_closed()
+            await asyncio.sleep(0.05)
 
     asyncio.run(scenario())
 

@@ -3,12 +3,10 @@ driven by a pymodbus client over loopback and by raw frames for the exception an
 
 from __future__ import annotations
 
-import asyncio
 import struct
 
 import pytest
 
-import tests.api.wire_standins  # noqa: F401 - registers the stand-in kinds
 from api.trio_modbus.protocol import (
     NEED_DATA,
     ModbusCodec,
@@ -18,23 +16,11 @@ from api.trio_modbus.protocol import (
     to_register,
 )
 from api.trio_modbus.server import serve_modbus
-from app.registry import Registry
+from tests.api.wire_helpers import run_served
 
 
 def run(scenario):
-    async def main():
-        registry = Registry()
-        handle = registry.add("wiretrio", "trio", clock="virtual")
-        server = await serve_modbus(handle, "127.0.0.1", 0)
-        port = server.sockets[0].getsockname()[1]
-        try:
-            return await scenario(handle, port)
-        finally:
-            server.close()
-            await server.wait_closed()
-            await registry.close()
-
-    return asyncio.run(main())
+    return run_served(serve_modbus, "wiretrio", "trio", scenario)
 
 
 def test_pymodbus_reads_and_writes_vr_as_holding_registers() -> None:

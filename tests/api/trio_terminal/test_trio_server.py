@@ -8,9 +8,8 @@ from __future__ import annotations
 
 import asyncio
 
-import tests.api.wire_standins  # noqa: F401 - registers the stand-in kinds
 from api.trio_terminal.server import serve_trio
-from app.registry import Registry
+from tests.api.wire_helpers import connect, run_served
 
 TIMEOUT = 2.0
 
@@ -28,24 +27,12 @@ async def nothing_more(reader: asyncio.StreamReader) -> bytes:
 
 
 def run(scenario):
-    async def main():
-        registry = Registry()
-        handle = registry.add("wiretrio", "trio", clock="virtual")
-        server = await serve_trio(handle, "127.0.0.1", 0)
-        port = server.sockets[0].getsockname()[1]
-        try:
-            return await scenario(handle, port)
-        finally:
-            server.close()
-            await server.wait_closed()
-            await registry.close()
-
-    return asyncio.run(main())
+    return run_served(serve_trio, "wiretrio", "trio", scenario)
 
 
 def test_plain_socket_client_gets_echo_reply_and_prompt() -> None:
     async def scenario(handle, port):
-        reader, writer = await asyncio.open_connection("127.0.0.1", port)
+        reader, writer = await connect(port)
         writer.write(b"\r\n")
         first = await read_until_prompt(reader)
         writer.write(b"VR(5)=2\r\n? VR(5)\r\nFOO\r\n")
@@ -67,7 +54,7 @@ def test_move_that_cannot_be_buffered_holds_the_prompt_until_buffered() -> None:
     the line typed meanwhile is not even echoed until then, and runs after it."""
 
     async def scenario(handle, port):
-        reader, writer = await asyncio.open_connection("127.0.0.1", port)
+        reader, writer = await connect(port)
         writer.write(b"MOVE(10)\r\n?1\r\n")
         echo = await asyncio.wait_for(reader.readuntil(b"\r\n"), TIMEOUT)
         early = await nothing_more(reader)  # no prompt, no echo of "?1"
@@ -89,8 +76,8 @@ def test_lock_taken_over_tcp_is_the_shared_process_0_lock() -> None:
     """A second session's line waits behind the first session's pending move (one process 0)."""
 
     async def scenario(handle, port):
-        r1, w1 = await asyncio.open_connection("127.0.0.1", port)
-        r2, w2 = await asyncio.open_connection("127.0.0.1", port)
+        r1, w1 = await connect(port)
+        r2, w2 = await connect(port)
         w1.write(b"MOVE(1)\r\n")
         await asyncio.wait_for(r1.readuntil(b"\r\n"), TIMEOUT)
         w2.write(b"?2\r\n")
@@ -110,7 +97,7 @@ def test_telnetlib3_style_negotiation_then_command() -> None:
     """A telnet client opening with option negotiation gets answers and a working line."""
 
     async def scenario(handle, port):
-        reader, writer = await asyncio.open_connection("127.0.0.1", port)
+        reader, writer = await connect(port)
         writer.write(bytes([255, 253, 1, 255, 253, 3, 255, 251, 24]) + b"?3\r\n")
         got = await read_until_prompt(reader)
         writer.close()

@@ -8,34 +8,25 @@ from pathlib import Path
 
 from typer.testing import CliRunner
 
-import tests.api.wire_standins  # noqa: F401 - registers the stand-in kinds
 from api.trio_terminal.server import serve_trio
 from app.cli import cli
-from app.recorder import Recorder, read_transcript
-from app.registry import Registry
+from app.recorder import read_transcript
 from app.replay import replay
+from tests.api.wire_helpers import connect, serving
 
 
 def record_locked_session(path: Path) -> bytes:
     async def scenario() -> bytes:
-        registry = Registry()
-        handle = registry.add("wiretrio", "trio", clock="virtual")
-        recorder = Recorder.for_handles(path, [handle])
-        server = await serve_trio(handle, "127.0.0.1", 0, recorder=recorder)
-        port = server.sockets[0].getsockname()[1]
-        reader, writer = await asyncio.open_connection("127.0.0.1", port)
-        writer.write(b"?1\r\nMOVE(1)\r\n?VR(2)\r\n")
-        seen = await asyncio.wait_for(reader.readuntil(b"MOVE(1)\r\n"), 2)
-        await asyncio.sleep(0.05)
-        handle.clock.advance(0.02)
-        seen += await asyncio.wait_for(reader.readuntil(b"0.0000\r\n>>"), 2)
-        writer.close()
-        await writer.wait_closed()
-        await asyncio.sleep(0.05)
-        server.close()
-        await server.wait_closed()
-        recorder.close()
-        await registry.close()
+        async with serving(serve_trio, "wiretrio", "trio", record_to=path) as (handle, port):
+            reader, writer = await connect(port)
+            writer.write(b"?1\r\nMOVE(1)\r\n?VR(2)\r\n")
+            seen = await asyncio.wait_for(reader.readuntil(b"MOVE(1)\r\n"), 2)
+            await asyncio.sleep(0.05)
+            handle.clock.advance(0.02)
+            seen += await asyncio.wait_for(reader.readuntil(b"0.0000\r\n>>"), 2)
+            writer.close()
+            await writer.wait_closed()
+            await asyncio.sleep(0.05)
         return seen
 
     return asyncio.run(scenario())
