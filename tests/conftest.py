@@ -7,6 +7,7 @@ serving one controller ``d`` of kind ``dummy`` on a virtual clock (ticks every 1
 from __future__ import annotations
 
 from collections.abc import AsyncIterator, Callable
+from contextlib import asynccontextmanager
 
 import httpx
 import pytest
@@ -36,11 +37,18 @@ def make_app() -> Callable[..., FastAPI]:
     return lambda **overrides: create_app(dummy_settings(**overrides))
 
 
-@pytest.fixture
-async def api(make_app) -> AsyncIterator[httpx.AsyncClient]:
-    app = make_app()
+@asynccontextmanager
+async def rest_client(app: FastAPI) -> AsyncIterator[httpx.AsyncClient]:
+    """An ``httpx.AsyncClient`` on ``app`` (in process, no sockets) with its lifespan running;
+    ``client.app`` is the app."""
     async with app.router.lifespan_context(app):
         transport = httpx.ASGITransport(app=app)
         async with httpx.AsyncClient(transport=transport, base_url="http://motionsim") as client:
             client.app = app  # type: ignore[attr-defined]
             yield client
+
+
+@pytest.fixture
+async def api(make_app) -> AsyncIterator[httpx.AsyncClient]:
+    async with rest_client(make_app()) as client:
+        yield client

@@ -2,34 +2,13 @@
 
 from __future__ import annotations
 
-from collections.abc import AsyncIterator
-
-import httpx
 import pytest
 
-from api.main import create_app
-from tests.conftest import dummy_settings
+from tests.api.conftest import clock_t
 
 pytestmark = pytest.mark.anyio
 
 BASE = "/controllers/p"
-
-
-@pytest.fixture
-async def pmac_api() -> AsyncIterator[httpx.AsyncClient]:
-    settings = dummy_settings(controllers=[
-        {"id": "p", "kind": "pmac", "clock": {"mode": "virtual"}},
-        {"id": "d", "kind": "dummy", "clock": {"mode": "virtual"}},
-    ])
-    app = create_app(settings)
-    async with app.router.lifespan_context(app):
-        transport = httpx.ASGITransport(app=app)
-        async with httpx.AsyncClient(transport=transport, base_url="http://motionsim") as client:
-            yield client
-
-
-async def clock_t(api) -> float:
-    return (await api.get(f"{BASE}/clock")).json()["t"]
 
 
 async def test_coord_of_a_cs_without_rotary(pmac_api):
@@ -78,7 +57,7 @@ async def test_lines_batch_run_and_events_without_moving_the_clock(pmac_api):
     assert (r.json()["accepted"], r.json()["stored"]) == (2, 1)
     r = await pmac_api.post(f"{BASE}/coord/1/run")
     assert r.json()["program"]["state"] == "running"
-    assert await clock_t(pmac_api) == 0.0
+    assert await clock_t(pmac_api, BASE) == 0.0
     await pmac_api.post(f"{BASE}/clock/advance", json={"seconds": 1.0})
     ev = (await pmac_api.get(f"{BASE}/events", params={"type": "move_end"})).json()["events"]
     assert [e["n"] for e in ev] == [1, 2, 3]
@@ -133,7 +112,7 @@ async def test_terminal_replies_and_err_codes(pmac_api):
     assert (await term("&1 DEFINE ROT 100 B0 OPEN ROT"))["error"] is None
     assert await term("X10") == {"reply": "", "error": None, "pending": False}
     assert await term("PR") == {"reply": "1", "error": None, "pending": False}
-    assert 0 < await clock_t(pmac_api) < 0.01
+    assert 0 < await clock_t(pmac_api, BASE) < 0.01
 
 
 async def test_variables_route(pmac_api):

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import pytest
 
-from tests.api.test_coord import BASE, pmac_api  # noqa: F401  (the fixture)
-
 pytestmark = pytest.mark.anyio
 
+BASE = "/controllers/p"
 
-async def test_coord_shows_the_run_time_error_and_the_next_run_clears_it(pmac_api):  # noqa: F811
+
+async def test_coord_shows_the_run_time_error_and_the_next_run_clears_it(pmac_api):
     api = pmac_api
     await api.put(f"{BASE}/coord/1/rotary", json={"size_words": 600})
     lines = ["LINEAR ABS TA1 TS0 TM1"] + [f"X{i}" for i in range(1, 30)]

@@ -4,20 +4,16 @@ from __future__ import annotations
 
 import json
 
-import httpx
 import pytest
 
 from api.main import create_app
-from tests.conftest import dummy_settings
+from tests.conftest import dummy_settings, rest_client
 
 pytestmark = pytest.mark.anyio
 
 
 async def _session() -> str:
-    app = create_app(dummy_settings())
-    transport = httpx.ASGITransport(app=app)
-    async with app.router.lifespan_context(app), \
-            httpx.AsyncClient(transport=transport, base_url="http://m") as c:
+    async with rest_client(create_app(dummy_settings())) as c:
         for i in range(20):
             await c.post("/controllers/d/terminal", json={"command": f"ECHO {i}"})
             await c.put("/controllers/d/variables/V1", json={"value": i * 0.1})

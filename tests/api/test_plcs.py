@@ -3,33 +3,16 @@
 from __future__ import annotations
 
 import asyncio
-from collections.abc import AsyncIterator
 
-import httpx
 import pytest
 
-from api.main import create_app
 from api.pmac_ethernet.protocol import getresponse
 from api.pmac_ethernet.server import serve_pmac
 from tests.api.wire_helpers import connect, serving
-from tests.conftest import dummy_settings
 
 pytestmark = pytest.mark.anyio
 
 BASE = "/controllers/p"
-
-
-@pytest.fixture
-async def pmac_api() -> AsyncIterator[httpx.AsyncClient]:
-    settings = dummy_settings(controllers=[
-        {"id": "p", "kind": "pmac", "clock": {"mode": "virtual"}},
-        {"id": "d", "kind": "dummy", "clock": {"mode": "virtual"}},
-    ])
-    app = create_app(settings)
-    async with app.router.lifespan_context(app):
-        transport = httpx.ASGITransport(app=app)
-        async with httpx.AsyncClient(transport=transport, base_url="http://motionsim") as client:
-            yield client
 
 
 async def advance(api, seconds: float) -> None:

@@ -2,34 +2,15 @@
 
 from __future__ import annotations
 
-from collections.abc import AsyncIterator
-
-import httpx
 import pytest
 
 from api.main import create_app
-from tests.conftest import dummy_settings
+from tests.api.conftest import FAST, clock_t
+from tests.conftest import dummy_settings, rest_client
 
 pytestmark = pytest.mark.anyio
 
-FAST = {"speed": 1000.0, "accel": 100000.0, "decel": 100000.0}
 BASE = "/controllers/t"
-
-
-@pytest.fixture
-async def trio_api() -> AsyncIterator[httpx.AsyncClient]:
-    settings = dummy_settings(
-        controllers=[{"id": "t", "kind": "trio", "clock": {"mode": "virtual"}, "config": FAST}]
-    )
-    app = create_app(settings)
-    async with app.router.lifespan_context(app):
-        transport = httpx.ASGITransport(app=app)
-        async with httpx.AsyncClient(transport=transport, base_url="http://motionsim") as client:
-            yield client
-
-
-async def clock_t(api) -> float:
-    return (await api.get(f"{BASE}/clock")).json()["t"]
 
 
 async def test_axis_resource_and_patch(trio_api):
@@ -57,7 +38,7 @@ async def test_moves_placed_then_409_with_nothing_queued(trio_api):
     r = await trio_api.post(f"{BASE}/axes/0/moves", json={"type": "MOVE", "args": [10]})
     assert r.status_code == 409 and r.json()["code"] == "buffer_full"
     assert (await trio_api.get(f"{BASE}/events", params={"since": before})).json()["events"] == []
-    assert await clock_t(trio_api) == 0.0
+    assert await clock_t(trio_api, BASE) == 0.0
 
 
 async def test_wait_true_advances_a_virtual_clock_until_buffered(trio_api):
@@ -66,7 +47,7 @@ async def test_wait_true_advances_a_virtual_clock_until_buffered(trio_api):
     r = await trio_api.post(f"{BASE}/axes/0/moves", params={"wait": "true"},
                             json={"type": "MOVE", "args": [10]})
     assert r.status_code == 201 and r.json() == {"placed": "process_buffer"}
-    assert await clock_t(trio_api) == pytest.approx(0.023)
+    assert await clock_t(trio_api, BASE) == pytest.approx(0.023)
 
 
 async def test_wait_true_times_out_with_nothing_queued(trio_api):
@@ -142,7 +123,7 @@ async def test_terminal_locks_and_reports_pending(trio_api):
     assert r.json() == {"reply": "", "error": None, "pending": True}
     r = await trio_api.post(f"{BASE}/terminal", json={"command": "? MTYPE AXIS(0)"})
     assert r.json()["pending"] is True
-    assert await clock_t(trio_api) == 0.0
+    assert await clock_t(trio_api, BASE) == 0.0
     r = await trio_api.get(f"{BASE}/terminal")
     assert r.json() == {"locked": True, "pending": ["MOVE(10) AXIS(0)", "? MTYPE AXIS(0)"]}
     r = await trio_api.post(f"{BASE}/clock/run-until",
@@ -155,26 +136,20 @@ async def test_terminal_locks_and_reports_pending(trio_api):
 
 
 async def test_trio_routes_on_a_pmac_like_kind_are_404():
-    app = create_app(dummy_settings())
-    async with app.router.lifespan_context(app):
-        transport = httpx.ASGITransport(app=app)
-        async with httpx.AsyncClient(transport=transport, base_url="http://m") as client:
-            r = await client.get("/controllers/d/axes/0")
-            assert r.status_code == 404 and r.json()["code"] == "not_found"
+    async with rest_client(create_app(dummy_settings())) as client:
+        r = await client.get("/controllers/d/axes/0")
+        assert r.status_code == 404 and r.json()["code"] == "not_found"
 
 
 async def test_wait_true_on_a_realtime_clock_awaits_the_placement():
     settings = dummy_settings(controllers=[{
         "id": "t", "kind": "trio", "clock": {"mode": "realtime", "factor": 20.0}, "config": FAST,
     }])
-    app = create_app(settings)
-    async with app.router.lifespan_context(app):
-        transport = httpx.ASGITransport(app=app)
-        async with httpx.AsyncClient(transport=transport, base_url="http://m") as api:
-            for _ in range(3):
-                r = await api.post(f"{BASE}/axes/0/moves", json={"type": "MOVE", "args": [1000]})
-                assert r.status_code == 201
-            r = await api.post(f"{BASE}/axes/0/moves", params={"wait": "true"},
-                               json={"type": "MOVE", "args": [1000]})
-            assert r.status_code == 201 and r.json() == {"placed": "process_buffer"}
-            assert await clock_t(api) >= 1.0  # the first 1000-unit move ended (1.01 s)
+    async with rest_client(create_app(settings)) as api:
+        for _ in range(3):
+            r = await api.post(f"{BASE}/axes/0/moves", json={"type": "MOVE", "args": [1000]})
+            assert r.status_code == 201
+        r = await api.post(f"{BASE}/axes/0/moves", params={"wait": "true"},
+                           json={"type": "MOVE", "args": [1000]})
+        assert r.status_code == 201 and r.json() == {"placed": "process_buffer"}
+        assert await clock_t(api, BASE) >= 1.0  # the first 1000-unit move ended (1.01 s)
