@@ -7,24 +7,9 @@ import pytest
 from app.scenarios.errors import ScenarioError
 from app.scenarios.model import loads_scenario
 from app.scenarios.runner import host_rng, run
+from tests.app.scenarios.fragments import breq_stream
 
-BASE = """\
-name: faults
-duration_s: 0.3
-controllers:
-  pmac:
-    kind: pmac
-    config: {i8: 0, i16: 5, i17: 10}  # RTI every servo cycle: 1 ms moves
-    rotary:
-      - {cs: 1, size_words: 400}
-hosts:
-  - name: h
-    type: breq_interrupt
-    latency: 1
-    lines_per_interrupt: 10
-    program:
-      generate: {moves: 400, move_ms: 1, axes: 2}
-"""
+BASE = breq_stream("name: faults\nduration_s: 0.3\n", latency="1", moves=400, host="h")
 
 
 def test_host_stall_fault_starves_the_program_for_its_length():

@@ -11,26 +11,14 @@ from app.cli import cli
 from app.scenarios import sweep as sw
 from app.scenarios.errors import ScenarioError
 from app.scenarios.model import loads_scenario
+from tests.app.scenarios.fragments import breq_stream
 
-SMALL = """\
-name: small
-seed: 5
-duration_s: 0.25
-controllers:
-  pmac:
-    kind: pmac
-    config: {i8: 0, i16: 5, i17: 10}  # RTI every servo cycle: 1 ms moves
-    rotary:
-      - {cs: 1, size_words: 400}
-hosts:
-  - type: breq_interrupt
-    latency: {dist: normal, mean_ms: 4, sd_ms: 1}
-    lines_per_interrupt: 10
-    program:
-      generate: {moves: 200, move_ms: 1, axes: 2}
-params:
-  latency_ms: hosts.0.latency.mean_ms
-"""
+SMALL = breq_stream(
+    "name: small\nseed: 5\nduration_s: 0.25\n",
+    latency="{dist: normal, mean_ms: 4, sd_ms: 1}",
+    moves=200,
+    tail="params:\n  latency_ms: hosts.0.latency.mean_ms\n",
+)
 
 
 @pytest.fixture
