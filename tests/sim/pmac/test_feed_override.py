@@ -16,15 +16,22 @@ def ceil_cycles(rig, ms: float) -> int:
     return math.ceil(rig.ms_cycles(ms) - 1e-6)
 
 
-def test_override_set_before_the_move_scales_its_time(make_rig):
-    rig = make_rig()
+def _cycles_of_one_line_at(rig, override: str, line: str) -> int:
+    """Set the feedrate ``override`` (``%n``), run ``line`` alone from a fresh rotary buffer;
+    servo cycles from its move_start to its move_end."""
     rig.rotary_setup()
-    rig.ok("%50")
-    rig.c.load_lines(1, ["TM200 TA50 TS0 X5"])
+    rig.ok(override)
+    rig.c.load_lines(1, [line])
     rig.ok("R")
     rig.run_until_idle()
     start, end = _by_n(rig, "move_start")[1], _by_n(rig, "move_end")[1]
-    assert end - start == ceil_cycles(rig, 500)  # (TM + Ta) / 0.5
+    return end - start
+
+
+def test_override_set_before_the_move_scales_its_time(make_rig):
+    rig = make_rig()
+    cycles = _cycles_of_one_line_at(rig, "%50", "TM200 TA50 TS0 X5")
+    assert cycles == ceil_cycles(rig, 500)  # (TM + Ta) / 0.5
 
 
 def test_override_change_mid_move_stretches_the_rest_and_keeps_position_continuous(rig):
@@ -80,13 +87,8 @@ def test_h_holds_and_r_resumes(rig):
 def test_dwell_is_not_scaled_by_the_override(make_rig):
     """TSRM p429: DWELL is real time, not scaled by %."""
     rig = make_rig()
-    rig.rotary_setup()
-    rig.ok("%25")
-    rig.c.load_lines(1, ["DWELL100"])
-    rig.ok("R")
-    rig.run_until_idle()
-    start, end = _by_n(rig, "move_start")[1], _by_n(rig, "move_end")[1]
-    assert end - start == ceil_cycles(rig, 100)
+    cycles = _cycles_of_one_line_at(rig, "%25", "DWELL100")
+    assert cycles == ceil_cycles(rig, 100)
 
 
 def test_an_override_change_leaves_a_calculated_dwell_in_real_time(rig):

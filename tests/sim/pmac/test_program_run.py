@@ -18,6 +18,18 @@ def _by_n(rig, type_):
     return {f["n"]: k for k, _, f in rig.events(type_)}
 
 
+def _enter_x20_during_a_500ms_move(rig, after_r_s: float):
+    """Run ``TM500 TA100 TS0 X10`` from a fresh rotary buffer, enter ``X20`` ``after_r_s`` after
+    R, run to the end; the move_start and move_end cycles by line number."""
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["TM500 TA100 TS0 X10"])
+    rig.ok("R")
+    rig.run_for(after_r_s)
+    rig.c.load_lines(1, ["X20"])
+    rig.run_until_idle()
+    return _by_n(rig, "move_start"), _by_n(rig, "move_end")
+
+
 def test_r_on_an_empty_rotary_buffer_waits_and_runs_the_first_line_when_it_arrives(rig):
     """Seed 000: "If the R command is given for an empty rotary buffer, the buffer will simply
     wait for a command to be given to it, and then execute that command immediately."""
@@ -119,26 +131,14 @@ def test_segmentation_mode_blends_a_line_that_arrives_before_deceleration(make_r
     """Seed 000 / PUM p213: with Isx13 > 0, a line entered while the last line executes,
     before deceleration to a stop starts, is blended in without stopping."""
     rig = make_rig(i5113=10)
-    rig.rotary_setup()
-    rig.c.load_lines(1, ["TM500 TA100 TS0 X10"])
-    rig.ok("R")
-    rig.run_for(0.3)
-    rig.c.load_lines(1, ["X20"])
-    rig.run_until_idle()
-    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    starts, ends = _enter_x20_during_a_500ms_move(rig, 0.3)
     assert starts[2] == ends[1] == starts[1] + math.ceil(0.5 / rig.period - 1e-6)
     assert [s for _, s in _states(rig)] == ["running", "waiting"]
 
 
 def test_segmentation_mode_line_after_deceleration_started_starts_from_rest(make_rig):
     rig = make_rig(i5113=10)
-    rig.rotary_setup()
-    rig.c.load_lines(1, ["TM500 TA100 TS0 X10"])
-    rig.ok("R")
-    rig.run_for(0.52)
-    rig.c.load_lines(1, ["X20"])
-    rig.run_until_idle()
-    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    starts, ends = _enter_x20_during_a_500ms_move(rig, 0.52)
     assert ends[1] == starts[1] + math.ceil(0.6 / rig.period - 1e-6)  # stopped
     assert starts[2] == ends[1]
 
@@ -146,13 +146,7 @@ def test_segmentation_mode_line_after_deceleration_started_starts_from_rest(make
 def test_without_segmentation_a_move_started_with_nothing_after_it_stops(rig):
     """[INF] Isx13 = 0: no blend-on-the-fly; a line arriving during the last move runs after
     a stop."""
-    rig.rotary_setup()
-    rig.c.load_lines(1, ["TM500 TA100 TS0 X10"])
-    rig.ok("R")
-    rig.run_for(0.3)
-    rig.c.load_lines(1, ["X20"])
-    rig.run_until_idle()
-    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    starts, ends = _enter_x20_during_a_500ms_move(rig, 0.3)
     assert ends[1] == starts[1] + math.ceil(0.6 / rig.period - 1e-6)
     assert starts[2] == ends[1]
 
