@@ -5,6 +5,8 @@ from __future__ import annotations
 import asyncio
 import math
 import time
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
 
 import pytest
 import simpy
@@ -116,16 +118,25 @@ def test_make_clock_rejects_bad_mode_and_factor():
 # -- realtime -------------------------------------------------------------------------------
 
 
-async def _track(factor, wall_s, period):
-    env, log = _setup(period)
+@asynccontextmanager
+async def _running(env: simpy.Environment, factor: float = 1.0) -> AsyncIterator[RealtimeClock]:
+    """A started ``RealtimeClock`` on ``env``, stopped when the block ends."""
     clock = RealtimeClock(env, factor)
     clock.start()
-    t0 = time.monotonic()
-    await asyncio.sleep(wall_s)
-    elapsed = time.monotonic() - t0
-    t_sim = clock.t
-    events = log.events()
-    await clock.stop()
+    try:
+        yield clock
+    finally:
+        await clock.stop()
+
+
+async def _track(factor, wall_s, period):
+    env, log = _setup(period)
+    async with _running(env, factor) as clock:
+        t0 = time.monotonic()
+        await asyncio.sleep(wall_s)
+        elapsed = time.monotonic() - t0
+        t_sim = clock.t
+        events = log.events()
     return env, clock, events, elapsed, t_sim
 
 
@@ -145,13 +156,11 @@ def test_realtime_clock_tracks_wall_time_times_factor(factor):
 def test_realtime_t_advances_with_nothing_scheduled():
     async def main():
         env = simpy.Environment()
-        clock = RealtimeClock(env, 4.0)
-        clock.start()
-        await asyncio.sleep(0.2)
-        t = clock.t
-        clock.sync()
-        now = env.now
-        await clock.stop()
+        async with _running(env, 4.0) as clock:
+            await asyncio.sleep(0.2)
+            t = clock.t
+            clock.sync()
+            now = env.now
         return t, now
 
     t, now = asyncio.run(main())
@@ -162,17 +171,15 @@ def test_realtime_t_advances_with_nothing_scheduled():
 def test_realtime_pause_freezes_t_and_resume_continues():
     async def main():
         env, log = _setup(0.01)
-        clock = RealtimeClock(env, 1.0)
-        clock.start()
-        await asyncio.sleep(0.1)
-        clock.set(paused=True)
-        t_pause, n_pause = clock.t, len(log)
-        await asyncio.sleep(0.15)
-        t_still, n_still = clock.t, len(log)
-        clock.set(paused=False)
-        await asyncio.sleep(0.1)
-        t_after = clock.t
-        await clock.stop()
+        async with _running(env) as clock:
+            await asyncio.sleep(0.1)
+            clock.set(paused=True)
+            t_pause, n_pause = clock.t, len(log)
+            await asyncio.sleep(0.15)
+            t_still, n_still = clock.t, len(log)
+            clock.set(paused=False)
+            await asyncio.sleep(0.1)
+            t_after = clock.t
         return t_pause, n_pause, t_still, n_still, t_after
 
     t_pause, n_pause, t_still, n_still, t_after = asyncio.run(main())
@@ -183,15 +190,13 @@ def test_realtime_pause_freezes_t_and_resume_continues():
 def test_realtime_factor_change_keeps_t_continuous():
     async def main():
         env = simpy.Environment()
-        clock = RealtimeClock(env, 1.0)
-        clock.start()
-        await asyncio.sleep(0.1)
-        before = clock.t
-        clock.set(factor=10.0)
-        just_after = clock.t
-        await asyncio.sleep(0.1)
-        later = clock.t
-        await clock.stop()
+        async with _running(env) as clock:
+            await asyncio.sleep(0.1)
+            before = clock.t
+            clock.set(factor=10.0)
+            just_after = clock.t
+            await asyncio.sleep(0.1)
+            later = clock.t
         return before, just_after, later
 
     before, just_after, later = asyncio.run(main())
@@ -204,20 +209,18 @@ def test_realtime_wake_replans_for_an_event_scheduled_sooner():
     async def main():
         env = simpy.Environment()
         log = EventLog(env, "c")
-        clock = RealtimeClock(env, 1.0)
-        clock.start()
-        await asyncio.sleep(0.05)  # nothing scheduled: the task sleeps on its future
-        clock.sync()
 
         def later():
             yield env.timeout(0.05)
             log.emit("done")
 
-        env.process(later())
-        clock.wake()
-        t_cmd = env.now
-        await asyncio.sleep(0.2)
-        await clock.stop()
+        async with _running(env) as clock:
+            await asyncio.sleep(0.05)  # nothing scheduled: the task sleeps on its future
+            clock.sync()
+            env.process(later())
+            clock.wake()
+            t_cmd = env.now
+            await asyncio.sleep(0.2)
         return t_cmd, log.events("done")
 
     t_cmd, done = asyncio.run(main())
@@ -236,10 +239,8 @@ def test_moving_time_leaves_nothing_due_behind():
 def test_realtime_task_wakes_once_per_event_not_in_a_loop():
     async def main():
         env, log = _setup(0.01)
-        clock = RealtimeClock(env, 1.0)
-        clock.start()
-        await asyncio.sleep(0.3)
-        await clock.stop()
+        async with _running(env) as clock:
+            await asyncio.sleep(0.3)
         return len(log), len(clock.lateness_s)
 
     events, wakeups = asyncio.run(main())
