@@ -111,14 +111,15 @@ def test_yaml_syntax_error_has_a_line():
     assert e.line is not None and "not valid YAML" in e.message
 
 
+def _with_empirical_latency(path, file: str) -> None:
+    """Write :data:`GOOD` to ``path`` with the host latency drawn from ``file``."""
+    path.write_text(GOOD.replace("{dist: normal, mean_ms: 2, sd_ms: 1, jitter_ms: 3}",
+                                 f"{{dist: empirical, file: {file}}}"))
+
+
 def test_empirical_latencies_from_a_file(tmp_path):
     (tmp_path / "lat.csv").write_text("latency_ms\n1.5\n2.5\n# comment\n4\n")
-    (tmp_path / "s.yaml").write_text(
-        GOOD.replace(
-            "{dist: normal, mean_ms: 2, sd_ms: 1, jitter_ms: 3}",
-            "{dist: empirical, file: lat.csv}",
-        )
-    )
+    _with_empirical_latency(tmp_path / "s.yaml", "lat.csv")
     s = load_scenario(tmp_path / "s.yaml")
     d = s.hosts[0].latency.to_delay()
     assert d.values == (0.0015, 0.0025, 0.004)
@@ -128,12 +129,7 @@ def test_empirical_latencies_from_a_file(tmp_path):
 
 def test_empirical_file_with_a_negative_latency_names_its_line(tmp_path):
     (tmp_path / "lat.txt").write_text("1\n-2\n")
-    (tmp_path / "s.yaml").write_text(
-        GOOD.replace(
-            "{dist: normal, mean_ms: 2, sd_ms: 1, jitter_ms: 3}",
-            "{dist: empirical, file: lat.txt}",
-        )
-    )
+    _with_empirical_latency(tmp_path / "s.yaml", "lat.txt")
     with pytest.raises(ScenarioError) as info:
         load_scenario(tmp_path / "s.yaml")
     assert "lat.txt line 2" in info.value.message

@@ -26,6 +26,13 @@ def _by_n(rig, type_):
     return {f["n"]: k for k, _, f in rig.events(type_)}
 
 
+def _one_line_cycles(rig, line: str) -> int:
+    """Run ``line`` alone from a fresh rotary buffer; servo cycles from its move_start to its
+    move_end."""
+    _run(rig, [line])
+    return _by_n(rig, "move_end")[1] - _by_n(rig, "move_start")[1]
+
+
 def test_servo_period_default_from_i10(rig):
     """Spec §4.1: I10 = 3 713 707 × 2**-23 ms = 442.7 µs (≈ 2.26 kHz)."""
     assert rig.period == pytest.approx(442.708e-6, rel=1e-5)
@@ -37,30 +44,22 @@ def test_servo_hz_config_overrides_i10(make_rig):
 
 def test_single_move_from_rest_takes_tm_plus_ta(rig):
     """PUM p169 / spec §9.1: a single move from rest takes TM + Ta."""
-    _run(rig, ["TM200 TA50 TS0 X5"])
-    start, end = _by_n(rig, "move_start")[1], _by_n(rig, "move_end")[1]
-    assert end - start == ceil_cycles(rig, 250)
+    assert _one_line_cycles(rig, "TM200 TA50 TS0 X5") == ceil_cycles(rig, 250)
 
 
 def test_ta_and_ts_combine_as_max_of_ta_and_twice_ts(rig):
     """Spec §9.1: Ta = max(TA, 2·TS), not TA + TS."""
-    _run(rig, ["TM200 TA50 TS40 X5"])
-    start, end = _by_n(rig, "move_start")[1], _by_n(rig, "move_end")[1]
-    assert end - start == ceil_cycles(rig, 280)
+    assert _one_line_cycles(rig, "TM200 TA50 TS40 X5") == ceil_cycles(rig, 280)
 
 
 def test_move_time_from_feedrate(rig):
     """TSRM p188-189: ``X3 Y4 F50`` = 5 units at 50 units/s = 100 ms (+ Ta from rest)."""
-    _run(rig, ["TA20 TS0 X3 Y4 F50"])
-    start, end = _by_n(rig, "move_start")[1], _by_n(rig, "move_end")[1]
-    assert end - start == ceil_cycles(rig, 120)
+    assert _one_line_cycles(rig, "TA20 TS0 X3 Y4 F50") == ceil_cycles(rig, 120)
 
 
 def test_move_shorter_than_ta_takes_ta(rig):
     """Spec §9.1: a move never takes less than its acceleration time."""
-    _run(rig, ["TM10 TA100 TS0 X1"])
-    start, end = _by_n(rig, "move_start")[1], _by_n(rig, "move_end")[1]
-    assert end - start == ceil_cycles(rig, 200)
+    assert _one_line_cycles(rig, "TM10 TA100 TS0 X1") == ceil_cycles(rig, 200)
 
 
 def test_blended_moves_take_n_tm_plus_ta(rig):
