@@ -518,9 +518,20 @@ class PmacController(Controller):
         self.log.emit("reset")
 
     def status(self) -> dict[str, Any]:
+        """The controller resource's PMAC part: processor shares (``cpu``, with
+        ``last_background_s``), the watchdog and its reload margin, per-PLC scan figures."""
+        bg = self.background
+        wd = bg.watchdog
+        cpu: dict[str, Any] = dict(bg.load())
+        cpu["last_background_s"] = bg.last_background_s
         return {
-            "cpu": self.background.load(),
-            "watchdog": {"tripped": self.halted, "t": self.background.watchdog.t_trip},
+            "cpu": cpu,
+            "watchdog": {"tripped": self.halted, "t": wd.t_trip, **wd.margin(bg.active)},
+            "plcs": {
+                str(p.n): {"statements_last_scan": p.last_statements, "scans": p.scans}
+                for p in self.plcs.plcs
+                if p.program is not None or p.scans
+            },
             "servo_period_s": self.scheduler.period_s,
             "rti_period_s": self.scheduler.rti_period_s(),
             "coord": {

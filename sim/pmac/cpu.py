@@ -131,6 +131,9 @@ class Processor:
         self.watchdog = Watchdog(self.ctl)
         self.cycles = 0
         self.last_cycle_s: float | None = None
+        #: Simulated instant the last background cycle (one with a host command or a PLC
+        #: 1-31 scan) completed; None before the first.
+        self.last_background_s: float | None = None
         self._active = False
         self._in_wake = False
         self._t = self.env.now
@@ -158,6 +161,11 @@ class Processor:
         if self._active:
             self._advance(self.env.now)
         self._schedule()
+
+    @property
+    def active(self) -> bool:
+        """Busy with RTI / background work (not free-running housekeeping)."""
+        return self._active
 
     # -- loads ------------------------------------------------------------------------------
 
@@ -332,6 +340,7 @@ class Processor:
         self._bg = None
         self.cycles += 1
         self.last_cycle_s = now - bg.start
+        self.last_background_s = now
         self.watchdog.reload(now)
         if self.queue:
             self.queue.popleft()()

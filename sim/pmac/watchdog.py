@@ -54,6 +54,31 @@ class Watchdog:
         clock = self.ctl.scheduler.clock
         return clock.t(clock.at_or_after(self.last_reload) + self.limit_cycles())
 
+    def margin(self, active: bool) -> dict[str, float | int | None]:
+        """The reload figures of ``status()``: ``reload_s`` (when the counter was last
+        reloaded), ``limit_cycles`` (I40) and ``cycles_left`` (servo cycles from now to the
+        trip if no background cycle ends before; 0 once tripped).
+
+        While the processor is idle (``active`` False) the free-running housekeeping cycles
+        reload the counter every servo cycle ``[INF]``: ``reload_s`` is then the current servo
+        cycle and the whole limit is left. While busy, the figures are as of the processor's
+        last accounting (its last wake-up), so ``cycles_left`` is a lower bound.
+        """
+        clock = self.ctl.scheduler.clock
+        now = self.ctl.env.now
+        k_now = clock.index(now)
+        limit = self.limit_cycles()
+        if self.tripped:
+            return {"reload_s": self.last_reload, "limit_cycles": limit, "cycles_left": 0}
+        if not active:
+            return {"reload_s": clock.t(k_now), "limit_cycles": limit, "cycles_left": limit}
+        k_trip = clock.at_or_after(self.last_reload) + limit
+        return {
+            "reload_s": self.last_reload,
+            "limit_cycles": limit,
+            "cycles_left": max(0, k_trip - k_now),
+        }
+
     def trip(self) -> None:
         """Trip now: kill motors, stop programs, outputs off, ``watchdog`` event, halt."""
         if self.tripped:

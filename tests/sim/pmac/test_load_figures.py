@@ -1,0 +1,47 @@
+"""Load figures of ``status()``: when the last background cycle completed, the watchdog's
+reload margin (I40 counter, TSRM p57; spec §9.6), per-PLC statements per scan."""
+
+from __future__ import annotations
+
+import pytest
+
+
+def test_idle_controller_has_the_whole_watchdog_margin(rig):
+    rig.run_for(0.01)
+    wd = rig.c.status()["watchdog"]
+    assert wd["limit_cycles"] == 4096 and wd["cycles_left"] == 4096
+    assert rig.cyc(wd["reload_s"]) == rig.c.scheduler.clock.index(rig.c.env.now)
+    assert rig.c.status()["plcs"] == {}
+
+
+def test_last_background_cycle_is_the_answer_to_a_host_command(rig):
+    assert rig.c.status()["cpu"]["last_background_s"] is None
+    reply = rig.cmd("I5")
+    assert rig.c.status()["cpu"]["last_background_s"] == pytest.approx(reply.t_done)
+
+
+def test_plc_statements_per_scan_and_scans(rig):
+    rig.ok("I5=3")
+    rig.c.plcs.load(2, "P1=P1+1\nP2=P2+1\nP3=P3+1")
+    rig.ok("ENABLE PLC 2")
+    rig.run_for(0.05)
+    plc = rig.c.status()["plcs"]["2"]
+    assert plc["statements_last_scan"] == 3
+    assert plc["scans"] == rig.c.plcs.plcs[2].scans > 10
+    cpu = rig.c.status()["cpu"]
+    assert rig.c.env.now - cpu["last_background_s"] < 0.005  # background keeps cycling
+
+
+def test_a_starving_plc0_runs_the_margin_down_to_the_trip(make_rig):
+    rig = make_rig(i40=300)
+    rig.c.plcs.load(0, "\n".join(["M1=M1+1"] + ["P10=P10+1"] * 499))
+    k_enable = rig.cyc(rig.cmd("ENABLE PLC 0").t_done)
+    rig.run_for(100 * rig.period)
+    wd = rig.c.status()["watchdog"]
+    assert rig.cyc(wd["reload_s"]) == k_enable + 1  # the last housekeeping pass
+    k_now = rig.c.scheduler.clock.index(rig.c.env.now)
+    assert wd["cycles_left"] == k_enable + 1 + 300 - k_now
+    rig.run_for(0.5)
+    wd = rig.c.status()["watchdog"]
+    assert wd["tripped"] is True and wd["cycles_left"] == 0
+    assert rig.cyc(wd["t"]) == k_enable + 1 + 300
