@@ -355,10 +355,27 @@ class _Host(Strict):
 
 
 class _PmacHost(_Host):
+    """A PMAC rotary-buffer writer.
+
+    ``write_via``: ``terminal`` writes as host software does — ``&cs OPEN ROT``, then one
+    program line per command line on the host's own port, each answered at the end of a
+    background cycle, one awaiting its answer at a time (so PLC 0 and the RTI's load show in
+    the write latency, ``host_write.reply_s``; ``reply_timeout_ms`` before a
+    ``host_timeout``); ``direct`` (default) stores each batch straight into the buffer, no
+    command processing.
+
+    ``direct`` stays the default because ``terminal`` changes a headline result: behind the
+    250-statement PLC 0 of ``plc0_watchdog.yaml`` a background cycle takes longer than a 2 ms
+    move, so one line per command line cannot keep up and the "short PLC 0 completes the
+    stream" card starves (1333 of 1500 lines in 3 s).
+    """
+
     cs: int = Field(1, ge=1, le=16)
     program: ProgramSpec
     write_latency: DelaySpec = DelaySpec(ms=0)
     start_program: bool = True
+    write_via: Literal["terminal", "direct"] = "direct"
+    reply_timeout_ms: Pos = 1000.0
 
 
 class PrPollingSpec(_PmacHost):
@@ -374,7 +391,6 @@ class PrPollingSpec(_PmacHost):
     poll_period_ms: Pos
     pr_latency: DelaySpec = DelaySpec(ms=0)
     pr_via: Literal["terminal", "status"] = "terminal"
-    reply_timeout_ms: Pos = 1000.0
     lines_per_write: int = Field(1, ge=1)
     high_water: int = Field(1000, ge=1)
     low_water: int = Field(500, ge=0)

@@ -200,6 +200,8 @@ def build(scn: Scenario) -> tuple[dict[str, Controller], dict[str, Any]]:
             common = {
                 "write_latency": h.write_latency.to_delay(),
                 "start_program": h.start_program,
+                "write_via": h.write_via,
+                "reply_timeout_s": h.reply_timeout_ms / 1000,
             }
             lines = h.program.to_lines()
             if isinstance(h, PrPollingSpec):
@@ -211,7 +213,6 @@ def build(scn: Scenario) -> tuple[dict[str, Controller], dict[str, Any]]:
                     high_water=h.high_water,
                     low_water=h.low_water,
                     via_terminal=h.pr_via == "terminal",
-                    reply_timeout_s=h.reply_timeout_ms / 1000,
                     **common,
                 )  # fmt: skip
             elif isinstance(h, BreqInterruptSpec):

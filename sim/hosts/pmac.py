@@ -32,18 +32,45 @@ Hosts add their own events to the controller's log so a run can be explained aft
   reply timeout (the host gives up on that poll and polls again on its period).
 * ``host_stopped`` — ``host``, ``cs``, ``reason``: the controller refused the host (the
   watchdog tripped: a tripped card answers nothing), the host stops.
+
+Write path (``write_via``): ``direct`` puts a batch straight into the rotary buffer
+(``load_lines``, a stand-in with no command processing: a busy card does not delay it).
+``terminal`` writes as host software does, through the card's command line on a port of the
+host's own: ``&cs OPEN ROT`` once, then each program line as one command line, each answered
+at the end of a background cycle (a program line per command line ``[INF]``: the manual
+stores the program statements between two on-line commands as one line, so joining several
+lines in one command would merge them into one program line). The host keeps at most one
+command awaiting its reply on its port; ``host_write`` then carries ``reply_s`` (command
+sent → answered, the host's write latency) for its one line. A line answered ERR006 did not
+fit: the host stops that refill and tries later. A line unanswered after ``reply_timeout_s``
+gives a ``host_timeout``; the host sends nothing more on the port until that line's fate is
+known (a late answer still counts the line), so a tripped card silences the writes with
+timeouts, as a card that stopped communicating does. ``lines_ahead`` / BREQ after a terminal
+write are read from the card's status (dual-ported RAM and the BREQ line) ``[INF]``.
 """
 
 from __future__ import annotations
 
 import random
 from collections.abc import Generator, Sequence
-from typing import Any
+from typing import Any, NamedTuple
 
 from sim.errors import BufferFull, Halted
 from sim.hosts.distributions import Delay, fixed
 
 _ZERO = fixed(0.0)
+
+WRITE_VIA = ("direct", "terminal")
+
+
+class WriteResult(NamedTuple):
+    """What a terminal write leaves: the shape of ``LoadResult`` the hosts read."""
+
+    accepted: int
+    stored: int
+    lines_ahead: int
+    free_words: int
+    breq: bool
 
 
 class PmacHost:
@@ -57,6 +84,10 @@ class PmacHost:
         rng: this host's seeded generator.
         write_latency: time one write takes to reach the card (link + host overhead).
         start_program: send ``&cs B0 R`` once the first fill is loaded (the host starts it).
+        write_via: ``direct`` (``load_lines``) or ``terminal`` (command lines on the host's
+            port, see the module docstring).
+        reply_timeout_s: how long the host waits for a reply on its port before giving up
+            (``host_timeout``).
     """
 
     def __init__(
@@ -69,7 +100,13 @@ class PmacHost:
         *,
         write_latency: Delay = _ZERO,
         start_program: bool = True,
+        write_via: str = "direct",
+        reply_timeout_s: float = 1.0,
     ) -> None:
+        if write_via not in WRITE_VIA:
+            raise ValueError(f"write_via must be one of {WRITE_VIA}, not {write_via!r}")
+        if reply_timeout_s <= 0:
+            raise ValueError("reply_timeout_s must be > 0")
         self.name = name
         self.controller = controller
         self.env = controller.env
@@ -86,6 +123,13 @@ class PmacHost:
         self.process = None
         self.stall_until = 0.0
         self.stopped: str | None = None
+        self.write_via = write_via
+        self.reply_timeout_s = reply_timeout_s
+        self.port: Any = None
+        self.timeouts = 0
+        self.write_replies: list[float] = []
+        self._opened = False
+        self._line_in_flight: tuple[Any, float] | None = None
 
     def stall(self, until_s: float) -> None:
         """Fault: the host does nothing until ``until_s`` (a busy or paused PC)."""
@@ -121,6 +165,8 @@ class PmacHost:
         delay = self.write_latency.draw(self.rng)
         if delay > 0:
             yield self.env.timeout(delay)
+        if self.write_via == "terminal":
+            return (yield from self._write_terminal(count))
         count = min(count, self.remaining)
         while count > 0 and self.stopped is None:
             batch = self.lines[self.sent : self.sent + count]
@@ -146,6 +192,99 @@ class PmacHost:
                 self._finish()
             return res
         return None
+
+    # -- the host's command port ----------------------------------------------------------
+
+    def command(self, text: str) -> Generator[Any, Any, Any]:
+        """Send ``text`` on the host's port and wait for the answer; the done ``Reply``, or
+        ``None`` (no answer within ``reply_timeout_s``: ``host_timeout``; or the card refused
+        the host: ``host_stopped``)."""
+        if self.port is None:
+            self.port = self.controller.open_port(self.name)
+        t_sent = self.env.now
+        try:
+            reply = self.controller.terminal(text, self.port)
+        except Halted as exc:
+            self.stop(str(exc))
+            return None
+        answered = yield from self._await(reply, t_sent)
+        return reply if answered else None
+
+    def _await(self, reply: Any, t_sent: float) -> Generator[Any, Any, bool]:
+        """Wait up to ``reply_timeout_s`` for ``reply``; a ``host_timeout`` if it stays silent."""
+        env = self.env
+        if not reply.done:
+            answered = env.event()
+            reply.add_done_callback(lambda _r: answered.triggered or answered.succeed())
+            yield answered | env.timeout(self.reply_timeout_s)
+        if reply.done:
+            return True
+        self.timeouts += 1
+        self.log.emit(
+            "host_timeout", host=self.name, cs=self.cs, command=reply.command,
+            waited_s=env.now - t_sent,
+        )  # fmt: skip
+        return False
+
+    def _write_terminal(self, count: int) -> Generator[Any, Any, Any]:
+        """Up to ``count`` lines, one command line each, one awaiting its answer at a time.
+
+        Returns a :class:`WriteResult` when at least one line was stored, else ``None``.
+        """
+        stored = 0
+        if self._line_in_flight is not None:
+            # a line that timed out earlier: nothing more goes out until its answer comes
+            reply, t_sent = self._line_in_flight
+            if not (yield from self._await(reply, t_sent)):
+                return None
+            self._line_in_flight = None
+            if self._line_answered(reply, t_sent):
+                stored += 1
+                count -= 1
+            elif reply.error:
+                return None
+        if not self._opened and self.stopped is None and self.remaining > 0:
+            opened = yield from self.command(f"&{self.cs}OPEN ROT")
+            if opened is None or opened.error:
+                return None
+            self._opened = True
+        while stored < count and self.remaining > 0 and self.stopped is None:
+            t_sent = self.env.now
+            try:
+                reply = self.controller.terminal(self.lines[self.sent], self.port)
+            except Halted as exc:
+                self.stop(str(exc))
+                break
+            if not (yield from self._await(reply, t_sent)):
+                self._line_in_flight = (reply, t_sent)
+                break
+            if not self._line_answered(reply, t_sent):
+                break  # ERR006: no room now; the host tries again later
+            stored += 1
+        return self._status(stored) if stored else None
+
+    def _line_answered(self, reply: Any, t_sent: float) -> bool:
+        """Account one answered program line; False when the card refused it."""
+        if reply.error:
+            return False
+        t_done = reply.t_done if reply.t_done is not None else self.env.now
+        self.sent += 1
+        self.writes += 1
+        self.write_replies.append(t_done - t_sent)
+        self.log.emit(
+            "host_write", host=self.name, cs=self.cs, lines=1, sent=self.sent,
+            lines_ahead=self.lines_ahead(), reply_s=t_done - t_sent,
+        )  # fmt: skip
+        if self.remaining == 0:
+            self._finish()
+        return True
+
+    def _status(self, stored: int) -> WriteResult:
+        rot = self.controller.rotary(self.cs) or {}
+        return WriteResult(
+            stored, stored, int(rot.get("lines_ahead", 0)), int(rot.get("free_words", 0)),
+            bool(rot.get("breq", False)),
+        )  # fmt: skip
 
     def start_program_once(self) -> None:
         """``&cs B0 R`` the first time it is called (if this host starts the program)."""
@@ -197,12 +336,9 @@ class PrPollingHost(PmacHost):
         high_water: int = 1000,
         low_water: int = 500,
         via_terminal: bool = False,
-        reply_timeout_s: float = 1.0,
         **kwargs: Any,
     ) -> None:
         super().__init__(*args, **kwargs)
-        if reply_timeout_s <= 0:
-            raise ValueError("reply_timeout_s must be > 0")
         if poll_period_s <= 0:
             raise ValueError("poll_period_s must be > 0")
         if not 0 <= low_water < high_water:
@@ -215,36 +351,16 @@ class PrPollingHost(PmacHost):
         self.high_water = high_water
         self.low_water = low_water
         self.via_terminal = via_terminal
-        self.reply_timeout_s = reply_timeout_s
-        self.port: Any = None
         self.replies: list[float] = []
-        self.timeouts = 0
 
     def ask_pr(self) -> Generator[Any, Any, int | None]:
         """``&cs PR`` on the card's command line; the count, or None (timeout or stopped)."""
-        env = self.env
-        ctl = self.controller
-        if self.port is None:
-            self.port = ctl.open_port(self.name)
         command = f"&{self.cs}PR"
-        t_sent = env.now
-        try:
-            reply = ctl.terminal(command, self.port)
-        except Halted as exc:
-            self.stop(str(exc))
+        t_sent = self.env.now
+        reply = yield from self.command(command)
+        if reply is None:
             return None
-        if not reply.done:
-            answered = env.event()
-            reply.add_done_callback(lambda _r: answered.triggered or answered.succeed())
-            yield answered | env.timeout(self.reply_timeout_s)
-        if not reply.done:
-            self.timeouts += 1
-            self.log.emit(
-                "host_timeout", host=self.name, cs=self.cs, command=command,
-                waited_s=env.now - t_sent,
-            )  # fmt: skip
-            return None
-        t_done = reply.t_done if reply.t_done is not None else env.now
+        t_done = reply.t_done if reply.t_done is not None else self.env.now
         if reply.error:
             self.log.emit(
                 "host_timeout", host=self.name, cs=self.cs, command=command,
@@ -415,4 +531,11 @@ class NaiveHost(PmacHost):
                 yield env.timeout(delay if delay > 0 else 1e-4)
 
 
-__all__ = ["BreqInterruptHost", "NaiveHost", "PmacHost", "PrPollingHost"]
+__all__ = [
+    "WRITE_VIA",
+    "BreqInterruptHost",
+    "NaiveHost",
+    "PmacHost",
+    "PrPollingHost",
+    "WriteResult",
+]
