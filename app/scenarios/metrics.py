@@ -14,7 +14,8 @@ PMAC, per coordinate system with a rotary buffer:
 * run-time errors: the program aborted by the controller (calculation fell behind).
 * ``breq_rising`` edges and their rate, host writes and interrupts, line latency
   (``line_loaded`` → ``move_start`` of the same line); a PR-polling host's reply latency
-  (``host_pr``: command received → answered) and its unanswered polls (``host_timeout``).
+  (``host_pr``: command received → answered) and its unanswered polls (``host_timeout``);
+  a terminal writer's write latency (``host_write.reply_s``: program line sent → answered).
 * ``mvar_lead``: for each M-variable write, how long before the move that follows it in the
   program actually starts (0 for ``M1==1``, about a move early for ``M1=1``).
 
@@ -123,6 +124,7 @@ class CsTrace:
     host_sent: int | None = None
     host_prs: list[tuple[float, float]] = field(default_factory=list)  # t, reply_s
     host_timeouts: list[tuple[float, float]] = field(default_factory=list)  # t, waited_s
+    write_replies: list[tuple[float, float]] = field(default_factory=list)  # t, reply_s
 
 
 def pmac_traces(events: Iterable[Event]) -> dict[int, CsTrace]:
@@ -163,7 +165,10 @@ def pmac_traces(events: Iterable[Event]) -> dict[int, CsTrace]:
             if f.get("error") and f["error"] != "watchdog":  # a trip is not a run-time error
                 tr(f["cs"]).errors.append((e.t, str(f["error"])))
         elif typ == "host_write" and "cs" in f:
-            tr(f["cs"]).host_writes.append((e.t, f.get("lines", 1)))
+            c = tr(f["cs"])
+            c.host_writes.append((e.t, f.get("lines", 1)))
+            if "reply_s" in f:
+                c.write_replies.append((e.t, float(f["reply_s"])))
         elif typ == "host_irq" and "cs" in f:
             tr(f["cs"]).host_irqs.append((e.t, bool(f.get("missed")), f.get("latency_s", 0.0)))
         elif typ == "host_pr" and "cs" in f:
@@ -311,6 +316,7 @@ def pmac_cs_metrics(
     span = max(t_end - t_start, 1e-12)
     lat = _stats(line_latency(c))
     pr = _stats([r for _, r in c.host_prs])
+    wr = _stats([r for _, r in c.write_replies])
     leads = mvar_leads(c)
     return {
         "lines_loaded": len(c.loaded),
@@ -332,6 +338,10 @@ def pmac_cs_metrics(
         "pr_reply_mean_s": pr["mean"],
         "pr_reply_max_s": pr["max"],
         "host_timeouts": len(c.host_timeouts),
+        "write_replies": len(c.write_replies),
+        "write_reply_mean_s": wr["mean"],
+        "write_reply_p99_s": wr["p99"],
+        "write_reply_max_s": wr["max"],
         "mvar": leads,
         "starvation_list": starv,
     }

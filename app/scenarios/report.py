@@ -52,6 +52,8 @@ HEADLINE = (
     "pr_reply_max_s",
     "host_timeouts",
     "background_cycle_max_s",
+    "write_reply_mean_s",
+    "write_reply_max_s",
 )
 
 #: Turbo PMAC default servo period (I10 = 3713707): 442.7 µs.
@@ -229,6 +231,8 @@ def headline(per: dict[str, Any]) -> dict[str, Any]:
     trips = [c["watchdog_trip_s"] for c in cpus if c["watchdog_trip_s"] is not None]
     replies = [(m["pr_reply_mean_s"], m["pr_replies"]) for m in cs_rows
                if m.get("pr_reply_mean_s") is not None]  # fmt: skip
+    writes = [(m["write_reply_mean_s"], m["write_replies"]) for m in cs_rows
+              if m.get("write_reply_mean_s") is not None]  # fmt: skip
     cycles = [c["background_cycle_max_s"] for c in cpus
               if c.get("background_cycle_max_s") is not None]  # fmt: skip
     weighted = [
@@ -268,6 +272,10 @@ def headline(per: dict[str, Any]) -> dict[str, Any]:
         "pr_reply_max_s": extreme("pr_reply_max_s", max),
         "host_timeouts": total("host_timeouts"),
         "background_cycle_max_s": max(cycles) if cycles else None,
+        "write_reply_mean_s": (
+            sum(v * n for v, n in writes) / max(1, sum(n for _, n in writes)) if writes else None
+        ),
+        "write_reply_max_s": extreme("write_reply_max_s", max),
     }
 
 
