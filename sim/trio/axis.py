@@ -31,7 +31,14 @@ DEFAULTS: dict[str, float] = {
     "decel": 1000.0,
     "creep": 10.0,
     "units": 1.0,
+    "merge": 0.0,
+    "sramp": 0.0,
 }
+
+#: Parameters that may be 0: MERGE is a switch (any non-zero value is ON, ``TRUE`` = -1),
+#: SRAMP a time in ms, 0..250 (``[BK]``, see :mod:`sim.trio.profile`).
+_SWITCHES = {"merge"}
+SRAMP_MAX_MS = 250.0
 
 
 class Axis:
@@ -39,6 +46,7 @@ class Axis:
 
     __slots__ = (
         "n", "env", "clock", "speed", "accel", "decel", "creep", "units", "mtype", "ntype", "pos",
+        "merge", "sramp",
     )
 
     def __init__(
@@ -51,6 +59,7 @@ class Axis:
         self.ntype: Move | None = None
         self.pos = 0.0  # committed demand position (user units) while no move executes
         self.speed = self.accel = self.decel = self.creep = self.units = 0.0
+        self.merge = self.sramp = 0.0
         self.set(**{**DEFAULTS, **(params or {})})
 
     # -- parameters ------------------------------------------------------------------------
@@ -60,6 +69,20 @@ class Axis:
         for key, value in params.items():
             if key not in DEFAULTS:
                 raise InvalidValue(f"axis {self.n} has no parameter {key!r}", field=key)
+            if key in _SWITCHES:
+                if not isinstance(value, (int, float)) or value != value:
+                    raise InvalidValue(
+                        f"{key.upper()} AXIS({self.n}) must be ON or OFF, got {value!r}",
+                        field=key,
+                    )
+                continue
+            if key == "sramp":
+                if not isinstance(value, (int, float)) or not 0 <= value <= SRAMP_MAX_MS:
+                    raise InvalidValue(
+                        f"SRAMP AXIS({self.n}) must be 0..{SRAMP_MAX_MS:g} ms, got {value!r}",
+                        field=key,
+                    )
+                continue
             if not isinstance(value, (int, float)) or not value > 0 or value != value:
                 raise InvalidValue(
                     f"{key.upper()} AXIS({self.n}) must be a positive number, got {value!r}",
@@ -69,6 +92,8 @@ class Axis:
             if key == "units" and self.units:
                 # The encoder count stays; the user-unit position rescales (DPOS = edges/UNITS).
                 self.pos = self.pos * self.units / float(value)
+            if key in _SWITCHES:
+                value = 1.0 if value else 0.0
             setattr(self, key, float(value))
 
     # -- buffers ---------------------------------------------------------------------------
@@ -169,6 +194,8 @@ class Axis:
             "decel": self.decel,
             "units": self.units,
             "creep": self.creep,
+            "merge": self.merge,
+            "sramp": self.sramp,
             "vp_speed": self.vp_speed(),
             "moves_buffered": self.moves_buffered(),
         }

@@ -27,6 +27,24 @@ by its NTYPE move starting at ``e + 1``, and the process buffer drains into the 
 ``e + 2`` (sequencing precedes loading, spec §1.2 ``[INF]``). A process waiting at a move line
 has its move buffered in that same servo period, after the drain.
 
+MERGE (axis parameter of the base axis, default OFF). Not found in any corpus reachable here
+(searched docs/pages/code for "Trio MERGE axis parameter", "Trajexia MERGE parameter motion
+buffer next move loaded", "MERGE=ON Trio BASIC"; spec §1.6, §9.11 ``[BK]``). Modelled from the
+Trio TRM entry as remembered, ``[BK]``: with MERGE ON and the next move already loaded in
+NTYPE, the axes do not ramp down to zero at the end of the MTYPE move but run straight into
+the next one; merging applies only to velocity-profiled moves (MOVE, MOVEABS, MOVECIRC,
+MHELICAL) on the same axis group, and only the base axis' MERGE counts; the programmer must
+make sure the merge is sensible (no check of direction reversal); with short moves a high
+DECEL is needed because the decision is made before the ramp down starts. Here: when a
+mergeable move enters NTYPE while MTYPE still holds a move that has not yet passed the point
+where its profile starts to slow down for the end (``diverges_at``), the MTYPE move is
+re-planned to end at speed (the part already run is unchanged). A move that enters NTYPE
+later finds the ramp down under way and the pair is not merged. The buffer steps stay per
+servo period — ``move_end`` at cycle ``e``, the NTYPE move's ``move_start`` at ``e + 1`` —
+but the merged move's profile starts at the exact instant the previous one ended, at its end
+speed, so DPOS runs on without a pause. CANCEL(1) of a move already merged onto leaves the
+MTYPE move ending at speed (``[INF]``).
+
 Only the servo periods where something happens cost a SimPy event: move ends are scheduled
 when moves start, and a period is scheduled only when a buffer can move on.
 """
@@ -45,8 +63,12 @@ from sim.events import EventLog
 from sim.timing import ServoClock
 from sim.trio.axis import Axis
 from sim.trio.moves import Move
+from sim.trio.profile import diverges_at
 
 Placed = str  # "mtype" | "ntype" | "process_buffer"
+
+#: Velocity-profiled moves that MERGE can join end to end.
+MERGEABLE = frozenset({"MOVE", "MOVEABS", "MOVECIRC", "MHELICAL"})
 OnPlaced = Callable[[Placed], None]
 
 
@@ -99,6 +121,7 @@ class MotionBuffers:
         self._starting: dict[int, list[Move]] = {}  # placed straight into MTYPE, by start cycle
         self._ending: dict[int, list[Move]] = {}  # executing moves by the cycle they end
         self._ticks: set[int] = set()
+        self._merged_from: dict[Move, tuple[float, float]] = {}  # next move: (t0, v0)
         self._watchers: list[tuple[Callable[[], bool], Callable[[], None]]] = []
         self._dead = False
         self._next_id = 0
@@ -187,6 +210,8 @@ class MotionBuffers:
                 self._changed(ax)
             if all(ax.mtype is None for ax in axes):  # a group move, some MTYPEs were busy
                 self._tick_at(self.clock.after(self.env.now))
+            else:
+                self._try_merge(move)
             return "ntype"
         # Some NTYPE is busy: it frees only in a servo period (or by CANCEL), which then
         # schedules the next period for this move.
@@ -231,7 +256,7 @@ class MotionBuffers:
         tau = self.clock.t(now_k) - m.t_start
         m.cut(m.profile.cancelled_at(tau, self.axes[m.axes[0]].decel))
         assert m.profile is not None
-        end = max(m.start_tick + self.clock.cycles(m.profile.duration), now_k + 1)
+        end = max(self.clock.at_or_after(m.t_start + m.profile.duration), now_k + 1)
         self._end_at(m, end)
 
     def _start_cycle(self, m: Move) -> int:
@@ -246,6 +271,7 @@ class MotionBuffers:
         if m is None:
             return
         self._ntype.remove(m)
+        self._merged_from.pop(m, None)
         for a in m.axes:
             ax = self.axes[a]
             ax.ntype = None
@@ -302,6 +328,7 @@ class MotionBuffers:
                         axes[a].ntype = m
                         self._changed(axes[a])
                     self.log.emit("process_buffer", process=p, axis=m.axes[0], mtype=0)
+                    self._try_merge(m)
         # 2. move loading: NTYPE -> MTYPE, the move starts now
         if self._ntype:
             for m in list(self._ntype):
@@ -322,6 +349,9 @@ class MotionBuffers:
         ending = self._ending.pop(k, ())
         for m in ending:
             del self._active[m]
+            nxt = m.merged_into
+            if nxt is not None and m.profile is not None and axes[m.axes[0]].ntype is nxt:
+                self._merged_from[nxt] = (m.t_start + m.profile.duration, m.profile.v_end)
             final = m.final_positions()
             for i, a in enumerate(m.axes):
                 ax = axes[a]
@@ -348,12 +378,50 @@ class MotionBuffers:
             self._tick_at(k + 1)
 
     def _begin(self, m: Move, k: int) -> None:
-        m.begin(k, self.clock.t(k), [self.axes[a] for a in m.axes])
+        prev = self._merged_from.pop(m, None)
+        axes = [self.axes[a] for a in m.axes]
+        if prev is None:
+            m.begin(k, self.clock.t(k), axes)
+        else:
+            t0, v0 = prev
+            m.begin(k, t0, axes, v0)
         assert m.profile is not None
         for a in m.axes:
             self.log.emit("move_start", axis=a, mtype=m.mtype)
         if m.profile.duration != float("inf"):
-            self._end_at(m, k + max(1, self.clock.cycles(m.profile.duration)))
+            if prev is None:
+                self._end_at(m, k + max(1, self.clock.cycles(m.profile.duration)))
+            else:
+                self._end_merged(m)
+        nxt = axes[0].ntype
+        if nxt is not None:
+            self._try_merge(nxt)
+
+    def _end_merged(self, m: Move) -> None:
+        """Schedule the end of a move whose profile origin is not its start cycle."""
+        assert m.profile is not None and m.start_tick is not None
+        end = self.clock.at_or_after(m.t_start + m.profile.duration)
+        self._end_at(m, max(m.start_tick + 1, end))
+
+    def _try_merge(self, nxt: Move) -> None:
+        """MERGE: ``nxt`` has just entered NTYPE; let the MTYPE move run into it at speed."""
+        axes = self.axes
+        base = axes[nxt.axes[0]]
+        m = base.mtype
+        if (
+            m is None or not base.merge or m.start_tick is None or m.cancelled
+            or m.merged_into is not None or m.axes != nxt.axes
+            or m.kind not in MERGEABLE or nxt.kind not in MERGEABLE
+        ):
+            return
+        assert m.profile is not None
+        tau = self.clock.t(self.clock.index(self.env.now)) - m.t_start
+        merged = m.merged_profile()
+        if tau > diverges_at(m.profile, merged) + 1e-12:
+            return  # the ramp down has begun: too late to merge
+        m.profile = merged
+        m.merged_into = nxt
+        self._end_merged(m)
 
     def _end_at(self, m: Move, k: int) -> None:
         if m.end_tick is not None:

@@ -19,7 +19,7 @@ import math
 from typing import TYPE_CHECKING
 
 from sim.trio.mtypes import MTYPE
-from sim.trio.profile import Profile, endless, trapezoid
+from sim.trio.profile import Profile, endless, plan
 
 if TYPE_CHECKING:
     from sim.trio.axis import Axis
@@ -31,6 +31,7 @@ class Move:
     __slots__ = (
         "id", "kind", "mtype", "axes", "args", "process", "text",
         "start_tick", "end_tick", "t_start", "profile", "p0", "unit", "circ", "end_pos",
+        "v0", "length", "params", "merged_into", "cancelled",
     )
 
     def __init__(
@@ -57,18 +58,30 @@ class Move:
         self.unit: tuple[float, ...] = ()
         self.circ: tuple[float, ...] = ()
         self.end_pos: tuple[float, ...] = ()
+        self.v0 = 0.0  # path speed at the start (> 0 when merged onto the previous move)
+        self.length = 0.0
+        self.params: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
+        self.merged_into: Move | None = None  # MERGE: the next move runs on at speed
+        self.cancelled = False
 
     def __repr__(self) -> str:
         return f"<Move #{self.id} {self.kind}{self.args} axes={self.axes} p={self.process}>"
 
     # -- geometry --------------------------------------------------------------------------
 
-    def begin(self, tick: int, t_start: float, axes: list[Axis]) -> None:
-        """Fix the path from the axes' present positions; the move starts at ``tick``."""
+    def begin(self, tick: int, t_start: float, axes: list[Axis], v0: float = 0.0) -> None:
+        """Fix the path from the axes' present positions; the move starts at ``tick``.
+
+        ``t_start`` is the origin of the profile (``tau`` = 0): the servo instant of ``tick``,
+        or for a merged move the exact instant the previous move's profile ended, where it
+        left off at path speed ``v0``.
+        """
         base = axes[0]
         self.p0 = p0 = tuple([ax.position() for ax in axes])
         self.start_tick, self.t_start = tick, t_start
         speed = base.speed
+        sramp_s = base.sramp / 1000.0
+        self.v0 = v0
         kind, a = self.kind, self.args
         if kind == "MOVE" or kind == "MOVEABS" or kind == "DATUM":
             if len(p0) == 1:
@@ -85,10 +98,10 @@ class Move:
                 self.end_pos = tuple([p + d for p, d in zip(p0, deltas, strict=True)])
             if kind == "DATUM":
                 speed = base.creep
-            self.profile = trapezoid(length, speed, base.accel, base.decel)
+            self._plan(length, speed, base.accel, base.decel, sramp_s)
         elif kind == "FORWARD" or kind == "REVERSE":
             self.unit = (1.0,) if kind == "FORWARD" else (-1.0,)
-            self.profile = endless(speed, base.accel)
+            self.profile = endless(speed, base.accel, sramp_s)
             self.end_pos = p0
         else:  # MOVECIRC, MHELICAL
             e1, e2, c1, c2, direction = a[:5]
@@ -107,7 +120,17 @@ class Move:
                 end.append(p0[2] + d3)
             self.end_pos = tuple(end)
             self.circ = (cx, cy, r, th0, sign * sweep, d3, length)
-            self.profile = trapezoid(length, speed, base.accel, base.decel)
+            self._plan(length, speed, base.accel, base.decel, sramp_s)
+
+    def _plan(self, length: float, speed: float, accel: float, decel: float, ts: float) -> None:
+        self.length = length
+        self.params = (speed, accel, decel, ts)
+        self.profile = plan(length, speed, accel, decel, sramp_s=ts, v0=self.v0)
+
+    def merged_profile(self) -> Profile:
+        """The same move planned to end at speed (MERGE with the next move loaded)."""
+        speed, accel, decel, ts = self.params
+        return plan(self.length, speed, accel, decel, sramp_s=ts, v0=self.v0, stop=False)
 
     def _at(self, s: float) -> tuple[float, ...]:
         """Axis positions a path distance ``s`` along the move."""
@@ -134,6 +157,8 @@ class Move:
     def cut(self, profile: Profile) -> None:
         """CANCEL: the move now follows ``profile`` and ends where that profile stops."""
         self.profile = profile
+        self.cancelled = True
+        self.merged_into = None
         self.end_pos = self._at(profile.length)
 
     def speed(self, tau: float) -> float:

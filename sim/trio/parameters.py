@@ -8,7 +8,7 @@ Axis parameters act on the process' BASE axis unless ``AXIS(n)`` follows the nam
 from __future__ import annotations
 
 #: Axis parameters a program can write (units/s, units/s², edges per user unit).
-AXIS_WRITABLE = frozenset({"SPEED", "ACCEL", "DECEL", "UNITS", "CREEP"})
+AXIS_WRITABLE = frozenset({"SPEED", "ACCEL", "DECEL", "UNITS", "CREEP", "MERGE", "SRAMP"})
 
 #: Axis parameters that are read-only: the buffers and the profile generator own them.
 AXIS_READONLY = frozenset(
