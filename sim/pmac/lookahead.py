@@ -58,9 +58,10 @@ What is modelled (TUM p236, p249-250, p339-341; TSRM p177, p429, p446; PUM p213;
   program is ``stopped``. **A** stops at once: every axis decelerates at the motor abort rate
   Ixx15 (motor 1's, cts/ms², one count = one axis unit ``[INF]``), calculated moves and
   queued synchronous writes are discarded (their lines freed); uncalculated lines stay.
-* **S** runs one move, then ``stopped``. **H** (feed hold) freezes the time base like ``%0``
-  and ``R`` resumes; ``%n`` scales moves (not DWELLs) at once — Isx94/Isx95 slews are not
-  modelled ``[INF]`` (:meth:`CoordSystem.set_feed_override`).
+* **S** runs one move, then ``stopped``. **H** (feed hold) takes the time base to 0 like
+  ``%0`` and ``R`` brings it back; ``%n`` scales moves (not DWELLs). The time base *slews*:
+  Isx94 (``%n``) or Isx95 (``H`` and the ``R`` after it) per servo cycle (TSRM p191;
+  :meth:`CoordSystem.set_feed_override`).
 
 Program states (``program`` events): idle → running ⇄ waiting → stopped | aborted; running
 again only through ``R``/``S``. The legal transitions are the table ``TRANSITIONS``.
@@ -209,7 +210,12 @@ class CoordSystem:
         self._ta_s = 0.0
         self._ta_prog = 0.0
         self._scale = 1.0
-        self._pct_before_hold = 100.0  # the override to return to after %0 / H
+        self._pct_before_hold = 100.0  # the time base of the profile frozen by %0 / H
+        #: The commanded ``%`` (the slew's goal; ``R`` after ``H`` returns to it).
+        self.commanded_override = 100.0
+        self._slew_target = 100.0
+        self._slew_step = 0.0  # % per servo cycle
+        self._slew_wake: Wake | None = None
         self._frozen_at = 0.0
         self._held = False
         self._decided: Move | None = None  # segmented mode: the move whose blend is decided
@@ -286,7 +292,7 @@ class CoordSystem:
         """``R`` / ``S``: start (or resume) calculation at the next RTI; after ``H``, resume."""
         if self._held:
             self._held = False
-            self.set_feed_override(self._pct_before_hold)
+            self._slew_to(self.commanded_override, 95)  # R after H ramps back at Isx95
         self.single_step = single_step
         self.quitting = False
         self.error = None
@@ -311,21 +317,65 @@ class CoordSystem:
         self.quitting = True  # (an I11-delayed start still runs the calculated moves)
 
     def hold(self) -> None:
-        """``H``: feed hold — the time base goes to 0 (like ``%0``); ``R`` resumes ``[INF]``:
-        the Isx95 slew is not modelled, the hold and the resume are instant."""
-        if self.feed_override > 0:
-            self._held = True
-            self.set_feed_override(0.0)
+        """``H``: feed hold — like ``%0`` but the time base slews at Isx95 (TSRM p191, PSRM
+        Ix95: "equivalent to a %0 command except that it uses Ix95"); ``R`` ramps back to the
+        commanded ``%`` at Isx95."""
+        self._held = True
+        self._slew_to(0.0, 95)
 
     def set_feed_override(self, percent: float) -> None:
-        """``%n``: the CS time base. Moves, DELAYs and RAPIDs run at ``n`` % speed; DWELLs
-        and RTI planning stay in real time. ``%0`` freezes motion where it is.
+        """``%n``: command the CS time base to ``n`` %; the actual value (``feed_override``,
+        what ``%`` reports) slews there at Isx94 (TSRM p191). Moves, DELAYs and RAPIDs follow
+        the actual time base; DWELLs and RTI planning stay in real time (TSRM p429).
 
-        A change applies at once ``[INF]`` (the Isx94 slew is not modelled): the rest of the
-        executing move is stretched around now (positions stay continuous), calculated moves
-        are rescaled, later ones are calculated at the new rate.
+        ``%n`` ends a feed hold (the new value is the goal) ``[INF]``.
         """
         pct = max(0.0, float(percent))
+        self.commanded_override = pct
+        self._held = False
+        self._slew_to(pct, 94)
+
+    def _slew_to(self, target: float, ivar: int) -> None:
+        """Slew the actual time base to ``target`` at Isx``ivar`` (94 or 95).
+
+        The rate is in 2**-23 ms of time base per servo cycle; 100 % is one servo period of
+        program time per cycle, so one cycle changes the value by ``100 · rate / (period_ms ·
+        2**23)`` % (1644 at 442 µs: 0.044 %, 0 → 100 % in ≈ 1 s). The first step is taken at
+        the command's own servo cycle, one more at each following cycle; the time base is
+        constant within a cycle, so the motion profile is stretched piecewise (exactly what
+        the controller integrates). A rate large enough to cover the change in one step (the
+        maximum 8 388 607 is ≈ 226 % per cycle at 442 µs) makes the change instant.
+        Rate 0: the time base does not move at all ``[INF]`` — the manual gives 0 no special
+        meaning, and a slew rate of 0 per cycle never reaches the new value (``%`` keeps
+        reporting the old one).
+        """
+        wake = self._slew_wake
+        if wake is not None and wake.callbacks:
+            wake.callbacks.clear()
+        self._slew_wake = None
+        self._slew_target = target
+        rate = max(0.0, self.vars.I(isx(self.cs, ivar)))
+        self._slew_step = 100.0 * rate / (self._period * 1000.0 * 2**23)
+        if self._slew_step > 0:
+            self._slew_tick(None)
+
+    def _slew_tick(self, _ev: Any) -> None:
+        """One servo cycle of a time-base slew."""
+        self._slew_wake = None
+        cur, target, step = self.feed_override, self._slew_target, self._slew_step
+        new = cur + step if target > cur else cur - step
+        if abs(target - cur) <= step:
+            new = target  # the last step lands on the commanded value
+        self._apply_time_base(new)
+        if new != target:
+            clock = self.sched.clock
+            t = clock.t(clock.index(self._env._now) + 1)
+            self._slew_wake = wake_at(self._env, t, self._slew_tick)
+
+    def _apply_time_base(self, pct: float) -> None:
+        """The actual time base becomes ``pct`` now. ``0`` freezes motion where it is; else
+        the rest of the executing move is stretched around now (positions stay continuous),
+        calculated moves are rescaled, later ones are calculated at the new rate."""
         old = self.feed_override
         if pct == old:
             return
@@ -346,7 +396,6 @@ class CoordSystem:
             if moving:
                 self._cancel()  # nothing happens while frozen
             return
-        self._held = False
         k = old_eff / pct  # new stretch / old stretch
         for p in self.planned:
             if p.kind == DWELL:
@@ -485,6 +534,10 @@ class CoordSystem:
         """Forget every scheduled wake-up (the controller is being reset)."""
         self._plan_due = None
         self._cancel()
+        wake = self._slew_wake
+        if wake is not None and wake.callbacks:
+            wake.callbacks.clear()
+        self._slew_wake = None
         self.state = IDLE
 
     # -- lines arriving -------------------------------------------------------------------

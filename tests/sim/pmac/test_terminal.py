@@ -176,6 +176,7 @@ def test_an_epics_style_poll_line_answers_one_line_per_item(rig):
     assert len(lines) == 7
     assert lines[0] == "0" and lines[2] == "0" and lines[6] == "100"
     rig.ok("&1%50")
+    rig.run_for(1.0)  # the time base slews at Isx94 (≈ 1 s for 100 %)
     assert rig.ok("%") == "50"
 
 
@@ -211,9 +212,11 @@ def test_percent_queries_and_sets_the_addressed_cs_override(rig, entry):
     assert rig.ok("&1%") == "100"
     assert rig.ok("&2%") == "100"
     rig.ok("%50")  # the port addresses CS 2 now
+    rig.run_for(1.0)  # the time base slews at Isx94 (≈ 1 s for 100 %)
     assert rig.ok("&1%") == "100"
     assert rig.ok("&2%") == "50"
     rig.ok("&1%50")
+    rig.run_for(1.0)
     assert rig.ok("&1%") == "50"
     assert rig.ok("&1% &2%") == "50\r50"
     assert rig.c.coord_system(1).feed_override == 50
