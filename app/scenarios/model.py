@@ -364,10 +364,11 @@ class _PmacHost(_Host):
     ``host_timeout``); ``direct`` (default) stores each batch straight into the buffer, no
     command processing.
 
-    ``direct`` stays the default because ``terminal`` changes a headline result: behind the
-    250-statement PLC 0 of ``plc0_watchdog.yaml`` a background cycle takes longer than a 2 ms
-    move, so one line per command line cannot keep up and the "short PLC 0 completes the
-    stream" card starves (1333 of 1500 lines in 3 s).
+    ``direct`` stays the default because ``terminal`` changes a headline result of
+    ``plc0_watchdog.yaml``: its hosts fill 500 lines before starting the program, which takes
+    0.22 s line by line on an idle card (0.43 s behind the short PLC 0), so neither card
+    finishes its 1500 moves of 2 ms in the 3 s run (1389 and 1333 executed; no starvation)
+    and the PR poll counts differ. ``write_via_terminal.yaml`` shows the terminal path.
     """
 
     cs: int = Field(1, ge=1, le=16)

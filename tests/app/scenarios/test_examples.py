@@ -27,7 +27,7 @@ def run_example(name: str, **overrides):
 def test_every_example_is_listed_here():
     tested = {"rotary_breq.yaml", "pr_polling.yaml", "breq_missed.yaml", "m1_sync.yaml",
               "tn20_stall_and_fix.yaml", "trio_feeders.yaml", "lookahead_breaks.yaml",
-              "calc_behind.yaml", "plc0_watchdog.yaml"}  # fmt: skip
+              "calc_behind.yaml", "plc0_watchdog.yaml", "write_via_terminal.yaml"}  # fmt: skip
     assert {p.name for p in EXAMPLES.glob("*.yaml")} == tested
 
 
