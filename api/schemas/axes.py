@@ -25,6 +25,9 @@ class AxisOut(BaseModel):
     creep: float | None = None
     vp_speed: float | None = Field(None, description="profile generator speed now")
     moves_buffered: int | None = Field(None, description="MTYPE and NTYPE slots in use")
+    merge: float | None = Field(None, description="MERGE: 1 = ON (no ramp down into a loaded "
+                                                  "next move), 0 = OFF")
+    sramp: float | None = Field(None, description="SRAMP: S-ramp time in ms (0 = trapezoid)")
 
 
 class AxisPatch(BaseModel):
@@ -37,6 +40,8 @@ class AxisPatch(BaseModel):
     decel: float | None = Field(None, gt=0, allow_inf_nan=False)
     units: float | None = Field(None, gt=0, allow_inf_nan=False)
     creep: float | None = Field(None, gt=0, allow_inf_nan=False)
+    merge: float | None = Field(None, allow_inf_nan=False, description="non-zero = ON")
+    sramp: float | None = Field(None, ge=0, le=250, allow_inf_nan=False, description="ms")
 
 
 MoveType = Literal["MOVE", "MOVEABS", "MOVECIRC", "MHELICAL", "FORWARD", "REVERSE", "DATUM"]

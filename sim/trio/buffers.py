@@ -210,7 +210,7 @@ class MotionBuffers:
                 self._changed(ax)
             if all(ax.mtype is None for ax in axes):  # a group move, some MTYPEs were busy
                 self._tick_at(self.clock.after(self.env.now))
-            else:
+            elif self.axes[move.axes[0]].merge:
                 self._try_merge(move)
             return "ntype"
         # Some NTYPE is busy: it frees only in a servo period (or by CANCEL), which then
@@ -328,7 +328,8 @@ class MotionBuffers:
                         axes[a].ntype = m
                         self._changed(axes[a])
                     self.log.emit("process_buffer", process=p, axis=m.axes[0], mtype=0)
-                    self._try_merge(m)
+                    if axes[m.axes[0]].merge:
+                        self._try_merge(m)
         # 2. move loading: NTYPE -> MTYPE, the move starts now
         if self._ntype:
             for m in list(self._ntype):
@@ -378,24 +379,25 @@ class MotionBuffers:
             self._tick_at(k + 1)
 
     def _begin(self, m: Move, k: int) -> None:
-        prev = self._merged_from.pop(m, None)
         axes = [self.axes[a] for a in m.axes]
+        prev = self._merged_from.pop(m, None) if self._merged_from else None
         if prev is None:
             m.begin(k, self.clock.t(k), axes)
         else:
-            t0, v0 = prev
-            m.begin(k, t0, axes, v0)
-        assert m.profile is not None
+            m.begin(k, prev[0], axes, prev[1])
+        prof = m.profile
+        assert prof is not None
+        emit = self.log.emit
         for a in m.axes:
-            self.log.emit("move_start", axis=a, mtype=m.mtype)
-        if m.profile.duration != float("inf"):
+            emit("move_start", axis=a, mtype=m.mtype)
+        if prof.duration != float("inf"):
             if prev is None:
-                self._end_at(m, k + max(1, self.clock.cycles(m.profile.duration)))
+                self._end_at(m, k + max(1, self.clock.cycles(prof.duration)))
             else:
                 self._end_merged(m)
-        nxt = axes[0].ntype
-        if nxt is not None:
-            self._try_merge(nxt)
+        base = axes[0]
+        if base.merge and base.ntype is not None:
+            self._try_merge(base.ntype)
 
     def _end_merged(self, m: Move) -> None:
         """Schedule the end of a move whose profile origin is not its start cycle."""

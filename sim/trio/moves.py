@@ -19,7 +19,7 @@ import math
 from typing import TYPE_CHECKING
 
 from sim.trio.mtypes import MTYPE
-from sim.trio.profile import Profile, endless, plan
+from sim.trio.profile import Profile, endless, plan, trapezoid
 
 if TYPE_CHECKING:
     from sim.trio.axis import Axis
@@ -125,7 +125,10 @@ class Move:
     def _plan(self, length: float, speed: float, accel: float, decel: float, ts: float) -> None:
         self.length = length
         self.params = (speed, accel, decel, ts)
-        self.profile = plan(length, speed, accel, decel, sramp_s=ts, v0=self.v0)
+        if ts == 0.0 and self.v0 == 0.0:  # the common case: a plain trapezoid
+            self.profile = trapezoid(length, speed, accel, decel)
+        else:
+            self.profile = plan(length, speed, accel, decel, sramp_s=ts, v0=self.v0)
 
     def merged_profile(self) -> Profile:
         """The same move planned to end at speed (MERGE with the next move loaded)."""

@@ -219,3 +219,20 @@ def test_sramp_from_basic():
     c.env.run()
     starts, ends = _starts_ends(c)
     assert ends[0] - starts[0] == 115
+
+
+def test_example_merge_stream_runs_as_one_s_curve_move():
+    """``examples/trio/merge_stream.bas``: five merged MOVE(100) with SRAMP 5 ms take
+    0.5 s at SPEED + 0.01 s for the two ramps + 0.005 s SRAMP, one ramp up, one down."""
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[3] / "examples/trio/merge_stream.bas").read_text()
+    c = make()
+    c.store_program("MS", text)
+    c.run_program("MS", 1)
+    c.env.run()
+    starts, ends = _starts_ends(c)
+    # first: S-ramp up (0.015 s, 7.5 units) + 92.5 units at SPEED = 0.1075 s, ends on the
+    # next servo period; the middle three are 0.1 s each at SPEED; the last adds the ramp down
+    assert [e - starts[0] for e in ends] == [108, 208, 308, 408, 515]
+    assert c.axis(0)["dpos"] == pytest.approx(500.0)
