@@ -114,3 +114,41 @@ def test_dwell_stays_real_time_during_a_slew(rig):
         k for k, _, _ in rig.events("move_end")
     ]
     assert end - start == math.ceil(rig.ms_cycles(1000) - 1e-6)
+
+
+def real_time_of(rig, tau: float, k_c: int, target: float, s: float) -> float:
+    """The real instant program time ``tau`` is reached when a slew from 100 % to ``target``
+    (steps of ``s`` %) starts at cycle ``k_c`` (program time = real time before it)."""
+    p = rig.period
+    acc = k_c * p
+    if tau <= acc:
+        return tau
+    j = 0
+    while True:
+        j += 1
+        pct = max(target, 100 - j * s)
+        if acc + p * pct / 100 >= tau:
+            return (k_c + j - 1) * p + (tau - acc) / (pct / 100)
+        acc += p * pct / 100
+
+
+def test_percent_50_on_a_blended_sequence_moves_every_hand_off(rig):
+    """Six blended 500 ms moves; ``%50`` in the second: each hand-off (blend start) happens
+    when the slewing time base reaches its program instant."""
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["TM500 TA100 TS0 X500"] + [f"X{500 * i}" for i in range(2, 7)])
+    rig.ok("R")
+    rig.run_for(0.7)
+    k0 = min(k for k, _, f in rig.events("move_start"))
+    k_c = rig.cyc(rig.cmd("%50").t_done)
+    rig.run_until_idle()
+    s = step_pct(rig)
+    starts = {f["n"]: k for k, _, f in rig.events("move_start")}
+    t0 = k0 * rig.period
+    for n in range(3, 7):  # moves 1 and 2 started before the change
+        t = real_time_of(rig, t0 + (n - 1) * 0.5, k_c, 50.0, s)
+        assert starts[n] == math.ceil(t / rig.period - 1e-6), n
+    (k_end,) = [k for k, _, f in rig.events("move_end") if f["n"] == 6]
+    t = real_time_of(rig, t0 + 6 * 0.5 + 0.1, k_c, 50.0, s)
+    assert k_end == math.ceil(t / rig.period - 1e-6)
+    assert rig.c.positions(1)["X"] == pytest.approx(3000.0)
