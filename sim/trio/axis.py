@@ -10,6 +10,11 @@ Parameter defaults (SPEED 1000, ACCEL 1000, DECEL 1000, CREEP 10, UNITS 1) are `
 them per axis with ``set_axis`` or ``PATCH /axes/{n}``. A new SPEED / ACCEL / DECEL applies to
 moves that start after it is written (the move executing keeps its profile — a simplification
 of the controller, whose profile generator follows SPEED on the fly).
+
+MERGE (switch, default OFF) and SRAMP (ms, default 0) shape the profile: see
+:mod:`sim.trio.buffers` for when moves merge and :mod:`sim.trio.profile` for the S-ramp; both
+are ``[BK]`` (the TRM pages were not reachable). Like SPEED, they apply to moves that start
+(or, for MERGE, reach NTYPE) after they are written.
 """
 
 from __future__ import annotations

@@ -139,7 +139,8 @@ class TrioController(Controller):
         return self._axis(n).snapshot()
 
     def set_axis(self, n: int, **params: float) -> dict[str, Any]:
-        """Write axis parameters (``speed``, ``accel``, ``decel``, ``units``, ``creep``)."""
+        """Write axis parameters (``speed``, ``accel``, ``decel``, ``units``, ``creep``,
+        ``merge``, ``sramp``); all are checked before any is written."""
         ax = self._axis(n)
         ax.set(**params)
         return ax.snapshot()

@@ -7,8 +7,8 @@ decelerate at DECEL to stop exactly at the end; a move too short to reach SPEED 
 with peak speed sqrt(2·L·A·D/(A+D)). FORWARD / REVERSE ramp to SPEED and run until cancelled;
 a CANCEL decelerates at DECEL from wherever the move is.
 
-SRAMP (MC2xx axis parameter) — not found in any corpus reachable here (searched docs / pages /
-code / find_string for "SRAMP", "Trio SRAMP S ramp", "Trio Motion Coordinator SRAMP axis
+SRAMP (MC2xx axis parameter) — not found in any corpus reachable here (searched docs, pages,
+issues, code and find_string for "SRAMP", "Trio SRAMP S ramp", "Trio Motion Coordinator SRAMP axis
 parameter S-curve"; spec §9.7 and §9.11 list it as ``[BK]``). Modelled from the MC2xx TRM as
 the engineer remembers it, ``[BK]``: SRAMP is the time in **milliseconds** (0..250) over which
 the acceleration itself ramps from 0 to ACCEL (or DECEL) and back, giving S-shaped speed
