@@ -7,8 +7,10 @@ polls the ``breq`` flag (it cannot take a PC interrupt over HTTP), the naive hos
 to back, Trio feeders post moves (``?wait=true`` for the blind one). PMAC PLC programs are
 stored (``PUT /plcs/{n}``) and those enabled at t = 0 enabled; ``enable_at_ms``, faults and
 host latency distributions other than the poll period are not replayed: the network and the
-server supply their own. At the end the server's event logs are fetched and the same metrics
-and summary as a virtual run are printed.
+server supply their own. PMAC writers post their lines to the rotary endpoint whatever their
+``write_via`` (the REST batch write; a command line per program line is not replayed). At the
+end the server's event logs are fetched and the same metrics and summary as a virtual run are
+printed.
 """
 
 from __future__ import annotations

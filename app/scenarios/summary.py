@@ -22,7 +22,8 @@ def summary_tables(rep: dict[str, Any], *, max_starvations: int = 20) -> list[Ta
     tables = []
     pm = Table(title=f"{rep['scenario']} — rotary buffers (t = {rep['t_end_s']:.3f} s)")
     for col in ("controller", "&cs", "lines run", "starved", "time starved", "longest",
-                "min ahead", "BREQ/s", "missed", "writes", "latency max"):  # fmt: skip
+                "min ahead", "BREQ/s", "missed", "writes", "write reply",
+                "latency max"):  # fmt: skip
         pm.add_column(col, justify="right" if col not in ("controller",) else "left")
     trio = Table(title=f"{rep['scenario']} — Trio axes")
     for col in ("controller", "axis", "MTYPE busy", "NTYPE busy", "proc buf busy",
@@ -36,6 +37,7 @@ def summary_tables(rep: dict[str, Any], *, max_starvations: int = 20) -> list[Ta
                     _f(m["time_starved_s"], " ms", 1e3), _f(m["longest_starvation_s"], " ms", 1e3),
                     _f(m["min_lines_ahead"]), _f(m["breq_rate_hz"], "", 1, 1),
                     _f(m["breq_missed"]), _f(m["host_writes"]),
+                    _f(m.get("write_reply_mean_s"), " ms", 1e3),
                     _f(m["line_latency_max_s"], " ms", 1e3),
                 )  # fmt: skip
         else:
