@@ -214,7 +214,7 @@ class CoordSystem:
         #: The commanded ``%`` (the slew's goal; ``R`` after ``H`` returns to it).
         self.commanded_override = 100.0
         self._slew_target = 100.0
-        self._slew_step = 0.0  # % per servo cycle
+        self._slew_ivar = 94  # the slew-rate I-variable in use (Isx94, or Isx95 for H / R)
         self._slew_wake: Wake | None = None
         self._frozen_at = 0.0
         self._held = False
@@ -347,22 +347,26 @@ class CoordSystem:
         maximum 8 388 607 is ≈ 226 % per cycle at 442 µs) makes the change instant.
         Rate 0: the time base does not move at all ``[INF]`` — the manual gives 0 no special
         meaning, and a slew rate of 0 per cycle never reaches the new value (``%`` keeps
-        reporting the old one).
+        reporting the old one). The rate is read at every step, so a new Isx94 / Isx95 acts
+        on a slew in progress; a rate of 0 ends it, and the time base stays where it is until
+        the next ``%`` / ``H`` / ``R`` (not re-armed by the I-variable write) ``[INF]``.
         """
         wake = self._slew_wake
         if wake is not None and wake.callbacks:
             wake.callbacks.clear()
         self._slew_wake = None
         self._slew_target = target
-        rate = max(0.0, self.vars.I(isx(self.cs, ivar)))
-        self._slew_step = 100.0 * rate / (self._period * 1000.0 * 2**23)
-        if self._slew_step > 0:
-            self._slew_tick(None)
+        self._slew_ivar = ivar
+        self._slew_tick(None)
 
     def _slew_tick(self, _ev: Any) -> None:
         """One servo cycle of a time-base slew."""
         self._slew_wake = None
-        cur, target, step = self.feed_override, self._slew_target, self._slew_step
+        rate = max(0.0, self.vars.I(isx(self.cs, self._slew_ivar)))
+        step = 100.0 * rate / (self._period * 1000.0 * 2**23)
+        cur, target = self.feed_override, self._slew_target
+        if step <= 0 or cur == target:
+            return  # rate 0: the time base stays where it is
         new = cur + step if target > cur else cur - step
         if abs(target - cur) <= step:
             new = target  # the last step lands on the commanded value

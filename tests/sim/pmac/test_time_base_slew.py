@@ -152,3 +152,21 @@ def test_percent_50_on_a_blended_sequence_moves_every_hand_off(rig):
     t = real_time_of(rig, t0 + 6 * 0.5 + 0.1, k_c, 50.0, s)
     assert k_end == math.ceil(t / rig.period - 1e-6)
     assert rig.c.positions(1)["X"] == pytest.approx(3000.0)
+
+
+def test_a_new_isx94_acts_on_a_slew_in_progress(rig):
+    """[INF] The rate is read every servo cycle: Isx94 = 0 half-way ends the slew; the time
+    base stays there until the next ``%`` command."""
+    cs = rig.c.coord_system(1)
+    rig.ok("%0")
+    rig.run_for(0.5)
+    rig.ok("I5194=0")
+    stuck = cs.feed_override
+    assert 30 < stuck < 70
+    rig.run_for(1.0)
+    assert cs.feed_override == stuck
+    rig.ok("I5194=1644")
+    assert cs.feed_override == stuck  # the write alone does not re-arm the slew
+    rig.ok("%0")
+    rig.run_for(1.0)
+    assert cs.feed_override == 0
