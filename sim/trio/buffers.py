@@ -29,8 +29,8 @@ has its move buffered in that same servo period, after the drain.
 
 MERGE (axis parameter of the base axis, default OFF). Not found in any corpus reachable here
 (searched docs/pages/code/issues for "Trio MERGE axis parameter", "Trajexia MERGE parameter
-motion buffer next move loaded", "MERGE=ON Trio BASIC"; spec §1.6, §9.11 ``[BK]``). Modelled from the
-Trio TRM entry as remembered, ``[BK]``: with MERGE ON and the next move already loaded in
+motion buffer next move loaded", "MERGE=ON Trio BASIC"; spec §1.6, §9.11 ``[BK]``). Modelled
+from the Trio TRM entry as remembered, ``[BK]``: with MERGE ON and the next move already loaded in
 NTYPE, the axes do not ramp down to zero at the end of the MTYPE move but run straight into
 the next one; merging applies only to velocity-profiled moves (MOVE, MOVEABS, MOVECIRC,
 MHELICAL) on the same axis group, and only the base axis' MERGE counts; the programmer must
