@@ -236,3 +236,21 @@ def test_example_merge_stream_runs_as_one_s_curve_move():
     # next servo period; the middle three are 0.1 s each at SPEED; the last adds the ramp down
     assert [e - starts[0] for e in ends] == [108, 208, 308, 408, 515]
     assert c.axis(0)["dpos"] == pytest.approx(500.0)
+
+
+def test_merge_of_interpolated_moves_uses_the_base_axis_merge():
+    """Two MOVE(30,40) on BASE(0,1) (50 units along the path each) merge when MERGE is ON on
+    the base axis 0 only: both axes end the first move at 1 + 55 and the second at 111, and
+    at cycle 80 the path is 50 + 24 = 74 units along (x = 0.6·74, y = 0.8·74): the second
+    move, started on at SPEED from t = 0.056, has run 24 ms."""
+    c = make()
+    c.set_axis(0, merge=1)
+    c.move(0, "MOVE", [30, 40])
+    c.move(0, "MOVE", [30, 40])
+    run_to(c, 0.0805)
+    assert c.axis(0)["dpos"] == pytest.approx(0.6 * 74)
+    assert c.axis(1)["dpos"] == pytest.approx(0.8 * 74)
+    c.env.run()
+    for axis in (0, 1):
+        assert _starts_ends(c, axis) == ([1, 57], [56, 111])
+    assert (c.axis(0)["dpos"], c.axis(1)["dpos"]) == pytest.approx((60.0, 80.0))
