@@ -36,10 +36,11 @@ Hosts add their own events to the controller's log so a run can be explained aft
 Write path (``write_via``): ``direct`` puts a batch straight into the rotary buffer
 (``load_lines``, a stand-in with no command processing: a busy card does not delay it).
 ``terminal`` writes as host software does, through the card's command line on a port of the
-host's own: ``&cs OPEN ROT`` once, then each program line as one command line, each answered
-at the end of a background cycle (a program line per command line ``[INF]``: the manual
-stores the program statements between two on-line commands as one line, so joining several
-lines in one command would merge them into one program line). The host keeps at most one
+host's own: ``&cs B0`` and ``&cs OPEN ROT`` once (``&cs R`` to start the program), then each
+program line as one command line, each answered at the end of a background cycle (a program
+line per command line ``[INF]``: the manual stores the program statements between two on-line
+commands as one line, so joining several lines in one command would merge them into one
+program line). The host keeps at most one
 command awaiting its reply on its port; ``host_write`` then carries ``reply_s`` (command
 sent → answered, the host's write latency) for its one line. A line answered ERR006 did not
 fit: the host stops that refill and tries later. A line unanswered after ``reply_timeout_s``
@@ -244,6 +245,10 @@ class PmacHost:
             elif reply.error:
                 return None
         if not self._opened and self.stopped is None and self.remaining > 0:
+            if self.start_program and not self._started:
+                pointed = yield from self.command(f"&{self.cs}B0")
+                if pointed is None or pointed.error:
+                    return None
             opened = yield from self.command(f"&{self.cs}OPEN ROT")
             if opened is None or opened.error:
                 return None
@@ -286,14 +291,31 @@ class PmacHost:
             bool(rot.get("breq", False)),
         )  # fmt: skip
 
-    def start_program_once(self) -> None:
-        """``&cs B0 R`` the first time it is called (if this host starts the program)."""
-        if not self._started and self.start_program and self.sent and self.stopped is None:
-            self._started = True
-            try:
-                self.controller.run(self.cs)
-            except Halted as exc:
-                self.stop(str(exc))
+    def start_program_once(self) -> Generator[Any, Any, None]:
+        """``&cs B0 R`` the first time it is called (if this host starts the program).
+
+        Through the terminal the host pointed the CS at its rotary buffer (``&cs B0``) before
+        ``OPEN ROT`` — with the buffers open ``B0`` would be a move of axis B — and now sends
+        ``&cs R``, which acts on-line while they are open; an error answer is a
+        ``host_timeout`` with ``error``.
+        """
+        if self._started or not self.start_program or not self.sent or self.stopped is not None:
+            return
+        self._started = True
+        if self.write_via == "terminal":
+            command = f"&{self.cs}R"
+            t_sent = self.env.now
+            reply = yield from self.command(command)
+            if reply is not None and reply.error:
+                self.log.emit(
+                    "host_timeout", host=self.name, cs=self.cs, command=command,
+                    waited_s=self.env.now - t_sent, error=reply.error,
+                )  # fmt: skip
+            return
+        try:
+            self.controller.run(self.cs)
+        except Halted as exc:
+            self.stop(str(exc))
 
     def _finish(self) -> None:
         if self.done_t is None:
@@ -395,7 +417,7 @@ class PrPollingHost(PmacHost):
                     if res is None:
                         break
                     ahead = res.lines_ahead
-                self.start_program_once()
+                yield from self.start_program_once()
             # next poll on the host's own period grid (no drift from t += dt)
             k += 1
             nxt = t0 + k * self.poll_period_s
@@ -480,7 +502,7 @@ class BreqInterruptHost(PmacHost):
                 res = yield from self.write(n)
                 if res is None or (target is None and not res.breq):
                     break
-            self.start_program_once()
+            yield from self.start_program_once()
             self._missed_at.clear()  # edges while pre-filling were not interrupts yet
             self._armed = True
             while self.remaining > 0:
@@ -524,7 +546,7 @@ class NaiveHost(PmacHost):
         env = self.env
         while self.remaining > 0:
             res = yield from self.write(self.lines_per_write)
-            self.start_program_once()
+            yield from self.start_program_once()
             if res is None:
                 delay = self.write_latency.draw(self.rng)
                 # a zero-latency link still has to wait for the card to make room

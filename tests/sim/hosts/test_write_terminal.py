@@ -50,6 +50,9 @@ def test_each_program_line_is_one_command_answered_in_a_background_cycle():
     period = ctl.scheduler.period_s
     assert all(0 < w.fields["reply_s"] <= period + 40e-6 for w in writes)
     assert h.write_replies == [w.fields["reply_s"] for w in writes]
+    # after the first fill (to the high-water mark) the host sends &1R: answered a cycle later
+    running = next(e for e in ctl.log.events("program") if e.fields["state"] == "running")
+    assert running.t == pytest.approx(writes[199].t + period, abs=1e-9)
     # the host opened the rotary buffers on its own port and holds them
     assert ctl.buffer_holder is h.port and ctl.rotary_open()
     assert ctl.log.events("host_done")[0].t == writes[-1].t
