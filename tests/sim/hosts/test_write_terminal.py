@@ -144,3 +144,23 @@ def test_write_via_must_be_terminal_or_direct():
         NaiveHost("h", card(), 1, MOVES, random.Random(1), write_via="dpram")
     with pytest.raises(ValueError, match="reply_timeout_s"):
         NaiveHost("h", card(), 1, MOVES, random.Random(1), reply_timeout_s=0)
+
+
+def test_a_line_answered_after_its_timeout_is_counted_once_and_the_stream_goes_on():
+    ctl = card(i40=100_000)  # PLC 0 longer than the RTI, watchdog kept out of the way
+    h = NaiveHost("h", ctl, 1, MOVES, random.Random(1), write_via="terminal",
+                  reply_timeout_s=0.05)  # fmt: skip
+    h.start()
+    ctl.env.run(until=0.02)
+    plc0(ctl, 500)  # no background cycle completes: the line in flight goes unanswered
+    ctl.env.run(until=0.2)
+    stuck = h.sent
+    outs = ctl.log.events("host_timeout")
+    assert len(outs) >= 3 and {e.fields["command"] for e in outs} == {MOVES[stuck]}
+    ctl.plcs.set_enabled((0,), False)
+    ctl.env.run(until=1.5)
+    late = ctl.log.events("host_write")[stuck]
+    assert late.fields["sent"] == stuck + 1 and late.fields["reply_s"] > 0.15
+    loaded = ctl.log.events("line_loaded")
+    assert [e.fields["text"] for e in loaded] == MOVES  # stored once, in order
+    assert h.done_t is not None and h.timeouts == len(outs)
