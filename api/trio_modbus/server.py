@@ -22,6 +22,7 @@ from api.trio_modbus.protocol import (
     WriteRegisters,
     to_register,
 )
+from api.wire import start_server
 from sim.errors import MotionSimError
 
 log = logging.getLogger("motionsim.trio_modbus")
@@ -71,11 +72,10 @@ async def serve_modbus(handle: Any, host: str = "127.0.0.1", port: int = 502, *,
                        max_register: int = 1023, **_: Any) -> asyncio.Server:
     """Listen for Modbus TCP masters on ``handle``'s Trio (``port=0`` picks one)."""
 
-    async def on_connect(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
-        with contextlib.suppress(asyncio.CancelledError):
-            await _serve_connection(handle, reader, writer, max_register)
+    async def connect(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        await _serve_connection(handle, reader, writer, max_register)
 
-    return await asyncio.start_server(on_connect, host, port)
+    return await start_server(connect, host, port)
 
 
 __all__ = ["answer", "serve_modbus"]
