@@ -77,8 +77,6 @@ class PmacController(Controller):
         super().__init__(id, config, log_capacity=log_capacity)
         self._check_config(self.config)
         self.vars = Variables(self._m_written)
-        self._thr_version = -1
-        self._thr = (5.0, 10.0)
         self._power_on()
 
     # -- construction ---------------------------------------------------------------------
@@ -147,12 +145,9 @@ class PmacController(Controller):
         self.log.emit("mvar", name=f"M{n}", value=value, sync=sync)
 
     def _thresholds(self) -> tuple[float, float]:
-        """``(I16, I17)`` now, cached until an I-variable changes."""
+        """``(I16, I17)`` now (each rotary buffer caches them by ``vars.version``)."""
         v = self.vars
-        if self._thr_version != v.version:
-            self._thr = (v.I(16), v.I(17))
-            self._thr_version = v.version
-        return self._thr
+        return v.I(16), v.I(17)
 
     # -- ports and the terminal -----------------------------------------------------------
 
