@@ -32,17 +32,6 @@ def _plcs(handle: ControllerHandle) -> Any:
     return plcs
 
 
-def _detail(handle: ControllerHandle, n: int) -> dict[str, Any]:
-    plcs = _plcs(handle)
-    plc = plcs.plc(n)
-    i5 = plcs.i5()
-    out = plc.to_dict(bool(i5 & (1 if n == 0 else 2)), plcs.editing() == n)
-    if handle.controller.halted:
-        out["state"] = "stopped"
-    out["program"] = list(plc.program.lines) if plc.program is not None else []
-    return out
-
-
 def _running(handle: ControllerHandle) -> None:
     if handle.controller.halted:
         raise Halted("the watchdog has tripped: the controller answers nothing until reset")
@@ -60,7 +49,7 @@ async def list_plcs(handle: HandleDep) -> dict[str, Any]:
 
 @router.get(BASE + "/{n}", response_model=PlcDetail)
 async def get_plc(handle: HandleDep, n: N) -> dict[str, Any]:
-    return handle.apply(_detail, handle, n)
+    return handle.apply(_plcs(handle).describe, n)
 
 
 @router.put(BASE + "/{n}", response_model=PlcDetail)
@@ -71,7 +60,7 @@ async def put_plc(handle: HandleDep, n: N, body: PlcProgramIn) -> dict[str, Any]
     def load() -> dict[str, Any]:
         _running(handle)
         plcs.load(n, body.text)
-        return _detail(handle, n)
+        return plcs.describe(n)
 
     return handle.apply(load)
 
@@ -83,7 +72,7 @@ def _set(handle: ControllerHandle, n: int, enable: bool) -> dict[str, Any]:
         _running(handle)
         plcs.plc(n)  # 404 for a bad number
         plcs.set_enabled((n,), enable)
-        return _detail(handle, n)
+        return plcs.describe(n)
 
     return handle.apply(act)
 

@@ -448,18 +448,27 @@ class PlcTable:
             self.ctl.submit_program_command(text)
         return count
 
+    def _item(self, p: Plc, i5: int, editing: int | None) -> dict[str, Any]:
+        """``p``'s API shape: its state as I5, entry and the watchdog make it."""
+        item = p.to_dict(bool(i5 & (1 if p.n == 0 else 2)), editing == p.n)
+        if self.ctl.halted:
+            item["state"] = "stopped"  # the watchdog tripped: nothing runs
+        return item
+
     def to_list(self) -> list[dict[str, Any]]:
         i5 = self.i5()
         editing = self.editing()
-        out = []
-        for p in self.plcs:
-            if p.program is None and not p.enabled and editing != p.n:
-                continue
-            permitted = bool(i5 & (1 if p.n == 0 else 2))
-            item = p.to_dict(permitted, editing == p.n)
-            if self.ctl.halted:
-                item["state"] = "stopped"  # the watchdog tripped: nothing runs
-            out.append(item)
+        return [
+            self._item(p, i5, editing)
+            for p in self.plcs
+            if p.program is not None or p.enabled or editing == p.n
+        ]
+
+    def describe(self, n: int) -> dict[str, Any]:
+        """PLC ``n`` in the API's detail shape, with its program lines. Raises NotFound."""
+        plc = self.plc(n)
+        out = self._item(plc, self.i5(), self.editing())
+        out["program"] = list(plc.program.lines) if plc.program is not None else []
         return out
 
 
