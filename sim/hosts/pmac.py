@@ -200,16 +200,23 @@ class PmacHost:
         """Send ``text`` on the host's port and wait for the answer; the done ``Reply``, or
         ``None`` (no answer within ``reply_timeout_s``: ``host_timeout``; or the card refused
         the host: ``host_stopped``)."""
-        if self.port is None:
-            self.port = self.controller.open_port(self.name)
         t_sent = self.env.now
-        try:
-            reply = self.controller.terminal(text, self.port)
-        except Halted as exc:
-            self.stop(str(exc))
+        reply = self._send(text)
+        if reply is None:
             return None
         answered = yield from self._await(reply, t_sent)
         return reply if answered else None
+
+    def _send(self, text: str) -> Any:
+        """Put ``text`` on the host's port (opened on first use); the ``Reply``, or ``None``
+        when the card refused the host (``host_stopped``)."""
+        if self.port is None:
+            self.port = self.controller.open_port(self.name)
+        try:
+            return self.controller.terminal(text, self.port)
+        except Halted as exc:
+            self.stop(str(exc))
+            return None
 
     def _await(self, reply: Any, t_sent: float) -> Generator[Any, Any, bool]:
         """Wait up to ``reply_timeout_s`` for ``reply``; a ``host_timeout`` if it stays silent."""
@@ -255,10 +262,8 @@ class PmacHost:
             self._opened = True
         while stored < count and self.remaining > 0 and self.stopped is None:
             t_sent = self.env.now
-            try:
-                reply = self.controller.terminal(self.lines[self.sent], self.port)
-            except Halted as exc:
-                self.stop(str(exc))
+            reply = self._send(self.lines[self.sent])
+            if reply is None:
                 break
             if not (yield from self._await(reply, t_sent)):
                 self._line_in_flight = (reply, t_sent)
