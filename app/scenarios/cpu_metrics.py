@@ -19,6 +19,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
+from app.scenarios.metrics import _stats
 from sim.events import Event
 
 
@@ -69,13 +70,6 @@ def _mean(xs: list[float]) -> float | None:
     return sum(xs) / len(xs) if xs else None
 
 
-def _p99(xs: list[float]) -> float | None:
-    if not xs:
-        return None
-    s = sorted(xs)
-    return s[min(len(s) - 1, int(len(s) * 0.99))]
-
-
 def stopped_by_trip(c: CpuTrace) -> list[str]:
     """What the watchdog trip stopped, in words (empty when it did not trip)."""
     if c.trip is None:
@@ -99,6 +93,7 @@ def cpu_metrics(c: CpuTrace) -> dict[str, Any]:
     rti = [float(f["rti"]) for _, f in c.samples]
     stmts = [int(f.get("plc0_statements", 0)) for _, f in c.samples]
     replies = [r for _, r, _ in c.replies]
+    pr = _stats(replies)
     return {
         "rti_overruns": len(c.overruns),
         "first_rti_overrun_s": c.overruns[0][0] if c.overruns else None,
@@ -110,8 +105,8 @@ def cpu_metrics(c: CpuTrace) -> dict[str, Any]:
         "cpu_samples": len(c.samples),
         "pr_replies": len(replies),
         "pr_reply_mean_s": _mean(replies),
-        "pr_reply_p99_s": _p99(replies),
-        "pr_reply_max_s": max(replies) if replies else None,
+        "pr_reply_p99_s": pr["p99"],
+        "pr_reply_max_s": pr["max"],
         "host_timeouts": len(c.timeouts),
         "watchdog_tripped": c.trip is not None,
         "watchdog_trip_s": c.trip[0] if c.trip else None,
