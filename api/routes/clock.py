@@ -15,7 +15,6 @@ router = APIRouter(tags=["clock"])
 
 @router.get("/controllers/{controller_id}/clock", response_model=ClockOut)
 async def get_clock(handle: HandleDep) -> dict:
-    handle.ensure_running()
     return handle.clock.to_dict()
 
 

@@ -40,7 +40,6 @@ async def get_events(
     type: Annotated[list[str] | None, Query(description="only these types (repeatable)")] = None,
     limit: Annotated[int, Query(ge=1, le=100_000)] = 1000,
 ) -> dict:
-    handle.ensure_running()
     handle.clock.sync()
     res = handle.controller.log.read(since, type or None, limit)
     cid = handle.id
