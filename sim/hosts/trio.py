@@ -12,9 +12,9 @@ turn can therefore stall an axis that has room while it waits on another. Three 
 * :class:`MovesBufferedFeeder` — in program order, waits until the axis's ``MOVES_BUFFERED``
   (moves held in MTYPE + NTYPE) is below ``max_buffered`` before issuing.
 
-They call only ``move(axis, type, args, process=...)`` and ``axis(n)``. A host waiting for room
-adds ``host_blocked`` (``host``, ``axis``, ``process``) and ``host_resumed`` (same fields)
-events to the log, so a run's metrics can tell the axes that idled while it waited;
+They call only ``move(axis, type, args, process=..., wait=...)`` and ``axis(n)``. A host
+waiting for room adds ``host_blocked`` (``host``, ``axis``, ``process``) and ``host_resumed``
+(same fields) events to the log, so a run's metrics can tell the axes that idled while it waited;
 ``host_done`` (``host``, ``moves``) marks the end.
 """
 
@@ -113,45 +113,25 @@ class TrioFeeder:
         self.issued += 1
         return True
 
-    def next_change(self) -> Any:
-        """A SimPy event that fires at the controller's next logged change."""
-        ev = self.env.event()
-
-        def wake() -> None:
-            if not ev.triggered:
-                ev.succeed()
-
-        self.log.wake_on_next(wake)
-        return ev
-
     def place_blocking(self, move: Move) -> Generator:
-        """Issue ``move``, waiting (blocked) until the controller has room for it."""
+        """Issue ``move``, waiting (blocked) until the controller has room for it.
+
+        The controller queues a move that does not fit like a BASIC move line
+        (``move(..., wait=True)``) and answers when it is buffered.
+        """
         yield from self.wait_if_stalled()
         if self.try_move(move):
             return
         fields = {"host": self.name, "axis": move.axis, "process": self.process_no or 0}
         self.log.emit("host_blocked", **fields)
-        reply = self._move_waiting(move)
-        if reply is not None:
-            # the controller queues it like a BASIC move line and answers when buffered
-            done = self.env.event()
-            reply.add_done_callback(lambda _r: done.triggered or done.succeed())
-            yield done
-            self.issued += 1
-        else:
-            while not self.try_move(move):
-                yield self.next_change()
+        reply = self.controller.move(
+            move.axis, move.type, list(move.args), process=self.process_no, wait=True
+        )
+        done = self.env.event()
+        reply.add_done_callback(lambda _r: done.triggered or done.succeed())
+        yield done
+        self.issued += 1
         self.log.emit("host_resumed", **fields)
-
-    def _move_waiting(self, move: Move) -> Any:
-        """``move(..., wait=True)`` where the controller offers it (a Reply), else None."""
-        try:
-            reply = self.controller.move(
-                move.axis, move.type, list(move.args), process=self.process_no, wait=True
-            )
-        except TypeError:
-            return None
-        return reply if hasattr(reply, "add_done_callback") else None
 
     def finish(self) -> None:
         self.done_t = self.env.now
