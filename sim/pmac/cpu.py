@@ -229,17 +229,13 @@ class Processor:
         t_next = min(self._next_rti, self.watchdog.deadline())
         if r > 0:
             if self._latched:
-                t_next = min(t_next, self._servo_ceil(now + max(0.0, self._fg) / r))
+                t_next = min(t_next, self.scheduler.servo_at_or_after(now + max(0.0, self._fg) / r))
             bg = self._bg
             if bg is not None:
                 work = max(0.0, self._fg) + bg.left
-                t_bg = max(self._servo_ceil(now + work / r), bg.min_end)
+                t_bg = max(self.scheduler.servo_at_or_after(now + work / r), bg.min_end)
                 t_next = min(t_next, t_bg)
         self._wake = Wake(self.env, max(t_next, now), self._on_wake)
-
-    def _servo_ceil(self, t: float) -> float:
-        clock = self.clock
-        return clock.t(clock.at_or_after(t))
 
     def _advance(self, t: float) -> None:
         """Give the processor time of ``[self._t, t]`` to RTI work, then background."""
@@ -260,7 +256,7 @@ class Processor:
         elif r > 0 and cap >= self.costs.housekeeping_s:
             # Free-running housekeeping cycles reload the watchdog once RTI work is done.
             done = self._t + (use + self.costs.housekeeping_s) / r
-            self.watchdog.reload(min(t, self._servo_ceil(done)))
+            self.watchdog.reload(min(t, self.scheduler.servo_at_or_after(done)))
         self._t = t
         if t - self._win[0] >= 1.0:
             self._last_rti_share = self._win[1] / (t - self._win[0])

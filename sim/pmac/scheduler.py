@@ -18,7 +18,6 @@ integer cycle indices.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from heapq import heappush
 from typing import Any
@@ -78,7 +77,6 @@ class Scheduler:
     def __init__(self, env: simpy.Environment, period_s: float, rti_cycles: Callable[[], int]):
         self.env = env
         self.clock = ServoClock(period_s)
-        self._period = period_s
         self._rti_cycles = rti_cycles
 
     @property
@@ -91,13 +89,13 @@ class Scheduler:
     def next_rti_after(self, t: float) -> float:
         """The first RTI strictly after ``t`` (RTIs fall on cycles divisible by I8+1)."""
         m = self._rti_cycles()
-        k = math.floor(t / self._period + 1e-6) + 1
-        k = -(-k // m) * m
-        return k * self._period
+        k = self.clock.after(t)
+        return self.clock.t(-(-k // m) * m)
 
     def servo_at_or_after(self, t: float) -> float:
         """``t`` rounded up to a servo cycle."""
-        return math.ceil(t / self._period - 1e-6) * self._period
+        clock = self.clock
+        return clock.t(clock.at_or_after(t))
 
 
 __all__ = ["Scheduler", "Wake", "wake_at"]
