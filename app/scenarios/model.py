@@ -121,11 +121,17 @@ class DelaySpec(Strict):
         return Delay("empirical", values=tuple(v * ms for v in self.samples_ms or ()), jitter_s=j)
 
 
-def _read_samples(name: str, base_dir: Path | None) -> list[float]:
+def _read_file(what: str, name: str, base_dir: Path | None) -> tuple[str, Path]:
+    """A file the scenario names (relative to the scenario's folder); unreadable is a
+    ``ValueError`` saying which ``what`` file and why."""
     try:
-        text, path = read_text(name, base_dir)
+        return read_text(name, base_dir)
     except OSError as exc:
-        raise ValueError(f"cannot read samples file {name!r}: {exc.strerror}") from None
+        raise ValueError(f"cannot read {what} file {name!r}: {exc.strerror}") from None
+
+
+def _read_samples(name: str, base_dir: Path | None) -> list[float]:
+    text, path = _read_file("samples", name, base_dir)
     out: list[float] = []
     for i, raw in enumerate(text.splitlines(), 1):
         cell = raw.split(",")[0].strip()
@@ -200,11 +206,7 @@ class ProgramSpec(Strict):
         if len(given) != 1:
             raise ValueError("give exactly one of lines, file, generate")
         if self.file is not None:
-            try:
-                text, _ = read_text(self.file, (info.context or {}).get("base_dir"))
-            except OSError as exc:
-                msg = f"cannot read program file {self.file!r}: {exc.strerror}"
-                raise ValueError(msg) from None
+            text, _ = _read_file("program", self.file, (info.context or {}).get("base_dir"))
             object.__setattr__(self, "lines", _program_lines(text))
         return self
 
@@ -261,10 +263,7 @@ class PlcSpec(Strict):
         if self.enabled and self.enable_at_ms is not None:
             raise ValueError("enabled at t = 0 already: drop enable_at_ms or set enabled: false")
         if self.file is not None:
-            try:
-                text, _ = read_text(self.file, (info.context or {}).get("base_dir"))
-            except OSError as exc:
-                raise ValueError(f"cannot read PLC file {self.file!r}: {exc.strerror}") from None
+            text, _ = _read_file("PLC", self.file, (info.context or {}).get("base_dir"))
             object.__setattr__(self, "text", text)
         return self
 
