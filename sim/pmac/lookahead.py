@@ -439,16 +439,15 @@ class CoordSystem:
         m = self.current
         if m is None:
             return
-        p = self._period
         if m.kind == RAPID or m.kind == DWELL:
-            self._after(_ceil(m.b_end / p - 1e-6) * p, self._stop_end_cb)
+            self._after(self.sched.servo_at_or_after(m.b_end), self._stop_end_cb)
         elif m.stopping:
-            self._after(_ceil((m.b_end + m.ta_out / 2) / p - 1e-6) * p, self._stop_end_cb)
+            self._after(self.sched.servo_at_or_after(m.b_end + m.ta_out / 2), self._stop_end_cb)
         elif self._segmented() and self._decided is not m:
-            self._after(_ceil((m.b_end - m.ta / 2) / p - 1e-6) * p, self._decide_cb)
+            self._after(self.sched.servo_at_or_after(m.b_end - m.ta / 2), self._decide_cb)
         elif self.planned:
             nxt = self.planned[0]
-            self._after(_ceil((m.b_end - nxt.ta_in / 2) / p - 1e-6) * p, self._handoff_cb)
+            self._after(self.sched.servo_at_or_after(m.b_end - nxt.ta_in / 2), self._handoff_cb)
         else:
             self._decide(None)
 
@@ -830,7 +829,7 @@ class CoordSystem:
             self._after(self.sched.servo_at_or_after(m.b_end), self._stop_end_cb)
             return
         if self._isx13 > 0:
-            self._after(_ceil((m.b_end - m.ta / 2) / p - 1e-6) * p, self._decide_cb)
+            self._after(self.sched.servo_at_or_after(m.b_end - m.ta / 2), self._decide_cb)
             return
         planned = self.planned
         if planned and not self.single_step:
@@ -862,8 +861,7 @@ class CoordSystem:
         lim = 2 * (m.tm - m.ta_in / 2)
         ta_n = nxt.ta if nxt.ta <= lim else max(0.0, lim)
         nxt.ta_in = ta_n
-        p = self._period
-        self._after(_ceil((m.b_end - ta_n / 2) / p - 1e-6) * p, self._handoff_cb)
+        self._after(self.sched.servo_at_or_after(m.b_end - ta_n / 2), self._handoff_cb)
 
     def _after(self, t: float, fn: Any) -> None:
         """Call ``fn(event)`` at ``t``, superseding (cancelling) the pending wake-up."""
@@ -897,8 +895,7 @@ class CoordSystem:
             return
         m.stopping = True
         m.ta_out = self._accel_s() if m.kind != DWELL else 0.0
-        p = self._period
-        self._after(_ceil((m.b_end + m.ta_out / 2) / p - 1e-6) * p, self._stop_end_cb)
+        self._after(self.sched.servo_at_or_after(m.b_end + m.ta_out / 2), self._stop_end_cb)
 
     def _fell_behind(self, m: Move) -> bool:
         """No successor is calculated at ``m``'s decision point: is it a calculation deadline
