@@ -234,6 +234,13 @@ class PmacHost:
         )  # fmt: skip
         return False
 
+    def _refused(self, command: str, waited_s: float, error: str) -> None:
+        """``command`` was answered with an error: a ``host_timeout`` carrying ``error``."""
+        self.log.emit(
+            "host_timeout", host=self.name, cs=self.cs, command=command, waited_s=waited_s,
+            error=error,
+        )  # fmt: skip
+
     def _write_terminal(self, count: int) -> Generator[Any, Any, Any]:
         """Up to ``count`` lines, one command line each, one awaiting its answer at a time.
 
@@ -312,10 +319,7 @@ class PmacHost:
             t_sent = self.env.now
             reply = yield from self.command(command)
             if reply is not None and reply.error:
-                self.log.emit(
-                    "host_timeout", host=self.name, cs=self.cs, command=command,
-                    waited_s=self.env.now - t_sent, error=reply.error,
-                )  # fmt: skip
+                self._refused(command, self.env.now - t_sent, reply.error)
             return
         try:
             self.controller.run(self.cs)
@@ -389,10 +393,7 @@ class PrPollingHost(PmacHost):
             return None
         t_done = reply.t_done if reply.t_done is not None else self.env.now
         if reply.error:
-            self.log.emit(
-                "host_timeout", host=self.name, cs=self.cs, command=command,
-                waited_s=t_done - t_sent, error=reply.error,
-            )  # fmt: skip
+            self._refused(command, t_done - t_sent, reply.error)
             return None
         ahead = int(float(reply.reply.split()[0])) if reply.reply.strip() else 0
         self.replies.append(t_done - t_sent)
