@@ -849,10 +849,8 @@ class CoordSystem:
 
     def _plan_at_rti_after(self, t: float) -> None:
         """Set the "plan the next move" flag: planning at the first RTI strictly after ``t``
-        (cycles divisible by I8+1; TUM p236). The caller has refreshed the I-variables."""
-        p, r = self._period, self._rti
-        k = _floor(t / p + 1e-6) + 1
-        tp = self._plan_due = -(-k // r) * r * p
+        (cycles divisible by I8+1; TUM p236)."""
+        tp = self._plan_due = self.sched.next_rti_after(t)
         self._plan_wake = wake_at(self._env, tp, self._plan_cb_bound, self._plan_wake)
 
     def _blend_into(self, m: Move, nxt: Move) -> None:
