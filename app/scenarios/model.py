@@ -446,6 +446,12 @@ class MovesSpec(Strict):
             return interleave(self.per_axis, self.type)
         return [Move(m.axis, m.type, tuple(m.args)) for m in self.sequence or []]
 
+    def count(self) -> int:
+        """Number of moves, without building them."""
+        if self.per_axis is not None:
+            return sum(len(v) for v in self.per_axis.values())
+        return len(self.sequence or [])
+
 
 class TrioFeederSpec(_Host):
     """A host issuing moves: ``trio_blind``, ``trio_ntype`` (TN20 fix) or

@@ -109,7 +109,7 @@ def _log_capacity(scn: Scenario) -> int:
     lines = 0
     for h in scn.hosts:
         if isinstance(h, TrioFeederSpec):
-            lines += len(h.moves.to_moves())
+            lines += h.moves.count()
         else:
             lines += h.program.count()
     return min(50_000_000, max(200_000, 12 * lines + 100_000))
