@@ -52,9 +52,6 @@ class TrioController(Controller):
     kind = "trio"
 
     #: The command line answers at the current instant and never moves a virtual clock
-    #: (API.md); a locked terminal answers ``pending`` at once.
-    terminal_wait_s = 0.0
-    #: The command line answers at the current instant and never moves a virtual clock
     #: (API.md): ``ControllerHandle.command`` returns a locked line pending at once.
     terminal_wait_s = 0.0
 
