@@ -219,6 +219,13 @@ class TrioController(Controller):
             raise InvalidValue(f"bad program name {name!r}", field="name")
         return name.upper()
 
+    def _stored(self, name: str) -> str:
+        """The key of the stored program ``name`` (NotFound when there is none)."""
+        key = self._name(name)
+        if key not in self.programs:
+            raise NotFound(f"no program {key}", field="name")
+        return key
+
     def store_program(self, name: str, text: str) -> None:
         """Parse and compile ``text`` and store it; a parse error changes nothing."""
         key = self._name(name)
@@ -226,18 +233,14 @@ class TrioController(Controller):
         self.programs[key] = (text, code)
 
     def program(self, name: str) -> str:
-        key = self._name(name)
-        if key not in self.programs:
-            raise NotFound(f"no program {key}", field="name")
+        key = self._stored(name)
         return self.programs[key][0]
 
     def program_names(self) -> list[str]:
         return sorted(self.programs)
 
     def delete_program(self, name: str) -> None:
-        key = self._name(name)
-        if key not in self.programs:
-            raise NotFound(f"no program {key}", field="name")
+        key = self._stored(name)
         for p, proc in self.basic.items():
             if proc.program == key and proc.state != "stopped":
                 raise Conflict(f"program {key} is running in process {p}")
@@ -257,9 +260,7 @@ class TrioController(Controller):
 
     def run_program(self, name: str, process: int | None = None) -> int:
         """RUN "name"[, process]: start it; without a process the highest free one ``[BK]``."""
-        key = self._name(name)
-        if key not in self.programs:
-            raise NotFound(f"no program {key}", field="name")
+        key = self._stored(name)
         busy = {p for p, proc in self.basic.items() if proc.state != "stopped"}
         if process is None:
             free = [p for p in range(self.n_processes, 0, -1) if p not in busy]
