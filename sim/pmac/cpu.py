@@ -136,6 +136,7 @@ class Processor:
         self.last_background_s: float | None = None
         self._active = False
         self._in_wake = False
+        self._scanning = False  # a background PLC scan is being worked through
         self._t = self.env.now
         self._fg = 0.0  # RTI work left, processor seconds
         self._latched = False
@@ -156,7 +157,7 @@ class Processor:
 
     def poke(self) -> None:
         """Something changed now: account the time so far and re-plan the next wake-up."""
-        if self._in_wake or self.watchdog.tripped:
+        if self._in_wake or self._scanning or self.watchdog.tripped:
             return
         if self._active:
             self._advance(self.env.now)
@@ -324,7 +325,13 @@ class Processor:
         # answers; PLC scans start with the next cycle (every instant stays on a servo cycle).
         work = self.costs.housekeeping_s
         if plc is not None:
-            work += self._scan_cost(plcs.scan(plc))
+            # A CMD"..." in the scan queues a command (``submit`` -> ``poke``); it must not
+            # re-plan (and re-scan) from inside this scan: the queue is charged just below.
+            self._scanning = True
+            try:
+                work += self._scan_cost(plcs.scan(plc))
+            finally:
+                self._scanning = False
         if self.queue:
             work += self.costs.host_command_s
         self._bg = _BgCycle(clock.t(k), work, clock.t(k + self._min_cycles),

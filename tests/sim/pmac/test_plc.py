@@ -226,3 +226,30 @@ def test_an_and_line_must_follow_an_if_or_while(rig):
     rig.ok("P1=1")
     assert rig.cmd("AND (P2=1)").error == "ERR003"
     rig.ok("CLOSE")
+
+
+def test_background_plc_cmd_is_queued_to_the_command_interpreter(make_rig):
+    """TSRM p423-424: a CMD"..." from a background PLC is queued to the background command
+    interpreter like a host command; the scan that issued it ends first, and the command runs
+    at the end of that background cycle (the PLC clears its trigger so it is issued once)."""
+    rig = make_rig(i5=2)
+    enter(rig, "IF (P1=0)", 'CMD"P5=P5+1"', "P1=1", "ENDIF", n=1)
+    rig.ok("ENABLE PLC 1")
+    rig.run_for(0.01)
+    assert rig.c.get_variable("P5") == 1
+    assert rig.c.get_variable("P1") == 1
+    (plc,) = rig.c.plcs.to_list()
+    assert plc["scans"] > 1
+
+
+def test_background_plc_cmd_every_scan_runs_one_command_per_cycle(make_rig):
+    """A background PLC that issues CMD"..." on every scan: each command is queued during the
+    scan and run at the end of that background cycle, so the count of commands run follows
+    the count of scans (the last one may still be queued) — no scan re-enters another."""
+    rig = make_rig(i5=2)
+    enter(rig, 'CMD"P5=P5+1"', n=1)
+    rig.ok("ENABLE PLC 1")
+    rig.run_for(0.01)
+    (plc,) = rig.c.plcs.to_list()
+    assert plc["scans"] >= 10
+    assert plc["scans"] - 1 <= rig.c.get_variable("P5") <= plc["scans"]
