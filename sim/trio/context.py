@@ -18,14 +18,11 @@ from sim.trio import basic_errors as msg
 from sim.trio.basic_errors import BasicError
 from sim.trio.compiler import HALT, Block, WaitFor
 from sim.trio.moves import Move
+from sim.trio.mtypes import axes_driven
 from sim.trio.parameters import AXIS_PARAMS
 
 if TYPE_CHECKING:
     from sim.trio.controller import TrioController
-
-#: Axes each motion command drives (MOVE / MOVEABS: one per argument).
-_GROUP_SIZE = {"MOVECIRC": 2, "MHELICAL": 3, "FORWARD": 1, "REVERSE": 1, "DATUM": 1}
-
 
 class _NoLocals(dict):
     """The command line has no local variables (TJ1P-26): reading one is an error."""
@@ -142,7 +139,7 @@ class Context:
         if kind == "DATUM" and int(args[0]) == 0:
             self.group(1, axis)  # DATUM(0) clears axis errors; no move is buffered
             return None
-        size = _GROUP_SIZE.get(kind, len(args))
+        size = axes_driven(kind, len(args))
         move = Move(
             self.ctrl.buffers.new_id(), kind, self.group(size, axis), args, self.process, text
         )

@@ -28,7 +28,7 @@ from sim.trio.axis import DEFAULTS, Axis
 from sim.trio.buffers import MotionBuffers, Waiter
 from sim.trio.compiler import Code, compile_program
 from sim.trio.moves import Move
-from sim.trio.mtypes import MTYPE
+from sim.trio.mtypes import MTYPE, axes_driven
 from sim.trio.parser import MOVE_ARGS, parse_program
 from sim.trio.process import BasicProcess
 from sim.trio.terminal import CommandLine
@@ -172,7 +172,7 @@ class TrioController(Controller):
         if kind == "DATUM" and int(args[0]) == 0:
             raise InvalidValue("DATUM(0) clears axis errors and buffers no move", field="args")
         p = 0 if process is None else self.process_number(process, allow_zero=True)
-        size = {"MOVECIRC": 2, "MHELICAL": 3, "MOVE": len(args), "MOVEABS": len(args)}.get(kind, 1)
+        size = axes_driven(kind, len(args))
         axes = tuple(range(axis, axis + size))
         if axes[-1] >= self.n_axes:
             raise InvalidValue(

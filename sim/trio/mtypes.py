@@ -19,4 +19,13 @@ MTYPE: dict[str, int] = {
     "DATUM": 12,
 }
 
-__all__ = ["IDLE", "MTYPE"]
+#: Axes a motion command drives when it is not one per argument (MOVE / MOVEABS are).
+_FIXED_GROUP = {"MOVECIRC": 2, "MHELICAL": 3, "FORWARD": 1, "REVERSE": 1, "DATUM": 1}
+
+
+def axes_driven(kind: str, n_args: int) -> int:
+    """How many axes the motion command ``kind`` with ``n_args`` arguments drives."""
+    return _FIXED_GROUP.get(kind, n_args)
+
+
+__all__ = ["IDLE", "MTYPE", "axes_driven"]
