@@ -90,9 +90,13 @@ class Context:
             raise BasicError(msg.AXIS_RANGE.format(axis=f"{a:g}"))
         return n
 
+    def base_axis(self, axis: float | None) -> int:
+        """``AXIS(n)`` when the statement gives one, else the first axis of the BASE group."""
+        return self.base[0] if axis is None else self.axis_number(axis)
+
     def param(self, name: str, axis: float | None, proc: float | None) -> float:
         if name in AXIS_PARAMS:
-            n = self.base[0] if axis is None else self.axis_number(axis)
+            n = self.base_axis(axis)
             return self.ctrl.axes[n].read(name)
         if name == "PMOVE":
             p = self.process if proc is None else self.ctrl.process_number(proc)
@@ -104,7 +108,7 @@ class Context:
         raise BasicError(f"Unknown parameter {name}")
 
     def set_param(self, name: str, axis: float | None, value: float) -> None:
-        n = self.base[0] if axis is None else self.axis_number(axis)
+        n = self.base_axis(axis)
         try:
             self.ctrl.axes[n].set(**{name.lower(): value})
         except InvalidValue:
@@ -122,7 +126,7 @@ class Context:
         """The axes a command drives: the BASE group (or ``AXIS(n)`` then the rest of it),
         continued in ascending axis order if the command needs more axes."""
         if size == 1:
-            return (self.base[0],) if axis is None else (self.axis_number(axis),)
+            return (self.base_axis(axis),)
         if axis is None:
             axes = list(self.base)
         else:
@@ -148,7 +152,7 @@ class Context:
         return None
 
     def cancel(self, mode: float, axis: float | None) -> None:
-        n = self.base[0] if axis is None else self.axis_number(axis)
+        n = self.base_axis(axis)
         if int(mode) == 1:
             self.ctrl.buffers.cancel_next(n)
         else:
@@ -158,7 +162,7 @@ class Context:
         self.ctrl.buffers.rapidstop()
 
     def wait_axis(self, what: str, axis: float | None) -> WaitFor | None:
-        ax = self.ctrl.axes[self.base[0] if axis is None else self.axis_number(axis)]
+        ax = self.ctrl.axes[self.base_axis(axis)]
         if what == "IDLE":
 
             def pred() -> bool:
