@@ -10,6 +10,7 @@ ENV PYTHONDONTWRITEBYTECODE=1 \
 
 WORKDIR /opt/motionsim
 COPY pyproject.toml README.md ./
+COPY motionsim ./motionsim
 COPY sim ./sim
 COPY app ./app
 COPY api ./api

@@ -1,8 +1,9 @@
 """Route dependencies as named types.
 
 ``HandleDep`` resolves the ``{controller_id}`` path parameter to the running
-:class:`app.registry.ControllerHandle` (404 ``not_found`` if there is none); ``RegistryDep`` is
-the service's :class:`app.registry.Registry` (kept on ``app.state.registry``).
+:class:`motionsim.app.registry.ControllerHandle` (404 ``not_found`` if there is none);
+``RegistryDep`` is the service's :class:`motionsim.app.registry.Registry` (kept on
+``motionsim.app.state.registry``).
 
 A route::
 
@@ -16,10 +17,9 @@ from __future__ import annotations
 from typing import Annotated
 
 from fastapi import Depends, Path, Request
+from motionsim.app.registry import ControllerHandle, Registry
+from motionsim.app.settings import Settings
 from starlette.requests import HTTPConnection
-
-from app.registry import ControllerHandle, Registry
-from app.settings import Settings
 
 
 async def get_registry(conn: HTTPConnection) -> Registry:

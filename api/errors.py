@@ -1,6 +1,6 @@
 """Errors on the wire: one table from the core's stable ``code`` to an HTTP status.
 
-Routes raise :class:`sim.errors.MotionSimError` subclasses (never ``HTTPException``); the
+Routes raise :class:`motionsim.sim.errors.MotionSimError` subclasses (never ``HTTPException``); the
 handlers here turn them into ``{"code", "message", ...details}`` bodies. Request validation
 failures (malformed JSON, a missing or ill-typed field) become 422 ``validation_error`` bodies
 that name the field (``"field": "seconds"``) and carry pydantic's ``errors`` list.
@@ -14,9 +14,8 @@ from typing import Any
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
+from motionsim.sim.errors import MotionSimError
 from starlette.exceptions import HTTPException as StarletteHTTPException
-
-from sim.errors import MotionSimError
 
 log = logging.getLogger("motionsim.api")
 

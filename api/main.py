@@ -14,23 +14,22 @@ from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 
 from fastapi import APIRouter, FastAPI
-
-import api.routes
-from api.errors import install_error_handlers
-from api.schemas.common import ERROR_RESPONSES
-from app import __version__
-from app.registry import Registry
-from app.service import build_registry
-from app.settings import Settings
+from motionsim.api import routes as route_modules
+from motionsim.api.errors import install_error_handlers
+from motionsim.api.schemas.common import ERROR_RESPONSES
+from motionsim.app import __version__
+from motionsim.app.registry import Registry
+from motionsim.app.service import build_registry
+from motionsim.app.settings import Settings
 
 
 def discover_routers() -> list[tuple[str, APIRouter]]:
-    """``(module name, router)`` of every ``api.routes`` module that defines ``router``."""
+    """``(module name, router)`` of every ``motionsim.api.routes`` module with a ``router``."""
     found: list[tuple[str, APIRouter]] = []
-    for info in sorted(pkgutil.iter_modules(api.routes.__path__), key=lambda i: i.name):
+    for info in sorted(pkgutil.iter_modules(route_modules.__path__), key=lambda i: i.name):
         if info.name.startswith("_"):
             continue
-        module = importlib.import_module(f"{api.routes.__name__}.{info.name}")
+        module = importlib.import_module(f"{route_modules.__name__}.{info.name}")
         router = getattr(module, "router", None)
         if isinstance(router, APIRouter):
             found.append((info.name, router))
@@ -40,8 +39,8 @@ def discover_routers() -> list[tuple[str, APIRouter]]:
 def create_app(settings: Settings | None = None, registry: Registry | None = None) -> FastAPI:
     """The service for ``settings`` (defaults if ``None``); ``registry`` overrides the one built.
 
-    ``app.state``: ``settings``, ``registry``, ``ready`` (``/health`` answers 200 when True;
-    ``motionsim serve`` sets it once every protocol listener accepts), ``listeners``.
+    ``motionsim.app.state``: ``settings``, ``registry``, ``ready`` (``/health`` answers 200 when
+    True; ``motionsim serve`` sets it once every protocol listener accepts), ``listeners``.
     """
     settings = settings if settings is not None else Settings()
     registry = registry if registry is not None else build_registry(settings)

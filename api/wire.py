@@ -5,7 +5,7 @@ Each protocol (PMAC Ethernet, the Trio command line) is a codec (bytes ↔ typed
 sockets) plus a *session*: one host connection's logic — it opens a controller port, records
 the bytes it sees, runs each request through ``handle.command`` and yields the bytes to send.
 :func:`serve_connection` is the only code here that touches asyncio streams; the replay
-(:mod:`app.replay`) drives sessions without any socket.
+(:mod:`motionsim.app.replay`) drives sessions without any socket.
 """
 
 from __future__ import annotations
@@ -39,8 +39,8 @@ class ProtocolError(Exception):
 
 
 async def await_reply(reply: Any, gone: asyncio.Event | None = None) -> Any:
-    """Wait for a :class:`sim.controller.Reply` to complete (a pending PMAC reply arrives when
-    the clock reaches the background cycle that answers it; a locked Trio terminal when the
+    """Wait for a :class:`motionsim.sim.controller.Reply` to complete (a pending PMAC reply arrives
+    when the clock reaches the background cycle that answers it; a locked Trio terminal when the
     move is buffered).
 
     Raises:
@@ -76,9 +76,9 @@ class WireSession:
     ``receive_data`` and an ``eof`` flag) and implement :meth:`replies`.
 
     Args:
-        handle: the :class:`app.registry.ControllerHandle` served.
+        handle: the :class:`motionsim.app.registry.ControllerHandle` served.
         name: the controller port's name (``"tcp:127.0.0.1:5555"``), for messages.
-        recorder: an :class:`app.recorder.Recorder`, or None.
+        recorder: an :class:`motionsim.app.recorder.Recorder`, or None.
         peer: the host's address, for the transcript.
     """
 

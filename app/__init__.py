@@ -1,3 +1,5 @@
 """motionsim's composition layer: settings, the registry of controllers, clocks, the CLI."""
 
-__version__ = "0.1.0"
+from motionsim import __version__
+
+__all__ = ["__version__"]

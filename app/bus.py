@@ -27,7 +27,7 @@ import asyncio
 from collections.abc import Iterable
 from typing import Any
 
-from sim.events import EventLog
+from motionsim.sim.events import EventLog
 
 
 class Cursor:

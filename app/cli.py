@@ -3,7 +3,7 @@
 ``motionsim serve`` runs the service: REST + WebSocket on ``--port``, the PMAC Ethernet protocol
 on ``--pmac-port`` and the Trio command line on ``--trio-port``. Settings come from defaults,
 ``MOTIONSIM_*`` environment variables, ``--config FILE`` and the options, later ones winning;
-they are built here, once, and handed to ``api.main.create_app``.
+they are built here, once, and handed to ``motionsim.api.main.create_app``.
 """
 
 from __future__ import annotations
@@ -15,9 +15,8 @@ from pathlib import Path
 from typing import Annotated, Any
 
 import typer
+from motionsim.app import __version__
 from pydantic import ValidationError
-
-from app import __version__
 
 cli = typer.Typer(
     name="motionsim",
@@ -110,7 +109,7 @@ def serve(
     """
     import logging
 
-    from app.settings import build_settings, load_config_file
+    from motionsim.app.settings import build_settings, load_config_file
 
     logging.basicConfig(level=logging.WARNING, format="motionsim: %(message)s")
 
@@ -142,7 +141,7 @@ def serve(
         errors = "; ".join(f"{'.'.join(map(str, e['loc']))}: {e['msg']}" for e in exc.errors())
         raise _fail(f"invalid settings: {errors}", 2) from None
 
-    from app.sockets import bind_tcp
+    from motionsim.app.sockets import bind_tcp
 
     try:
         sock = bind_tcp(settings.host, settings.port)
@@ -151,8 +150,8 @@ def serve(
                     f"{exc.strerror or exc}", 1) from None
     settings = settings.model_copy(update={"port": sock.getsockname()[1]})
 
-    from api.main import create_app
-    from sim.errors import MotionSimError
+    from motionsim.api.main import create_app
+    from motionsim.sim.errors import MotionSimError
 
     try:
         app = create_app(settings)
@@ -162,7 +161,7 @@ def serve(
 
     recorder = None
     if record is not None:
-        from app.recorder import Recorder
+        from motionsim.app.recorder import Recorder
 
         recorder = Recorder(record, {h.id: {"kind": h.kind, "config": h.controller.config}
                                      for h in app.state.registry})
@@ -176,8 +175,7 @@ def serve(
 async def _serve(app: Any, settings: Any, sock: socket.socket, recorder: Any) -> int:
     """Start the protocol listeners, then serve HTTP on ``sock``; the exit code."""
     import uvicorn
-
-    from app.listeners import ListenerError, start_listeners
+    from motionsim.app.listeners import ListenerError, start_listeners
 
     app.state.ready = False
     kwargs = {"recorder": recorder} if recorder is not None else {}
@@ -205,7 +203,7 @@ def replay(
                                          help="A transcript written by serve --record.")],
 ) -> None:
     """Replay a wire transcript against fresh controllers; exit 1 if any answer differs."""
-    from app.replay import main as replay_main
+    from motionsim.app.replay import main as replay_main
 
     code = replay_main(file)
     if code:
@@ -213,7 +211,7 @@ def replay(
 
 
 # What-if scenarios: `motionsim run` and `motionsim sweep` (app/scenarios/cli.py).
-from app.scenarios.cli import register as _register_scenarios  # noqa: E402
+from motionsim.app.scenarios.cli import register as _register_scenarios  # noqa: E402
 
 _register_scenarios(cli)
 

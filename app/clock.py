@@ -13,7 +13,7 @@ A controller's ``simpy.Environment`` never moves on its own. One clock per contr
 
 Both share :meth:`Clock.sync` (bring ``env`` to "now" before a command is applied — a no-op for
 a virtual clock) and :meth:`Clock.wake` (the schedule may have changed — a no-op for a virtual
-clock), which is all :class:`app.registry.ControllerHandle` needs.
+clock), which is all :class:`motionsim.app.registry.ControllerHandle` needs.
 
 Events exactly at a target instant are processed: advancing by 1 s from t = 0 runs everything
 scheduled at t <= 1 s, and leaves ``env.now`` at 1 s even when nothing was scheduled there.
@@ -33,10 +33,9 @@ from collections.abc import Callable, Mapping
 from typing import Any, Literal
 
 import simpy
-
-from sim.controller import Reply
-from sim.errors import Conflict, InvalidValue
-from sim.events import Event, EventLog
+from motionsim.sim.controller import Reply
+from motionsim.sim.errors import Conflict, InvalidValue
+from motionsim.sim.events import Event, EventLog
 
 log = logging.getLogger("motionsim.clock")
 

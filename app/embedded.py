@@ -14,8 +14,8 @@ import asyncio
 import threading
 from typing import Any
 
-from app.settings import Settings
-from app.sockets import bind_tcp
+from motionsim.app.settings import Settings
+from motionsim.app.sockets import bind_tcp
 
 
 class EmbeddedService:
@@ -39,8 +39,7 @@ class EmbeddedService:
 
     def start(self, timeout: float = 20.0) -> EmbeddedService:
         import uvicorn
-
-        from api.main import create_app
+        from motionsim.api.main import create_app
 
         sock = bind_tcp(self.settings.host, self.settings.port)
         self.port = sock.getsockname()[1]
@@ -52,7 +51,7 @@ class EmbeddedService:
         self._server = uvicorn.Server(config)
 
         async def main() -> None:
-            from app.listeners import start_listeners
+            from motionsim.app.listeners import start_listeners
 
             try:
                 listeners = await start_listeners(self.app.state.registry, self.settings,

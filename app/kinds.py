@@ -1,8 +1,8 @@
 """Controller kinds as plug-ins.
 
-A kind is a :class:`sim.controller.Controller` subclass registered under the entry-point group
-``motionsim.kinds`` (``pmac = "sim.pmac:PmacController"`` in ``pyproject.toml``), or at run time
-with :func:`register_kind`. Adding a third kind touches neither ``api/`` nor this module.
+A kind is a :class:`motionsim.sim.controller.Controller` subclass registered under the entry-point
+group ``motionsim.kinds`` (``pmac = "sim.pmac:PmacController"`` in ``pyproject.toml``), or at run
+time with :func:`register_kind`. Adding a third kind touches neither ``api/`` nor this module.
 """
 
 from __future__ import annotations
@@ -10,8 +10,8 @@ from __future__ import annotations
 import logging
 from importlib.metadata import entry_points
 
-from sim.controller import Controller
-from sim.errors import InvalidValue
+from motionsim.sim.controller import Controller
+from motionsim.sim.errors import InvalidValue
 
 _registered: dict[str, type[Controller]] = {}
 #: Entry points that failed to load: kind -> why (a kind still being written is not fatal).

@@ -31,8 +31,13 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from app.registry import Registry
-from app.settings import DEFAULT_MODBUS_PORT, DEFAULT_PMAC_PORT, DEFAULT_TRIO_PORT, Settings
+from motionsim.app.registry import Registry
+from motionsim.app.settings import (
+    DEFAULT_MODBUS_PORT,
+    DEFAULT_PMAC_PORT,
+    DEFAULT_TRIO_PORT,
+    Settings,
+)
 
 
 class ListenerError(RuntimeError):
@@ -63,11 +68,11 @@ class Listener:
 
 
 PROTOCOLS: tuple[Protocol, ...] = (
-    Protocol("pmac", "api.pmac_ethernet.server", "serve_pmac", DEFAULT_PMAC_PORT,
+    Protocol("pmac", "motionsim.api.pmac_ethernet.server", "serve_pmac", DEFAULT_PMAC_PORT,
              "pmac_port", "pmac_controller"),
-    Protocol("telnet", "api.trio_terminal.server", "serve_trio", DEFAULT_TRIO_PORT,
+    Protocol("telnet", "motionsim.api.trio_terminal.server", "serve_trio", DEFAULT_TRIO_PORT,
              "trio_port", "trio_controller"),
-    Protocol("modbus", "api.trio_modbus.server", "serve_modbus", DEFAULT_MODBUS_PORT,
+    Protocol("modbus", "motionsim.api.trio_modbus.server", "serve_modbus", DEFAULT_MODBUS_PORT,
              "modbus_port", "trio_controller"),
 )
 

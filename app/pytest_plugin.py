@@ -9,8 +9,8 @@ Installed with motionsim (entry point ``pytest11``), so a test just asks for it:
         motionsim.advance("pmac", 2.0)             # virtual time: runs as fast as the CPU
         assert not motionsim.events("pmac", types=["program"]).events[-1]["state"] == "waiting"
 
-``motionsim`` is a :class:`app.client.MotionSimClient` connected to a service served on a free
-127.0.0.1 port, on a **virtual** clock, with the default controllers ``pmac`` and ``trio``
+``motionsim`` is a :class:`motionsim.app.client.MotionSimClient` connected to a service served on a
+free 127.0.0.1 port, on a **virtual** clock, with the default controllers ``pmac`` and ``trio``
 (kinds not installed are skipped); it is torn down after the test. Its extra attributes:
 ``url`` and ``ports`` (protocol -> TCP port of the PMAC Ethernet / Trio telnet listeners).
 
@@ -19,7 +19,7 @@ controllers' TCP protocols on free ports::
 
     @pytest.fixture
     def motionsim_settings():
-        from app.settings import Settings
+        from motionsim.app.settings import Settings
         return Settings(port=0, clock={"mode": "virtual"}, pmac_port="auto", trio_port="auto")
 """
 
@@ -34,7 +34,7 @@ import pytest
 @pytest.fixture
 def motionsim_settings() -> Any:
     """What the ``motionsim`` fixture serves (override it in your conftest.py)."""
-    from app.settings import Settings
+    from motionsim.app.settings import Settings
 
     return Settings(port=0, clock={"mode": "virtual"}, pmac_port=0, trio_port=0)
 
@@ -42,8 +42,8 @@ def motionsim_settings() -> Any:
 @pytest.fixture
 def motionsim(motionsim_settings: Any) -> Iterator[Any]:
     """A served motionsim (virtual clock, free port) and a client for it."""
-    from app.client import MotionSimClient
-    from app.embedded import EmbeddedService
+    from motionsim.app.client import MotionSimClient
+    from motionsim.app.embedded import EmbeddedService
 
     settings = motionsim_settings.model_copy(update={"host": "127.0.0.1", "port": 0})
     service = EmbeddedService(settings).start()

@@ -15,11 +15,11 @@ import re
 from collections.abc import Callable, Iterator, Mapping
 from typing import Any, TypeVar
 
-from app.clock import ClockMode, RealtimeClock, VirtualClock, make_clock
-from app.kinds import kind_class
-from sim.controller import Controller, Port, Reply
-from sim.errors import Conflict, InvalidValue, NotFound
-from sim.events import Event
+from motionsim.app.clock import ClockMode, RealtimeClock, VirtualClock, make_clock
+from motionsim.app.kinds import kind_class
+from motionsim.sim.controller import Controller, Port, Reply
+from motionsim.sim.errors import Conflict, InvalidValue, NotFound
+from motionsim.sim.events import Event
 
 T = TypeVar("T")
 

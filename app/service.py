@@ -11,9 +11,9 @@ from __future__ import annotations
 import importlib
 import logging
 
-from app.kinds import broken_kinds, kinds
-from app.registry import Registry
-from app.settings import ControllerSpec, Settings
+from motionsim.app.kinds import broken_kinds, kinds
+from motionsim.app.registry import Registry
+from motionsim.app.settings import ControllerSpec, Settings
 
 log = logging.getLogger("motionsim")
 

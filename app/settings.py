@@ -2,7 +2,7 @@
 
 Built once in ``app/cli.py`` (from defaults, ``MOTIONSIM_*`` environment variables, a
 ``--config`` YAML/JSON file and the command-line options, later ones winning) and passed to
-``api.main.create_app(settings)``. Nothing here is created at import time.
+``motionsim.api.main.create_app(settings)``. Nothing here is created at import time.
 
 The config file has the same fields, e.g.::
 

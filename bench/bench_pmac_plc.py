@@ -22,7 +22,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from sim.pmac import PmacController  # noqa: E402
+from motionsim.sim.pmac import PmacController  # noqa: E402
 
 PLC0 = "\n".join(["M1=M1+1"] + [f"P{20 + i}=P{20 + i}+1" for i in range(9)])
 PLC1 = "P1=P1+1\nP2=P1*2"

@@ -25,8 +25,9 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
+from motionsim.sim.pmac import PmacController  # noqa: E402
+
 from bench.reference_loop import reference_rate  # noqa: E402
-from sim.pmac import PmacController  # noqa: E402
 
 
 def rss_mb() -> float:

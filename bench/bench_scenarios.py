@@ -19,9 +19,9 @@ import platform
 import time
 from pathlib import Path
 
-from app.scenarios.model import load_scenario, parse_scenario
-from app.scenarios.report import report
-from app.scenarios.runner import run
+from motionsim.app.scenarios.model import load_scenario, parse_scenario
+from motionsim.app.scenarios.report import report
+from motionsim.app.scenarios.runner import run
 
 SCENARIO = {
     "name": "bench-rotary-60s",

@@ -5,8 +5,8 @@
 Prints the figures and writes ``bench/results/spine.json``:
 
 - ``log``: events/s appended by ``EventLog.emit`` alone, and with 10 bus subscribers
-  (``app.bus.Cursor``, what each WebSocket subscriber is) each reading every event from the
-  ring and encoding it to JSON;
+  (``motionsim.app.bus.Cursor``, what each WebSocket subscriber is) each reading every event from
+  the ring and encoding it to JSON;
 - ``ws_fanout``: a served motionsim (real uvicorn on 127.0.0.1, realtime clock) whose
   controller emits ``rate`` events per second; 100 WebSocket subscribers; latency = wall time
   at receipt − wall time at emission, p50 / p99, and how many messages arrived;
@@ -29,12 +29,11 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 import simpy  # noqa: E402
-
-from app.bus import Cursor  # noqa: E402
-from app.kinds import register_kind  # noqa: E402
-from app.settings import Settings  # noqa: E402
-from sim.controller import Controller, Reply  # noqa: E402
-from sim.events import EventLog  # noqa: E402
+from motionsim.app.bus import Cursor  # noqa: E402
+from motionsim.app.kinds import register_kind  # noqa: E402
+from motionsim.app.settings import Settings  # noqa: E402
+from motionsim.sim.controller import Controller, Reply  # noqa: E402
+from motionsim.sim.events import EventLog  # noqa: E402
 
 
 class BenchEmitter(Controller):
@@ -147,7 +146,7 @@ async def _subscribe_all(url: str, subscribers: int, warmup_s: float, seconds: f
 async def bench_fanout(subscribers: int, rate: float, seconds: float,
                        batch: bool = False) -> dict:
     """Server in this process (embedded), subscribers in a child process (no shared GIL)."""
-    from app.embedded import EmbeddedService
+    from motionsim.app.embedded import EmbeddedService
 
     settings = Settings(port=0, pmac_port=0, trio_port=0, controllers=[
         {"id": "b", "kind": "bench_emitter", "clock": {"mode": "realtime", "factor": 1},

@@ -25,9 +25,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "bench"))
 
+from motionsim.sim.trio import TrioController  # noqa: E402
 from reference_loop import reference_rate  # noqa: E402
-
-from sim.trio import TrioController  # noqa: E402
 
 PROGRAM = """FOR i=1 TO {loops}
   MOVE(1) AXIS(0)

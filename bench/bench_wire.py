@@ -1,8 +1,8 @@
 """GETRESPONSE round trips per second over loopback, 1 and 10 concurrent connections.
 
-The server (``api.pmac_ethernet.server.serve_pmac``) runs in this process on a controller with a
-virtual clock — the real ``pmac`` kind when it is installed, otherwise a minimal stand-in that
-answers at once (the figure then measures the protocol path alone). The clients run in a
+The server (``motionsim.api.pmac_ethernet.server.serve_pmac``) runs in this process on a controller
+with a virtual clock — the real ``pmac`` kind when it is installed, otherwise a minimal stand-in
+that answers at once (the figure then measures the protocol path alone). The clients run in a
 separate process (asyncio, one task per connection, each sending ``GETRESPONSE "I16"`` and
 reading the reply before the next), as a host would. Prints the figures and writes
 ``bench/results/wire.json``.
@@ -27,7 +27,7 @@ sys.path.insert(0, str(ROOT))
 
 
 def _client_process(port: int, connections: int, seconds: float, command: str, q) -> None:
-    from api.pmac_ethernet.protocol import getresponse
+    from motionsim.api.pmac_ethernet.protocol import getresponse
 
     packet = getresponse(command)
 
@@ -65,9 +65,9 @@ def _client_process(port: int, connections: int, seconds: float, command: str, q
 
 
 def _controller():
-    from app.kinds import kinds, register_kind
-    from app.registry import Registry
-    from sim.controller import Controller, Reply
+    from motionsim.app.kinds import kinds, register_kind
+    from motionsim.app.registry import Registry
+    from motionsim.sim.controller import Controller, Reply
 
     registry = Registry()
     if "pmac" in kinds():
@@ -92,7 +92,7 @@ def _controller():
 
 
 async def _serve_and_measure(args) -> dict:
-    from api.pmac_ethernet.server import serve_pmac
+    from motionsim.api.pmac_ethernet.server import serve_pmac
 
     handle, kind = _controller()
     with __import__("contextlib").suppress(Exception):

@@ -3,8 +3,8 @@
 Pure: simpy and the standard library only — no asyncio, no wall clock, no I/O, no web types.
 """
 
-from sim.controller import Controller, Port, Reply
-from sim.errors import (
+from motionsim.sim.controller import Controller, Port, Reply
+from motionsim.sim.errors import (
     BufferFull,
     Conflict,
     Halted,
@@ -13,7 +13,7 @@ from sim.errors import (
     NotFound,
     ParseError,
 )
-from sim.events import Event, EventLog, Gap
+from motionsim.sim.events import Event, EventLog, Gap
 
 __all__ = [
     "BufferFull",

@@ -21,8 +21,7 @@ from collections.abc import Callable, Mapping
 from typing import Any, ClassVar
 
 import simpy
-
-from sim.events import EventLog
+from motionsim.sim.events import EventLog
 
 
 class Reply:
@@ -89,7 +88,7 @@ class Controller:
         id: the controller's id in the service (``"pmac"``).
         config: initial settings of the kind (PMAC I-variables such as ``{"i16": 5}``, Trio
             ``{"servo_period_ms": 1.0}``). A kind rejects keys it does not know with
-            :class:`sim.errors.InvalidValue` naming the field.
+            :class:`motionsim.sim.errors.InvalidValue` naming the field.
         log_capacity: events held in the ring (at least 100 000 in the service).
     """
 

@@ -12,10 +12,10 @@ from contextlib import asynccontextmanager
 import httpx
 import pytest
 from fastapi import FastAPI
+from motionsim.api.main import create_app
+from motionsim.app.settings import Settings
 
 import tests.dummy_kind  # noqa: F401  (registers the dummy kinds)
-from api.main import create_app
-from app.settings import Settings
 
 pytest_plugins = ["pytester"]
 

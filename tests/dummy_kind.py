@@ -20,9 +20,9 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
-from app.kinds import register_kind
-from sim.controller import Controller, Port, Reply
-from sim.errors import Halted, InvalidValue, NotFound
+from motionsim.app.kinds import register_kind
+from motionsim.sim.controller import Controller, Port, Reply
+from motionsim.sim.errors import Halted, InvalidValue, NotFound
 
 _CONFIG = {"tick_s": 0.01, "reply_delay_s": 0.0005}
 

@@ -52,7 +52,7 @@ from dataclasses import dataclass
 from enum import IntEnum
 from typing import Final
 
-from api.wire import NEED_DATA, NeedData, ProtocolError
+from motionsim.api.wire import NEED_DATA, NeedData, ProtocolError
 
 #: Header layout: RequestType, Request, wValue, wIndex, wLength — 16-bit fields big-endian.
 HEADER: Final = struct.Struct(">BBHHH")
@@ -233,7 +233,7 @@ class Answer:
 
     @classmethod
     def from_reply(cls, reply: str, error: str | None) -> Answer:
-        """From a :class:`sim.controller.Reply`'s text (data lines joined by CR) and error."""
+        """From a :class:`~motionsim.sim.controller.Reply`'s text (lines joined by CR) and error."""
         lines = tuple(reply.split("\r")) if reply else ()
         if error is not None and not _ERR_CODE.fullmatch(error):
             error = "ERR003"

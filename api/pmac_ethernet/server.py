@@ -1,4 +1,5 @@
-"""The PMAC Ethernet server: TCP connections ↔ :mod:`api.pmac_ethernet.protocol` ↔ controller.
+"""The PMAC Ethernet server: TCP connections ↔ :mod:`motionsim.api.pmac_ethernet.protocol` ↔
+controller.
 
 Each TCP connection is one PMAC host port (``handle.open_port``) with its own ``&n`` / ``#n``
 addressing and open buffer, so only one connection at a time may hold a buffer open (the
@@ -20,7 +21,7 @@ import logging
 from collections.abc import AsyncIterator
 from typing import Any
 
-from api.pmac_ethernet.protocol import (
+from motionsim.api.pmac_ethernet.protocol import (
     Answer,
     CtrlResponse,
     GetResponse,
@@ -30,7 +31,7 @@ from api.pmac_ethernet.protocol import (
     WriteBuffer,
     illegal_character,
 )
-from api.wire import (
+from motionsim.api.wire import (
     NEED_DATA,
     WireSession,
     await_reply,
@@ -38,7 +39,7 @@ from api.wire import (
     serve_connection,
     start_server,
 )
-from sim.errors import Halted, MotionSimError
+from motionsim.sim.errors import Halted, MotionSimError
 
 log = logging.getLogger("motionsim.pmac_ethernet")
 
@@ -52,9 +53,9 @@ class PmacSession(WireSession):
     both drive it).
 
     Args:
-        handle: the :class:`app.registry.ControllerHandle` of the PMAC served.
+        handle: the :class:`motionsim.app.registry.ControllerHandle` of the PMAC served.
         name: the port name (``"tcp:127.0.0.1:5555"``), for messages.
-        recorder: an :class:`app.recorder.Recorder`, or None.
+        recorder: an :class:`motionsim.app.recorder.Recorder`, or None.
     """
 
     protocol = "pmac"

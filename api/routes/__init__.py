@@ -1,5 +1,5 @@
 """One router per resource noun.
 
 Every module here that defines ``router: fastapi.APIRouter`` is included by
-``api.main.create_app`` automatically — adding a resource touches no shared list.
+``motionsim.api.main.create_app`` automatically — adding a resource touches no shared list.
 """

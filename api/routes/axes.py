@@ -14,12 +14,11 @@ import contextlib
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Path, Query
-
-from api.deps import HandleDep
-from api.schemas.axes import AxisOut, AxisPatch, MoveIn, MovePlaced
-from app.clock import VirtualClock
-from app.registry import ControllerHandle
-from sim.errors import BufferFull, NotFound
+from motionsim.api.deps import HandleDep
+from motionsim.api.schemas.axes import AxisOut, AxisPatch, MoveIn, MovePlaced
+from motionsim.app.clock import VirtualClock
+from motionsim.app.registry import ControllerHandle
+from motionsim.sim.errors import BufferFull, NotFound
 
 router = APIRouter(tags=["trio axes"])
 

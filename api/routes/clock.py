@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 from fastapi import APIRouter
-
-from api.deps import HandleDep
-from api.schemas.clock import AdvanceIn, ClockOut, ClockPatch, RunUntilIn, RunUntilOut
-from app.clock import VirtualClock
-from sim.errors import Conflict
-from sim.events import Event
+from motionsim.api.deps import HandleDep
+from motionsim.api.schemas.clock import AdvanceIn, ClockOut, ClockPatch, RunUntilIn, RunUntilOut
+from motionsim.app.clock import VirtualClock
+from motionsim.sim.errors import Conflict
+from motionsim.sim.events import Event
 
 router = APIRouter(tags=["clock"])
 

@@ -3,9 +3,8 @@
 from __future__ import annotations
 
 from fastapi import APIRouter, Response
-
-from api.deps import HandleDep, RegistryDep
-from api.schemas.controllers import ControllerIn, ControllerOut
+from motionsim.api.deps import HandleDep, RegistryDep
+from motionsim.api.schemas.controllers import ControllerIn, ControllerOut
 
 router = APIRouter(tags=["controllers"])
 

@@ -9,12 +9,11 @@ from __future__ import annotations
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Path, Response
-
-from api.deps import HandleDep
-from api.schemas.coord import CoordPublic, LinesAccepted, LinesIn, RotaryIn, RotaryPublic
-from app.registry import ControllerHandle
-from sim.errors import NotFound
-from sim.pmac import PmacController
+from motionsim.api.deps import HandleDep
+from motionsim.api.schemas.coord import CoordPublic, LinesAccepted, LinesIn, RotaryIn, RotaryPublic
+from motionsim.app.registry import ControllerHandle
+from motionsim.sim.errors import NotFound
+from motionsim.sim.pmac import PmacController
 
 router = APIRouter(tags=["coord"])
 

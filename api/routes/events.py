@@ -2,9 +2,9 @@
 
 The WebSocket (same path; not in ``/openapi.json``) sends first every held event after
 ``since``, then live events, one JSON event per text message. Each subscriber is an
-:class:`app.bus.Cursor` on the controller's log: no per-subscriber queue, so a slow subscriber
-only falls behind in the ring, never blocks the simulation or the other subscribers, and when
-the ring has moved past it, it receives ``{"type": "gap", "from": SEQ, "to": SEQ}`` and
+:class:`motionsim.app.bus.Cursor` on the controller's log: no per-subscriber queue, so a slow
+subscriber only falls behind in the ring, never blocks the simulation or the other subscribers, and
+when the ring has moved past it, it receives ``{"type": "gap", "from": SEQ, "to": SEQ}`` and
 continues.
 """
 
@@ -15,11 +15,10 @@ import json
 from typing import Annotated
 
 from fastapi import APIRouter, Query, WebSocket, WebSocketDisconnect
-
-from api.deps import HandleDep
-from api.schemas.events import EventsPage
-from app.bus import Cursor
-from sim.errors import NotFound
+from motionsim.api.deps import HandleDep
+from motionsim.api.schemas.events import EventsPage
+from motionsim.app.bus import Cursor
+from motionsim.sim.errors import NotFound
 
 router = APIRouter(tags=["events"])
 

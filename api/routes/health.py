@@ -4,9 +4,8 @@ from __future__ import annotations
 
 from fastapi import APIRouter, Request
 from fastapi.responses import JSONResponse
-
-from api.schemas.common import Health, ServiceInfo
-from app import __version__
+from motionsim.api.schemas.common import Health, ServiceInfo
+from motionsim.app import __version__
 
 router = APIRouter(tags=["service"])
 

@@ -13,11 +13,10 @@ from __future__ import annotations
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Path
-
-from api.deps import HandleDep
-from api.schemas.plcs import PlcDetail, PlcList, PlcProgramIn
-from app.registry import ControllerHandle
-from sim.errors import Halted, NotFound
+from motionsim.api.deps import HandleDep
+from motionsim.api.schemas.plcs import PlcDetail, PlcList, PlcProgramIn
+from motionsim.app.registry import ControllerHandle
+from motionsim.sim.errors import Halted, NotFound
 
 router = APIRouter(tags=["plcs"])
 

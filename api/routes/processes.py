@@ -5,10 +5,9 @@ from __future__ import annotations
 from typing import Annotated
 
 from fastapi import APIRouter, Path
-
-from api.deps import HandleDep
-from api.routes.axes import trio_of
-from api.schemas.processes import ProcessOut
+from motionsim.api.deps import HandleDep
+from motionsim.api.routes.axes import trio_of
+from motionsim.api.schemas.processes import ProcessOut
 
 router = APIRouter(tags=["trio processes"])
 

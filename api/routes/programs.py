@@ -11,11 +11,10 @@ from typing import Annotated
 
 from fastapi import APIRouter, Path, Request, Response
 from fastapi.responses import PlainTextResponse
-
-from api.deps import HandleDep
-from api.routes.axes import trio_of
-from api.schemas.programs import ProgramList, ProgramStored, RunIn, RunOut
-from sim.errors import InvalidValue
+from motionsim.api.deps import HandleDep
+from motionsim.api.routes.axes import trio_of
+from motionsim.api.schemas.programs import ProgramList, ProgramStored, RunIn, RunOut
+from motionsim.sim.errors import InvalidValue
 
 router = APIRouter(tags=["trio programs"])
 

@@ -7,9 +7,8 @@ port). Timing per API.md: see :meth:`app.registry.ControllerHandle.command`.
 from __future__ import annotations
 
 from fastapi import APIRouter
-
-from api.deps import HandleDep
-from api.schemas.terminal import TerminalIn, TerminalOut, TerminalState
+from motionsim.api.deps import HandleDep
+from motionsim.api.schemas.terminal import TerminalIn, TerminalOut, TerminalState
 
 router = APIRouter(tags=["terminal"])
 

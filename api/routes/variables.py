@@ -10,9 +10,8 @@ from __future__ import annotations
 from typing import Annotated
 
 from fastapi import APIRouter, Path
-
-from api.deps import HandleDep
-from api.schemas.variables import VariableIn, VariableOut
+from motionsim.api.deps import HandleDep
+from motionsim.api.schemas.variables import VariableIn, VariableOut
 
 router = APIRouter(tags=["variables"])
 

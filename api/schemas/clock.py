@@ -4,9 +4,8 @@ from __future__ import annotations
 
 from typing import Any, Literal
 
+from motionsim.api.schemas.events import EventOut
 from pydantic import BaseModel, ConfigDict, Field
-
-from api.schemas.events import EventOut
 
 ClockModeField = Literal["virtual", "realtime"]
 

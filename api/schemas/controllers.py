@@ -4,9 +4,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from motionsim.api.schemas.clock import ClockIn, ClockOut
 from pydantic import BaseModel, ConfigDict, Field
-
-from api.schemas.clock import ClockIn, ClockOut
 
 
 class ControllerOut(BaseModel):

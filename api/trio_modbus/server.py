@@ -1,4 +1,4 @@
-"""The Trio Modbus TCP slave: connections ↔ :mod:`api.trio_modbus.protocol` ↔ ``VR()``.
+"""The Trio Modbus TCP slave: connections ↔ :mod:`motionsim.api.trio_modbus.protocol` ↔ ``VR()``.
 
 Reads come from ``controller.get_variable("VR(n)")``; writes go through
 ``handle.apply(controller.set_variable, "VR(n)", value)`` at the current simulated instant,
@@ -12,7 +12,7 @@ import contextlib
 import logging
 from typing import Any
 
-from api.trio_modbus.protocol import (
+from motionsim.api.trio_modbus.protocol import (
     ILLEGAL_ADDRESS,
     NEED_DATA,
     ModbusCodec,
@@ -22,8 +22,8 @@ from api.trio_modbus.protocol import (
     WriteRegisters,
     to_register,
 )
-from api.wire import start_server
-from sim.errors import MotionSimError
+from motionsim.api.wire import start_server
+from motionsim.sim.errors import MotionSimError
 
 log = logging.getLogger("motionsim.trio_modbus")
 

@@ -1,4 +1,5 @@
-"""The Trio command-line server: telnet sessions ↔ :mod:`api.trio_terminal.protocol` ↔ controller.
+"""The Trio command-line server: telnet sessions ↔ :mod:`motionsim.api.trio_terminal.protocol` ↔
+controller.
 
 Each TCP session is a command line of process 0, shared with the REST terminal (API.md): every
 line goes through ``await handle.command(line, port)`` on the same controller object, so a lock
@@ -14,8 +15,8 @@ import asyncio
 import logging
 from typing import Any
 
-from api.trio_terminal.protocol import TrioTerminalCodec
-from api.wire import (
+from motionsim.api.trio_terminal.protocol import TrioTerminalCodec
+from motionsim.api.wire import (
     NEED_DATA,
     WireSession,
     await_reply,
@@ -23,7 +24,7 @@ from api.wire import (
     serve_connection,
     start_server,
 )
-from sim.errors import MotionSimError
+from motionsim.sim.errors import MotionSimError
 
 log = logging.getLogger("motionsim.trio_terminal")
 
@@ -32,9 +33,9 @@ class TrioSession(WireSession):
     """One telnet session's logic, without the socket (the server and the replay drive it).
 
     Args:
-        handle: the :class:`app.registry.ControllerHandle` of the Trio served.
+        handle: the :class:`motionsim.app.registry.ControllerHandle` of the Trio served.
         name: the port name, for messages.
-        recorder: an :class:`app.recorder.Recorder`, or None.
+        recorder: an :class:`motionsim.app.recorder.Recorder`, or None.
     """
 
     protocol = "trio"

@@ -32,8 +32,8 @@ def run_command(
 ) -> None:
     """Run a what-if scenario in virtual time: summary table, event log (JSON Lines + CSV),
     metrics.json and PNG plots in the output folder."""
-    from app.scenarios.errors import ScenarioError
-    from app.scenarios.model import load_scenario, parse_scenario
+    from motionsim.app.scenarios.errors import ScenarioError
+    from motionsim.app.scenarios.model import load_scenario, parse_scenario
 
     try:
         scn = load_scenario(scenario)
@@ -44,17 +44,17 @@ def run_command(
     except ScenarioError as exc:
         raise _fail(str(exc)) from None
     if realtime:
-        from app.scenarios.remote import play
+        from motionsim.app.scenarios.remote import play
 
         try:
             play(scn, server, factor=factor)
         except ScenarioError as exc:
             raise _fail(str(exc), 1) from None
         return
-    from app.scenarios.outputs import write_outputs
-    from app.scenarios.report import report
-    from app.scenarios.runner import run
-    from app.scenarios.summary import print_summary
+    from motionsim.app.scenarios.outputs import write_outputs
+    from motionsim.app.scenarios.report import report
+    from motionsim.app.scenarios.runner import run
+    from motionsim.app.scenarios.summary import print_summary
 
     try:
         result = run(scn)
@@ -104,12 +104,11 @@ def sweep_command(
         "--yes", "-y", help="Run even when the grid has more than 100 000 runs.")] = False,
 ) -> None:
     """Run a scenario over a grid of parameters; CSV (and Parquet) table and a heat-map."""
+    from motionsim.app.scenarios import sweep as sw
+    from motionsim.app.scenarios.errors import ScenarioError
+    from motionsim.app.scenarios.model import load_scenario
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeRemainingColumn
-
-    from app.scenarios import sweep as sw
-    from app.scenarios.errors import ScenarioError
-    from app.scenarios.model import load_scenario
 
     try:
         scn = load_scenario(scenario)

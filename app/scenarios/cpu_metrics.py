@@ -4,8 +4,8 @@ host-command reply latency, and the watchdog — read from the event log.
 Events used: ``rti_overrun`` (an RTI found the previous RTI's tasks still running),
 ``watchdog`` (the card tripped), ``program`` with ``error="watchdog"`` (programs aborted by
 the trip), ``mvar`` at the trip instant (outputs turned off), the run's ``cpu_sample`` events
-(:mod:`sim.hosts.monitor`: the card's ``status()["cpu"]`` sampled on a grid) and the hosts'
-``host_pr`` / ``host_timeout`` / ``host_stopped`` (:mod:`sim.hosts.pmac`).
+(:mod:`motionsim.sim.hosts.monitor`: the card's ``status()["cpu"]`` sampled on a grid) and the
+hosts' ``host_pr`` / ``host_timeout`` / ``host_stopped`` (:mod:`motionsim.sim.hosts.pmac`).
 
 Seed 003: the more foreground work (servo, RTI: move planning and PLC 0), the slower the
 background cycles; the background answers host commands and each of its cycles reloads the
@@ -19,8 +19,8 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
-from app.scenarios.metrics import _stats
-from sim.events import Event
+from motionsim.app.scenarios.metrics import _stats
+from motionsim.sim.events import Event
 
 
 @dataclass(slots=True)

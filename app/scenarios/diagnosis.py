@@ -1,6 +1,6 @@
 """Why did the program starve? Explanations read off the event log.
 
-For each episode found by :mod:`app.scenarios.metrics`:
+For each episode found by :mod:`motionsim.app.scenarios.metrics`:
 
 * PMAC ``buffer_empty`` — the rotary buffer ran dry while lines were still to come:
 
@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import re
 
-from app.scenarios.metrics import CsTrace, Interval, Starvation, motion_gaps
+from motionsim.app.scenarios.metrics import CsTrace, Interval, Starvation, motion_gaps
 
 _RAPID = re.compile(r"\bRAPID\b", re.I)
 _MODE = re.compile(r"\b(LINEAR|CIRCLE[12]|PVT|SPLINE[12]?)\b", re.I)

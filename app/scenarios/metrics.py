@@ -1,7 +1,7 @@
 """Metrics of a run, computed from the event log alone.
 
-Everything here reads :class:`sim.events.Event` values (``type``, ``t``, fields as in API.md's
-table, plus the hosts' ``host_*`` events), so it works on a log from any source: a scenario
+Everything here reads :class:`motionsim.sim.events.Event` values (``type``, ``t``, fields as in
+API.md's table, plus the hosts' ``host_*`` events), so it works on a log from any source: a scenario
 run, a log fed by hand in a test, or a JSON Lines file from the service.
 
 PMAC, per coordinate system with a rotary buffer:
@@ -20,12 +20,12 @@ PMAC, per coordinate system with a rotary buffer:
   program actually starts (0 for ``M1==1``, about a move early for ``M1=1``).
 
 The card's processor (RTI overruns, background cycle, the watchdog) is in
-:mod:`app.scenarios.cpu_metrics`.
+:mod:`motionsim.app.scenarios.cpu_metrics`.
 
 Trio, per axis: time with MTYPE / NTYPE / process buffer occupied, and the time an axis stood
 idle between its moves while a process (or a feeding host) was blocked waiting on another axis.
 
-:mod:`app.scenarios.diagnosis` explains each starvation.
+:mod:`motionsim.app.scenarios.diagnosis` explains each starvation.
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from sim.events import Event
+from motionsim.sim.events import Event
 
 _MOVE_WORD = re.compile(r"(?<![A-Z])([XYZABCUVW])\s*-?[\d.(]", re.I)
 _MASSIGN = re.compile(r"^\s*(M\d+)\s*(==|&=|\|=|\^=|=)", re.I)

@@ -6,8 +6,8 @@ strategies with their latency distributions, faults, how long to run (or an even
 and the seed. Times in the file are milliseconds (``*_ms``) except ``duration_s``.
 
 Everything is checked up front: unknown fields, wrong types and impossible values (a negative
-latency, I16 above I17) are :class:`~app.scenarios.errors.ScenarioError`s naming the field and
-the line of the file, and nothing runs.
+latency, I16 above I17) are :class:`~motionsim.app.scenarios.errors.ScenarioError`s naming the
+field and the line of the file, and nothing runs.
 
 Assumption (manual silent): I16 > I17 is refused. BREQ is set again below I16 lines ahead and
 held low from I17 up, so an I16 above I17 would re-raise BREQ while the buffer is "full".
@@ -19,6 +19,8 @@ import re
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
+from motionsim.app.scenarios.errors import ScenarioError, dotted
+from motionsim.app.scenarios.source import load_yaml, locate, read_text, value_line
 from pydantic import (
     BaseModel,
     ConfigDict,
@@ -29,9 +31,6 @@ from pydantic import (
     field_validator,
     model_validator,
 )
-
-from app.scenarios.errors import ScenarioError, dotted
-from app.scenarios.source import load_yaml, locate, read_text, value_line
 
 NonNeg = Annotated[float, Field(ge=0, allow_inf_nan=False)]
 Pos = Annotated[float, Field(gt=0, allow_inf_nan=False)]
@@ -105,8 +104,8 @@ class DelaySpec(Strict):
         return self
 
     def to_delay(self) -> Any:
-        """The :class:`sim.hosts.Delay` (seconds) this spec describes."""
-        from sim.hosts.distributions import Delay
+        """The :class:`motionsim.sim.hosts.Delay` (seconds) this spec describes."""
+        from motionsim.sim.hosts.distributions import Delay
 
         ms = 1e-3
         j = self.jitter_ms * ms
@@ -440,7 +439,7 @@ class MovesSpec(Strict):
         return self
 
     def to_moves(self) -> list[Any]:
-        from sim.hosts.trio import Move, interleave
+        from motionsim.sim.hosts.trio import Move, interleave
 
         if self.per_axis is not None:
             return interleave(self.per_axis, self.type)
@@ -612,8 +611,8 @@ def _plc_checks(
 ) -> list[tuple[tuple[Any, ...], str, int | None]]:
     """Each PLC program compiles (errors at the file line of the bad PLC line), and I5 lets
     every enabled PLC run."""
-    from sim.errors import ParseError
-    from sim.pmac.plc import compile_plc
+    from motionsim.sim.errors import ParseError
+    from motionsim.sim.pmac.plc import compile_plc
 
     out: list[tuple[tuple[Any, ...], str, int | None]] = []
     for cid, spec in s.controllers.items():

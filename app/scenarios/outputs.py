@@ -8,7 +8,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from app.scenarios.runner import RunResult
+from motionsim.app.scenarios.runner import RunResult
 
 
 def events_csv(result: RunResult) -> str:
@@ -57,7 +57,7 @@ def write_outputs(
     p.write_text(json.dumps(rep, indent=2, default=str) + "\n", encoding="utf-8")
     paths["metrics.json"] = p
     if plots:
-        from app.scenarios.plots import plot_run
+        from motionsim.app.scenarios.plots import plot_run
 
         for name, path in plot_run(result, rep, out).items():
             paths[name] = path

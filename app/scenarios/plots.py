@@ -19,9 +19,8 @@ import matplotlib
 matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt  # noqa: E402
-
-from app.scenarios.metrics import pmac_traces, trio_traces  # noqa: E402
-from app.scenarios.runner import RunResult  # noqa: E402
+from motionsim.app.scenarios.metrics import pmac_traces, trio_traces  # noqa: E402
+from motionsim.app.scenarios.runner import RunResult  # noqa: E402
 
 _SHADE = {"buffer_empty": "tab:red", "lookahead_break": "tab:orange", "axis_blocked": "tab:red"}
 _MAX_POINTS = 20_000

@@ -23,7 +23,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-from app.scenarios.model import (
+from motionsim.app.scenarios.model import (
     BreqInterruptSpec,
     HostStallFault,
     NaiveSpec,
@@ -33,25 +33,25 @@ from app.scenarios.model import (
     TerminalFault,
     TrioFeederSpec,
 )
-from sim.controller import Controller
-from sim.errors import Halted, MotionSimError
-from sim.events import Event
+from motionsim.sim.controller import Controller
+from motionsim.sim.errors import Halted, MotionSimError
+from motionsim.sim.events import Event
 
 
 @functools.lru_cache(maxsize=8)
 def controller_class(kind: str) -> type[Controller]:
     """The kind's class: the plug-in registry, else the core package itself."""
-    from app.kinds import kind_class
+    from motionsim.app.kinds import kind_class
 
     try:
         return kind_class(kind)
     except MotionSimError:
         if kind == "pmac":
-            from sim.pmac import PmacController
+            from motionsim.sim.pmac import PmacController
 
             return PmacController
         if kind == "trio":
-            from sim.trio import TrioController
+            from motionsim.sim.trio import TrioController
 
             return TrioController
         raise
@@ -117,7 +117,7 @@ def _log_capacity(scn: Scenario) -> int:
 
 def build(scn: Scenario) -> tuple[dict[str, Controller], dict[str, Any]]:
     """Controllers set up at t = 0 and hosts started; errors name the scenario field."""
-    from sim.hosts import (
+    from motionsim.sim.hosts import (
         BlindFeeder,
         BreqInterruptHost,
         CpuMonitor,

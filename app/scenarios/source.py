@@ -12,8 +12,7 @@ from pathlib import Path
 from typing import Any
 
 import yaml
-
-from app.scenarios.errors import ScenarioError
+from motionsim.app.scenarios.errors import ScenarioError
 
 Path_ = tuple[Any, ...]
 

@@ -22,8 +22,7 @@ from pathlib import Path
 from typing import Any
 
 import yaml
-
-from app.scenarios.errors import ScenarioError
+from motionsim.app.scenarios.errors import ScenarioError
 
 #: Runs above which a sweep needs an explicit yes.
 CONFIRM_ABOVE = 100_000
@@ -184,9 +183,9 @@ def run_point(
     same_seed: bool = False,
 ) -> dict[str, Any]:
     """One run of the sweep (runs in any worker): apply ``point``, run, headline metrics."""
-    from app.scenarios.model import parse_scenario
-    from app.scenarios.report import report
-    from app.scenarios.runner import run
+    from motionsim.app.scenarios.model import parse_scenario
+    from motionsim.app.scenarios.report import report
+    from motionsim.app.scenarios.runner import run
 
     data = copy.deepcopy(raw)
     for name, path in paths.items():

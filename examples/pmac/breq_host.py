@@ -7,7 +7,7 @@ lines ahead) until calculation brings the count below I16. Prints a short BREQ t
 
 from __future__ import annotations
 
-from sim.pmac import PmacController
+from motionsim.sim.pmac import PmacController
 
 
 def main(n_lines: int = 40) -> None:

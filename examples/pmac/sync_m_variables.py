@@ -7,7 +7,7 @@ ahead), the synchronous one at the start of the blend into X20.
 
 from __future__ import annotations
 
-from sim.pmac import PmacController
+from motionsim.sim.pmac import PmacController
 
 
 def run(middle: str) -> None:

@@ -2,15 +2,16 @@
 
 Pure SimPy processes (simpy + stdlib ``random``, seeded) that run on the controller's own
 environment and use only the controller's public methods and event log, as host software
-does. See :mod:`sim.hosts.pmac` (rotary-buffer writers) and :mod:`sim.hosts.trio` (move
-feeders); delays come from :mod:`sim.hosts.distributions`; :mod:`sim.hosts.monitor` samples a
-PMAC's processor load into the log.
+does. See :mod:`motionsim.sim.hosts.pmac` (rotary-buffer writers) and
+:mod:`motionsim.sim.hosts.trio` (move feeders); delays come from
+:mod:`motionsim.sim.hosts.distributions`; :mod:`motionsim.sim.hosts.monitor` samples a PMAC's
+processor load into the log.
 """
 
-from sim.hosts.distributions import Delay, empirical, fixed
-from sim.hosts.monitor import CpuMonitor
-from sim.hosts.pmac import BreqInterruptHost, NaiveHost, PmacHost, PrPollingHost
-from sim.hosts.trio import BlindFeeder, Move, MovesBufferedFeeder, NtypeFeeder, TrioFeeder
+from motionsim.sim.hosts.distributions import Delay, empirical, fixed
+from motionsim.sim.hosts.monitor import CpuMonitor
+from motionsim.sim.hosts.pmac import BreqInterruptHost, NaiveHost, PmacHost, PrPollingHost
+from motionsim.sim.hosts.trio import BlindFeeder, Move, MovesBufferedFeeder, NtypeFeeder, TrioFeeder
 
 __all__ = [
     "BlindFeeder",

@@ -24,7 +24,7 @@ from collections.abc import Generator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from sim.errors import BufferFull
+from motionsim.sim.errors import BufferFull
 
 
 @dataclass(frozen=True, slots=True)

@@ -9,6 +9,6 @@ cycle), ``watchdog``, ``plc`` (PLC programs), ``terminal`` (on-line command disp
 port), ``controller`` (``PmacController``).
 """
 
-from sim.pmac.controller import LoadResult, PmacController
+from motionsim.sim.pmac.controller import LoadResult, PmacController
 
 __all__ = ["LoadResult", "PmacController"]

@@ -23,19 +23,18 @@ from collections.abc import Iterable, Mapping
 from typing import Any, NamedTuple
 
 import simpy
-
-from sim.controller import Controller, Port, Reply
-from sim.errors import BufferFull, Conflict, Halted, InvalidValue, NotFound, ParseError
-from sim.pmac.cpu import CONFIG_KEYS as CPU_CONFIG_KEYS
-from sim.pmac.cpu import Processor
-from sim.pmac.lookahead import CoordSystem
-from sim.pmac.plc import PlcTable
-from sim.pmac.program import ProgramLine, compile_line
-from sim.pmac.rotary import RotaryBuffer
-from sim.pmac.scheduler import Scheduler
-from sim.pmac.terminal import Terminal
-from sim.pmac.variables import N_CS, N_MOTORS, Variables, parse_name
-from sim.timing import pmac_servo_period_s
+from motionsim.sim.controller import Controller, Port, Reply
+from motionsim.sim.errors import BufferFull, Conflict, Halted, InvalidValue, NotFound, ParseError
+from motionsim.sim.pmac.cpu import CONFIG_KEYS as CPU_CONFIG_KEYS
+from motionsim.sim.pmac.cpu import Processor
+from motionsim.sim.pmac.lookahead import CoordSystem
+from motionsim.sim.pmac.plc import PlcTable
+from motionsim.sim.pmac.program import ProgramLine, compile_line
+from motionsim.sim.pmac.rotary import RotaryBuffer
+from motionsim.sim.pmac.scheduler import Scheduler
+from motionsim.sim.pmac.terminal import Terminal
+from motionsim.sim.pmac.variables import N_CS, N_MOTORS, Variables, parse_name
+from motionsim.sim.timing import pmac_servo_period_s
 
 MEMORY_WORDS = 65_536
 

@@ -52,12 +52,12 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING, Any
 
-from sim.pmac.scheduler import Wake
-from sim.pmac.watchdog import Watchdog
+from motionsim.sim.pmac.scheduler import Wake
+from motionsim.sim.pmac.watchdog import Watchdog
 
 if TYPE_CHECKING:
-    from sim.pmac.controller import PmacController
-    from sim.pmac.plc import Plc
+    from motionsim.sim.pmac.controller import PmacController
+    from motionsim.sim.pmac.plc import Plc
 
 _EPS = 1e-12
 _INF = math.inf
@@ -111,7 +111,7 @@ class Processor:
 
     ``submit(job)`` queues a host command, answered at the
     end of a background cycle; :meth:`poke` tells it that something changed (a PLC enabled,
-    I5 or I8 written). Owned by :class:`sim.pmac.controller.PmacController`.
+    I5 or I8 written). Owned by :class:`motionsim.sim.pmac.controller.PmacController`.
     """
 
     def __init__(self, ctl: PmacController, cycle_cycles: int = 1) -> None:

@@ -1,8 +1,8 @@
 """Turbo PMAC arithmetic, compiled once at parse time (spec §10, TUM p248, TSRM p486-489).
 
 An expression is compiled to a closure ``fn(vars, cs) -> float`` (``vars`` is the controller's
-:class:`sim.pmac.variables.Variables`, ``cs`` the coordinate system whose Q bank is meant), so
-evaluating a stored line costs a few Python calls. A constant expression also keeps its
+:class:`motionsim.sim.pmac.variables.Variables`, ``cs`` the coordinate system whose Q bank is
+meant), so evaluating a stored line costs a few Python calls. A constant expression also keeps its
 value in ``Expr.const`` so the hot path can skip the call entirely.
 
 The manual's rules modelled here:

@@ -17,7 +17,7 @@ What is modelled (TUM p236, p249-250, p339-341; TSRM p177, p429, p446; PUM p213;
   is such a break: no blending, each move ends in a stop before the next is calculated (the
   Isx81/Isx82 in-position wait and dwell are not modelled). ``DELAY`` is a zero-distance
   move, calculated through and blended like any move.
-* **Blending.** Consecutive LINEAR/CIRCLE/DELAY moves blend (:mod:`sim.pmac.motion`); the
+* **Blending.** Consecutive LINEAR/CIRCLE/DELAY moves blend (:mod:`motionsim.sim.pmac.motion`); the
   next move starts — ``move_start``, its synchronous M writes, the previous ``move_end`` — at
   the start of the blend ramp, on a servo cycle. A DWELL or RAPID is preceded by a stop.
 * **Running out** of lines is not an error: when motion has stopped and there is nothing left to
@@ -73,9 +73,9 @@ import math
 from collections import deque
 from typing import TYPE_CHECKING, Any
 
-from sim.pmac import motion
-from sim.pmac.expressions import pmac_and, pmac_or, pmac_xor
-from sim.pmac.program import (
+from motionsim.sim.pmac import motion
+from motionsim.sim.pmac.expressions import pmac_and, pmac_or, pmac_xor
+from motionsim.sim.pmac.program import (
     OP_ASSIGN,
     OP_AXISMODE,
     OP_DELAY,
@@ -85,12 +85,12 @@ from sim.pmac.program import (
     OP_MOVE,
     ProgramLine,
 )
-from sim.pmac.scheduler import Wake, wake_at
-from sim.pmac.variables import isx, ixx
+from motionsim.sim.pmac.scheduler import Wake, wake_at
+from motionsim.sim.pmac.variables import isx, ixx
 
 if TYPE_CHECKING:
-    from sim.pmac.controller import PmacController
-    from sim.pmac.rotary import RotaryBuffer
+    from motionsim.sim.pmac.controller import PmacController
+    from motionsim.sim.pmac.rotary import RotaryBuffer
 
 IDLE, RUNNING, WAITING, STOPPED, ABORTED = "idle", "running", "waiting", "stopped", "aborted"
 
@@ -166,7 +166,7 @@ class Move:
 
 
 class CoordSystem:
-    """Coordinate system ``cs`` of a :class:`sim.pmac.controller.PmacController`."""
+    """Coordinate system ``cs`` of a :class:`motionsim.sim.pmac.controller.PmacController`."""
 
     def __init__(self, ctl: PmacController, cs: int) -> None:
         self.ctl = ctl

@@ -1,7 +1,7 @@
 """Text -> statements for the Turbo PMAC command language.
 
 One compiled regular expression tokenises a line (case-insensitive); a small recursive-descent
-parser turns the tokens into :mod:`sim.pmac.statements`. Several commands may share a line
+parser turns the tokens into :mod:`motionsim.sim.pmac.statements`. Several commands may share a line
 (``&1 B0 R``, ``&1B0R``); they are returned left to right, each with its character span so the
 terminal can store the exact text of a program line.
 
@@ -15,7 +15,7 @@ Abbreviations accepted: ``DEF``/``DEFINE``, ``DEL``/``DELETE``, ``ROT``/``ROTARY
 ``GAT``/``GATHER``, ``LIN``/``LINEAR``, ``RPD``/``RAPID``, ``CIR1``/``CIRCLE1``, ``DWE``/
 ``DWELL``, ``DLY``/``DELAY``, ``VER``/``VERSION``. A ``;`` starts a comment.
 
-Errors are :class:`sim.errors.ParseError` with the 1-based ``column`` of the offending
+Errors are :class:`motionsim.sim.errors.ParseError` with the 1-based ``column`` of the offending
 character and ``pmac_error="ERR003"`` (data error or unrecognised command); nothing executes
 when any part of a line fails to parse.
 """
@@ -25,10 +25,10 @@ from __future__ import annotations
 import re
 from typing import Any
 
-from sim.errors import ParseError
-from sim.pmac import expressions as ex
-from sim.pmac import plc_statements as plc_st
-from sim.pmac import statements as st
+from motionsim.sim.errors import ParseError
+from motionsim.sim.pmac import expressions as ex
+from motionsim.sim.pmac import plc_statements as plc_st
+from motionsim.sim.pmac import statements as st
 
 _WORDS = [
     "DEFINE", "DELETE", "DEF", "DEL", "ROTARY", "ROT", "GATHER", "GAT", "OPEN", "CLOSE",

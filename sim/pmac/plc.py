@@ -3,8 +3,8 @@
 What is modelled (seed 003; TUM p237, p253, p376; TSRM p39, p381, p422-424; spec §9.5):
 
 * **Entry.** ``OPEN PLC n`` opens PLC ``n`` for entry on one port (ERR007 while any buffer is
-  open); ``CLEAR`` erases it; each following line is parsed (:mod:`sim.pmac.plc_parser`) and
-  appended; ``CLOSE`` ends entry. A line that does not parse answers ERR003 and is not stored.
+  open); ``CLEAR`` erases it; each following line is parsed (:mod:`motionsim.sim.pmac.plc_parser`)
+  and appended; ``CLOSE`` ends entry. A line that does not parse answers ERR003 and is not stored.
   The edit works on a copy: the PLC keeps its old program until a structurally complete
   ``CLOSE``; ``CLOSE`` with an unmatched ``IF`` / ``WHILE`` answers ERR009 ("program
   structural error") and the buffer stays open ``[INF]``. An ``ELSE``/``ENDIF``/``ENDWHILE``
@@ -18,7 +18,7 @@ What is modelled (seed 003; TUM p237, p253, p376; TSRM p39, p381, p422-424; spec
 * **A scan** runs from where the last one stopped to the end of the program, or to an
   ``ENDWHILE`` whose ``WHILE`` condition was true (the next scan resumes at that ``WHILE``) —
   so ``WHILE (...) ENDWHILE`` waits without blocking the processor (seed 003). A scan
-  reports how many statements it executed; :mod:`sim.pmac.cpu` charges processor time for
+  reports how many statements it executed; :mod:`motionsim.sim.pmac.cpu` charges processor time for
   them.
 * ``CMD"..."`` queues the text for the background command interpreter: it is executed as a
   host command line on a port of its own whose ``&n``/``#n`` addressing is not modal (every
@@ -36,14 +36,14 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from sim.controller import Port
-from sim.errors import Conflict, NotFound, ParseError
-from sim.pmac import plc_parser as pp
-from sim.pmac import plc_statements as plc_st
-from sim.pmac import statements as st
+from motionsim.sim.controller import Port
+from motionsim.sim.errors import Conflict, NotFound, ParseError
+from motionsim.sim.pmac import plc_parser as pp
+from motionsim.sim.pmac import plc_statements as plc_st
+from motionsim.sim.pmac import statements as st
 
 if TYPE_CHECKING:
-    from sim.pmac.controller import PmacController
+    from motionsim.sim.pmac.controller import PmacController
 
 # Operation codes of a compiled PLC program.
 OP_SET = 0  # (OP_SET, kind, index_expr, value_expr)

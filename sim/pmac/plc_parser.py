@@ -9,7 +9,7 @@ A PLC line holds one or more of:
 * ``CMD"..."`` (an on-line command for the background command interpreter) and
   ``SEND"..."`` (a message to the host port);
 * ``ENABLE PLC n`` / ``DISABLE PLC n`` (lists and ranges as on-line);
-* while entering: ``CLEAR`` and ``CLOSE`` (handled by :class:`sim.pmac.plc.PlcTable`).
+* while entering: ``CLEAR`` and ``CLOSE`` (handled by :class:`motionsim.sim.pmac.plc.PlcTable`).
 
 Conditions: ``expression comparator expression`` with the comparators ``=`` ``!=`` ``>``
 ``!>`` ``<`` ``!<`` (TUM p253), combined with ``AND`` / ``OR`` inside the parentheses, and
@@ -20,7 +20,7 @@ above them with the same precedence. An ``AND``/``OR`` line anywhere else is ERR
 Synchronous assignments (``M1==1``) and motion statements belong to motion programs and are
 refused in PLCs (ERR003).
 
-Errors are :class:`sim.errors.ParseError` with the 1-based ``column`` and ``pmac_error``
+Errors are :class:`motionsim.sim.errors.ParseError` with the 1-based ``column`` and ``pmac_error``
 ``"ERR003"``; nothing is stored from a line that fails.
 """
 
@@ -32,11 +32,11 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from sim.errors import ParseError
-from sim.pmac import plc_statements as plc_st
-from sim.pmac import statements as st
-from sim.pmac.expressions import Expr
-from sim.pmac.parser import parse_expression, parse_line
+from motionsim.sim.errors import ParseError
+from motionsim.sim.pmac import plc_statements as plc_st
+from motionsim.sim.pmac import statements as st
+from motionsim.sim.pmac.expressions import Expr
+from motionsim.sim.pmac.parser import parse_expression, parse_line
 
 _ERR = "ERR003"
 
@@ -271,8 +271,8 @@ def _code(text: str) -> str:
 def parse_plc_line(text: str) -> list[tuple[Any, int]]:
     """The statements of one PLC line with their 1-based columns.
 
-    ``CLEAR`` and ``CLOSE`` come back as :class:`sim.pmac.plc_statements.Clear` and
-    :class:`sim.pmac.statements.Close`.
+    ``CLEAR`` and ``CLOSE`` come back as :class:`motionsim.sim.pmac.plc_statements.Clear` and
+    :class:`motionsim.sim.pmac.statements.Close`.
 
     Raises:
         ParseError: column, ERR003.

@@ -1,8 +1,8 @@
 """On-line commands for PLC programs (TSRM p271, p424; spec §9.5).
 
-They are parsed by :mod:`sim.pmac.parser` with the other on-line commands and executed by the
-terminal through :class:`sim.pmac.plc.PlcTable`. The statements *inside* a PLC program are in
-:mod:`sim.pmac.plc_parser`.
+They are parsed by :mod:`motionsim.sim.pmac.parser` with the other on-line commands and executed by
+the terminal through :class:`motionsim.sim.pmac.plc.PlcTable`. The statements *inside* a PLC program
+are in :mod:`motionsim.sim.pmac.plc_parser`.
 """
 
 from __future__ import annotations

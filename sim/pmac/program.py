@@ -8,9 +8,9 @@ takes at least one word. ``[INF]`` the manual does not say what a value-less wor
 word is the simplest rule that agrees with its example.
 
 Operations (``ops``) are small tuples, in program order, executed by the coordinate system's
-move planning (:mod:`sim.pmac.lookahead`). The axis words of a line (with its circle vector
-words) form **one move**, executed at the end of the line — or before a ``DWELL``/``DELAY`` in
-the same line — after the line's modal settings (``X10 Y10 F5`` moves at F5, as in the manual's
+move planning (:mod:`motionsim.sim.pmac.lookahead`). The axis words of a line (with its circle
+vector words) form **one move**, executed at the end of the line — or before a ``DWELL``/``DELAY``
+in the same line — after the line's modal settings (``X10 Y10 F5`` moves at F5, as in the manual's
 ``&1 X10 Y10 F5`` example). Assignments keep their place relative to that move.
 """
 
@@ -19,8 +19,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from sim.pmac import statements as st
-from sim.pmac.parser import parse_program_line
+from motionsim.sim.pmac import statements as st
+from motionsim.sim.pmac.parser import parse_program_line
 
 # Operation codes (first element of each op tuple).
 OP_ASSIGN = 0  # (OP_ASSIGN, kind, index_expr, op, value_expr)

@@ -28,8 +28,8 @@ from collections import deque
 from collections.abc import Callable
 from typing import Any
 
-from sim.events import EventLog
-from sim.pmac.program import ProgramLine
+from motionsim.sim.events import EventLog
+from motionsim.sim.pmac.program import ProgramLine
 
 
 class RotaryBuffer:

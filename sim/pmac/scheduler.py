@@ -8,8 +8,8 @@ The controller's tasks, highest priority first (TUM p236-237, spec §4.1, §9.3)
   move planning for each CS that asked for it, then PLC 0. A CS asks for planning when a move
   starts executing; the planning is done at the next RTI (:meth:`Scheduler.next_rti_after`).
 * **background**: host-command processing, PLC 1-31, housekeeping — whatever time is left;
-  modelled with its processor-time budget by :class:`sim.pmac.cpu.Processor` (issue 4), with
-  the watchdog in :mod:`sim.pmac.watchdog`.
+  modelled with its processor-time budget by :class:`motionsim.sim.pmac.cpu.Processor` (issue 4),
+  with the watchdog in :mod:`motionsim.sim.pmac.watchdog`.
 
 Nothing here runs once per servo cycle: a :class:`Wake` puts one already-triggered event on the
 SimPy queue at the instant where something happens (the next RTI, a move's end), computed from
@@ -23,9 +23,8 @@ from heapq import heappush
 from typing import Any
 
 import simpy
+from motionsim.sim.timing import ServoClock
 from simpy.events import NORMAL
-
-from sim.timing import ServoClock
 
 Callback = Callable[[Any], None]
 

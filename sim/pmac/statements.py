@@ -1,6 +1,6 @@
 """Typed statements of the Turbo PMAC command language.
 
-The parser (:mod:`sim.pmac.parser`) turns text into these values; the terminal and the
+The parser (:mod:`motionsim.sim.pmac.parser`) turns text into these values; the terminal and the
 coordinate systems execute them. Two families:
 
 * **on-line commands** act when received (addressing ``&n``/``#n``, buffer management,
@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from sim.pmac.expressions import Expr
+from motionsim.sim.pmac.expressions import Expr
 
 # -- on-line commands -------------------------------------------------------------------------
 

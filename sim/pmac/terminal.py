@@ -27,16 +27,16 @@ from __future__ import annotations
 import re
 from typing import TYPE_CHECKING, Any
 
-from sim.controller import Port
-from sim.errors import MotionSimError, ParseError
-from sim.pmac import plc_statements as plc_st
-from sim.pmac import statements as st
-from sim.pmac.parser import parse_line
-from sim.pmac.program import compile_statements
-from sim.pmac.variables import N_CS, N_MOTORS, format_value
+from motionsim.sim.controller import Port
+from motionsim.sim.errors import MotionSimError, ParseError
+from motionsim.sim.pmac import plc_statements as plc_st
+from motionsim.sim.pmac import statements as st
+from motionsim.sim.pmac.parser import parse_line
+from motionsim.sim.pmac.program import compile_statements
+from motionsim.sim.pmac.variables import N_CS, N_MOTORS, format_value
 
 if TYPE_CHECKING:
-    from sim.pmac.controller import PmacController
+    from motionsim.sim.pmac.controller import PmacController
 
 _OPEN_PLC = re.compile(r"OPEN\s*PLC\s*\d+", re.IGNORECASE)
 
@@ -66,7 +66,7 @@ def _hex_words(*words: int) -> str:
 
 
 class Terminal:
-    """Executes command lines for :class:`sim.pmac.controller.PmacController` ports."""
+    """Executes command lines for :class:`motionsim.sim.pmac.controller.PmacController` ports."""
 
     def __init__(self, ctl: PmacController) -> None:
         self.ctl = ctl

@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
-from sim.errors import NotFound
+from motionsim.sim.errors import NotFound
 
 N_VARS = 8192
 N_CS = 16

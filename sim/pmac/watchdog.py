@@ -15,8 +15,8 @@ positions freeze at the trip instant (no deceleration ramp; a moving CS gets its
 then), its lookahead is dropped and a running program is aborted with ``error="watchdog"``
 (:meth:`sim.pmac.lookahead.CoordSystem.kill`); every M-variable that is not 0 is written 0
 (outputs off, ``mvar`` events); a ``watchdog`` event with the ``reason``; from then on the
-controller answers nothing (:class:`sim.errors.Halted`) and its processor runs no task until
-reset.
+controller answers nothing (:class:`motionsim.sim.errors.Halted`) and its processor runs no task
+until reset.
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from sim.pmac.controller import PmacController
+    from motionsim.sim.pmac.controller import PmacController
 
 #: I40 = 0 selects this many servo cycles (TSRM p57: "4095/4096").
 DEFAULT_LIMIT_CYCLES = 4096

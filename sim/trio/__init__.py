@@ -7,6 +7,6 @@ profiles), ``moves`` (a move and its path), ``axis`` (parameters and position), 
 ``controller`` (``TrioController``).
 """
 
-from sim.trio.controller import TrioController
+from motionsim.sim.trio.controller import TrioController
 
 __all__ = ["TrioController"]

@@ -1,8 +1,8 @@
 """One Trio axis: its profile parameters, its two move buffers, and where it is.
 
 ``mtype`` holds the move executing now (MTYPE), ``ntype`` the next move waiting for it
-(NTYPE); :mod:`sim.trio.buffers` alone moves moves between them. Positions are in user units
-(encoder edges / UNITS). DPOS, ENDMOVE, REMAIN and VP_SPEED are computed from the executing
+(NTYPE); :mod:`motionsim.sim.trio.buffers` alone moves moves between them. Positions are in user
+units (encoder edges / UNITS). DPOS, ENDMOVE, REMAIN and VP_SPEED are computed from the executing
 move's profile at the last servo cycle at or before the instant asked — the axis never wakes
 once per servo period. MPOS equals DPOS (no following error is modelled).
 
@@ -12,23 +12,22 @@ moves that start after it is written (the move executing keeps its profile — a
 of the controller, whose profile generator follows SPEED on the fly).
 
 MERGE (switch, default OFF) and SRAMP (ms, default 0) shape the profile: see
-:mod:`sim.trio.buffers` for when moves merge and :mod:`sim.trio.profile` for the S-ramp; both
-are ``[BK]`` (the TRM pages were not reachable). Like SPEED, they apply to moves that start
-(or, for MERGE, reach NTYPE) after they are written.
+:mod:`motionsim.sim.trio.buffers` for when moves merge and :mod:`motionsim.sim.trio.profile` for
+the S-ramp; both are ``[BK]`` (the TRM pages were not reachable). Like SPEED, they apply to moves
+that start (or, for MERGE, reach NTYPE) after they are written.
 """
 
 from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from sim.errors import InvalidValue
-from sim.timing import ServoClock
-from sim.trio.mtypes import IDLE
+from motionsim.sim.errors import InvalidValue
+from motionsim.sim.timing import ServoClock
+from motionsim.sim.trio.mtypes import IDLE
 
 if TYPE_CHECKING:
     import simpy
-
-    from sim.trio.moves import Move
+    from motionsim.sim.trio.moves import Move
 
 DEFAULTS: dict[str, float] = {
     "speed": 1000.0,
@@ -41,7 +40,7 @@ DEFAULTS: dict[str, float] = {
 }
 
 #: Parameters that may be 0: MERGE is a switch (any non-zero value is ON, ``TRUE`` = -1),
-#: SRAMP a time in ms, 0..250 (``[BK]``, see :mod:`sim.trio.profile`).
+#: SRAMP a time in ms, 0..250 (``[BK]``, see :mod:`motionsim.sim.trio.profile`).
 _SWITCHES = {"merge"}
 SRAMP_MAX_MS = 250.0
 

@@ -57,13 +57,12 @@ from heapq import heappush
 from typing import Any
 
 import simpy
+from motionsim.sim.events import EventLog
+from motionsim.sim.timing import ServoClock
+from motionsim.sim.trio.axis import Axis
+from motionsim.sim.trio.moves import Move
+from motionsim.sim.trio.profile import diverges_at
 from simpy.events import URGENT
-
-from sim.events import EventLog
-from sim.timing import ServoClock
-from sim.trio.axis import Axis
-from sim.trio.moves import Move
-from sim.trio.profile import diverges_at
 
 Placed = str  # "mtype" | "ntype" | "process_buffer"
 

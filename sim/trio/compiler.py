@@ -12,7 +12,7 @@ statement becomes one closure ``op(ctx)`` returning what the driver does next:
 * :data:`HALT` — ``STOP``: the program ends.
 
 Structure errors (NEXT without FOR, IF without ENDIF, unknown label ...) are
-:class:`sim.errors.ParseError` with the line and column of the statement at fault, raised
+:class:`motionsim.sim.errors.ParseError` with the line and column of the statement at fault, raised
 before anything runs. ``costs[pc]`` is 1 for a statement the interpreter executes and 0 for
 the jumps structure adds (an ELSE reached at the end of the THEN branch).
 """
@@ -23,10 +23,10 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from sim.errors import ParseError
-from sim.trio import statements as s
-from sim.trio.basic_errors import GOSUB_DEPTH, RETURN_WITHOUT_GOSUB, BasicError
-from sim.trio.expressions import compile_expr, format_number
+from motionsim.sim.errors import ParseError
+from motionsim.sim.trio import statements as s
+from motionsim.sim.trio.basic_errors import GOSUB_DEPTH, RETURN_WITHOUT_GOSUB, BasicError
+from motionsim.sim.trio.expressions import compile_expr, format_number
 
 Op = Callable[[Any], Any]
 

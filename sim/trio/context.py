@@ -5,7 +5,7 @@ axis group and its own FOR / GOSUB bookkeeping; VR(), TABLE(), the axes and the 
 are the controller's and shared by all processes (spec §2.2, §9.3).
 
 Indices are truncated to integers. Out-of-range VR / TABLE / axis numbers raise a
-:class:`~sim.trio.basic_errors.BasicError`, which stops the process that hit it.
+:class:`~motionsim.sim.trio.basic_errors.BasicError`, which stops the process that hit it.
 """
 
 from __future__ import annotations
@@ -13,16 +13,16 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-from sim.errors import InvalidValue
-from sim.trio import basic_errors as msg
-from sim.trio.basic_errors import BasicError
-from sim.trio.compiler import HALT, Block, WaitFor
-from sim.trio.moves import Move
-from sim.trio.mtypes import axes_driven
-from sim.trio.parameters import AXIS_PARAMS
+from motionsim.sim.errors import InvalidValue
+from motionsim.sim.trio import basic_errors as msg
+from motionsim.sim.trio.basic_errors import BasicError
+from motionsim.sim.trio.compiler import HALT, Block, WaitFor
+from motionsim.sim.trio.moves import Move
+from motionsim.sim.trio.mtypes import axes_driven
+from motionsim.sim.trio.parameters import AXIS_PARAMS
 
 if TYPE_CHECKING:
-    from sim.trio.controller import TrioController
+    from motionsim.sim.trio.controller import TrioController
 
 class _NoLocals(dict):
     """The command line has no local variables (TJ1P-26): reading one is an error."""

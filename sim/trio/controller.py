@@ -21,17 +21,17 @@ import re
 from collections.abc import Mapping
 from typing import Any
 
-from sim.controller import Controller, Port, Reply
-from sim.errors import BufferFull, Conflict, InvalidValue, NotFound
-from sim.timing import ServoClock
-from sim.trio.axis import DEFAULTS, Axis
-from sim.trio.buffers import MotionBuffers, Waiter
-from sim.trio.compiler import Code, compile_program
-from sim.trio.moves import Move
-from sim.trio.mtypes import MTYPE, axes_driven
-from sim.trio.parser import MOVE_ARGS, parse_program
-from sim.trio.process import BasicProcess
-from sim.trio.terminal import CommandLine
+from motionsim.sim.controller import Controller, Port, Reply
+from motionsim.sim.errors import BufferFull, Conflict, InvalidValue, NotFound
+from motionsim.sim.timing import ServoClock
+from motionsim.sim.trio.axis import DEFAULTS, Axis
+from motionsim.sim.trio.buffers import MotionBuffers, Waiter
+from motionsim.sim.trio.compiler import Code, compile_program
+from motionsim.sim.trio.moves import Move
+from motionsim.sim.trio.mtypes import MTYPE, axes_driven
+from motionsim.sim.trio.parser import MOVE_ARGS, parse_program
+from motionsim.sim.trio.process import BasicProcess
+from motionsim.sim.trio.terminal import CommandLine
 
 _CONFIG_DEFAULTS: dict[str, float] = {
     "servo_period_ms": 1.0,

@@ -15,8 +15,8 @@ import math
 from collections.abc import Callable
 from typing import Any
 
-from sim.trio import statements as s
-from sim.trio.basic_errors import DIVIDE_BY_ZERO, BasicError
+from motionsim.sim.trio import statements as s
+from motionsim.sim.trio.basic_errors import DIVIDE_BY_ZERO, BasicError
 
 Eval = Callable[[Any], float]
 
@@ -112,7 +112,7 @@ def compile_expr(node: s.Expr) -> Eval:
     """A closure evaluating ``node`` against a running process' context.
 
     The context provides ``locals`` (dict), ``vr(i)``, ``table(i)`` and
-    ``param(name, axis, proc)``; see :class:`sim.trio.context.Context`.
+    ``param(name, axis, proc)``; see :class:`motionsim.sim.trio.context.Context`.
     """
     if isinstance(node, s.Num):
         v = node.value

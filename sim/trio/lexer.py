@@ -2,7 +2,7 @@
 
 Keywords are case-insensitive (names are upper-cased); ``'`` and ``REM`` start a comment that
 runs to the end of the line; numbers are decimal (``1.5``, ``.5``, ``2e3``) or ``$`` hex
-(``$FF``). A character no token matches is a :class:`sim.errors.ParseError` at its column.
+(``$FF``). A character no token matches is a :class:`motionsim.sim.errors.ParseError` at its column.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from __future__ import annotations
 import re
 from typing import NamedTuple
 
-from sim.errors import ParseError
+from motionsim.sim.errors import ParseError
 
 _TOKEN = re.compile(
     r"""

@@ -18,11 +18,11 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-from sim.trio.mtypes import MTYPE
-from sim.trio.profile import Profile, endless, plan, trapezoid
+from motionsim.sim.trio.mtypes import MTYPE
+from motionsim.sim.trio.profile import Profile, endless, plan, trapezoid
 
 if TYPE_CHECKING:
-    from sim.trio.axis import Axis
+    from motionsim.sim.trio.axis import Axis
 
 
 class Move:

@@ -1,4 +1,4 @@
-"""Trio BASIC text -> typed statements (:mod:`sim.trio.statements`).
+"""Trio BASIC text -> typed statements (:mod:`motionsim.sim.trio.statements`).
 
 One source line holds an optional label (``name:`` as its first item) and statements
 separated by ``:``. ``IF c THEN`` ending a line opens a block closed by ``ENDIF``; with
@@ -7,17 +7,17 @@ precedence follows the manual (spec §9.2), highest first: unary ``-`` and ``NOT
 ``*`` ``/``; ``MOD``; ``+`` ``-``; comparisons; ``AND`` ``OR`` ``XOR``; equal precedence
 left to right.
 
-Errors raise :class:`sim.errors.ParseError` with the 1-based ``line`` and ``column``; the
-structure of blocks (FOR/NEXT, IF/ENDIF, labels) is checked by :mod:`sim.trio.compiler`.
+Errors raise :class:`motionsim.sim.errors.ParseError` with the 1-based ``line`` and ``column``; the
+structure of blocks (FOR/NEXT, IF/ENDIF, labels) is checked by :mod:`motionsim.sim.trio.compiler`.
 """
 
 from __future__ import annotations
 
-from sim.errors import ParseError
-from sim.trio import statements as s
-from sim.trio.expressions import FUNCTIONS
-from sim.trio.lexer import Token, tokenize
-from sim.trio.parameters import ALL_PARAMS, AXIS_WRITABLE, CONSTANTS
+from motionsim.sim.errors import ParseError
+from motionsim.sim.trio import statements as s
+from motionsim.sim.trio.expressions import FUNCTIONS
+from motionsim.sim.trio.lexer import Token, tokenize
+from motionsim.sim.trio.parameters import ALL_PARAMS, AXIS_WRITABLE, CONSTANTS
 
 #: Motion commands that enter the buffers, with the argument counts they accept.
 MOVE_ARGS: dict[str, tuple[int, int]] = {

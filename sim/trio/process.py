@@ -11,7 +11,7 @@ Waiting, without a SimPy event per servo period:
 
 * a move line whose process buffer is full: the process emits ``process`` ``blocked`` with
   ``blocked_on`` (the line's text) and waits — even if only for one servo period — until
-  :mod:`sim.trio.buffers` has placed its move, then emits ``running`` and goes on;
+  :mod:`motionsim.sim.trio.buffers` has placed its move, then emits ``running`` and goes on;
 * ``WAIT IDLE`` / ``WAIT LOADED``: woken by the buffer change that satisfies it;
 * ``WAIT UNTIL c``: ``c`` is re-tested once per servo period (spec §1.6 ``[BK]``);
 * ``WA(ms)``: a timeout.
@@ -20,7 +20,8 @@ Waiting, without a SimPy event per servo period:
 (``process``, ``text``) — an event type of the Trio kind beyond API.md's table.
 
 A runtime error stops this process only: a ``process`` event with ``state`` ``stopped``, the
-``line`` and an ``error`` message in the controller's style (:mod:`sim.trio.basic_errors`).
+``line`` and an ``error`` message in the controller's style
+(:mod:`motionsim.sim.trio.basic_errors`).
 """
 
 from __future__ import annotations
@@ -28,14 +29,13 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 import simpy
-
-from sim.trio.basic_errors import BasicError, error_line
-from sim.trio.buffers import Waiter, schedule_at
-from sim.trio.compiler import HALT, Block, Code, Poll, Sleep, WaitFor
-from sim.trio.context import Context
+from motionsim.sim.trio.basic_errors import BasicError, error_line
+from motionsim.sim.trio.buffers import Waiter, schedule_at
+from motionsim.sim.trio.compiler import HALT, Block, Code, Poll, Sleep, WaitFor
+from motionsim.sim.trio.context import Context
 
 if TYPE_CHECKING:
-    from sim.trio.controller import TrioController
+    from motionsim.sim.trio.controller import TrioController
 
 
 class BasicProcess:

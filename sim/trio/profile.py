@@ -18,7 +18,7 @@ below A. A trapezoid move that reaches SPEED therefore lasts exactly SRAMP longe
 SRAMP = 0 (the same figure a moving-average filter of SRAMP on the speed gives). SRAMP = 0 is
 today's trapezoid. A CANCEL ramps down at constant DECEL (no S on the stop, ``[INF]``).
 
-Merged moves (see :mod:`sim.trio.buffers`) start at the speed the previous move ended with
+Merged moves (see :mod:`motionsim.sim.trio.buffers`) start at the speed the previous move ended with
 (``v0``) and, when the next move is merged onto them, end at speed (``stop=False``): no
 deceleration at their end. If a move cannot stop within its length from ``v0`` at DECEL, it
 decelerates over its whole length at the rate that stops it exactly at the end (``[INF]``:

@@ -6,16 +6,16 @@ moves a virtual clock): ``? MTYPE AXIS(0)`` answers ``1.0000`` (four decimals, s
 
 A move that cannot be buffered — process 0's process buffer is full — **locks the terminal**
 (TN20: the terminal "locks up" until the process buffer becomes free): the command's
-:class:`~sim.controller.Reply` stays pending, a ``terminal`` event reports ``locked: true``,
-process 0 is ``blocked`` on the line, and every later command queues behind it. When the move
-is buffered the rest of the line runs, the reply completes (a ``terminal_reply`` event with
+:class:`~motionsim.sim.controller.Reply` stays pending, a ``terminal`` event reports ``locked:
+true``, process 0 is ``blocked`` on the line, and every later command queues behind it. When the
+move is buffered the rest of the line runs, the reply completes (a ``terminal_reply`` event with
 ``command``, ``reply``, ``error``), ``terminal`` ``locked: false`` follows, and the queued
 commands run in order — each may lock the terminal again. Every command that was answered
 pending gets its ``terminal_reply`` event.
 
 Replies: printed lines joined with ``"\\r\\n"`` (no prompt, no echo — the telnet adapter adds
 those). Errors: ``error`` holds the message in the controller's ``%[Process 0:Line 0] - ...``
-style (``[BK]``, :mod:`sim.trio.basic_errors`). Program-only statements (``WAIT``, ``WA``)
+style (``[BK]``, :mod:`motionsim.sim.trio.basic_errors`). Program-only statements (``WAIT``, ``WA``)
 are refused; local variables cannot be used at the command line (TJ1P-26).
 """
 
@@ -24,17 +24,17 @@ from __future__ import annotations
 from collections import deque
 from typing import TYPE_CHECKING, Any
 
-from sim.controller import Reply
-from sim.errors import ParseError
-from sim.trio import basic_errors as msg
-from sim.trio.basic_errors import BasicError, error_line
-from sim.trio.buffers import Waiter
-from sim.trio.compiler import HALT, Block, Code, compile_program
-from sim.trio.context import Context
-from sim.trio.parser import parse_program
+from motionsim.sim.controller import Reply
+from motionsim.sim.errors import ParseError
+from motionsim.sim.trio import basic_errors as msg
+from motionsim.sim.trio.basic_errors import BasicError, error_line
+from motionsim.sim.trio.buffers import Waiter
+from motionsim.sim.trio.compiler import HALT, Block, Code, compile_program
+from motionsim.sim.trio.context import Context
+from motionsim.sim.trio.parser import parse_program
 
 if TYPE_CHECKING:
-    from sim.trio.controller import TrioController
+    from motionsim.sim.trio.controller import TrioController
 
 #: Operations a single command line may execute (a FOR loop typed with ``:`` included).
 MAX_STEPS = 100_000

@@ -8,8 +8,8 @@ from collections.abc import AsyncIterator
 
 import httpx
 import pytest
+from motionsim.api.main import create_app
 
-from api.main import create_app
 from tests.conftest import dummy_settings, rest_client
 
 FAST = {"speed": 1000.0, "accel": 100000.0, "decel": 100000.0}

@@ -5,8 +5,8 @@ from __future__ import annotations
 import json
 
 import pytest
+from motionsim.api.main import create_app
 
-from api.main import create_app
 from tests.conftest import dummy_settings, rest_client
 
 pytestmark = pytest.mark.anyio

@@ -3,8 +3,7 @@
 from __future__ import annotations
 
 import pytest
-
-from app.settings import Settings
+from motionsim.app.settings import Settings
 
 pytestmark = pytest.mark.anyio
 

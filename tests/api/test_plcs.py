@@ -5,9 +5,9 @@ from __future__ import annotations
 import asyncio
 
 import pytest
+from motionsim.api.pmac_ethernet.protocol import getresponse
+from motionsim.api.pmac_ethernet.server import serve_pmac
 
-from api.pmac_ethernet.protocol import getresponse
-from api.pmac_ethernet.server import serve_pmac
 from tests.api.wire_helpers import connect, serving
 
 pytestmark = pytest.mark.anyio

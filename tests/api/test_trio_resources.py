@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import pytest
+from motionsim.api.main import create_app
 
-from api.main import create_app
 from tests.api.conftest import FAST, clock_t
 from tests.conftest import dummy_settings, rest_client
 

@@ -7,9 +7,9 @@ import threading
 
 import pytest
 from fastapi.testclient import TestClient
+from motionsim.api.main import create_app
 from starlette.websockets import WebSocketDisconnect
 
-from api.main import create_app
 from tests.conftest import dummy_settings
 
 

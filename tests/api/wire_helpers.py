@@ -10,9 +10,10 @@ from contextlib import asynccontextmanager
 from pathlib import Path
 from typing import Any, NamedTuple, TypeVar
 
+from motionsim.app.recorder import Recorder
+from motionsim.app.registry import ControllerHandle, Registry
+
 import tests.api.wire_standins  # noqa: F401 - registers the stand-in kinds
-from app.recorder import Recorder
-from app.registry import ControllerHandle, Registry
 
 T = TypeVar("T")
 Serve = Callable[..., Awaitable[asyncio.Server]]

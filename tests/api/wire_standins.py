@@ -12,9 +12,9 @@ import re
 from collections.abc import Mapping
 from typing import Any
 
-from app.kinds import register_kind
-from sim.controller import Controller, Port, Reply
-from sim.errors import Halted, NotFound
+from motionsim.app.kinds import register_kind
+from motionsim.sim.controller import Controller, Port, Reply
+from motionsim.sim.errors import Halted, NotFound
 
 _IVAR = re.compile(r"^I(\d+)(?:=(-?\d+))?$", re.I)
 

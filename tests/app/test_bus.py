@@ -6,9 +6,8 @@ import asyncio
 
 import pytest
 import simpy
-
-from app.bus import Cursor
-from sim.events import EventLog
+from motionsim.app.bus import Cursor
+from motionsim.sim.events import EventLog
 
 
 def _log(capacity=100_000):

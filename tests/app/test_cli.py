@@ -95,7 +95,7 @@ def _stop(served):
 
 CLIENT = textwrap.dedent("""
     import json, sys, time
-    from app.client import MotionSimClient
+    from motionsim.app.client import MotionSimClient
     ms = MotionSimClient(sys.argv[1])
     for _ in range(200):
         if ms.health():

@@ -3,8 +3,7 @@
 from __future__ import annotations
 
 import pytest
-
-from app.client import LinesAccepted, MotionSimHTTPError, TerminalReply
+from motionsim.app.client import LinesAccepted, MotionSimHTTPError, TerminalReply
 
 
 def test_pmac_rotary_stream_through_the_client(motionsim):

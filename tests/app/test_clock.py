@@ -10,10 +10,9 @@ from contextlib import asynccontextmanager
 
 import pytest
 import simpy
-
-from app.clock import RealtimeClock, VirtualClock, make_clock, run_env_to
-from sim.errors import Conflict, InvalidValue
-from sim.events import EventLog
+from motionsim.app.clock import RealtimeClock, VirtualClock, make_clock, run_env_to
+from motionsim.sim.errors import Conflict, InvalidValue
+from motionsim.sim.events import EventLog
 
 
 def _ticker(env, log, period, name="tick"):

@@ -8,11 +8,11 @@ import sys
 import types
 
 import pytest
+from motionsim.app import listeners as L
+from motionsim.app.registry import Registry
+from motionsim.app.settings import Settings
 
 import tests.dummy_kind  # noqa: F401
-from app import listeners as L
-from app.registry import Registry
-from app.settings import Settings
 
 
 @pytest.fixture

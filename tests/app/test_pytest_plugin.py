@@ -5,10 +5,10 @@ from __future__ import annotations
 import json
 
 import pytest
+from motionsim.app.client import MotionSimHTTPError
+from motionsim.app.settings import Settings
 
 import tests.dummy_kind  # noqa: F401
-from app.client import MotionSimHTTPError
-from app.settings import Settings
 
 
 @pytest.fixture
@@ -58,8 +58,8 @@ def test_protocol_ports_are_reported_when_enabled(pytester):
     pytester.makeconftest("""
         import asyncio, pytest
         import sys, types
-        from app import listeners as L
-        from app.settings import Settings
+        from motionsim.app import listeners as L
+        from motionsim.app.settings import Settings
         import tests.dummy_kind
 
         @pytest.fixture(autouse=True)

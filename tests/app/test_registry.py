@@ -5,11 +5,11 @@ from __future__ import annotations
 import asyncio
 
 import pytest
+from motionsim.app.clock import RealtimeClock, VirtualClock
+from motionsim.app.registry import Registry
+from motionsim.sim.errors import Conflict, InvalidValue, NotFound
 
 import tests.dummy_kind  # noqa: F401
-from app.clock import RealtimeClock, VirtualClock
-from app.registry import Registry
-from sim.errors import Conflict, InvalidValue, NotFound
 
 
 def test_get_unknown_id_raises_not_found_naming_it():

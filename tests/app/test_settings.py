@@ -5,11 +5,11 @@ from __future__ import annotations
 import logging
 
 import pytest
+from motionsim.app.service import build_registry
+from motionsim.app.settings import Settings, build_settings
 from pydantic import ValidationError
 
 import tests.dummy_kind  # noqa: F401
-from app.service import build_registry
-from app.settings import Settings, build_settings
 
 
 def test_defaults_are_the_documented_ones():
@@ -39,7 +39,7 @@ def test_bad_settings_are_rejected(data):
 
 
 def test_default_controllers_skip_kinds_that_are_not_installed(caplog, monkeypatch):
-    import app.service as service
+    import motionsim.app.service as service
 
     monkeypatch.setattr(service, "kinds", lambda: {"trio": object})
     with caplog.at_level(logging.WARNING):
@@ -49,7 +49,7 @@ def test_default_controllers_skip_kinds_that_are_not_installed(caplog, monkeypat
 
 
 def test_explicit_controller_with_unknown_kind_is_an_error():
-    from sim.errors import InvalidValue
+    from motionsim.sim.errors import InvalidValue
 
     with pytest.raises(InvalidValue):
         build_registry(Settings(controllers=[{"id": "a", "kind": "zz"}]))

@@ -5,8 +5,7 @@ from __future__ import annotations
 import socket
 
 import pytest
-
-from app.sockets import bind_tcp
+from motionsim.app.sockets import bind_tcp
 
 
 def test_bound_socket_is_tcp_so_connections_get_nodelay():

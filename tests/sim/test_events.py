@@ -1,8 +1,7 @@
 """The event log: seq from 1 without holes, simulated timestamps, bounded ring with gaps."""
 
 import simpy
-
-from sim.events import EventLog
+from motionsim.sim.events import EventLog
 
 
 def make_log(capacity: int = 100_000) -> tuple[simpy.Environment, EventLog]:

@@ -7,8 +7,7 @@ EPICS pmacAsynIPPort wire behaviour).
 import struct
 
 import pytest
-
-from api.pmac_ethernet.protocol import (
+from motionsim.api.pmac_ethernet.protocol import (
     ACK_BYTE,
     EMPTY,
     MAX_REPLY,

@@ -3,8 +3,7 @@ request decoded gets an answer. At least 10 000 generated frames (1 000 examples
 
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-
-from api.pmac_ethernet.protocol import (
+from motionsim.api.pmac_ethernet.protocol import (
     EXECUTES,
     MAX_PAYLOAD,
     MAX_REPLY,

@@ -9,9 +9,9 @@ from __future__ import annotations
 import asyncio
 
 import pytest
+from motionsim.api.pmac_ethernet.protocol import VR, VR_DOWNLOAD, getresponse, pack_request
+from motionsim.api.pmac_ethernet.server import serve_pmac
 
-from api.pmac_ethernet.protocol import VR, VR_DOWNLOAD, getresponse, pack_request
-from api.pmac_ethernet.server import serve_pmac
 from tests.api.wire_helpers import connect, run_served
 
 TIMEOUT = 2.0

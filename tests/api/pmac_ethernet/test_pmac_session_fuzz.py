@@ -8,10 +8,15 @@ import asyncio
 
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-
-from api.pmac_ethernet.protocol import VR, VR_DOWNLOAD, VR_UPLOAD, ProtocolError, pack_request
-from api.pmac_ethernet.server import PmacSession
-from app.registry import Registry
+from motionsim.api.pmac_ethernet.protocol import (
+    VR,
+    VR_DOWNLOAD,
+    VR_UPLOAD,
+    ProtocolError,
+    pack_request,
+)
+from motionsim.api.pmac_ethernet.server import PmacSession
+from motionsim.app.registry import Registry
 
 WORDS = ["I16", "I17=3", "P1=2", "&1", "&2", "#1", "DEFINE ROT 50", "OPEN ROT", "CLOSE", "X1",
          "Y2.5", "B0", "R", "Q", "A", "PR", "??", "?", "???", "M1==1", "DWELL 10", "TM 5",

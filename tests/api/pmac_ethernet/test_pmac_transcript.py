@@ -7,11 +7,12 @@ import asyncio
 import json
 from pathlib import Path
 
-from api.pmac_ethernet.protocol import VR, VR_DOWNLOAD, getresponse, pack_request
-from api.pmac_ethernet.server import serve_pmac
-from app.recorder import read_transcript
-from app.replay import main as replay_main
-from app.replay import replay
+from motionsim.api.pmac_ethernet.protocol import VR, VR_DOWNLOAD, getresponse, pack_request
+from motionsim.api.pmac_ethernet.server import serve_pmac
+from motionsim.app.recorder import read_transcript
+from motionsim.app.replay import main as replay_main
+from motionsim.app.replay import replay
+
 from tests.api.wire_helpers import connect, serving
 
 

@@ -6,8 +6,7 @@ from __future__ import annotations
 import struct
 
 import pytest
-
-from api.trio_modbus.protocol import (
+from motionsim.api.trio_modbus.protocol import (
     NEED_DATA,
     ModbusCodec,
     ProtocolError,
@@ -15,7 +14,8 @@ from api.trio_modbus.protocol import (
     Rejected,
     to_register,
 )
-from api.trio_modbus.server import serve_modbus
+from motionsim.api.trio_modbus.server import serve_modbus
+
 from tests.api.wire_helpers import run_served
 
 

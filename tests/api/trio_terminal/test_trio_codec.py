@@ -5,8 +5,7 @@ Facts: spec trio.md §0.10–0.11, §3.1, §9.9 (prompt ``>>``, reply on the nex
 
 from hypothesis import given, settings
 from hypothesis import strategies as st
-
-from api.trio_terminal.protocol import (
+from motionsim.api.trio_terminal.protocol import (
     DO,
     DONT,
     IAC,

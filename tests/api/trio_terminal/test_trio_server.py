@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import asyncio
 
-from api.trio_terminal.server import serve_trio
+from motionsim.api.trio_terminal.server import serve_trio
+
 from tests.api.wire_helpers import connect, run_served
 
 TIMEOUT = 2.0

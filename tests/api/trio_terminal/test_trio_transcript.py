@@ -6,12 +6,12 @@ from __future__ import annotations
 import asyncio
 from pathlib import Path
 
+from motionsim.api.trio_terminal.server import serve_trio
+from motionsim.app.cli import cli
+from motionsim.app.recorder import read_transcript
+from motionsim.app.replay import replay
 from typer.testing import CliRunner
 
-from api.trio_terminal.server import serve_trio
-from app.cli import cli
-from app.recorder import read_transcript
-from app.replay import replay
 from tests.api.wire_helpers import connect, serving
 
 

@@ -3,8 +3,7 @@
 from __future__ import annotations
 
 import simpy
-
-from sim.events import EventLog
+from motionsim.sim.events import EventLog
 
 
 class Feed:

@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import pytest
+from motionsim.app.scenarios.cpu_metrics import cpu_metrics, cpu_trace
+from motionsim.app.scenarios.diagnosis import diagnose_watchdog
+from motionsim.app.scenarios.report import pmac_report
 
-from app.scenarios.cpu_metrics import cpu_metrics, cpu_trace
-from app.scenarios.diagnosis import diagnose_watchdog
-from app.scenarios.report import pmac_report
 from tests.app.scenarios.logbuilder import Feed
 
 SERVO = 442.7e-6

@@ -6,11 +6,10 @@ import struct
 from pathlib import Path
 
 import pytest
-
-from app.scenarios.model import load_scenario, parse_scenario
-from app.scenarios.outputs import write_outputs
-from app.scenarios.report import report
-from app.scenarios.runner import run
+from motionsim.app.scenarios.model import load_scenario, parse_scenario
+from motionsim.app.scenarios.outputs import write_outputs
+from motionsim.app.scenarios.report import report
+from motionsim.app.scenarios.runner import run
 
 EXAMPLES = Path(__file__).resolve().parents[3] / "examples" / "scenarios"
 

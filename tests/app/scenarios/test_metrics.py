@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import pytest
+from motionsim.app.scenarios.report import pmac_report, trio_report
 
-from app.scenarios.report import pmac_report, trio_report
 from tests.app.scenarios.logbuilder import Feed
 
 

@@ -6,9 +6,8 @@ import random
 import textwrap
 
 import pytest
-
-from app.scenarios.errors import ScenarioError
-from app.scenarios.model import load_scenario, loads_scenario
+from motionsim.app.scenarios.errors import ScenarioError
+from motionsim.app.scenarios.model import load_scenario, loads_scenario
 
 GOOD = """\
 name: ok

@@ -6,10 +6,9 @@ from __future__ import annotations
 import textwrap
 
 import pytest
-
-from app.scenarios.errors import ScenarioError
-from app.scenarios.model import loads_scenario
-from app.scenarios.runner import run
+from motionsim.app.scenarios.errors import ScenarioError
+from motionsim.app.scenarios.model import loads_scenario
+from motionsim.app.scenarios.runner import run
 
 HEAD = """\
 name: plcs

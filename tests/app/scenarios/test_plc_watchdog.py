@@ -12,13 +12,12 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-
-from app.scenarios.model import load_scenario, parse_scenario
-from app.scenarios.outputs import write_outputs
-from app.scenarios.plots import _card_marks
-from app.scenarios.report import report
-from app.scenarios.runner import run
-from sim.timing import pmac_servo_period_s
+from motionsim.app.scenarios.model import load_scenario, parse_scenario
+from motionsim.app.scenarios.outputs import write_outputs
+from motionsim.app.scenarios.plots import _card_marks
+from motionsim.app.scenarios.report import report
+from motionsim.app.scenarios.runner import run
+from motionsim.sim.timing import pmac_servo_period_s
 
 EXAMPLE = Path(__file__).resolve().parents[3] / "examples" / "scenarios" / "plc0_watchdog.yaml"
 
@@ -203,7 +202,7 @@ def test_same_seed_same_log(example):
 
 def test_i40_sets_the_trip_time_in_a_sweep():
     """A sweep over I40: each servo cycle of I40 moves the trip by one servo cycle."""
-    from app.scenarios.sweep import Param, portable_raw, sweep
+    from motionsim.app.scenarios.sweep import Param, portable_raw, sweep
 
     raw = portable_raw(load_scenario(EXAMPLE))  # PLC files inlined: no file needed to run
     raw = dict(raw, duration_s=1.5, controllers={"long_plc0": raw["controllers"]["long_plc0"]},
@@ -218,9 +217,8 @@ def test_i40_sets_the_trip_time_in_a_sweep():
 
 
 def test_the_summary_compares_the_cards_processors_and_says_what_stopped(example):
+    from motionsim.app.scenarios.summary import print_summary, summary_tables
     from rich.console import Console
-
-    from app.scenarios.summary import print_summary, summary_tables
 
     _, rep = example
     (cpu,) = [t for t in summary_tables(rep) if str(t.title).endswith("PMAC processor")]

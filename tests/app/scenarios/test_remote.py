@@ -3,11 +3,11 @@ short run on 127.0.0.1, simulated time 10x the wall clock)."""
 
 from __future__ import annotations
 
-from app.client import MotionSimClient
-from app.embedded import EmbeddedService
-from app.scenarios.model import loads_scenario
-from app.scenarios.remote import play
-from app.settings import Settings
+from motionsim.app.client import MotionSimClient
+from motionsim.app.embedded import EmbeddedService
+from motionsim.app.scenarios.model import loads_scenario
+from motionsim.app.scenarios.remote import play
+from motionsim.app.settings import Settings
 
 SCENARIO = """\
 name: remote

@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import pytest
+from motionsim.app.scenarios.errors import ScenarioError
+from motionsim.app.scenarios.model import loads_scenario
+from motionsim.app.scenarios.runner import host_rng, run
 
-from app.scenarios.errors import ScenarioError
-from app.scenarios.model import loads_scenario
-from app.scenarios.runner import host_rng, run
 from tests.app.scenarios.fragments import breq_stream
 
 BASE = breq_stream("name: faults\nduration_s: 0.3\n", latency="1", moves=400, host="h")
@@ -17,7 +17,7 @@ def test_host_stall_fault_starves_the_program_for_its_length():
         BASE + "faults:\n  - {type: host_stall, host: h, at_ms: 100, duration_ms: 50}\n"
     )
     result = run(scn)
-    from app.scenarios.report import report
+    from motionsim.app.scenarios.report import report
 
     rep = report(result)
     (s,) = rep["starvations"]
@@ -64,7 +64,7 @@ def test_each_host_has_its_own_stream_of_draws():
 
 
 def test_a_too_small_log_is_reported_not_hidden():
-    from app.scenarios.report import report
+    from motionsim.app.scenarios.report import report
 
     scn = loads_scenario(BASE + "log_capacity: 1000\n")
     rep = report(run(scn))

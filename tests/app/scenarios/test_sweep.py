@@ -5,12 +5,12 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from motionsim.app.cli import cli
+from motionsim.app.scenarios import sweep as sw
+from motionsim.app.scenarios.errors import ScenarioError
+from motionsim.app.scenarios.model import loads_scenario
 from typer.testing import CliRunner
 
-from app.cli import cli
-from app.scenarios import sweep as sw
-from app.scenarios.errors import ScenarioError
-from app.scenarios.model import loads_scenario
 from tests.app.scenarios.fragments import breq_stream
 
 SMALL = breq_stream(
@@ -141,7 +141,7 @@ def test_files_are_inlined_for_remote_workers(tmp_path):
     text = SMALL.replace("{dist: normal, mean_ms: 4, sd_ms: 1}", "{dist: empirical, file: lat.txt}")
     text = text.replace("generate: {moves: 200, move_ms: 1, axes: 2}", "file: prog.pmc")
     (tmp_path / "s.yaml").write_text(text)
-    from app.scenarios.model import load_scenario, parse_scenario
+    from motionsim.app.scenarios.model import load_scenario, parse_scenario
 
     raw = sw.portable_raw(load_scenario(tmp_path / "s.yaml"))
     assert raw["hosts"][0]["latency"]["samples_ms"] == [1.0, 2.0]

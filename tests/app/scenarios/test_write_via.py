@@ -6,11 +6,10 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-
-from app.scenarios.errors import ScenarioError
-from app.scenarios.model import load_scenario, parse_scenario
-from app.scenarios.report import report
-from app.scenarios.runner import run
+from motionsim.app.scenarios.errors import ScenarioError
+from motionsim.app.scenarios.model import load_scenario, parse_scenario
+from motionsim.app.scenarios.report import report
+from motionsim.app.scenarios.runner import run
 
 EXAMPLE = Path(__file__).resolve().parents[3] / "examples" / "scenarios" / "write_via_terminal.yaml"
 

@@ -12,9 +12,8 @@ from collections import deque
 from dataclasses import dataclass
 
 import simpy
-
-from sim.errors import BufferFull
-from sim.events import EventLog
+from motionsim.sim.errors import BufferFull
+from motionsim.sim.events import EventLog
 
 
 @dataclass

@@ -6,8 +6,7 @@ import random
 import statistics
 
 import pytest
-
-from sim.hosts.distributions import Delay, empirical, fixed
+from motionsim.sim.hosts.distributions import Delay, empirical, fixed
 
 
 def draws(d: Delay, n: int = 4000, seed: int = 1) -> list[float]:

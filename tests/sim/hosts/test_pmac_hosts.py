@@ -5,8 +5,9 @@ from __future__ import annotations
 
 import random
 
-from app.scenarios.report import pmac_report
-from sim.hosts import BreqInterruptHost, Delay, NaiveHost, PrPollingHost, fixed
+from motionsim.app.scenarios.report import pmac_report
+from motionsim.sim.hosts import BreqInterruptHost, Delay, NaiveHost, PrPollingHost, fixed
+
 from tests.sim.hosts.fake_pmac import FakePmac
 
 LINES = [f"X{k}" for k in range(1, 401)]

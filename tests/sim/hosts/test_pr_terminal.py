@@ -7,9 +7,8 @@ from __future__ import annotations
 import random
 
 import pytest
-
-from sim.hosts import CpuMonitor, PrPollingHost, fixed
-from sim.pmac import PmacController
+from motionsim.sim.hosts import CpuMonitor, PrPollingHost, fixed
+from motionsim.sim.pmac import PmacController
 
 MOVES = ["LINEAR", "ABS", "TA2", "TS0", "TM2", *(f"X{k}" for k in range(1, 2001))]
 

@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from app.scenarios.report import trio_report
-from sim.hosts import BlindFeeder, MovesBufferedFeeder, NtypeFeeder
-from sim.hosts.trio import Move, interleave, moves_buffered
-from sim.trio import TrioController
+from motionsim.app.scenarios.report import trio_report
+from motionsim.sim.hosts import BlindFeeder, MovesBufferedFeeder, NtypeFeeder
+from motionsim.sim.hosts.trio import Move, interleave, moves_buffered
+from motionsim.sim.trio import TrioController
 
 PER_AXIS = {0: [10] * 5, 1: [100] * 5}  # axis 0: 0.1 s moves, axis 1: 1 s moves
 

@@ -8,9 +8,8 @@ from __future__ import annotations
 import random
 
 import pytest
-
-from sim.hosts import BreqInterruptHost, NaiveHost, PrPollingHost
-from sim.pmac import PmacController
+from motionsim.sim.hosts import BreqInterruptHost, NaiveHost, PrPollingHost
+from motionsim.sim.pmac import PmacController
 
 MOVES = ["LINEAR", "ABS", "TA2", "TS0", "TM2", *(f"X{k}" for k in range(1, 401))]
 

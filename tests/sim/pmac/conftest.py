@@ -9,9 +9,8 @@ from __future__ import annotations
 from typing import Any
 
 import pytest
-
-from sim.controller import Port, Reply
-from sim.pmac import PmacController
+from motionsim.sim.controller import Port, Reply
+from motionsim.sim.pmac import PmacController
 
 
 class Rig:

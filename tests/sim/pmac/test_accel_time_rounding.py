@@ -6,8 +6,7 @@ from __future__ import annotations
 import math
 
 import pytest
-
-from sim.pmac import motion
+from motionsim.sim.pmac import motion
 
 
 @pytest.mark.parametrize(

@@ -3,9 +3,8 @@
 from __future__ import annotations
 
 import pytest
-
-from sim.errors import InvalidValue, NotFound
-from sim.pmac import PmacController
+from motionsim.sim.errors import InvalidValue, NotFound
+from motionsim.sim.pmac import PmacController
 
 
 def test_config_keys_are_lower_case_i_variables(make_rig):

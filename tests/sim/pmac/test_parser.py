@@ -5,12 +5,11 @@ from __future__ import annotations
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as hs
-
-from sim.errors import ParseError
-from sim.pmac import statements as st
-from sim.pmac.parser import parse_line
-from sim.pmac.program import compile_line
-from sim.pmac.variables import Variables
+from motionsim.sim.errors import ParseError
+from motionsim.sim.pmac import statements as st
+from motionsim.sim.pmac.parser import parse_line
+from motionsim.sim.pmac.program import compile_line
+from motionsim.sim.pmac.variables import Variables
 
 
 def kinds(text, open_=False):

@@ -7,8 +7,7 @@ the RTI; I5 (Turbo default 1) permits the classes. Times in servo cycles (``rig.
 from __future__ import annotations
 
 import pytest
-
-from sim.errors import Conflict, ParseError
+from motionsim.sim.errors import Conflict, ParseError
 
 
 def enter(rig, *lines: str, n: int = 1) -> None:

@@ -3,8 +3,7 @@
 from __future__ import annotations
 
 import pytest
-
-from sim.errors import BufferFull, Conflict, NotFound, ParseError
+from motionsim.sim.errors import BufferFull, Conflict, NotFound, ParseError
 
 
 def test_the_manuals_define_rot_procedure_works(rig):

@@ -13,9 +13,8 @@ import contextlib
 from hypothesis import settings
 from hypothesis import strategies as hs
 from hypothesis.stateful import RuleBasedStateMachine, invariant, rule
-
-from sim.errors import BufferFull
-from sim.pmac import PmacController
+from motionsim.sim.errors import BufferFull
+from motionsim.sim.pmac import PmacController
 
 LINES = ["TM20 TA10 TS0 X1", "X2 Y1", "M1==1", "DWELL5", "DELAY5", "P1=P1+1", "INC X1",
          "ABS", "RAPID X0", "LINEAR", "CIRCLE1 I1", "M2=1"]

@@ -7,7 +7,7 @@ from __future__ import annotations
 import gc
 import sys
 
-from sim.pmac import PmacController
+from motionsim.sim.pmac import PmacController
 
 
 def test_a_600_word_buffer_streams_100k_lines_with_a_breq_host_and_flat_memory():

@@ -8,8 +8,7 @@ stops and will not communicate until the power is cycled.
 from __future__ import annotations
 
 import pytest
-
-from sim.errors import Halted
+from motionsim.sim.errors import Halted
 
 
 def oversized_plc0(rig) -> int:

@@ -7,8 +7,7 @@ Profiles used throughout: SPEED 1000, ACCEL = DECEL = 100 000 units/s², so a mo
 from __future__ import annotations
 
 import pytest
-
-from sim.trio import TrioController
+from motionsim.sim.trio import TrioController
 
 FAST = {"speed": 1000.0, "accel": 100_000.0, "decel": 100_000.0}
 

@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import pytest
+from motionsim.sim.errors import BufferFull, InvalidValue
 
-from sim.errors import BufferFull, InvalidValue
 from tests.sim.trio.conftest import cycle, fields, make, run_to
 
 

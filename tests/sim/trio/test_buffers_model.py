@@ -15,8 +15,8 @@ from __future__ import annotations
 from hypothesis import settings
 from hypothesis import strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, invariant, rule
+from motionsim.sim.errors import BufferFull
 
-from sim.errors import BufferFull
 from tests.sim.trio.conftest import cycle, fields, make, run_to
 
 AXES = 3

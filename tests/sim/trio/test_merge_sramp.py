@@ -1,10 +1,10 @@
 """MERGE and SRAMP on the Trio profile generator, in virtual time on the event log.
 
 Sources: neither TRM page was reachable (spec §1.6, §9.7, §9.11 ``[BK]``); the rules tested
-are the ones written down in :mod:`sim.trio.buffers` (MERGE: with MERGE ON on the base axis
-and the next move loaded in NTYPE, the axis does not ramp down to zero between the moves) and
-:mod:`sim.trio.profile` (SRAMP: ms over which the acceleration ramps to ACCEL / DECEL; a move
-that reaches SPEED lasts SRAMP longer).
+are the ones written down in :mod:`motionsim.sim.trio.buffers` (MERGE: with MERGE ON on the base
+axis and the next move loaded in NTYPE, the axis does not ramp down to zero between the moves) and
+:mod:`motionsim.sim.trio.profile` (SRAMP: ms over which the acceleration ramps to ACCEL / DECEL; a
+move that reaches SPEED lasts SRAMP longer).
 
 Axis settings (conftest): SPEED 1000, ACCEL = DECEL = 100 000, servo period 1 ms. A MOVE(100)
 from rest to rest takes 110 periods: 10 ramping up (5 units), 90 cruising, 10 ramping down.
@@ -15,8 +15,8 @@ from __future__ import annotations
 import math
 
 import pytest
+from motionsim.sim.errors import InvalidValue
 
-from sim.errors import InvalidValue
 from tests.sim.trio.conftest import cycle, fields, make, run_to
 
 

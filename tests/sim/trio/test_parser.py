@@ -5,11 +5,10 @@ from __future__ import annotations
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-
-from sim.errors import ParseError
-from sim.trio import statements as s
-from sim.trio.compiler import compile_program
-from sim.trio.parser import parse_line, parse_program
+from motionsim.sim.errors import ParseError
+from motionsim.sim.trio import statements as s
+from motionsim.sim.trio.compiler import compile_program
+from motionsim.sim.trio.parser import parse_line, parse_program
 
 
 def test_move_with_axis_modifier():

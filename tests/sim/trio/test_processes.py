@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import pytest
+from motionsim.sim.errors import Conflict, NotFound, ParseError
 
-from sim.errors import Conflict, NotFound, ParseError
 from tests.sim.trio.conftest import cycle, fields, run_to
 
 

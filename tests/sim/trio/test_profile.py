@@ -1,5 +1,5 @@
 """Profile invariants over a grid of moves (spec §9.7 kinematics, SRAMP and MERGE as in
-:mod:`sim.trio.profile`): every profile covers exactly its length, position and speed are
+:mod:`motionsim.sim.trio.profile`): every profile covers exactly its length, position and speed are
 continuous across segments, speed never goes negative nor above max(SPEED, v0), and it ends
 at rest (or at ``v_end`` when merged)."""
 
@@ -8,8 +8,7 @@ from __future__ import annotations
 import itertools
 
 import pytest
-
-from sim.trio.profile import plan, ramp_distance, ramp_time
+from motionsim.sim.trio.profile import plan, ramp_distance, ramp_time
 
 LENGTHS = (0.5, 1.0, 10.0, 100.0)
 V0S = (0.0, 300.0, 1000.0, 1500.0)
