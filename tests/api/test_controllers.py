@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import asyncio
+import time
+
 import pytest
 
 pytestmark = pytest.mark.anyio
@@ -59,6 +62,12 @@ async def test_create_realtime_controller_advances_with_wall_time(api):
     assert r.status_code == 201
     assert r.json()["clock"] == {"mode": "realtime", "factor": 10.0, "paused": False,
                                  "t": pytest.approx(0.0, abs=0.05)}
+    start = time.monotonic()
+    await asyncio.sleep(0.3)
+    t = (await api.get("/controllers/rt/clock")).json()["t"]
+    elapsed = time.monotonic() - start
+    # ten simulated seconds per wall second: at least the 0.3 s slept, at most what passed
+    assert 10 * 0.3 <= t <= 10 * elapsed + 0.05
 
 
 async def test_create_with_unknown_kind_is_422_and_creates_nothing(api):

@@ -78,8 +78,21 @@ async def test_unknown_plc_or_not_a_pmac_is_404(pmac_api):
 
 
 async def test_controller_reports_the_cpu_load(pmac_api):
+    """Idle card: no motor servo updates, no RTI task, the background cycles every servo cycle.
+    Two motors and a 200-statement PLC 0: 2 × 4.4 µs per servo cycle, and 5 + 200 × 3.3 + 2 µs
+    of each RTI period (I8 = 2: 3 servo cycles)."""
+    period = 1 / 2258.8
     cpu = (await pmac_api.get(BASE)).json()["cpu"]
-    assert set(cpu) >= {"servo", "rti", "background", "background_cycle_s"}
+    assert cpu["servo"] == 0.0 and cpu["rti"] == 0.0 and cpu["background"] == 1.0
+    assert cpu["background_cycle_s"] == pytest.approx(period, rel=1e-3)
+    await pmac_api.post(f"{BASE}/terminal", json={"command": "&1 #1->X #2->Y"})
+    await pmac_api.put(f"{BASE}/plcs/0", json={"text": "\n".join(["P10=P10+1"] * 200)})
+    await pmac_api.post(f"{BASE}/plcs/0/enable")
+    await advance(pmac_api, 1.5)
+    cpu = (await pmac_api.get(BASE)).json()["cpu"]
+    assert cpu["servo"] == pytest.approx(2 * 4.4e-6 / period, rel=1e-3)
+    assert cpu["rti"] == pytest.approx((5e-6 + 200 * 3.3e-6 + 2e-6) / (3 * period), rel=0.02)
+    assert cpu["background"] == pytest.approx(1 - cpu["servo"] - cpu["rti"])
 
 
 async def test_watchdog_trip_then_reset(pmac_api):

@@ -57,14 +57,19 @@ async def test_wait_true_times_out_with_nothing_queued(trio_api):
     r = await trio_api.post(f"{BASE}/axes/0/moves", params={"wait": "true", "timeout_s": 0.5},
                             json={"type": "MOVE", "args": [1]})
     assert r.status_code == 409 and r.json()["code"] == "buffer_full"
+    t_cancel = await clock_t(trio_api, BASE)
     r = await trio_api.post(f"{BASE}/terminal", json={"command": "CANCEL AXIS(0)"})
     await trio_api.post(f"{BASE}/clock/advance", json={"seconds": 1})
-    assert (await trio_api.get(f"{BASE}/axes/0")).json()["dpos"] == pytest.approx(
-        (await trio_api.get(f"{BASE}/axes/0")).json()["endmove"]
-    )
     # the two 1-unit moves ran after the cancelled FORWARD, the withdrawn one did not
     events = (await trio_api.get(f"{BASE}/events", params={"type": "move_start"})).json()["events"]
     assert [e["mtype"] for e in events] == [10, 1, 1]
+    # FORWARD ran at SPEED 1000 from its start to the CANCEL, with equal ACCEL and DECEL ramps
+    # (the distance the ramp-up loses the ramp-down gains): SPEED * t_run; then the two 1-unit
+    # moves added 2
+    t_run = t_cancel - events[0]["t"]
+    axis = (await trio_api.get(f"{BASE}/axes/0")).json()
+    assert (axis["mtype"], axis["ntype"]) == (0, 0)
+    assert axis["dpos"] == pytest.approx(1000 * t_run + 2, abs=1e-6)
 
 
 async def test_bad_move_bodies(trio_api):

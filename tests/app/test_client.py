@@ -20,32 +20,78 @@ def test_pmac_rotary_stream_through_the_client(motionsim):
     assert res.matched is not None and res.clock.t == pytest.approx(res.matched["t"])
     assert ms.coord("pmac", 1)["rotary"]["size_words"] == 600
     assert ms.terminal("pmac", "PR") == TerminalReply("0", None, False)
-    assert ms.get_variable("pmac", "I16") == ms.set_variable("pmac", "I16", ms.get_variable(
-        "pmac", "I16"))
-    ms.quit("pmac", 1)
+    before = ms.get_variable("pmac", "I16")
+    assert ms.set_variable("pmac", "I16", before + 2) == before + 2
+    assert ms.get_variable("pmac", "I16") == before + 2
+    assert ms.terminal("pmac", "I16") == TerminalReply(f"{before + 2:g}", None, False)
+    assert ms.coord("pmac", 1)["program"]["state"] == "waiting"  # ran out of rotary lines
     ms.abort("pmac", 1)
+    assert ms.coord("pmac", 1)["program"]["state"] == "aborted"
     ms.delete_rotary("pmac", 1)
     assert ms.coord("pmac", 1)["rotary"] is None
+
+
+def _running_rotary(ms, cs: int = 1) -> None:
+    """Five 20 ms moves in a fresh rotary buffer, running for 30 ms (inside the second move)."""
+    ms.define_rotary("pmac", cs, 600)
+    ms.load_lines("pmac", cs, ["INC LINEAR TA10 TS0 TM20"] + ["X1"] * 5, first_seq=1)
+    ms.run("pmac", cs)
+    ms.advance("pmac", 0.03)
+
+
+def test_quit_through_the_client_stops_at_the_end_of_the_move_in_progress(motionsim):
+    ms = motionsim
+    _running_rotary(ms)
+    ms.quit("pmac", 1)
+    assert ms.coord("pmac", 1)["program"]["state"] == "running"  # the move in progress finishes
+    ms.advance("pmac", 0.2)
+    assert ms.coord("pmac", 1)["program"]["state"] == "stopped"
+    ends = ms.all_events("pmac", types=["move_end"])
+    assert 2 <= len(ends) < 5  # stopped before the buffer ran out
+    (stop,) = [e for e in ms.all_events("pmac", types=["program"]) if e["state"] == "stopped"]
+    assert stop["t"] >= ends[-1]["t"]
+
+
+def test_abort_through_the_client_stops_at_once_no_move_starts_after_it(motionsim):
+    ms = motionsim
+    _running_rotary(ms)
+    ms.abort("pmac", 1)
+    t_abort = ms.clock("pmac").t
+    assert ms.coord("pmac", 1)["program"]["state"] == "aborted"
+    ms.advance("pmac", 0.2)
+    assert all(e["t"] <= t_abort for e in ms.all_events("pmac", types=["move_start"]))
+    (aborted,) = ms.all_events("pmac", types=["program"])[1:]
+    assert (aborted["state"], aborted["t"]) == ("aborted", t_abort)
+    # the move in progress decelerates to a stop (Ixx15) well before its programmed end
+    last_start = ms.all_events("pmac", types=["move_start"])[-1]
+    last_end = ms.all_events("pmac", types=["move_end"])[-1]
+    assert last_end["n"] == last_start["n"]
+    assert t_abort < last_end["t"] < last_start["t"] + 0.020
 
 
 def test_trio_resources_through_the_client(motionsim):
     ms = motionsim
     ms.set_axis("trio", 0, speed=100, accel=1000, decel=1000)
-    placed = ms.move("trio", 0, "MOVE", [10])
-    assert placed["placed"] in ("mtype", "ntype", "process_buffer")
-    assert ms.axis("trio", 0)["speed"] == 100
+    ms.move("trio", 0, "MOVE", [10])
+    ms.advance("trio", 0.002)  # at least one servo period: the move is loaded into MTYPE
+    axis = ms.axis("trio", 0)
+    assert (axis["mtype"], axis["speed"], axis["endmove"]) == (1, 100, 10)
+    ms.advance("trio", 0.5)  # 10 units at 100 units/s with 0.1 s ramps: well done by then
+    assert (ms.axis("trio", 0)["mtype"], ms.axis("trio", 0)["dpos"]) == (0, pytest.approx(10))
     ms.set_variable("trio", "VR(5)", 2)
     assert ms.get_variable("trio", "VR(5)") == 2
     ms.store_program("trio", "DEMO", "VR(6)=3\n")
     p = ms.run_program("trio", "DEMO")
+    assert [(q["process"], q["program"]) for q in ms.processes("trio")] == [(p, "DEMO")]
     ms.advance("trio", 0.1)
     assert ms.get_variable("trio", "VR(6)") == 3
-    assert isinstance(p, int) and isinstance(ms.processes("trio"), list)
+    assert [(q["process"], q["state"]) for q in ms.processes("trio")] == [(p, "stopped")]
     assert ms.terminal_state("trio") == {"locked": False, "pending": []}
 
 
 def test_client_raises_the_error_body(motionsim):
     with pytest.raises(MotionSimHTTPError) as exc:
         motionsim.load_lines("pmac", 1, ["X1"])  # no rotary buffer defined
-    assert exc.value.status in (404, 409)
+    assert (exc.value.status, exc.value.code) == (404, "not_found")
     assert exc.value.body["code"] == exc.value.code
+    assert "DEFINE ROT" in exc.value.body["message"]

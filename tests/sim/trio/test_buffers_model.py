@@ -27,6 +27,7 @@ class BuffersMachine(RuleBasedStateMachine):
         super().__init__()
         self.c = make(axes=AXES)
         self.issued: dict[int, list[float]] = {a: [] for a in range(AXES)}
+        self.processes: dict[int, set[int]] = {a: set() for a in range(AXES)}
 
     @rule(axis=st.integers(0, AXES - 1), process=st.integers(0, 2),
           dist=st.sampled_from([1.0, 10.0, 25.0]))
@@ -43,6 +44,7 @@ class BuffersMachine(RuleBasedStateMachine):
         assert not full
         assert placed in ("mtype", "ntype", "process_buffer")
         self.issued[axis].append(dist)
+        self.processes[axis].add(process)
 
     @rule(ms=st.integers(1, 60))
     def wait(self, ms):
@@ -79,7 +81,25 @@ class BuffersMachine(RuleBasedStateMachine):
         for a in range(AXES):
             assert c.axis(a)["dpos"] == sum(self.issued[a])
             assert len(fields(c, "move_end", axis=a)) == len(self.issued[a])
+            if len(self.processes[a]) == 1:
+                self._check_issue_order(a)
 
+    def _check_issue_order(self, a: int) -> None:
+        """Issue order of one process's moves: each runs from rest to rest, so its duration
+        grows with its distance (1 unit: ~7 servo periods, 10: 20, 25: 35) and the n-th move
+        to run must take the time of the n-th move issued. (Moves of different processes
+        queue in different process buffers: their relative order is not issue order.)"""
+        c = self.c
+        starts = [cycle(c, t) for t, _ in fields(c, "move_start", axis=a)]
+        ends = [cycle(c, t) for t, _ in fields(c, "move_end", axis=a)]
+        took = [e - s for s, e in zip(starts, ends, strict=True)]
+        pairs = list(zip(self.issued[a], took, strict=True))
+        for d1, t1 in pairs:
+            for d2, t2 in pairs:
+                if d1 == d2:
+                    assert abs(t1 - t2) <= 1, pairs
+                elif d1 < d2:
+                    assert t1 < t2, pairs
 
 TestBuffersModel = BuffersMachine.TestCase
 TestBuffersModel.settings = settings(max_examples=40, stateful_step_count=30, deadline=None)
