@@ -95,3 +95,31 @@ def test_a_line_that_does_not_fit_gives_no_breq_edge(rig):
     assert r.error == "ERR006"
     assert rig.c.log.read(since).events == []
     assert rig.ok("PR") == "1"
+
+
+def test_i17_changed_on_line_after_the_buffer_exists_applies_to_the_next_line_loaded(rig):
+    """I17 is read when a line is loaded, not when the buffer was defined: with 2 lines ahead,
+    ``I17=3`` typed on-line (buffer closed) makes the 3rd line leave BREQ low and set the
+    full bit, where the default I17 = 10 would have pulsed it."""
+    ks = _loaded_rig(rig, 2)
+    rig.ok("CLOSE")
+    rig.ok("I17=3")
+    rig.ok("OPEN ROT")
+    since = rig.c.log.last_seq
+    k3 = rig.cyc(rig.cmd("TM100 TA10 TS0 X3").t_done)
+    assert ks[1] <= k3
+    assert _breq(rig, since) == [(k3, False)]
+    assert int(rig.ok("??")[6:12], 16) & (1 << 16)
+
+
+def test_i16_changed_on_line_applies_to_the_next_line_calculated(rig):
+    """I16 is read after each line is calculated: ``I16=2`` set before R makes BREQ rise only
+    once fewer than 2 lines are ahead (with the default I16 = 5 it would rise at 4 ahead)."""
+    _loaded_rig(rig, 12)
+    rig.ok("CLOSE")
+    rig.ok("I16=2")
+    since = rig.c.log.last_seq
+    rig.ok("R")
+    rig.run_until_idle()
+    calc = {f["n"]: k for k, _, f in rig.events("line_calculated")}
+    assert _breq(rig, since) == [(calc[11], True)]  # 12 lines: 1 ahead once line 11 is done

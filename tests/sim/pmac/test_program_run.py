@@ -194,3 +194,47 @@ def test_r_and_q_during_the_abort_deceleration_end_stopped(rig):
     rig.c.quit(1)
     rig.run_until_idle()
     assert rig.c.log.events("program")[-1]["state"] == "stopped"
+
+
+def _m1_queued_behind_the_last_move(rig) -> None:
+    """``X1`` then ``M1==1`` and nothing more: the program runs out of lines with the
+    synchronous write queued for the start of the next move."""
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["TM100 TA10 TS0 X1", "M1==1"])
+    rig.ok("R")
+    rig.run_for(0.3)
+    assert rig.c.coord(1)["program"] == {"state": "waiting"}
+    assert rig.events("mvar") == []
+
+
+def test_a_queued_synchronous_write_fires_at_the_start_of_the_next_move(rig):
+    """The control case for the two below: with no Q or A the queued write belongs to the next
+    move and fires at its start (TUM p250)."""
+    _m1_queued_behind_the_last_move(rig)
+    rig.c.load_lines(1, ["X2"])
+    rig.run_until_idle()
+    (start,) = [k for k, _, f in rig.events("move_start") if f["n"] == 3]
+    assert [(k, f["name"]) for k, _, f in rig.events("mvar")] == [(start, "M1")]
+
+
+def test_q_discards_queued_synchronous_writes_they_do_not_fire_after_the_next_r(rig):
+    """TUM p319 / spec §1.1: Q stops the program; a synchronous write still queued is dropped
+    with the lookahead, so the next R's moves run without it."""
+    _m1_queued_behind_the_last_move(rig)
+    rig.ok("Q")
+    rig.c.load_lines(1, ["X2"])
+    rig.ok("R")
+    rig.run_until_idle()
+    assert [f["n"] for _, _, f in rig.events("move_start")] == [1, 3]
+    assert rig.events("mvar") == []
+
+
+def test_a_discards_queued_synchronous_writes_they_do_not_fire_after_the_next_r(rig):
+    """TUM p319: A discards the queued synchronous M-variable assignments with the lookahead."""
+    _m1_queued_behind_the_last_move(rig)
+    rig.ok("A")
+    rig.c.load_lines(1, ["X2"])
+    rig.ok("R")
+    rig.run_until_idle()
+    assert [f["n"] for _, _, f in rig.events("move_start")] == [1, 3]
+    assert rig.events("mvar") == []
