@@ -235,3 +235,17 @@ def test_i11_too_short_for_a_line_arriving_while_waiting_is_a_run_time_error(mak
     ]
     assert _program(rig)[-1][1]["error"] == "run_time_error"
     assert rig.events("move_start") == []
+
+
+def test_the_last_line_in_the_buffer_when_planning_ran_is_a_deadline_miss_not_a_run_out(rig):
+    """The boundary between the two: line 5 is the *last* line loaded, but it was in the
+    buffer at every planning (loaded before R) and still not calculated when line 4 started:
+    calculation fell behind — a run-time error exactly as with 30 lines, not ``waiting``."""
+    k_r = _start(rig, [HEADER, "X1", "X2", "X3", "X4"])
+    rig.run_until_idle()
+    k0 = next_rti(k_r)
+    k4 = k0 + ceil_cycles(rig, 2)
+    assert [(k, f["n"]) for k, _, f in rig.events("move_start")] == [
+        (k0, 2), (k0 + ceil_cycles(rig, 1), 3), (k4, 4)]
+    assert _program(rig)[-1] == (k4, {"cs": 1, "state": "aborted", "error": "run_time_error"})
+    assert rig.c.rotary(1)["lines_ahead"] == 1

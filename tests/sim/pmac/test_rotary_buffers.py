@@ -162,3 +162,21 @@ def test_only_open_rot_opens_the_rotary_buffers(rig):
     assert rig.c.rotary(1)["open"] is True
     rig.ok("CLOSE")
     assert rig.c.rotary(1)["open"] is False
+
+
+@pytest.mark.parametrize("one_at_a_time", [True, False])
+def test_a_line_that_exactly_fills_the_buffer_is_stored(rig, one_at_a_time):
+    """A line fits while its words are at most the free words (ERR006 only beyond): the last
+    two words of a 4-word buffer take a 2-word line, whether streamed one line per call (the
+    streaming fast path) or in a batch; the next word is refused."""
+    rig.rotary_setup(words=4)
+    if one_at_a_time:
+        rig.c.load_lines(1, ["X1 Y1"])
+        r = rig.c.load_lines(1, ["X2 Y2"])
+    else:
+        r = rig.c.load_lines(1, ["X1 Y1", "X2 Y2"], first_seq=1)
+    assert (r.free_words, rig.c.rotary(1)["lines_ahead"]) == (0, 2)
+    with pytest.raises(BufferFull) as e:
+        rig.c.load_lines(1, ["X3"])
+    assert e.value.pmac_error == "ERR006"
+    assert rig.c.rotary(1)["used_words"] == 4
