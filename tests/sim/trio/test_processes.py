@@ -24,6 +24,20 @@ def test_each_statement_costs_the_configured_time(trio):
     assert stopped[0][0] == pytest.approx(0.0003)
 
 
+@pytest.mark.parametrize("vr1", [1, 0])
+def test_else_and_endif_cost_no_statement_time_on_either_branch(trio, vr1):
+    """Each executed statement costs ``statement_s`` (100 µs); the jumps the block structure
+    adds — THEN's end skipping to ENDIF, the false test landing after ELSE, ENDIF itself —
+    cost nothing: assignment, IF test, one branch body, assignment = 4 statements = 0.4 ms
+    on either branch."""
+    text = f"VR(1)={vr1}\nIF VR(1)=1 THEN\n  VR(2)=1\nELSE\n  VR(3)=1\nENDIF\nVR(4)=1\n"
+    run(trio, text, until=0.01)
+    ((t, f),) = fields(trio, "process", state="stopped")
+    assert t == pytest.approx(0.0004, abs=1e-12)
+    assert (trio.get_variable("VR(2)"), trio.get_variable("VR(3)")) == (vr1, 1 - vr1)
+    assert trio.get_variable("VR(4)") == 1
+
+
 def test_flow_control(trio):
     text = """
 total = 0
@@ -108,8 +122,15 @@ def test_blocked_even_for_a_single_servo_period_is_reported(trio):
     """A move ending at period e frees the process buffer at e + 2: the process blocks."""
     trio.set_axis(0, speed=10_000, accel=1e9, decel=1e9)
     run(trio, "FOR i=1 TO 4\n MOVE(1) AXIS(0)\nNEXT i\n", until=0.1)
-    blocked = fields(trio, "process", process=1, state="blocked")
-    assert len(blocked) >= 1
+    # the 4th MOVE finds MTYPE, NTYPE and the process buffer taken (3 statements of 100 µs
+    # after the start, on line 2): blocked until the first move's end (period 2) + 2
+    period = trio.clock.period_s
+    got = [(round(t / period, 3), f["state"], f["line"], f.get("blocked_on"))
+           for t, f in fields(trio, "process", process=1)]
+    assert got == [(0.0, "running", 1, None), (0.7, "blocked", 2, "MOVE(1) AXIS(0)"),
+                   (4.0, "running", 2, None), (4.2, "stopped", 3, None)]
+    ends = [cycle(trio, t) for t, _ in fields(trio, "move_end", axis=0)]
+    assert ends == [2, 4, 6, 8] and ends[0] + 2 == 4
     assert trio.axis(0)["dpos"] == 4.0
 
 

@@ -124,15 +124,55 @@ def test_tn20_process_waits_at_the_two_lines_of_the_note():
     ]
 
 
-def test_tn20_fix_never_blocks_and_keeps_axis0_moving():
+def test_tn20_fix_never_blocks_but_skips_the_moves_it_finds_ntype_busy_for():
+    """The note's solution as printed: the program never waits at a move line and never uses
+    the process buffer — but ``n`` counts on when NTYPE is busy, so the FOR loop is over in
+    15.5 ms and only the moves issued while NTYPE was free run: two per axis, not 50."""
     c = tn20(FIX)
     run_to(c, 0.5)
-    states = {f["state"] for _, f in fields(c, "process", process=1)}
-    assert "blocked" not in states
-    assert c.processes()[0]["state"] == "stopped"
+    states = [(round(t, 4), f["state"]) for t, f in fields(c, "process", process=1)]
+    assert states == [(0.0, "running"), (0.0155, "stopped")]
     assert "error" not in c.processes()[0]
-    # the guarded program only ever fills MTYPE / NTYPE, never the process buffer
     assert fields(c, "process_buffer") == []
+    assert _runs(c, 0) == [(1, 21), (22, 42)]
+    assert _runs(c, 1) == [(1, 211), (212, 422)]
+    assert (c.axis(0)["dpos"], c.axis(1)["dpos"]) == (20.0, 400.0)
+
+
+#: The note's test of NTYPE, with each axis's own move counter: a move is issued only when its
+#: axis can buffer it, and no move is skipped.
+FIX_WAITING = """n0=1
+n1=1
+WHILE n0<=6 OR n1<=6
+  IF NTYPE AXIS(0)=0 AND n0<=6 THEN
+    MOVE(VR(n0)) AXIS(0)
+    n0=n0+1
+  ENDIF
+  IF NTYPE AXIS(1)=0 AND n1<=6 THEN
+    MOVE(VR(100+n1)) AXIS(1)
+    n1=n1+1
+  ENDIF
+WEND
+"""
+
+
+def test_testing_ntype_keeps_axis0_moving_while_axis1_runs_its_long_moves():
+    """What the note's fix is for: axis 0 is no longer held up by axis 1. Its six short moves
+    run back to back — each starts in the servo period after the previous one ended — while
+    axis 1 is still in its first long move, and the process never blocks."""
+    c = tn20(FIX_WAITING)
+    run_to(c, 1.5)
+    assert _runs(c, 0) == [(1 + 21 * i, 21 + 21 * i) for i in range(6)]
+    assert _runs(c, 1) == [(1 + 211 * i, 211 + 211 * i) for i in range(6)]
+    assert _runs(c, 0)[-1][1] < _runs(c, 1)[0][1]
+    assert [f["state"] for _, f in fields(c, "process", process=1)] == ["running", "stopped"]
+    assert fields(c, "process_buffer") == []
+
+
+def _runs(c, axis: int) -> list[tuple[int, int]]:
+    starts = [cycle(c, t) for t, _ in fields(c, "move_start", axis=axis)]
+    ends = [cycle(c, t) for t, _ in fields(c, "move_end", axis=axis)]
+    return list(zip(starts, ends, strict=True))
 
 
 def test_tn20_fix_skips_moves_while_ntype_is_full():
