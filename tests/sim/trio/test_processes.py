@@ -24,13 +24,18 @@ def test_each_statement_costs_the_configured_time(trio):
     assert stopped[0][0] == pytest.approx(0.0003)
 
 
+BLOCK_IF = "IF VR(1)=1 THEN\n  VR(2)=1\nELSE\n  VR(3)=1\nENDIF\n"
+LINE_IF = "IF VR(1)=1 THEN VR(2)=1 ELSE VR(3)=1\n"
+
+
+@pytest.mark.parametrize("form", [BLOCK_IF, LINE_IF], ids=["block", "one-line"])
 @pytest.mark.parametrize("vr1", [1, 0])
-def test_else_and_endif_cost_no_statement_time_on_either_branch(trio, vr1):
+def test_else_and_endif_cost_no_statement_time_on_either_branch(trio, vr1, form):
     """Each executed statement costs ``statement_s`` (100 µs); the jumps the block structure
     adds — THEN's end skipping to ENDIF, the false test landing after ELSE, ENDIF itself —
     cost nothing: assignment, IF test, one branch body, assignment = 4 statements = 0.4 ms
     on either branch."""
-    text = f"VR(1)={vr1}\nIF VR(1)=1 THEN\n  VR(2)=1\nELSE\n  VR(3)=1\nENDIF\nVR(4)=1\n"
+    text = f"VR(1)={vr1}\n{form}VR(4)=1\n"
     run(trio, text, until=0.01)
     ((t, f),) = fields(trio, "process", state="stopped")
     assert t == pytest.approx(0.0004, abs=1e-12)
