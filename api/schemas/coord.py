@@ -52,7 +52,10 @@ class LinesIn(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
     lines: list[str] = Field(description="program lines, e.g. ['X10 Y20', 'M1==1']")
-    first_seq: int | None = Field(None, ge=0, description="the client's number of lines[0]")
+    first_seq: int | None = Field(
+        None, ge=0, description="the client's number of lines[0]: a resend of exactly the "
+        "stored lines is acknowledged, a gap / different text / number beyond 2^53-1 is 409 "
+        "`conflict` with `expected_seq` (API.md)")
 
 
 class LinesAccepted(BaseModel):

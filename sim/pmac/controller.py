@@ -308,12 +308,14 @@ class PmacController(Controller):
 
         Every line is parsed and the batch sized before anything is stored. With
         ``first_seq`` the lines are numbered ``first_seq, first_seq+1, ...``; a line whose
-        number was already stored is acknowledged and not stored again.
+        number was already stored with exactly this text is acknowledged and not stored
+        again (the rules: :mod:`motionsim.sim.pmac.line_numbers`).
 
         Raises:
             NotFound: no such CS or no rotary buffer.
             ParseError: a bad line (``index``, ``column``, ``text``; ERR003).
             BufferFull: the new lines do not fit (ERR006); nothing stored.
+            Conflict: ``first_seq`` refused (a gap, a different repeat, out of range).
         """
         if self.halted:
             self._alive()
@@ -346,9 +348,7 @@ class PmacController(Controller):
         for i, text in enumerate(texts):
             line = cache.get(text) if type(text) is str else None
             compiled.append(line if line is not None else self._compile(text, i))
-        skip = 0
-        if first_seq is not None and rot.last_seq is not None:
-            skip = min(len(compiled), max(0, rot.last_seq - first_seq + 1))
+        skip = 0 if first_seq is None else rot.numbering.repeated(first_seq, texts)
         new = compiled[skip:]
         words = sum(line.words for line in new)
         if not rot.fits(words):
@@ -362,9 +362,8 @@ class PmacController(Controller):
             store(line)
         if new:
             c.lines_arrived()
-        if first_seq is not None and texts:
-            last = first_seq + len(texts) - 1
-            rot.last_seq = last if rot.last_seq is None else max(rot.last_seq, last)
+        if first_seq is not None:
+            rot.numbering.record(first_seq, texts, skip)
         return LoadResult(len(texts), len(new), rot.lines_ahead, rot.free_words, rot.breq)
 
     @staticmethod
@@ -411,9 +410,12 @@ class PmacController(Controller):
         self.coord_system(cs).quit()
 
     def abort(self, cs: int) -> None:
-        """``A``."""
+        """``A``; the host's ``first_seq`` numbering of the CS's rotary lines starts again."""
         self._alive()
-        self.coord_system(cs).abort()
+        c = self.coord_system(cs)
+        c.abort()
+        if c.rotary is not None:
+            c.rotary.numbering.reset()
 
     def coord(self, cs: int) -> dict[str, Any]:
         """``{"cs", "program": {"state", "line"?}, "rotary": Rotary | None}`` (API.md)."""

@@ -29,6 +29,7 @@ from collections.abc import Callable
 from typing import Any
 
 from motionsim.sim.events import EventLog
+from motionsim.sim.pmac.line_numbers import LineNumbering
 from motionsim.sim.pmac.program import ProgramLine
 
 
@@ -52,7 +53,7 @@ class RotaryBuffer:
         "n_loaded",
         "breq",
         "full",
-        "last_seq",
+        "numbering",
         "_emit",
         "_thresholds",
         "_rise",
@@ -78,7 +79,8 @@ class RotaryBuffer:
         self.n_loaded = 0
         self.breq = False
         self.full = False
-        self.last_seq: int | None = None
+        #: The host's ``first_seq`` numbering of the lines stored (sim/pmac/line_numbers.py).
+        self.numbering = LineNumbering()
         self._emit = log.emit
         self._thresholds = thresholds
         self._rise: list[Callable[[], Any]] = []
