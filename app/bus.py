@@ -9,7 +9,12 @@ reads the log's ring from there, in batches; between batches it sleeps on
 - memory is bounded by the ring (at least 100 000 events per controller), whatever the number
   or speed of subscribers;
 - a subscriber that falls further behind than the ring holds gets a ``gap``
-  (``{"type": "gap", "from", "to"}``) and continues with the oldest event still held.
+  (``{"type": "gap", "from", "to"}``) and continues with the oldest event still held;
+- the stream's first message (sent by the route: :func:`epoch_message`) names the log's
+  incarnation: ``{"type": "epoch", "epoch", "first_seq",
+  "last_seq", "reset"}``; ``reset`` is ``null``, or — when the subscriber resumed with a stale
+  epoch or a ``since`` beyond the log's end — ``{"epoch", "reason", "since", "last_seq"}`` and the
+  stream starts again from the beginning of the log.
 
 Used by the WebSocket route; usable by any asyncio consumer::
 
@@ -27,7 +32,7 @@ import asyncio
 from collections.abc import Iterable
 from typing import Any
 
-from motionsim.sim.events import EventLog
+from motionsim.sim.events import EventLog, Reset
 
 
 class Cursor:
@@ -39,14 +44,18 @@ class Cursor:
         types: only these event types (all if empty / None).
         controller: the id put in each event's wire form.
         batch: events read per :meth:`read` (the route yields to the loop between batches).
+        epoch: the log epoch the subscriber's ``since`` belongs to (``None``: not known).
     """
 
     def __init__(self, log: EventLog, since: int = 0, types: Iterable[str] | None = None,
-                 controller: str | None = None, batch: int = 256) -> None:
+                 controller: str | None = None, batch: int = 256,
+                 epoch: str | None = None) -> None:
         if since < 0:
             raise ValueError("since must be >= 0")
         self.log = log
-        self.since = since
+        #: Set when ``since`` / ``epoch`` belonged to another incarnation of the log (reading
+        #: then starts at the beginning of this one).
+        self.since, self.reset = log.resume(since, epoch)
         self.types = frozenset(types) if types else None
         self.controller = log.controller if controller is None else controller
         self.batch = batch
@@ -78,4 +87,10 @@ class Cursor:
             woken.cancel()
 
 
-__all__ = ["Cursor"]
+def epoch_message(log: EventLog, reset: Reset | None = None) -> dict[str, Any]:
+    """The stream's first message: the log's epoch, the ``seq`` range it holds, any reset."""
+    return {"type": "epoch", "epoch": log.epoch, "first_seq": log.first_seq,
+            "last_seq": log.last_seq, "reset": None if reset is None else reset.to_dict()}
+
+
+__all__ = ["Cursor", "epoch_message"]

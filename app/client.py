@@ -55,6 +55,8 @@ class EventsPage:
     events: list[dict[str, Any]]
     next: int
     gap: dict[str, Any] | None = None
+    epoch: str | None = None
+    reset: dict[str, Any] | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -76,12 +78,17 @@ class Subscription:
     """An open event stream: iterate for events (dicts; ``{"type": "gap", ...}`` on a gap).
 
     ``timeout``: seconds to wait for each message (``TimeoutError`` after), None = forever.
+    The stream's ``epoch`` message is not yielded: it sets :attr:`epoch` (pass it with the last
+    seq seen to resume) and :attr:`reset` (the server's reset notice when the resume position
+    belonged to an earlier incarnation of the log, else ``None``).
     """
 
     def __init__(self, url: str, timeout: float | None = None) -> None:
         from websockets.sync.client import connect
 
         self.timeout = timeout
+        self.epoch: str | None = None
+        self.reset: dict[str, Any] | None = None
         self._connection = connect(url, compression=None, open_timeout=10, proxy=None)
         self._ws = self._connection.__enter__()
 
@@ -89,7 +96,11 @@ class Subscription:
         return self
 
     def __next__(self) -> dict[str, Any]:
-        return json.loads(self._ws.recv(timeout=self.timeout))
+        while True:
+            message = json.loads(self._ws.recv(timeout=self.timeout))
+            if message.get("type") != "epoch" or "seq" in message:
+                return message
+            self.epoch, self.reset = message["epoch"], message.get("reset")
 
     def close(self) -> None:
         self._connection.__exit__(None, None, None)
@@ -200,11 +211,14 @@ class MotionSimClient:
     # -- events ------------------------------------------------------------------------------
 
     def events(self, id: str, since: int = 0, types: Sequence[str] | None = None,
-               limit: int = 1000) -> EventsPage:
+               limit: int = 1000, epoch: str | None = None) -> EventsPage:
         params: list[tuple[str, str | int]] = [("since", since), ("limit", limit)]
         params += [("type", t) for t in types or ()]
+        if epoch is not None:
+            params.append(("epoch", epoch))
         out = self.request("GET", f"/controllers/{id}/events", params=params)
-        return EventsPage(out["events"], out["next"], out.get("gap"))
+        return EventsPage(out["events"], out["next"], out.get("gap"), out.get("epoch"),
+                          out.get("reset"))
 
     def all_events(self, id: str, types: Sequence[str] | None = None) -> list[dict[str, Any]]:
         """Every held event, paging through."""
@@ -218,7 +232,7 @@ class MotionSimClient:
             since = page.next
 
     def subscribe(self, id: str, since: int = 0, types: Sequence[str] | None = None,
-                  timeout: float | None = None) -> Subscription:
+                  timeout: float | None = None, epoch: str | None = None) -> Subscription:
         """Events over the WebSocket: the backlog after ``since``, then live ones (and gaps).
 
         Use it as a context manager (it holds a connection)::
@@ -226,7 +240,8 @@ class MotionSimClient:
             with ms.subscribe("pmac", since=last_seq, types=["breq"]) as events:
                 for event in events: ...
         """
-        query = "&".join([f"since={since}"] + [f"type={quote(t)}" for t in types or ()])
+        query = "&".join([f"since={since}"] + [f"type={quote(t)}" for t in types or ()]
+                         + ([f"epoch={quote(epoch)}"] if epoch is not None else []))
         url = self.base_url.replace("http", "ws", 1) + f"/controllers/{id}/events?{query}"
         return Subscription(url, timeout)
 

@@ -40,6 +40,7 @@ class BenchEmitter(Controller):
     """Emits ``tick`` events every ``period_s``; each carries the wall time it was emitted."""
 
     kind = "bench_emitter"
+    event_types = ("tick",)
 
     def __init__(self, id, config=None, *, log_capacity=100_000):
         super().__init__(id, config, log_capacity=log_capacity)

@@ -17,11 +17,11 @@ locked on a move answers when the move is buffered.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from typing import Any, ClassVar
 
 import simpy
-from motionsim.sim.events import EventLog
+from motionsim.sim.events import EVENT_FIELDS, EventLog
 
 
 class Reply:
@@ -95,6 +95,9 @@ class Controller:
     #: The kind's name in ``POST /controllers {"kind": ...}``.
     kind: ClassVar[str] = "base"
 
+    #: Event types this kind emits beyond :data:`motionsim.sim.events.EVENT_FIELDS`.
+    event_types: ClassVar[tuple[str, ...]] = ()
+
     def __init__(
         self,
         id: str,
@@ -146,6 +149,20 @@ class Controller:
     def reset(self) -> None:
         """Power cycle: factory defaults, buffers and programs gone. Time goes on."""
         raise NotImplementedError
+
+    def known_event_types(self) -> list[str]:
+        """Every event type a subscriber may ask for: API.md's, the kind's, any held in the log."""
+        known = set(EVENT_FIELDS) | set(self.event_types)
+        return sorted(known | self.log.held_types())
+
+    def unknown_event_types(self, types: Iterable[str]) -> list[str]:
+        """The names in ``types`` that are no event type of this controller (see above)."""
+        static = set(EVENT_FIELDS) | set(self.event_types)
+        rest = [t for t in types if t not in static]
+        if rest:
+            held = self.log.held_types()
+            rest = [t for t in rest if t not in held]
+        return rest
 
     def status(self) -> dict[str, Any]:
         """Kind-specific summary for ``GET /controllers/{id}`` (JSON-able)."""

@@ -10,6 +10,12 @@ this one log.
 ``capacity`` events, and a reader asking for older ones is told which range it lost
 (:class:`Gap`).
 
+Each log has an ``epoch``: an opaque string naming this incarnation of the log. ``seq`` starts
+again at 1 whenever a log is created (a service restart, or a controller deleted and created again
+under the same id), so a reader resuming with ``since=`` compares epochs to know that its ``seq``
+belongs to a log that no longer exists (:meth:`EventLog.resume`). A controller reset (power
+cycle) keeps the log, its ``seq`` numbering and its epoch.
+
 The hot path is :meth:`EventLog.emit`: it stores a plain tuple in a preallocated ring and
 builds the frozen :class:`Event` value only when somebody reads it, so a stream of a million
 lines does not pay for objects nobody looks at.
@@ -18,6 +24,7 @@ lines does not pay for objects nobody looks at.
 from __future__ import annotations
 
 import json
+import uuid
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -44,6 +51,16 @@ EVENT_FIELDS: dict[str, tuple[str, ...]] = {
     "watchdog": ("reason",),
     "reset": (),
     "print": ("process", "text"),  # Trio: a line a BASIC program printed on channel 0
+    # scenario host models (sim/hosts/): what the simulated host did and saw
+    "host_write": ("host", "cs", "lines", "sent"),
+    "host_timeout": ("host", "cs", "command"),
+    "host_pr": ("host", "cs", "lines_ahead", "reply_s"),
+    "host_irq": ("host", "cs", "missed", "latency_s"),
+    "host_blocked": ("host",),
+    "host_resumed": ("host",),
+    "host_done": ("host",),
+    "host_stopped": ("host",),
+    "cpu_sample": ("servo", "rti", "background"),
 }
 
 
@@ -93,6 +110,25 @@ class Gap:
 
 
 @dataclass(frozen=True, slots=True)
+class Reset:
+    """A resume position that does not belong to this log: the reader must start again.
+
+    ``reason``: ``"stale_epoch"`` (the reader's epoch names an earlier incarnation of the log)
+    or ``"since_beyond_end"`` (its ``since`` is past the newest ``seq``: the log it read was
+    longer, so it was another one). Reading continues from the start of this log.
+    """
+
+    epoch: str
+    reason: str
+    since: int
+    last_seq: int
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"epoch": self.epoch, "reason": self.reason, "since": self.since,
+                "last_seq": self.last_seq}
+
+
+@dataclass(frozen=True, slots=True)
 class ReadResult:
     """What :meth:`EventLog.read` returns: the events, a gap if any, and where to continue."""
 
@@ -111,11 +147,15 @@ class EventLog:
         env: the controller's environment; its ``now`` stamps every event.
         controller: the controller id, added to the wire form of each event.
         capacity: how many of the newest events are held (at least 100 000 in the service).
+        epoch: this incarnation's name (default: a fresh random one, unique across restarts).
     """
 
-    def __init__(self, env: simpy.Environment, controller: str = "", capacity: int = 100_000):
+    def __init__(self, env: simpy.Environment, controller: str = "", capacity: int = 100_000,
+                 epoch: str | None = None):
         if capacity < 1:
             raise ValueError("capacity must be >= 1")
+        #: Opaque name of this incarnation of the log; never equal to an earlier one's.
+        self.epoch = epoch if epoch is not None else uuid.uuid4().hex[:16]
         self._env = env
         self.controller = controller
         self.capacity = capacity
@@ -154,6 +194,21 @@ class EventLog:
         """The oldest ``seq`` still held (``last_seq + 1`` when empty)."""
         return max(1, self._last - self.capacity + 1) if self._last else 1
 
+    def resume(self, since: int, epoch: str | None = None) -> tuple[int, Reset | None]:
+        """Where a reader resuming at ``since`` (of log ``epoch``, if it knows it) continues.
+
+        ``(since, None)`` when the position belongs to this log; ``(0, Reset)`` when it cannot:
+        ``epoch`` is not this log's, or ``since`` is beyond the newest ``seq``.
+        """
+        since = max(0, since)
+        if epoch is not None and epoch != self.epoch:
+            reason = "stale_epoch"
+        elif since > self._last:
+            reason = "since_beyond_end"
+        else:
+            return since, None
+        return 0, Reset(self.epoch, reason, since, self._last)
+
     def read(
         self,
         since: int = 0,
@@ -185,6 +240,10 @@ class EventLog:
             nxt = seq
             seq += 1
         return ReadResult(out, gap, nxt)
+
+    def held_types(self) -> set[str]:
+        """The types of the events held in the ring (a scan: for rare checks, not hot paths)."""
+        return {rec[2] for rec in self._ring if rec is not None}
 
     def events(self, *types: str) -> list[Event]:
         """Every held event (of the given types, if any): the test's view of the log."""
@@ -223,4 +282,4 @@ class EventLog:
         )
 
 
-__all__ = ["EVENT_FIELDS", "Event", "EventLog", "Gap", "ReadResult"]
+__all__ = ["EVENT_FIELDS", "Event", "EventLog", "Gap", "ReadResult", "Reset"]

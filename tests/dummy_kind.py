@@ -29,6 +29,7 @@ _CONFIG = {"tick_s": 0.01, "reply_delay_s": 0.0005}
 
 class DummyController(Controller):
     kind = "dummy"
+    event_types = ("tick", "var", "ping")
 
     def __init__(self, id: str, config: Mapping[str, Any] | None = None, *,
                  log_capacity: int = 100_000) -> None:

@@ -77,6 +77,7 @@ function select(id) {
   ws.onmessage = m => {
     const box = $("events"), lines = [];
     for (const e of JSON.parse(m.data)) {
+      if (e.type === "epoch") continue;
       n++; const {seq, t, type, controller, ...f} = e;
       lines.push(e.type === "gap" ? `-- gap ${e.from}..${e.to}` :
                  `${String(seq).padStart(7)} ${t.toFixed(6)} ${type} ${JSON.stringify(f)}`);

@@ -5,7 +5,14 @@ The WebSocket (same path; not in ``/openapi.json``) sends first every held event
 :class:`motionsim.app.bus.Cursor` on the controller's log: no per-subscriber queue, so a slow
 subscriber only falls behind in the ring, never blocks the simulation or the other subscribers, and
 when the ring has moved past it, it receives ``{"type": "gap", "from": SEQ, "to": SEQ}`` and
-continues.
+continues. Its first message is ``{"type": "epoch", ...}`` (the log's incarnation, see
+:func:`motionsim.app.bus.epoch_message`).
+
+A WebSocket that cannot be served is accepted and then closed with a code and a reason a real
+client sees (a close before the handshake would reach it as a bare HTTP 403): 4404 unknown
+controller, 4422 bad query (``since`` < 0, an unknown event type: preceded by one
+``{"type": "error", "code": "validation_error", "message", "valid": [...]}`` message, since a
+close reason holds only 123 bytes), 4410 the controller was deleted while streaming.
 """
 
 from __future__ import annotations
@@ -17,8 +24,9 @@ from typing import Annotated
 from fastapi import APIRouter, Query, WebSocket, WebSocketDisconnect
 from motionsim.api.deps import HandleDep
 from motionsim.api.schemas.events import EventsPage
-from motionsim.app.bus import Cursor
-from motionsim.sim.errors import NotFound
+from motionsim.app.bus import Cursor, epoch_message
+from motionsim.sim.controller import Controller
+from motionsim.sim.errors import InvalidValue, NotFound
 
 router = APIRouter(tags=["events"])
 
@@ -35,17 +43,37 @@ CLOSE_DELETED = 4410
             response_model_exclude_unset=True)
 async def get_events(
     handle: HandleDep,
-    since: Annotated[int, Query(ge=0, description="return events with seq > since")] = 0,
+    since: Annotated[int, Query(ge=0, le=2**63 - 1,
+                                description="return events with seq > since")] = 0,
     type: Annotated[list[str] | None, Query(description="only these types (repeatable)")] = None,
     limit: Annotated[int, Query(ge=1, le=100_000)] = 1000,
+    epoch: Annotated[str | None, Query(
+        max_length=64, description="the `epoch` of the page `since` came from; a different "
+                                   "one (the log was re-created) answers a `reset`")] = None,
 ) -> dict:
     handle.clock.sync()
-    res = handle.controller.log.read(since, type or None, limit)
+    log = handle.controller.log
+    check_types(handle.controller, type)
+    since, reset = log.resume(since, epoch)
+    res = log.read(since, type or None, limit)
     cid = handle.id
-    out: dict = {"events": [e.to_dict(cid) for e in res.events], "next": res.next}
+    out: dict = {"epoch": log.epoch, "events": [e.to_dict(cid) for e in res.events],
+                 "next": res.next}
     if res.gap is not None:
         out["gap"] = res.gap.to_dict()
+    if reset is not None:
+        out["reset"] = reset.to_dict()
     return out
+
+
+def check_types(controller: Controller, types: list[str] | None) -> None:
+    """Refuse (422 ``validation_error``) event types this controller never emits."""
+    unknown = controller.unknown_event_types(types or ())
+    if unknown:
+        raise InvalidValue(
+            f"unknown event type {unknown[0]!r}; valid types: "
+            f"{', '.join(controller.known_event_types())}", field="type",
+            valid=controller.known_event_types())
 
 
 @router.websocket("/controllers/{controller_id}/events")
@@ -55,28 +83,38 @@ async def stream_events(
     since: int = 0,
     type: Annotated[list[str] | None, Query()] = None,
     batch: bool = False,
+    epoch: str | None = None,
 ) -> None:
     """``batch=true`` (an extension): each message is a JSON array of the events (and gaps)
     read together, up to 256 — for high event rates, where messages per second, not bytes,
-    are the limit."""
+    are the limit. ``epoch``: the log epoch ``since`` belongs to (a stale one: ``reset``)."""
+    await websocket.accept()
     try:
         handle = websocket.app.state.registry.get(controller_id)
     except NotFound as exc:
-        await websocket.close(code=CLOSE_NOT_FOUND, reason=exc.message[:120])
+        await websocket.close(code=CLOSE_NOT_FOUND, reason=_reason(exc.message))
         return
     if since < 0:
         await websocket.close(code=CLOSE_BAD_QUERY, reason="since must be >= 0")
         return
-    await websocket.accept()
+    try:
+        check_types(handle.controller, type)
+    except InvalidValue as exc:
+        # the close reason holds only 123 bytes: the whole error (every valid type) goes first
+        await websocket.send_text(json.dumps({"type": "error", **exc.to_dict()}))
+        await websocket.close(code=CLOSE_BAD_QUERY, reason=_reason(exc.message))
+        return
     handle.ensure_running()
-    cursor = Cursor(handle.controller.log, since, type, handle.id, WS_BATCH)
+    cursor = Cursor(handle.controller.log, since, type, handle.id, WS_BATCH, epoch)
     loop = asyncio.get_running_loop()
     disconnected = loop.create_task(_until_disconnect(websocket))
     deleted: asyncio.Future[None] = loop.create_future()
     cancel = handle.on_close(lambda: deleted.done() or deleted.set_result(None))
+    hello: list[dict] = [epoch_message(cursor.log, cursor.reset)]
     try:
         while not disconnected.done():
-            messages = cursor.read()
+            messages = hello + cursor.read()
+            hello = []
             if batch:
                 if messages:
                     await websocket.send_text(json.dumps(messages))
@@ -95,6 +133,14 @@ async def stream_events(
     finally:
         cancel()
         disconnected.cancel()
+
+
+def _reason(message: str) -> str:
+    """A close reason within the protocol's 123 bytes (UTF-8)."""
+    data = message.encode()
+    if len(data) <= 123:
+        return message
+    return data[:120].decode(errors="ignore") + "..."
 
 
 async def _until_disconnect(websocket: WebSocket) -> None:

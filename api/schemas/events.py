@@ -28,12 +28,26 @@ class GapOut(BaseModel):
     to: int
 
 
-class EventsPage(BaseModel):
-    """Events with ``seq > since``; pass ``next`` as ``since`` to continue."""
+class ResetOut(BaseModel):
+    """The reader's position belonged to another incarnation of the log: start again."""
 
+    epoch: str = Field(description="this log's epoch (the one to resume with from now on)")
+    reason: str = Field(description="`stale_epoch` or `since_beyond_end`")
+    since: int = Field(description="the `since` asked for")
+    last_seq: int = Field(description="the newest seq of this log")
+
+
+class EventsPage(BaseModel):
+    """Events with ``seq > since``; pass ``next`` as ``since`` (and ``epoch``) to continue."""
+
+    epoch: str = Field(description="names this incarnation of the controller's log: `seq` "
+                                   "restarts at 1 in a new one (restart, delete + re-create)")
     events: list[EventOut]
     next: int
     gap: GapOut | None = Field(None, description="present when older events were lost")
+    reset: ResetOut | None = Field(None, description="present when `epoch` was stale or "
+                                   "`since` beyond the log's end: the page starts at the "
+                                   "beginning of this log")
 
 
-__all__ = ["EventOut", "EventsPage", "GapOut"]
+__all__ = ["EventOut", "EventsPage", "GapOut", "ResetOut"]

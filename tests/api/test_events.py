@@ -16,8 +16,10 @@ async def test_events_have_seq_t_type_controller_and_fields(api):
     await _tick(api, 0.01)
     r = await api.get("/controllers/d/events")
     assert r.status_code == 200
-    assert r.json() == {"events": [{"seq": 1, "t": pytest.approx(0.01), "type": "tick",
-                                    "controller": "d", "n": 1}], "next": 1}
+    body = r.json()
+    assert body == {"epoch": body["epoch"], "events": [{
+        "seq": 1, "t": pytest.approx(0.01), "type": "tick", "controller": "d", "n": 1}], "next": 1}
+    assert isinstance(body["epoch"], str) and body["epoch"]
 
 
 async def test_since_returns_only_newer_events_and_next_continues(api):
@@ -28,7 +30,7 @@ async def test_since_returns_only_newer_events_and_next_continues(api):
     page = (await api.get("/controllers/d/events", params={"since": page["next"]})).json()
     assert [e["seq"] for e in page["events"]] == [8, 9, 10]
     page = (await api.get("/controllers/d/events", params={"since": page["next"]})).json()
-    assert page == {"events": [], "next": 10}
+    assert page == {"epoch": page["epoch"], "events": [], "next": 10}
 
 
 async def test_default_limit_is_1000(api):
@@ -50,7 +52,7 @@ async def test_type_filter_is_repeatable(api):
 async def test_type_filter_next_skips_past_unmatched_events(api):
     await _tick(api, 0.05)
     r = await api.get("/controllers/d/events", params={"type": "var"})
-    assert r.json() == {"events": [], "next": 5}
+    assert r.json() == {"epoch": r.json()["epoch"], "events": [], "next": 5}
 
 
 @pytest.mark.parametrize("params, field", [({"since": -1}, "since"), ({"limit": 0}, "limit"),

@@ -48,6 +48,17 @@ def test_websocket_resume_over_a_real_socket_has_no_gaps_or_duplicates(motionsim
     assert [e["seq"] for e in first + rest] == list(range(1, 12))
 
 
+def test_a_subscription_knows_the_log_epoch_and_is_told_of_a_reset(motionsim):
+    motionsim.advance("d", 0.03)
+    epoch = motionsim.events("d").epoch
+    with motionsim.subscribe("d", since=0, timeout=5) as events:
+        assert next(events)["seq"] == 1  # the epoch message is not yielded as an event
+        assert (events.epoch, events.reset) == (epoch, None)
+    with motionsim.subscribe("d", since=3, epoch="0123456789abcdef", timeout=5) as events:
+        assert next(events)["seq"] == 1
+        assert events.reset["reason"] == "stale_epoch"
+
+
 def test_each_test_gets_a_fresh_service(motionsim):
     assert motionsim.clock("d").t == 0.0
     assert motionsim.all_events("d") == []
@@ -102,7 +113,7 @@ def test_a_stuck_websocket_subscriber_later_gets_a_gap_and_catches_up(motionsim)
             msg = json.loads(ws.recv(timeout=20))
             if msg["type"] == "gap":
                 gaps.append((msg["from"], msg["to"]))
-            else:
+            elif msg["type"] != "epoch":
                 seqs.append(msg["seq"])
     assert len(gaps) == 1
     start, end = gaps[0]

@@ -236,6 +236,8 @@ def test_lines_over_tcp_show_in_the_log_and_websocket_like_lines_over_http() -> 
         async def subscribe() -> list[dict]:
             url = svc.http.replace("http://", "ws://") + "/controllers/pmac/events"
             async with websockets.connect(url + "?since=0&type=line_loaded") as ws:
+                hello = json.loads(await asyncio.wait_for(ws.recv(), 5))
+                assert hello["type"] == "epoch"
                 return [json.loads(await asyncio.wait_for(ws.recv(), 5)) for _ in range(2)]
 
         pushed = asyncio.run(subscribe())
