@@ -35,8 +35,11 @@ def get_coord(handle: HandleDep, cs: CS) -> dict[str, Any]:
 
 @router.put(BASE + "/rotary", response_model=RotaryPublic)
 def put_rotary(handle: HandleDep, cs: CS, body: RotaryIn) -> dict[str, Any]:
-    """``&cs DEFINE ROT size_words`` (409 ``conflict`` + ERR003 out of order)."""
-    return handle.apply(_pmac(handle).define_rotary, cs, body.size_words)
+    """``&cs DEFINE ROT size_words`` (409 ``conflict`` + ERR003 out of order).
+
+    The REST resource counts as entering the new buffer with ``OPEN ROT`` (API.md): BREQ is
+    evaluated at once, so an empty buffer below I17 lines ahead raises it."""
+    return handle.apply(_pmac(handle).define_rotary, cs, body.size_words, entered=True)
 
 
 @router.delete(BASE + "/rotary", status_code=204)

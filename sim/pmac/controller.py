@@ -217,8 +217,14 @@ class PmacController(Controller):
         free = MEMORY_WORDS - used - (self.gather_words or 0)
         return -free if self.buffer_holder is not None else free
 
-    def define_rotary(self, cs: int, words: int) -> dict[str, Any]:
-        """``&cs DEFINE ROT words``.
+    def define_rotary(self, cs: int, words: int, *, entered: bool = False) -> dict[str, Any]:
+        """``&cs DEFINE ROT words``; ``entered``: the host also enters the new buffer.
+
+        ``entered`` is how the REST rotary resource defines a buffer (API.md): its lines go
+        straight into the buffer, so defining it counts as entering it with ``OPEN ROT``, and
+        BREQ is evaluated as ``OPEN ROT`` does (seed 000: low, then high below I17 lines ahead
+        -- an empty buffer asks for lines) while the terminal's open state is left alone. At
+        the terminal ``DEFINE ROT`` alone leaves BREQ low until ``OPEN ROT`` ``[INF]``.
 
         Ordering (seed 000, TUM p337, API.md): refused while a gather buffer exists or any CS
         numbered lower than ``cs`` has a rotary buffer — define from the highest CS down.
@@ -247,6 +253,8 @@ class PmacController(Controller):
         if words > self.size_words():
             raise BufferFull(f"only {self.size_words()} words of memory free", pmac_error="ERR006")
         c.rotary = RotaryBuffer(cs, words, self.log, self._thresholds, self.vars)
+        if entered:
+            c.rotary.reevaluate()
         return self.rotary(cs)  # type: ignore[return-value]
 
     def delete_rotary(self, cs: int) -> None:

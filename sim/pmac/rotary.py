@@ -19,7 +19,9 @@ BREQ ("buffer request", seed 000 and spec §1.2), each edge a ``breq`` event:
 * ``OPEN ROT`` or a change of the host-addressed CS takes it low, then high if fewer than I17
   lines are ahead (:meth:`RotaryBuffer.reevaluate`).
 
-A new buffer starts with BREQ low ``[INF]`` until one of those rules raises it.
+A new buffer starts with BREQ low ``[INF]`` until one of those rules raises it; one defined
+through the REST rotary resource counts as entered with ``OPEN ROT`` (API.md), so it is
+re-evaluated at once and an empty buffer asks for lines.
 """
 
 from __future__ import annotations

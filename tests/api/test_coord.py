@@ -32,9 +32,42 @@ async def test_define_rotary_and_delete(pmac_api):
     r = await pmac_api.put(f"{BASE}/coord/1/rotary", json={"size_words": 600})
     assert r.status_code == 200
     assert r.json() == {"size_words": 600, "used_words": 0, "free_words": 600,
-                        "lines_ahead": 0, "breq": False, "open": False, "full": False}
+                        "lines_ahead": 0, "breq": True, "open": False, "full": False}
     assert (await pmac_api.delete(f"{BASE}/coord/1/rotary")).status_code == 204
     assert (await pmac_api.get(f"{BASE}/coord/1")).json()["rotary"] is None
+
+
+async def test_rest_defined_rotary_counts_as_entered_with_open_rot_breq_high_when_empty(pmac_api):
+    """Seed 000: entering a buffer with OPEN ROT takes BREQ low, then high when fewer than I17
+    lines are ahead. The REST resource counts as entered, so a REST host waiting for BREQ before
+    its first write is asked for lines at once (one rising edge, at the define instant)."""
+    r = await pmac_api.put(f"{BASE}/coord/1/rotary", json={"size_words": 600})
+    assert (r.json()["breq"], r.json()["open"]) == (True, False)
+    ev = (await pmac_api.get(f"{BASE}/events", params={"type": "breq"})).json()["events"]
+    assert [(e["cs"], e["level"], e["t"]) for e in ev] == [(1, True, 0.0)]
+    coord = (await pmac_api.get(f"{BASE}/coord/1")).json()
+    assert coord["rotary"]["breq"] is True and coord["rotary"]["open"] is False
+
+
+async def test_rest_defined_rotary_with_i17_zero_keeps_breq_low(pmac_api):
+    """I17 = 0: no line count is below it, so entering the empty buffer leaves BREQ low."""
+    await pmac_api.put(f"{BASE}/variables/I17", json={"value": 0})
+    r = await pmac_api.put(f"{BASE}/coord/1/rotary", json={"size_words": 600})
+    assert r.json()["breq"] is False
+    ev = (await pmac_api.get(f"{BASE}/events", params={"type": "breq"})).json()["events"]
+    assert ev == []
+
+
+async def test_terminal_define_rot_leaves_breq_low_until_open_rot(pmac_api):
+    """At the terminal, DEFINE ROT alone does not enter the buffer; OPEN ROT raises BREQ."""
+    async def term(command: str) -> None:
+        r = await pmac_api.post(f"{BASE}/terminal", json={"command": command})
+        assert r.json()["error"] is None
+
+    await term("&1 DEFINE ROT 600")
+    assert (await pmac_api.get(f"{BASE}/coord/1")).json()["rotary"]["breq"] is False
+    await term("B0 OPEN ROT")
+    assert (await pmac_api.get(f"{BASE}/coord/1")).json()["rotary"]["breq"] is True
 
 
 async def test_define_rotary_out_of_order_is_409_conflict_with_err003(pmac_api):
