@@ -1,0 +1,227 @@
+"""One coordinate system running its program: state, on-line commands, status words.
+
+The coordinate system joins three parts, each its own module: :mod:`.planning` (working
+through lines at RTIs, the lookahead depth and breaks, I11), :mod:`.execution` (blending,
+stops, the calculation deadline, ``Q`` / ``A`` / ``S``, positions) and :mod:`.timebase`
+(``%`` and ``H``). Every move mode's timing and profile is its own module in
+:mod:`motionsim.sim.pmac.modes`. Program states and their transitions: :mod:`.states`.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from typing import TYPE_CHECKING, Any
+
+from motionsim.sim.pmac import motion
+from motionsim.sim.pmac.lookahead.execution import Execution
+from motionsim.sim.pmac.lookahead.planning import Planning
+from motionsim.sim.pmac.lookahead.states import IDLE, RUNNING, STOPPED, TRANSITIONS, WAITING
+from motionsim.sim.pmac.lookahead.timebase import TimeBase
+from motionsim.sim.pmac.modes import DWELL, Move
+from motionsim.sim.pmac.scheduler import Wake
+from motionsim.sim.pmac.variables import isx
+
+if TYPE_CHECKING:
+    from motionsim.sim.pmac.controller import PmacController
+    from motionsim.sim.pmac.rotary import RotaryBuffer
+
+
+class CoordSystem(Planning, Execution, TimeBase):
+    """Coordinate system ``cs`` of a :class:`motionsim.sim.pmac.controller.PmacController`."""
+
+    def __init__(self, ctl: PmacController, cs: int) -> None:
+        self.ctl = ctl
+        self.cs = cs
+        self.vars = ctl.vars
+        self.sched = ctl.scheduler
+        self._env = ctl.env
+        self._period = ctl.scheduler.period_s
+        self._emit = ctl.log.emit
+        self.rotary: RotaryBuffer | None = None
+        self.program: float | None = None  # B{n}; 0 = rotary
+        self.state = IDLE
+        self.planned: deque[Move] = deque()
+        self.current: Move | None = None
+        self.sync_pending: list[tuple[int, str, float]] = []
+        self.blocked = False
+        self.quitting = False
+        self.single_step = False
+        self._plan_due: float | None = None
+        self._plan_wake: Wake | None = None  # the last planning wake-up (re-used, wake_at)
+        #: The pending execution wake-up (handoff, decision, stop); cancelled by emptying its
+        #: callbacks (SimPy then processes it as a no-op).
+        self._pending: Wake | None = None
+        self._plan_cb_bound = self._plan_cb
+        self._handoff_cb = self._start_next  # the blend into the next move starts
+        self._stop_end_cb = self._stop_end
+        self._decide_cb = self._decide
+        self._abort: tuple[float, float, dict[str, float], dict[str, float]] | None = None
+        # Modal program state.
+        self.mode = "LINEAR"
+        self.time_mode = False
+        self.incremental: set[str] = set()
+        self._fast = False  # time mode, LINEAR, all axes absolute: the planning short cut
+        self.no_blend = False  # Isx92 = 1 at the last R / S: stop and re-plan after each move
+        #: ``%`` feedrate override (the CS time base), see :meth:`set_feed_override`.
+        self.feed_override = 100.0
+        self.calc_pos: dict[str, float] = {}
+        self.rest_pos: dict[str, float] = {}
+        self._ver = -1
+        self._isx13 = 0.0
+        self._ta_s = 0.0
+        self._ta_prog = 0.0
+        self._scale = 1.0
+        self._pct_before_hold = 100.0  # the time base of the profile frozen by %0 / H
+        #: The commanded ``%`` (the slew's goal; ``R`` after ``H`` returns to it).
+        self.commanded_override = 100.0
+        self._slew_target = 100.0
+        self._slew_ivar = 94  # the slew-rate I-variable in use (Isx94, or Isx95 for H / R)
+        self._slew_wake: Wake | None = None
+        self._frozen_at = 0.0
+        self._held = False
+        self._decided: Move | None = None  # segmented mode: the move whose blend is decided
+        self._f = 1000.0
+        self._isx90 = 1000.0
+        self._rti = 3
+        self._tm_s = 1.0
+        self._i11_s = 0.0
+        self._starting = False  # an I11 delay before the first move is running
+        #: I11: the instant the first move of the sequence being started is due, and the
+        #: wake-up that checks it was calculated by then (:meth:`_arm_i11`).
+        self._go_t: float | None = None
+        self._i11_wake: Wake | None = None
+        #: Why the controller aborted the program by itself, until the next ``R`` / ``S`` or
+        #: reset: ``"run_time_error"`` (calculation fell behind) or ``"watchdog"``.
+        self.error: str | None = None
+        #: The rotary line count when planning last had its chance (see the module docstring).
+        self._seen_n = 0
+
+    # -- state ----------------------------------------------------------------------------
+
+    def _set_state(self, state: str, **extra: Any) -> None:
+        if state == self.state:
+            return
+        if state not in TRANSITIONS[self.state]:
+            raise AssertionError(f"program state {self.state} -> {state} is not legal")
+        self.state = state
+        self._emit("program", cs=self.cs, state=state, **extra)
+
+    @property
+    def running(self) -> bool:
+        """Running in the controller's sense: ``R`` given, not stopped (waiting included)."""
+        return self.state == RUNNING or self.state == WAITING
+
+    @property
+    def moving(self) -> bool:
+        return self.current is not None
+
+    @property
+    def run_time_error(self) -> bool:
+        """Aborted because calculation fell behind (``??`` word 2 bit 22, motor ``?`` word 1
+        bit 14)."""
+        return self.error == "run_time_error"
+
+    def _refresh(self) -> None:
+        """Re-read the CS I-variables (Isx13, Isx87, Isx88) after any I-variable change."""
+        v, cs = self.vars, self.cs
+        self._ver = v.version
+        self._isx13 = v.I(isx(cs, 13))
+        pct = self.feed_override if self.feed_override > 0 else self._pct_before_hold
+        self._scale = 100.0 / pct  # time-base stretch: real seconds per program second
+        self._ta_prog = motion.accel_time_s(v.I(isx(cs, 87)), v.I(isx(cs, 88)))
+        self._ta_s = self._ta_prog * self._scale
+        self._f = v.I(isx(cs, 89))
+        self._isx90 = v.I(isx(cs, 90))
+        self._rti = int(v.I(8)) + 1
+        # TM-mode move time, real seconds
+        self._tm_s = motion.clamp_move_time(self._f / 1000.0, self._ta_prog) * self._scale
+        self._i11_s = max(0.0, v.I(11)) / 1000.0
+
+    def _accel_s(self) -> float:
+        if self._ver != self.vars.version:
+            self._refresh()
+        return self._ta_s
+
+    def _segmented(self) -> bool:
+        if self._ver != self.vars.version:
+            self._refresh()
+        return self._isx13 > 0
+
+    # -- on-line commands -----------------------------------------------------------------
+
+    def run(self, single_step: bool = False) -> None:
+        """``R`` / ``S``: start (or resume) calculation at the next RTI; after ``H``, resume."""
+        if self._held:
+            self._held = False
+            self._slew_to(self.commanded_override, 95)  # R after H ramps back at Isx95
+        self.single_step = single_step
+        self.quitting = False
+        self.error = None
+        # Isx92 (move blend disable) is read only at R / S (TSRM p190).
+        self.no_blend = self.vars.I(isx(self.cs, 92)) == 1
+        self._fast = False  # re-derived at the next calculated line
+        if self.state != RUNNING and self.state != WAITING:
+            self._set_state(RUNNING)
+        self._request_plan()
+        if self.current is None and not self._starting:
+            self._arm_i11()
+
+    def quit(self) -> None:
+        """``Q``: finish the calculated moves, calculate nothing more, then ``stopped``."""
+        if not self.running:
+            return
+        self.sync_pending.clear()
+        if self.current is None and not self.planned:
+            self._plan_due = None
+            self._set_state(STOPPED)
+            return
+        self.quitting = True  # (an I11-delayed start still runs the calculated moves)
+
+    def detach(self) -> None:
+        """Forget every scheduled wake-up (the controller is being reset)."""
+        self._plan_due = None
+        self._cancel()
+        wake = self._slew_wake
+        if wake is not None and wake.callbacks:
+            wake.callbacks.clear()
+        self._slew_wake = None
+        self.state = IDLE
+
+    # -- status ---------------------------------------------------------------------------
+
+    def status_words(self) -> tuple[int, int, int]:
+        """The three 24-bit words of ``??`` (TSRM p284-287; spec §3, §9.4)."""
+        w1 = w2 = 0
+        if self.running:
+            w1 |= 1 << 0
+            if not self.single_step and not self.no_blend:
+                w1 |= 1 << 4
+        if self.single_step:
+            w1 |= 1 << 1
+        if self.current is not None and self.current.blends:
+            w1 |= 1 << 2
+        if self.time_mode:
+            w1 |= 1 << 3
+        mode_bits = {"LINEAR": 0, "RAPID": 0b10, "CIRCLE1": 0b01, "CIRCLE2": 0b11}[self.mode]
+        w2 |= mode_bits
+        if self.current is not None and self.current.kind == DWELL:
+            w2 |= 1 << 12
+        if self.rotary is not None and self.rotary.full:
+            w2 |= 1 << 16
+        if self.current is None:
+            w2 |= 1 << 17
+        if self.run_time_error:
+            w2 |= 1 << 22
+        return w1, w2, 0
+
+    def to_dict(self) -> dict[str, Any]:
+        """The API's ``program`` object."""
+        out: dict[str, Any] = {"state": self.state}
+        if self.error is not None:
+            out["error"] = self.error
+        if self.current is not None:
+            out["line"] = self.current.n
+        return out
+
+
+__all__ = ["CoordSystem"]

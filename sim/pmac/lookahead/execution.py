@@ -1,0 +1,332 @@
+"""Execution of calculated moves: blending, stops, the calculation deadline, Q / A / S, kill.
+
+Modelled (TUM p339-341, p250; PUM p213; spec §9.1-9.3):
+
+* **Blending.** Consecutive moves whose profiles blend (LINEAR / CIRCLE / DELAY) are joined
+  (:mod:`motionsim.sim.pmac.modes.linear`); the next move starts — ``move_start``, its
+  synchronous M writes, the previous ``move_end`` — at the start of the blend ramp, on a
+  servo cycle. A lookahead break (DWELL, RAPID) is preceded by a stop.
+* **Running out.** With Isx13 = 0 a move that starts executing with no next move calculated
+  (and no calculation deadline missed, below) ends in a stop ``[INF]`` (without segmentation
+  the blend must be known when the move starts); with Isx13 > 0 (segmentation mode) a move
+  calculated before the current move's deceleration to a stop begins is blended in (seed 000
+  "blend into the new move without stopping"), otherwise it starts from rest.
+* **The calculation deadline** (TUM p339: "If the program fails to keep ahead, and the time
+  for the next move comes without the proper data in place for the trajectory generators,
+  Turbo PMAC will abort the program and bring all motors in the coordinate system to a
+  stop"; TUM p236: planning only at RTIs, one request per move start). The instant a move's
+  successor is needed is its decision point: with Isx13 = 0 the move's start (its blend into
+  the next move is fixed then — that is why two moves are calculated ahead, TUM p339)
+  ``[INF]``; with Isx13 > 0 the start of its deceleration, Ta/2 before its programmed end.
+  If there is no successor then, the move would blend, calculation was not stopped on
+  purpose (``Q``, ``S``, a DWELL / RAPID / Isx92 break) and the oldest uncalculated rotary
+  line was already in the buffer when planning last ran, calculation *fell behind*:
+  **run-time error**. The program aborts at that instant exactly as with ``A`` (the
+  ``program`` event carries ``error="run_time_error"``), ``??`` word 2 bit 22 is set until
+  the next ``R`` / ``S`` or reset (and motor ``?`` word 1 bit 14, "data block error").
+  Queued synchronous writes are dropped with it. Example: 1 ms moves with I8 = 2 (RTI every
+  1.33 ms) abort on the third move; with I8 = 0, or 5 ms moves, planning keeps up. A line
+  that arrived *after* the last planning is a run-out, not an error.
+* **Q** stops calculating: the moves already calculated run, the last ends in a stop, then
+  the program is ``stopped``. **A** stops at once: every axis decelerates at the motor abort
+  rate Ixx15 (motor 1's, cts/ms², one count = one axis unit ``[INF]``), calculated moves and
+  queued synchronous writes are discarded (their lines freed); uncalculated lines stay.
+  **S** runs one move, then ``stopped``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from motionsim.sim.pmac.expressions import pmac_and, pmac_or, pmac_xor
+from motionsim.sim.pmac.lookahead.states import ABORTED, RUNNING, STOPPED, WAITING
+from motionsim.sim.pmac.modes import DWELL, PROFILES, Move
+from motionsim.sim.pmac.scheduler import wake_at
+from motionsim.sim.pmac.variables import ixx
+
+#: Synchronous read-modify-write forms.
+_BITWISE = {"&=": pmac_and, "|=": pmac_or, "^=": pmac_xor}
+
+_ceil = math.ceil
+_floor = math.floor
+
+
+class Execution:
+    """The execution part of :class:`~motionsim.sim.pmac.lookahead.CoordSystem` (a mixin: the
+    state it reads and writes is set up in ``CoordSystem.__init__``)."""
+
+    # -- execution ------------------------------------------------------------------------
+
+    def _start_next(self, _ev: Any = None) -> None:
+        """The next calculated move starts executing now: blended from the executing move
+        (the hand-off wake-up), or from rest.
+
+        The previous move ends (``move_end``) and this one starts (``move_start``, after its
+        synchronous M writes) at the same instant; the words of lines executed are freed; the
+        "plan the next move" flag is served at the next RTI; then what ends this move is
+        scheduled — the hand-off into the next calculated move, the segmented-mode decision
+        point, or the stop. This is also the per-line hot path of a stream.
+        """
+        m = self.planned.popleft()
+        prev = self.current
+        t = self._env._now
+        emit = self._emit
+        cs = self.cs
+        n = m.n
+        if prev is not None:
+            emit("move_end", cs=cs, n=prev.n)
+            prev.prev = None  # keep only one step of history
+            m.prev = prev
+            b = prev.b_end
+        else:
+            b = t + m.ta / 2
+        m.b_start = b
+        rot = self.rotary
+        if rot is not None:
+            calc = rot.calculated
+            if calc and calc[0][0] < n:
+                rot.free_through(n - 1)
+        if m.sync:
+            for k, aop, value in m.sync:
+                self._sync_write(k, aop, value)
+        emit("move_start", cs=cs, n=n)
+        m.b_end = b + m.tm
+        self.current = m
+        if self._ver != self.vars.version:
+            self._refresh()
+        p = self._period
+        if self._plan_due is None and not (self.blocked or self.quitting or self.single_step):
+            # = self._plan_at_rti_after(t), written out (the per-line path)
+            r = self._rti
+            k = _floor(t / p + 1e-6) + 1
+            tp = self._plan_due = -(-k // r) * r * p
+            self._plan_wake = wake_at(self._env, tp, self._plan_cb_bound, self._plan_wake)
+        if PROFILES[m.kind].breaks:
+            m.b_start = t
+            m.b_end = t + m.tm
+            m.stopping = True
+            self._after(self.sched.servo_at_or_after(m.b_end), self._stop_end_cb)
+            return
+        if self._isx13 > 0:
+            self._after(self.sched.servo_at_or_after(m.b_end - m.ta / 2), self._decide_cb)
+            return
+        planned = self.planned
+        if planned and not self.single_step:
+            nxt = planned[0]
+            if PROFILES[nxt.kind].blends:
+                # = self._blend_into(m, nxt), written out (the per-line path)
+                lim = 2 * (m.tm - m.ta_in / 2)
+                ta_n = nxt.ta if nxt.ta <= lim else max(0.0, lim)
+                nxt.ta_in = ta_n
+                pend = self._pending
+                if pend is not None and pend.callbacks:
+                    pend.callbacks.clear()
+                th = _ceil((m.b_end - ta_n / 2) / p - 1e-6) * p
+                self._pending = wake_at(self._env, th if th > t else t, self._handoff_cb, pend)
+                return
+        self._decide(None)
+
+    def _blend_into(self, m: Move, nxt: Move) -> None:
+        """``m`` blends into ``nxt``: ``nxt``'s ramp is clipped to ``2·(TM − Ta/2)`` of ``m``
+        (spec §9.1) and the hand-off is at the start of that ramp, on a servo cycle."""
+        lim = 2 * (m.tm - m.ta_in / 2)
+        ta_n = nxt.ta if nxt.ta <= lim else max(0.0, lim)
+        nxt.ta_in = ta_n
+        self._after(self.sched.servo_at_or_after(m.b_end - ta_n / 2), self._handoff_cb)
+
+    def _after(self, t: float, fn: Any) -> None:
+        """Call ``fn(event)`` at ``t``, superseding (cancelling) the pending wake-up."""
+        pend = self._pending
+        if pend is not None and pend.callbacks:
+            pend.callbacks.clear()
+        env = self._env
+        self._pending = wake_at(env, t if t > env._now else env._now, fn, pend)
+
+    def _cancel(self) -> None:
+        """Cancel the pending execution wake-up, if it has not happened yet."""
+        pend = self._pending
+        if pend is not None:
+            if pend.callbacks:
+                pend.callbacks.clear()
+            self._pending = None
+
+    def _decide(self, _ev: Any) -> None:
+        """Blend into the next calculated move, or plan the stop at the end of this one."""
+        m = self.current
+        assert m is not None
+        self._decided = m
+        planned = self.planned
+        if planned and not self.single_step:
+            nxt = planned[0]
+            if PROFILES[nxt.kind].blends and PROFILES[m.kind].blends:
+                self._blend_into(m, nxt)
+                return
+        elif self._fell_behind(m):
+            self.abort("run_time_error")
+            return
+        m.stopping = True
+        m.ta_out = self._accel_s() if m.kind != DWELL else 0.0
+        self._after(self.sched.servo_at_or_after(m.b_end + m.ta_out / 2), self._stop_end_cb)
+
+    def _fell_behind(self, m: Move) -> bool:
+        """No successor is calculated at ``m``'s decision point: is it a calculation deadline
+        missed (run-time error, TUM p339) rather than a run-out (PUM p213)?
+
+        Missed when ``m`` would blend, calculation was not stopped on purpose (Q, S, a DWELL /
+        RAPID / Isx92 break), and the oldest uncalculated line was already in the buffer when
+        planning last ran — so planning had its chance and did not get that far.
+        """
+        if not m.blends or self.quitting or self.single_step or self.blocked:
+            return False
+        rot = self.rotary
+        if rot is None or not rot.pending or self.state != RUNNING:
+            return False
+        return rot.pending[0][0] <= self._seen_n
+
+    def _stop_end(self, _ev: Any) -> None:
+        m = self.current
+        assert m is not None
+        self._emit("move_end", cs=self.cs, n=m.n)
+        self.current = None
+        m.prev = None
+        self.rest_pos = dict(m.end)
+        if PROFILES[m.kind].breaks or self.no_blend:
+            self.blocked = False
+        self._motion_stopped()
+
+    def _motion_stopped(self) -> None:
+        """Motion has come to rest: start what is calculated, or stop / wait."""
+        rot = self.rotary
+        if self.planned:
+            if self.feed_override > 0:
+                self._start_next()
+            return
+        if rot is not None:
+            rot.free_calculated()
+        if self.quitting or self.single_step:
+            self.quitting = False
+            self.single_step = False
+            self.sync_pending.clear()
+            self._set_state(STOPPED)
+        elif self.state == RUNNING:
+            if rot is not None and rot.pending and not self.blocked:
+                self._request_plan()
+                self._arm_i11()
+            else:
+                self._set_state(WAITING)
+
+    def _sync_write(self, k: int, aop: str, value: float) -> None:
+        vars_ = self.vars
+        if aop == "==":
+            vars_.write("M", k, value, self.cs, sync=True)
+            return
+        old = vars_.read("M", k, self.cs)
+        vars_.write("M", k, _BITWISE[aop](old, value), self.cs, sync=True)
+
+    def abort(self, error: str | None = None) -> None:
+        """``A``: decelerate every axis now at Ixx15; discard lookahead and sync writes.
+
+        ``error`` names why the controller aborted by itself (``"run_time_error"``); it goes
+        into the ``program`` event.
+        """
+        if not self.running:
+            return
+        now = self.sched.env.now
+        self._plan_due = None
+        self._cancel()
+        self._starting = False
+        self.quitting = False
+        self.blocked = False
+        self.single_step = False
+        self.sync_pending.clear()
+        self.planned.clear()
+        if error is None:
+            self._set_state(ABORTED)
+        else:
+            self.error = error
+            self._set_state(ABORTED, error=error)
+        m = self.current
+        if m is None:
+            if self.rotary is not None:
+                self.rotary.free_calculated()
+            self.calc_pos = dict(self.rest_pos)
+            return
+        pos = self.positions(now)
+        vel = self._velocities(m, now) if self.feed_override > 0 else {}
+        rate = self.vars.I(ixx(1, 15)) * 1e6  # cts/ms² -> units/s²
+        vmax = max((abs(v) for v in vel.values()), default=0.0)
+        t_stop = vmax / rate if rate > 0 else 0.0
+        stop = {a: pos[a] + vel.get(a, 0.0) * t_stop / 2 for a in pos}
+        self._abort = (now, t_stop, pos, vel)
+        self.calc_pos = dict(stop)
+        self._after(self.sched.servo_at_or_after(now + t_stop), lambda _e: self._abort_end(stop))
+
+    def _abort_end(self, stop: dict[str, float]) -> None:
+        m = self.current
+        if m is None:
+            return
+        self.current = None
+        self._abort = None
+        self.rest_pos = stop
+        self._emit("move_end", cs=self.cs, n=m.n)
+        self._motion_stopped()
+
+    def kill(self, error: str) -> None:
+        """Motors killed (watchdog trip; TSRM p57, TUM p215): amplifiers off, no deceleration.
+
+        The commanded positions freeze where they are at this instant: the executing move (or
+        an ``A`` deceleration) ends now (``move_end``), calculated moves and queued synchronous
+        writes are dropped with their words, a running program is ``aborted`` with ``error``,
+        and nothing is left scheduled for this CS.
+        """
+        now = self._env._now
+        m = self.current
+        was_running = self.running
+        if m is not None:
+            self.rest_pos = self.positions(now)
+        self._plan_due = None
+        self._cancel()
+        wake = self._i11_wake
+        if wake is not None and wake.callbacks:
+            wake.callbacks.clear()
+        self._i11_wake = self._go_t = None
+        self._starting = self.quitting = self.blocked = self.single_step = False
+        self.sync_pending.clear()
+        self.planned.clear()
+        self._abort = None
+        self.calc_pos = dict(self.rest_pos)
+        if self.rotary is not None:
+            self.rotary.free_calculated()
+        if m is not None:
+            self.current = None
+            m.prev = None
+            self._emit("move_end", cs=self.cs, n=m.n)
+        if was_running:
+            self.error = error
+            self._set_state(ABORTED, error=error)
+
+    # -- positions --------------------------------------------------------------------------
+
+    def _velocities(self, m: Move, t: float) -> dict[str, float]:
+        return PROFILES[m.kind].velocities(m, t)
+
+    def positions(self, t: float | None = None) -> dict[str, float]:
+        """Commanded axis positions at ``t`` (default now), from the move profile."""
+        if t is None:
+            t = self.sched.env.now
+        if self.feed_override == 0 and t > self._frozen_at:
+            t = self._frozen_at
+        m = self.current
+        if m is None:
+            return dict(self.rest_pos)
+        if self._abort is not None:
+            t0, t_stop, pos, vel = self._abort
+            tau = min(max(t - t0, 0.0), t_stop)
+            if t_stop <= 0:
+                return dict(pos)
+            return {a: pos[a] + vel.get(a, 0.0) * (tau - tau * tau / (2 * t_stop)) for a in pos}
+        return PROFILES[m.kind].positions(m, t)
+
+
+__all__ = ["Execution"]

@@ -1,0 +1,297 @@
+"""Move planning ("calculation") of a coordinate system: working through program lines at RTIs.
+
+Modelled (TUM p236, p249-250, p339-341; TSRM p177, p190; PSRM I11; PUM p213; spec §4, §9.3):
+
+* **Planning at RTIs.** Working through program lines happens only at RTIs. On ``R`` the
+  first moves are calculated at the next RTI and motion starts at that RTI (I11 = 0: "start
+  as soon as calculated"), or I11 ms after the ``R`` (below). Every time a move starts
+  executing it asks for planning of the next move, done at the next RTI strictly after the
+  move's start.
+* **Depth.** Calculation keeps this many moves calculated beyond the executing one: 2 for
+  LINEAR with Isx13 = 0 (and CIRCLE, which runs as LINEAR without segmentation, TSRM p177),
+  else 1 (spec §4.2, §9.3: from rest the scan runs through the 3rd move). DWELL, DELAY and
+  RAPID count as moves. A line is worked through whole.
+* **Breaks.** ``DWELL`` and ``RAPID`` stop lookahead: nothing after them is calculated until
+  they are finished (then at the next RTI). With Isx92 = 1 (read at ``R``/``S``) every move
+  is such a break: no blending, each move ends in a stop before the next is calculated (the
+  Isx81/Isx82 in-position wait and dwell are not modelled). ``DELAY`` is a zero-distance
+  move, calculated through and blended like any move.
+* **Running out** of lines is not an error: when motion has stopped and there is nothing left
+  to calculate the program is ``waiting`` (still running); a new line is calculated at the
+  next RTI and starts at once, without a new ``R``.
+* **I11** (PSRM I11: "the delay from when the run signal is taken ... and when the first
+  programmed move starts"; 0 = as soon as calculated). A sequence starting from rest — ``R``,
+  a line arriving while ``waiting``, the end of a lookahead break — has its first move due
+  I11 ms later (on a servo cycle). Calculation happens at the next RTI; if that is later than
+  the due instant and there are lines to calculate, it is a run-time error at the due instant
+  (the abort of :mod:`.execution`, no motion). With nothing to calculate it is a run-out.
+* **Assignments.** Plain ``=`` assignments act at calculation (1-2 moves early, so ``M1=1``
+  between ``X10`` and ``X20`` fires when the move to X10 starts). Synchronous ones (``==``,
+  ``&=``, ``|=``, ``^=``) are evaluated at calculation and written at the start of the next
+  move or dwell that actually executes; ones left after the last move are never written.
+
+Each move's time and profile come from its mode's module (:mod:`motionsim.sim.pmac.modes`);
+this part only decides *when* lines are worked through and keeps the modal state.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from motionsim.sim.pmac.lookahead.states import RUNNING, WAITING
+from motionsim.sim.pmac.modes import LINEAR, PROFILES, Move, dwell, linear, rapid
+from motionsim.sim.pmac.program import (
+    OP_ASSIGN,
+    OP_AXISMODE,
+    OP_DELAY,
+    OP_DWELL,
+    OP_MODAL,
+    OP_MODE,
+    OP_MOVE,
+    ProgramLine,
+)
+from motionsim.sim.pmac.scheduler import Wake, wake_at
+from motionsim.sim.pmac.variables import isx
+
+
+class Planning:
+    """The planning part of :class:`~motionsim.sim.pmac.lookahead.CoordSystem` (a mixin: the
+    state it reads and writes is set up in ``CoordSystem.__init__``)."""
+
+    # -- lines arriving -------------------------------------------------------------------
+
+    def lines_arrived(self) -> None:
+        """New lines in the rotary buffer: plan at the next RTI if calculation wants them."""
+        if self._plan_due is not None or self.blocked or self.quitting:
+            return
+        if self.state != RUNNING and self.state != WAITING:
+            return
+        if self._ver != self.vars.version:
+            self._refresh()
+        if len(self.planned) < self._depth():
+            self._request_plan()
+            if self.current is None and not self.planned and self._i11_s > 0:
+                self._arm_i11()
+
+    def _depth(self) -> int:
+        """How many moves calculation keeps ready (TUM p339, spec §4.2): 2 beyond the executing
+        one with Isx13 = 0 — LINEAR, and CIRCLE, which then runs as LINEAR (TSRM p177) — else
+        1; one more from rest, where no move is executing yet. (The caller has refreshed.)"""
+        depth = 2 if self._isx13 == 0 and self.mode != "RAPID" else 1
+        return depth + 1 if self.current is None else depth
+
+    def _request_plan(self) -> None:
+        """Ask for move planning at the next RTI (the first cycle divisible by I8+1 after now)."""
+        if self._plan_due is not None:
+            return
+        if self._ver != self.vars.version:
+            self._refresh()
+        self._plan_at_rti_after(self._env._now)
+
+    def _plan_at_rti_after(self, t: float) -> None:
+        """Set the "plan the next move" flag: planning at the first RTI strictly after ``t``
+        (cycles divisible by I8+1; TUM p236)."""
+        tp = self._plan_due = self.sched.next_rti_after(t)
+        self._plan_wake = wake_at(self._env, tp, self._plan_cb_bound, self._plan_wake)
+
+    # -- planning (RTI) -------------------------------------------------------------------
+
+    def _plan_cb(self, _ev: Any) -> None:
+        due = self._plan_due
+        if due is None or due > self._env._now:
+            return
+        self._plan_due = None
+        state = self.state
+        if self.blocked or self.quitting or (state != RUNNING and state != WAITING):
+            return
+        rot = self.rotary
+        planned = self.planned
+        vars_ = self.vars
+        if self._ver != vars_.version:
+            self._refresh()
+        if self.single_step:
+            target = 0 if (self.current is not None or planned) else 1
+        else:
+            target = self._depth()
+        if rot is not None and self.program == 0:
+            self._seen_n = rot.n_loaded
+            pending = rot.pending
+            while pending and len(planned) < target and not self.blocked:
+                simple = pending[0][1].simple
+                if simple is not None and self._fast and self._ver == vars_.version:
+                    n = rot.take_simple()
+                    # Short cut for the streamed line: one LINEAR move, constant ABS values, TM.
+                    start = self.calc_pos
+                    end = start.copy()
+                    for axis, value in simple:
+                        if axis not in start:
+                            start[axis] = 0.0
+                        end[axis] = value
+                    move = Move(n, LINEAR, self._tm_s, self._ta_s, start, end, None)
+                    self.calc_pos = end
+                    if self.sync_pending:
+                        move.sync = self.sync_pending
+                        self.sync_pending = []
+                    planned.append(move)
+                else:
+                    n, line = rot.take()  # type: ignore[misc]
+                    self._calculate(n, line)
+                    self._fast = (
+                        self.time_mode
+                        and self.mode == "LINEAR"
+                        and not self.incremental
+                        and not self.no_blend
+                    )
+                    rot.line_calculated(n)
+        if self.current is None and not self._starting and self.feed_override > 0:
+            if planned:
+                if self.state == WAITING:
+                    self._set_state(RUNNING)
+                if self._i11_s > 0:
+                    # I11: the calculation delay before a sequence starts from rest.
+                    self._starting = True
+                    now = self._env._now
+                    t = self._go_t
+                    if t is None:
+                        t = self.sched.servo_at_or_after(now + self._i11_s)
+                    self._after(t if t > now else now, self._delayed_start)
+                else:
+                    self._start_next()
+            elif self.state == RUNNING:
+                self._set_state(WAITING)
+
+    def _arm_i11(self) -> None:
+        """A sequence is to start from rest now (``R``, a line arriving while ``waiting``, the
+        end of a lookahead break): with I11 > 0 its first move is due I11 ms from now, on a
+        servo cycle, and must be calculated by then (PSRM I11; TUM p339)."""
+        wake = self._i11_wake
+        if wake is not None and wake.callbacks:
+            wake.callbacks.clear()
+        self._i11_wake = None
+        if self._ver != self.vars.version:
+            self._refresh()
+        if self._i11_s <= 0:
+            self._go_t = None
+            return
+        t = self._go_t = self.sched.servo_at_or_after(self._env._now + self._i11_s)
+        # created after the planning request: planning at this same instant is in time
+        self._i11_wake = Wake(self._env, t, self._i11_deadline)
+
+    def _i11_deadline(self, _ev: Any) -> None:
+        """The I11 time is up: the first move must be calculated now. Nothing calculated with
+        lines waiting to be (not a run-out, not stopped) is a run-time error."""
+        self._i11_wake = None
+        if self.current is not None or self.planned or not self.running:
+            return
+        rot = self.rotary
+        if self.blocked or self.quitting or rot is None or not rot.pending:
+            return
+        self.abort("run_time_error")
+
+    def _delayed_start(self, _ev: Any) -> None:
+        self._starting = False
+        self._go_t = None
+        if self.current is None and self.planned and self.feed_override > 0:
+            self._start_next()
+
+    def _calculate(self, n: int, line: ProgramLine) -> None:
+        """Work through one line: assignments, modal settings, its move."""
+        vars_ = self.vars
+        cs = self.cs
+        for op in line.ops:
+            code = op[0]
+            if code == OP_MOVE:
+                self._plan_move(n, op[1], op[2])
+            elif code == OP_ASSIGN:
+                _, kind, idx, aop, val = op
+                k = int(idx.const if idx.const is not None else idx.fn(vars_, cs))
+                value = val.const if val.const is not None else val.fn(vars_, cs)
+                if aop == "=":
+                    vars_.write(kind, k, value, cs)
+                else:
+                    self.sync_pending.append((k, aop, value))
+            elif code == OP_MODAL:
+                name, expr = op[1], op[2]
+                value = expr(vars_, cs)
+                if name == "TA":
+                    vars_.write("I", isx(cs, 87), value)
+                elif name == "TS":
+                    vars_.write("I", isx(cs, 88), value)
+                else:
+                    vars_.write("I", isx(cs, 89), value)
+                    self.time_mode = name == "TM"
+            elif code == OP_MODE:
+                self.mode = op[1]
+            elif code == OP_AXISMODE:
+                axes = op[2] or tuple("XYZABCUVW")
+                if op[1]:
+                    self.incremental.update(axes)
+                else:
+                    self.incremental.difference_update(axes)
+            elif code == OP_DWELL:
+                self._append(dwell.plan_dwell(n, op[1](vars_, cs), self.calc_pos))
+                self.blocked = True
+            elif code == OP_DELAY:
+                if self._ver != vars_.version:
+                    self._refresh()
+                self._append(dwell.plan_delay(self, n, op[1](vars_, cs), self.calc_pos))
+                if self.no_blend:
+                    self.blocked = True
+
+    def _append(self, move: Move) -> None:
+        if self.sync_pending:
+            move.sync = self.sync_pending
+            self.sync_pending = []
+        self.planned.append(move)
+
+    def _plan_move(self, n: int, axes: tuple, vectors: tuple) -> None:
+        """A move line: the end point from the axis words (INC / ABS), then the move of the
+        current mode; RAPID (and every move with Isx92 = 1) is a lookahead break."""
+        vars_, cs = self.vars, self.cs
+        start = self.calc_pos
+        end = start.copy()
+        inc = self.incremental
+        for axis, expr in axes:
+            v = expr.const if expr.const is not None else expr.fn(vars_, cs)
+            if axis not in start:
+                start[axis] = 0.0
+            end[axis] = start[axis] + v if axis in inc else v
+        if self._ver != vars_.version:
+            self._refresh()
+        if self.mode == "RAPID":
+            move = rapid.plan(self, n, start, end)
+        else:
+            move = linear.plan(self, n, start, end, vectors)
+        self.calc_pos = end
+        self._append(move)
+        if self.no_blend or PROFILES[move.kind].breaks:
+            self.blocked = True  # Isx92 = 1: every move is a lookahead break
+
+    # -- the planning context of the move modes (modes.move.PlanContext) --------------------
+
+    @property
+    def feedrate(self) -> float:
+        return self._f
+
+    @property
+    def isx90_ms(self) -> float:
+        return self._isx90
+
+    @property
+    def accel_prog_s(self) -> float:
+        return self._ta_prog
+
+    @property
+    def accel_real_s(self) -> float:
+        return self._ta_s
+
+    @property
+    def time_scale(self) -> float:
+        return self._scale
+
+    @property
+    def segmented(self) -> bool:
+        return self._isx13 > 0
+
+
+__all__ = ["Planning"]

@@ -1,0 +1,21 @@
+"""Turbo PMAC move modes (TUM "move modes … LINEAR, RAPID, CIRCLE, PVT, and SPLINE").
+
+One module per mode computes the move's time from the line and the modal state (``plan``)
+and answers for its profile (:class:`~motionsim.sim.pmac.modes.move.Profile`): blending,
+lookahead breaks, positions and velocities at an instant. The coordinate system's planner
+and executor (:mod:`motionsim.sim.pmac.lookahead`) call only this interface.
+"""
+
+from __future__ import annotations
+
+from motionsim.sim.pmac.modes import dwell, linear, rapid
+from motionsim.sim.pmac.modes.move import DELAY, DWELL, LINEAR, RAPID, Move, Profile
+
+#: The profile of each move kind, indexed by ``Move.kind``.
+PROFILES: tuple[Profile, ...] = (
+    linear.PROFILE, dwell.DWELL_PROFILE, dwell.DELAY_PROFILE, rapid.PROFILE,
+)  # fmt: skip
+
+assert all(p.kind == k for k, p in enumerate(PROFILES))
+
+__all__ = ["DELAY", "DWELL", "LINEAR", "PROFILES", "RAPID", "Move", "Profile"]

@@ -1,0 +1,74 @@
+"""LINEAR and CIRCLE moves: timing and the blended constant-velocity profile.
+
+Timing (TSRM p188-189, p177; spec §9.1): the move time is TM in move-by-time mode, else the
+vector distance over the feedrate axes / F × Isx90 ms; CIRCLE1/2 use the arc length when
+Isx13 > 0 (without segmentation they run as LINEAR, TSRM p177). The time is at least the
+acceleration time ``Ta = max(TA, 2·TS)`` and is stretched by the ``%`` time base. The axes run
+at constant velocity between blend ramps centred on the programmed points
+(:func:`motionsim.sim.pmac.motion.position_at`); along an arc the chord is used ``[INF]``.
+"""
+
+from __future__ import annotations
+
+from motionsim.sim.pmac import motion
+from motionsim.sim.pmac.modes.move import LINEAR, Move, PlanContext, Profile
+
+
+def plan(
+    ctx: PlanContext, n: int, start: dict[str, float], end: dict[str, float], vectors: tuple
+) -> Move:
+    """The LINEAR / CIRCLE move of line ``n`` from ``start`` to ``end`` (``vectors``: the
+    circle's I, J, K / R words)."""
+    if ctx.time_mode:
+        t = ctx.feedrate / 1000.0
+    else:
+        if ctx.mode != "LINEAR" and vectors and ctx.segmented:
+            vars_, cs = ctx.vars, ctx.cs
+            vec = dict(vectors)
+            ij = (
+                vec["I"](vars_, cs) if "I" in vec else 0.0,
+                vec["J"](vars_, cs) if "J" in vec else 0.0,
+            )
+            radius = vec["R"](vars_, cs) if "R" in vec else None
+            dist = motion.arc_length(
+                start, end, None if radius else ij, radius, ctx.mode == "CIRCLE1"
+            )
+        else:
+            dist = motion.vector_distance({a: end[a] - start[a] for a in end})
+        t = motion.feed_time_s(dist, ctx.feedrate, ctx.isx90_ms)
+    t = motion.clamp_move_time(t, ctx.accel_prog_s) * ctx.time_scale
+    return Move(n, LINEAR, t, ctx.accel_real_s, start, end, None)
+
+
+class BlendedProfile(Profile):
+    """Constant velocity between ramps centred on the programmed points; the ramp in blends
+    from the previous move's velocity, the ramp out (when stopping) goes to rest."""
+
+    kind = LINEAR
+    blends = True
+
+    def positions(self, m: Move, t: float) -> dict[str, float]:
+        out: dict[str, float] = {}
+        v, v_prev = m.v, m.v_prev
+        b_end = m.b_end if m.stopping else None
+        for a in m.end:
+            out[a] = motion.position_at(
+                t, m.start.get(a, 0.0), v.get(a, 0.0), m.b_start, m.ta_in,
+                v_prev.get(a, 0.0), b_end, m.ta_out,
+            )  # fmt: skip
+        return out
+
+    def velocities(self, m: Move, t: float) -> dict[str, float]:
+        out: dict[str, float] = {}
+        v, v_prev = m.v, m.v_prev
+        b_end = m.b_end if m.stopping else None
+        for a in m.end:
+            out[a] = motion.velocity_at(
+                t, v.get(a, 0.0), m.b_start, m.ta_in, v_prev.get(a, 0.0), b_end, m.ta_out
+            )
+        return out
+
+
+PROFILE = BlendedProfile()
+
+__all__ = ["PROFILE", "BlendedProfile", "plan"]
