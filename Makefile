@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: run test lint bench clean
+.PHONY: run test lint bench cov mutate clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -25,5 +25,18 @@ lint: $(STAMP)
 bench: $(STAMP)
 	for f in bench/bench_*.py; do $(BIN)/python $$f || exit 1; done
 
+# Branch coverage of the whole suite, subprocesses included (pyproject [tool.coverage]).
+cov: $(STAMP)
+	rm -f .coverage .coverage.*
+	$(BIN)/coverage run -m pytest
+	$(BIN)/coverage combine -q
+	$(BIN)/coverage report
+
+# Mutation testing of the decision modules (tools/mutation.toml); slow: not part of `make test`.
+# `make mutate MODULES=sim/pmac/rotary.py` for one module.
+mutate: $(STAMP)
+	$(BIN)/python -m pip install -q -e '.[test,mutation]'
+	$(BIN)/python tools/mutate.py $(MODULES)
+
 clean:
-	rm -rf $(VENV) build *.egg-info
+	rm -rf $(VENV) build *.egg-info .mutation .coverage .coverage.*
