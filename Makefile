@@ -22,8 +22,11 @@ test: $(STAMP)
 lint: $(STAMP)
 	$(BIN)/ruff check .
 
+# Every benchmark (each prints its table and writes bench/results/<name>.json), then the
+# summary of every target (PASS / SHORT, a report, never a failure) into README's Performance.
 bench: $(STAMP)
-	for f in bench/bench_*.py; do $(BIN)/python $$f || exit 1; done
+	@for f in bench/bench_*.py; do echo "== $$f"; $(BIN)/python $$f || echo "== $$f FAILED"; done
+	$(BIN)/python bench/summary.py --readme
 
 # Branch coverage of the whole suite, subprocesses included (pyproject [tool.coverage]).
 cov: $(STAMP)

@@ -16,7 +16,6 @@ and writes ``bench/results/trio.json``.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import time
 from pathlib import Path
@@ -27,6 +26,7 @@ sys.path.insert(0, str(ROOT / "bench"))
 
 from motionsim.sim.trio import TrioController  # noqa: E402
 from reference_loop import reference_rate  # noqa: E402
+from results import write  # noqa: E402
 
 PROGRAM = """FOR i=1 TO {loops}
   MOVE(1) AXIS(0)
@@ -81,18 +81,11 @@ def main() -> None:
     print(f"trio 4-axis    : {trio['moves_per_wall_s']:12,.0f} moves/s  "
           f"({trio['moves']:,} moves, {trio['simulated_s']:.1f} s simulated, "
           f"{trio['events_per_move']:.1f} events/move)")
-    print(f"ratio          : {ratio:.3f} x reference (target >= 0.1)")
-    out = ROOT / "bench" / "results"
-    out.mkdir(parents=True, exist_ok=True)
-    result = {
-        "reference_lines_per_s": ref,
-        "trio": trio,
-        "ratio": ratio,
-        "target_ratio": 0.1,
-        "runs": {"reference": refs, "trio": [r["moves_per_wall_s"] for r in trios]},
-    }
-    (out / "trio.json").write_text(json.dumps(result, indent=2) + "\n")
-
+    print(f"ratio          : {ratio:.3f} x reference (target >= 0.15)")
+    path = write("trio", figures={"trio": trio, "runs": [r["moves_per_wall_s"] for r in trios]},
+                 references={"bare_simpy_lines_per_s": ref, "runs": refs},
+                 ratios={"ratio": ratio})
+    print(f"wrote {path}")
 
 if __name__ == "__main__":
     main()

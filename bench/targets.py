@@ -1,0 +1,46 @@
+"""The performance targets ``make bench`` reports against: each a ratio to a reference
+measured in the same run (or, where the issue names one, an absolute bound), read from
+``bench/results/<file>.json`` under ``"ratios"``."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Target:
+    file: str  # bench/results/<file>.json
+    key: str  # its "ratios" entry
+    text: str  # what is compared with what
+    op: str  # ">=" or "<="
+    value: float
+
+    def met(self, ratio: float) -> bool:
+        return ratio >= self.value if self.op == ">=" else ratio <= self.value
+
+
+TARGETS: tuple[Target, ...] = (
+    Target("pmac_stream", "core", "PMAC rotary stream in the core / bare SimPy loop", ">=", 0.35),
+    Target("pmac_stream", "memory_growth", "PMAC stream RSS growth 1e5 -> 1e6 lines", "<=", 0.05),
+    Target("pmac_stream", "pvt_vs_linear", "PVT stream / LINEAR stream lines/s", ">=", 0.8),
+    Target("rest_stream", "batches_500", "PMAC stream over REST (batches of 500) / bare loop",
+           ">=", 0.15),
+    Target("rest_stream", "one_line_p99", "1-line POST p99 / bare FastAPI POST p99", "<=", 2.0),
+    Target("parse", "program_lines", "PMAC program lines -> statements / bare regex tokens",
+           ">=", 0.3),
+    Target("trio", "ratio", "Trio 4-axis BASIC stream / its bare SimPy reference", ">=", 0.15),
+    Target("websocket", "p99_100x250", "WS p99, 100 subscribers x 250 ev/s / bare broadcaster",
+           "<=", 2.0),
+    Target("websocket", "p99_10x1000", "WS p99, 10 subscribers x 1000 ev/s / bare broadcaster",
+           "<=", 2.0),
+    Target("realtime", "lateness_p99", "realtime clock lateness p99 under load / bare stepping",
+           "<=", 2.0),
+    Target("realtime", "drift_s_10min", "cumulative drift over 10 simulated minutes (s)",
+           "<=", 0.01),
+    Target("realtime", "health_p99_ms_factor10_plc", "/health p99 at factor 10 with a PLC (ms)",
+           "<=", 50.0),
+    Target("wire", "getresponse", "PMAC Ethernet GETRESPONSE round trips / bare echo server",
+           ">=", 0.5),
+    Target("sweep", "speedup_2_workers", "64 scenario runs: 2 local workers vs 1 (speed-up)",
+           ">=", 1.8),
+)
