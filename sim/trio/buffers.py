@@ -4,14 +4,18 @@ Every axis has two move buffers — MTYPE (the move executing) and NTYPE (the ne
 every process has one process buffer, shared by all the axes it drives (TN20-16, spec §1).
 This module alone decides where a move goes and when it moves on.
 
-Placement, at the instant a move command is issued by process ``p`` on axes ``A``:
+Placement, at the instant a move command is issued by process ``p`` on axes ``A`` (TRM
+MC206 p. 8-130 "PMOVE", M206-320): the move is first written into ``p``'s process move buffer
+(PMOVE = 1) and the program goes on with its next line; the *next servo interrupt* transfers it
+to the NTYPE buffers of every axis in ``A`` if they are all free (PMOVE = 0), and — in the same
+interrupt, sequencing first — on into MTYPE where MTYPE is free. So:
 
 1. ``p``'s process buffer is full -> the move cannot be buffered: a BASIC process waits at
-   the line, the command line locks, the REST API answers 409 ``buffer_full``.
-2. MTYPE and NTYPE of every axis in ``A`` are free -> MTYPE (the move starts at the next
-   servo period);
-3. else NTYPE of every axis in ``A`` is free -> NTYPE;
-4. else -> ``p``'s process buffer (PMOVE = 1).
+   the line, the command line locks, the REST API answers 409 ``buffer_full``. Two moves
+   issued by one process within one servo period therefore make the second one wait for the
+   interrupt (TN20: a fourth move blocks; here the second already does until the transfer);
+2. else -> ``p``'s process buffer (PMOVE = 1), a servo interrupt is scheduled at the next
+   period; with every buffer of ``A`` empty the move starts executing at that period.
 
 Then, at every servo period ``k`` at which something can change, in this order (TJ2P-21):
 
@@ -25,7 +29,8 @@ So "the instant the move in the MTYPE register is finished, the buffered move is
 forward and starts in the next servo period" (TN20): a move ending at cycle ``e`` is followed
 by its NTYPE move starting at ``e + 1``, and the process buffer drains into the freed NTYPE at
 ``e + 2`` (sequencing precedes loading, spec §1.2 ``[INF]``). A process waiting at a move line
-has its move buffered in that same servo period, after the drain.
+has its move written to the process buffer in the servo period where the buffer drained, and
+that move is transferred at the following interrupt.
 
 MERGE (axis parameter of the base axis, default OFF). Not found in any corpus reachable here
 (searched docs/pages/code/issues for "Trio MERGE axis parameter", "Trajexia MERGE parameter
@@ -117,7 +122,6 @@ class MotionBuffers:
         self._waiters: dict[int, deque[Waiter]] = {}
         self._ntype: list[Move] = []  # moves in NTYPE, oldest first
         self._active: dict[Move, None] = {}  # moves in MTYPE, oldest first
-        self._starting: dict[int, list[Move]] = {}  # placed straight into MTYPE, by start cycle
         self._ending: dict[int, list[Move]] = {}  # executing moves by the cycle they end
         self._ticks: set[int] = set()
         self._merged_from: dict[Move, tuple[float, float]] = {}  # next move: (t0, v0)
@@ -182,40 +186,16 @@ class MotionBuffers:
     # -- placement -------------------------------------------------------------------------
 
     def place(self, move: Move) -> Placed | None:
-        """Put ``move`` in the first free level (MTYPE, NTYPE, process buffer), or None."""
+        """Write ``move`` into its process buffer (PMOVE = 1), or None when that is full.
+
+        The next servo interrupt transfers it to NTYPE / MTYPE (see the module docstring).
+        """
         p = move.process
         if p in self.process_buffer:
             return None
-        axes = [self.axes[a] for a in move.axes]
-        if len(axes) == 1:
-            ax = axes[0]
-            free_m, free_n = ax.mtype is None, ax.ntype is None
-        else:
-            free_n = all(ax.ntype is None for ax in axes)
-            free_m = free_n and all(ax.mtype is None for ax in axes)
-        if free_m and free_n:
-            k = self.clock.after(self.env.now)
-            self._active[move] = None
-            self._starting.setdefault(k, []).append(move)
-            for ax in axes:
-                ax.mtype = move
-                self._changed(ax)
-            self._tick_at(k)
-            return "mtype"
-        if free_n:
-            self._ntype.append(move)
-            for ax in axes:
-                ax.ntype = move
-                self._changed(ax)
-            if all(ax.mtype is None for ax in axes):  # a group move, some MTYPEs were busy
-                self._tick_at(self.clock.after(self.env.now))
-            elif self.axes[move.axes[0]].merge:
-                self._try_merge(move)
-            return "ntype"
-        # Some NTYPE is busy: it frees only in a servo period (or by CANCEL), which then
-        # schedules the next period for this move.
         self.process_buffer[p] = move
         self.log.emit("process_buffer", process=p, axis=move.axes[0], mtype=move.mtype)
+        self._tick_at(self.clock.after(self.env.now))
         return "process_buffer"
 
     def place_or_wait(self, move: Move, on_placed: OnPlaced) -> Placed | Waiter:
@@ -241,15 +221,6 @@ class MotionBuffers:
         m = self.axes[axis].mtype
         if m is None:
             return
-        if m.start_tick is None:  # placed, not yet started: it never runs
-            self._starting[self._start_cycle(m)].remove(m)
-            del self._active[m]
-            for a in m.axes:
-                ax = self.axes[a]
-                ax.mtype = None
-                self._changed(ax)
-            self._kick()
-            return
         assert m.profile is not None
         now_k = self.clock.index(self.env.now)
         tau = self.clock.t(now_k) - m.t_start
@@ -257,12 +228,6 @@ class MotionBuffers:
         assert m.profile is not None
         end = max(self.clock.at_or_after(m.t_start + m.profile.duration), now_k + 1)
         self._end_at(m, end)
-
-    def _start_cycle(self, m: Move) -> int:
-        for k, ms in self._starting.items():
-            if m in ms:
-                return k
-        raise KeyError(m)
 
     def cancel_next(self, axis: int) -> None:
         """CANCEL(1): drop the move waiting in NTYPE of ``axis`` (and its group)."""
@@ -341,10 +306,6 @@ class MotionBuffers:
                         ax.mtype = m
                         self._changed(ax)
                     self._begin(m, k)
-        starting = self._starting.pop(k, None)
-        if starting:
-            for m in starting:
-                self._begin(m, k)
         # 3. the MTYPE moves advance; those whose profile is complete end now
         ending = self._ending.pop(k, ())
         for m in ending:

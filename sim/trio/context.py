@@ -99,13 +99,21 @@ class Context:
             n = self.base_axis(axis)
             return self.ctrl.axes[n].read(name)
         if name == "PMOVE":
-            p = self.process if proc is None else self.ctrl.process_number(proc)
-            return float(self.ctrl.buffers.pmove(p))
+            return float(self.ctrl.buffers.pmove(self.proc_number(proc)))
         if name == "PROCNUMBER":
             return float(self.process)
         if name == "SERVO_PERIOD":
             return self.ctrl.clock.period_s * 1e6
         raise BasicError(f"Unknown parameter {name}")
+
+    def proc_number(self, proc: float | None) -> int:
+        """``PROC(n)``: process n, 0 (the command line) included; none = this process."""
+        if proc is None:
+            return self.process
+        try:
+            return self.ctrl.process_number(proc, allow_zero=True)
+        except InvalidValue:
+            raise BasicError(msg.PROCESS_RANGE.format(process=f"{proc:g}")) from None
 
     def set_param(self, name: str, axis: float | None, value: float) -> None:
         n = self.base_axis(axis)

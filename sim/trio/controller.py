@@ -202,6 +202,10 @@ class TrioController(Controller):
             reply.resolve(result, None, self.env.now)
         return reply
 
+    def pmove(self, process: int) -> int:
+        """PMOVE PROC(process): 1 while that process' move buffer holds a move (M206-320)."""
+        return self.buffers.pmove(self.process_number(process, allow_zero=True))
+
     def withdraw_move(self, reply: Reply) -> bool:
         """Give up a ``move(..., wait=True)`` not yet placed; True if it was withdrawn (then
         nothing of it was queued)."""

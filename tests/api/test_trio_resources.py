@@ -27,23 +27,48 @@ async def test_axis_resource_and_patch(trio_api):
     assert (await trio_api.get(f"{BASE}/axes/99")).status_code == 404
 
 
+async def _one_period(api) -> None:
+    await api.post(f"{BASE}/clock/advance", json={"seconds": 0.001})
+
+
 async def test_moves_placed_then_409_with_nothing_queued(trio_api):
+    """Each move enters process 0's process buffer; the servo interrupt moves it on to
+    MTYPE / NTYPE (M206-320), so moves one servo period apart fill MTYPE, NTYPE, then the
+    process buffer."""
     placed = []
     for _ in range(3):
         r = await trio_api.post(f"{BASE}/axes/0/moves", json={"type": "MOVE", "args": [10]})
         assert r.status_code == 201
         placed.append(r.json()["placed"])
-    assert placed == ["mtype", "ntype", "process_buffer"]
+        await _one_period(trio_api)
+    assert placed == ["process_buffer"] * 3
+    axis = (await trio_api.get(f"{BASE}/axes/0")).json()
+    assert (axis["mtype"], axis["ntype"]) == (1, 1)
     before = (await trio_api.get(f"{BASE}/events")).json()["next"]
     r = await trio_api.post(f"{BASE}/axes/0/moves", json={"type": "MOVE", "args": [10]})
     assert r.status_code == 409 and r.json()["code"] == "buffer_full"
     assert (await trio_api.get(f"{BASE}/events", params={"since": before})).json()["events"] == []
-    assert await clock_t(trio_api, BASE) == 0.0
+    assert await clock_t(trio_api, BASE) == pytest.approx(0.003)
+
+
+async def test_second_move_in_one_servo_period_is_409_until_the_interrupt(trio_api):
+    r = await trio_api.post(f"{BASE}/axes/0/moves", json={"type": "MOVE", "args": [10]})
+    assert r.status_code == 201
+    r = await trio_api.post(f"{BASE}/axes/1/moves", json={"type": "MOVE", "args": [10]})
+    assert r.status_code == 409 and r.json()["code"] == "buffer_full"
+    r = await trio_api.post(f"{BASE}/terminal", json={"command": "? PMOVE PROC(0)"})
+    assert r.json() == {"reply": "1.0000", "error": None, "pending": False}
+    await _one_period(trio_api)
+    r = await trio_api.post(f"{BASE}/terminal", json={"command": "? PMOVE PROC(0)"})
+    assert r.json()["reply"] == "0.0000"
+    r = await trio_api.post(f"{BASE}/axes/1/moves", json={"type": "MOVE", "args": [10]})
+    assert r.status_code == 201
 
 
 async def test_wait_true_advances_a_virtual_clock_until_buffered(trio_api):
     for _ in range(3):
         await trio_api.post(f"{BASE}/axes/0/moves", json={"type": "MOVE", "args": [10]})
+        await _one_period(trio_api)
     r = await trio_api.post(f"{BASE}/axes/0/moves", params={"wait": "true"},
                             json={"type": "MOVE", "args": [10]})
     assert r.status_code == 201 and r.json() == {"placed": "process_buffer"}
@@ -51,8 +76,9 @@ async def test_wait_true_advances_a_virtual_clock_until_buffered(trio_api):
 
 
 async def test_wait_true_times_out_with_nothing_queued(trio_api):
-    await trio_api.post(f"{BASE}/axes/0/moves", json={"type": "FORWARD"})
-    await trio_api.post(f"{BASE}/axes/0/moves", json={"type": "MOVE", "args": [1]})
+    for body in ({"type": "FORWARD"}, {"type": "MOVE", "args": [1]}):
+        await trio_api.post(f"{BASE}/axes/0/moves", json=body)
+        await _one_period(trio_api)
     await trio_api.post(f"{BASE}/axes/0/moves", json={"type": "MOVE", "args": [1]})
     r = await trio_api.post(f"{BASE}/axes/0/moves", params={"wait": "true", "timeout_s": 0.5},
                             json={"type": "MOVE", "args": [1]})
@@ -89,7 +115,7 @@ async def test_program_put_get_run_processes(trio_api):
     assert (await trio_api.get(f"{BASE}/programs")).json() == {"programs": ["DEMO"]}
     r = await trio_api.post(f"{BASE}/programs/demo/run", json={"process": 2})
     assert r.json() == {"process": 2}
-    await trio_api.post(f"{BASE}/clock/advance", json={"seconds": 0.001})
+    await trio_api.post(f"{BASE}/clock/advance", json={"seconds": 0.01})
     procs = (await trio_api.get(f"{BASE}/processes")).json()
     assert procs == [{"process": 2, "program": "DEMO", "state": "blocked", "line": 2,
                       "blocked_on": "MOVE(10) AXIS(0)", "pmove": 1, "error": None}]
@@ -124,11 +150,12 @@ async def test_terminal_locks_and_reports_pending(trio_api):
     for _ in range(3):
         r = await trio_api.post(f"{BASE}/terminal", json={"command": "MOVE(10) AXIS(0)"})
         assert r.json() == {"reply": "", "error": None, "pending": False}
+        await _one_period(trio_api)
     r = await trio_api.post(f"{BASE}/terminal", json={"command": "MOVE(10) AXIS(0)"})
     assert r.json() == {"reply": "", "error": None, "pending": True}
     r = await trio_api.post(f"{BASE}/terminal", json={"command": "? MTYPE AXIS(0)"})
     assert r.json()["pending"] is True
-    assert await clock_t(trio_api, BASE) == 0.0
+    assert await clock_t(trio_api, BASE) == pytest.approx(0.003)
     r = await trio_api.get(f"{BASE}/terminal")
     assert r.json() == {"locked": True, "pending": ["MOVE(10) AXIS(0)", "? MTYPE AXIS(0)"]}
     r = await trio_api.post(f"{BASE}/clock/run-until",

@@ -38,10 +38,12 @@ def test_plain_socket_session_prints_and_locks_on_a_fourth_move() -> None:
             s.sendall(b"? VR(5)\r\n")
             assert read_until(s) == b"? VR(5)\r\n2.0000\r\n>>"
             assert httpx.get(http + "/variables/VR(5)", timeout=5).json()["value"] == 2
-            # MTYPE, NTYPE, process buffer: three moves are buffered at once ...
+            # MTYPE, NTYPE, process buffer: three moves one servo period apart are buffered
+            # (each waits in the process buffer for the next servo interrupt, TRM PMOVE) ...
             for _ in range(3):
                 s.sendall(b"MOVE(100) AXIS(0)\r\n")
                 assert read_until(s).endswith(b"\r\n>>")
+                httpx.post(http + "/clock/advance", timeout=5, json={"seconds": 0.001})
             # ... the fourth locks the command line: echo, but no prompt
             s.sendall(b"MOVE(100) AXIS(0)\r\n")
             assert read_until(s, b"\r\n") == b"MOVE(100) AXIS(0)\r\n"

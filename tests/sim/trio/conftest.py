@@ -40,3 +40,19 @@ def fields(c: TrioController, type_: str, **match) -> list[tuple[float, dict]]:
         for e in c.log.events(type_)
         if all(e.fields.get(k) == v for k, v in match.items())
     ]
+
+
+def next_period(c: TrioController) -> None:
+    """Run to the middle of the next servo period: a move issued before it has left the
+    process buffer (M206-320: transferred at the next servo interrupt)."""
+    p = c.clock.period_s
+    run_to(c, (c.clock.index(c.env.now) + 1.5) * p)
+
+
+def moves(c: TrioController, axis: int, n: int, args: list[float], **kw) -> list[str]:
+    """Issue ``n`` moves on ``axis``, one per servo period (each transits the process buffer)."""
+    out = []
+    for _ in range(n):
+        out.append(c.move(axis, "MOVE", args, **kw))
+        next_period(c)
+    return out

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import pytest
 
-from tests.sim.trio.conftest import cycle, fields, run_to
+from tests.sim.trio.conftest import cycle, fields, next_period, run_to
 
 
 def _runs(trio, axis: int) -> list[tuple[int, int]]:
@@ -25,6 +25,7 @@ def test_a_move_issued_the_instant_mtype_ends_queues_behind_the_ntype_move(trio)
     promoted in the following period): a move issued at that instant goes to the process
     buffer and runs third."""
     trio.move(0, "MOVE", [10])  # 20 servo periods
+    next_period(trio)  # each move transits the process buffer (TRM p. 8-130)
     trio.move(0, "MOVE", [25])  # NTYPE: 35 servo periods
     t21 = 21 * trio.clock.period_s  # the first move ends in period 21: stop right after it
     run_to(trio, t21)
@@ -45,7 +46,10 @@ def test_a_group_move_waits_for_the_mtype_move_on_one_of_its_axes(trio):
     NTYPE of both axes and starts on both in the period after axis 0's move ends; axis 0's
     own move is not overwritten (it runs its whole 10 units)."""
     trio.move(0, "MOVE", [10])
-    assert trio.move(0, "MOVE", [5, 5]) == "ntype"
+    next_period(trio)  # each move transits the process buffer (TRM p. 8-130)
+    trio.move(0, "MOVE", [5, 5])
+    next_period(trio)
+    assert (trio.axis(0)["ntype"], trio.axis(1)["ntype"]) == (1, 1)
     assert (trio.axis(0)["mtype"], trio.axis(1)["mtype"]) == (1, 0)
     run_to(trio, 0.1)
     (first, group0) = _runs(trio, 0)

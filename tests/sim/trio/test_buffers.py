@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 from motionsim.sim.errors import BufferFull, InvalidValue
 
-from tests.sim.trio.conftest import cycle, fields, make, run_to
+from tests.sim.trio.conftest import cycle, fields, make, moves, next_period, run_to
 
 
 @pytest.mark.parametrize(
@@ -22,8 +22,10 @@ from tests.sim.trio.conftest import cycle, fields, make, run_to
 )
 def test_mtype_code_of_each_move_type(trio, kind, args, code):
     trio.move(0, kind, args)
-    assert trio.axis(0)["mtype"] == code
+    # M206-320: the move waits in the process buffer until the next servo interrupt
+    assert (trio.axis(0)["mtype"], trio.pmove(0)) == (0, 1)
     run_to(trio, 0.0015)
+    assert (trio.axis(0)["mtype"], trio.pmove(0)) == (code, 0)
     assert fields(trio, "move_start", axis=0) == [(0.001, {"axis": 0, "mtype": code})]
 
 
@@ -36,22 +38,40 @@ def test_mtype_code_of_each_move_type(trio, kind, args, code):
 )
 def test_mtype_code_read_back_in_basic(trio, line, code):
     assert trio.terminal(f"{line} AXIS(2)").done
+    assert trio.terminal("? MTYPE AXIS(2)").reply == "0.0000"  # still in the process buffer
+    run_to(trio, 0.0015)
     assert trio.terminal("? MTYPE AXIS(2)").reply == f"{code}.0000"
 
 
-def test_placement_order_mtype_then_ntype_then_process_buffer(trio):
-    assert trio.move(0, "MOVE", [10]) == "mtype"
-    assert trio.move(0, "MOVE", [10]) == "ntype"
-    assert trio.move(0, "MOVE", [10]) == "process_buffer"
+def test_every_move_transits_the_process_buffer_then_mtype_ntype(trio):
+    """M206-320 (PMOVE): a move goes into the process buffer first; the next servo interrupt
+    moves it to NTYPE, and on to MTYPE when that is free, in the same interrupt."""
+    assert moves(trio, 0, 3, [10]) == ["process_buffer"] * 3
+    assert (trio.axis(0)["mtype"], trio.axis(0)["ntype"]) == (1, 1)
+    assert trio.pmove(0) == 1  # the third waits for NTYPE
     with pytest.raises(BufferFull):
         trio.move(0, "MOVE", [10])
-    pb = fields(trio, "process_buffer")
-    assert pb == [(0.0, {"process": 0, "axis": 0, "mtype": 1})]
+    pb = [(round(t * 1e3, 1), f["mtype"]) for t, f in fields(trio, "process_buffer")]
+    assert pb == [(0.0, 1), (1.0, 0), (1.5, 1), (2.0, 0), (2.5, 1)]
+
+
+def test_two_moves_in_one_servo_period_the_second_waits(trio):
+    """The process buffer holds one move: a second move issued before the servo interrupt
+    has transferred the first cannot be buffered (M206-320, TN20)."""
+    assert trio.move(0, "MOVE", [10]) == "process_buffer"
+    with pytest.raises(BufferFull):
+        trio.move(1, "MOVE", [10])
+    reply = trio.move(1, "MOVE", [10], wait=True)
+    assert not reply.done
+    run_to(trio, 0.0015)
+    assert reply.done and reply.t_done == 0.001
+    run_to(trio, 0.0025)
+    starts = [(cycle(trio, t), f["axis"]) for t, f in fields(trio, "move_start")]
+    assert starts == [(1, 0), (2, 1)]
 
 
 def test_rejected_move_changes_nothing(trio):
-    for _ in range(3):
-        trio.move(0, "MOVE", [10])
+    moves(trio, 0, 3, [10])
     before = (trio.axis(0), trio.terminal_state(), trio.log.last_seq)
     with pytest.raises(BufferFull):
         trio.move(1, "MOVE", [10])  # same process buffer, other axis: still full
@@ -61,28 +81,31 @@ def test_rejected_move_changes_nothing(trio):
 
 def test_ntype_promoted_in_the_servo_period_after_the_move_ends(trio):
     trio.move(0, "MOVE", [10])  # 20 servo periods
+    next_period(trio)
     trio.move(0, "MOVEABS", [0])
     run_to(trio, 0.1)
     end = [cycle(trio, t) for t, _ in fields(trio, "move_end", axis=0)]
     start = [cycle(trio, t) for t, _ in fields(trio, "move_start", axis=0)]
     assert start == [1, 22] and end == [21, 42]
     axis = [(cycle(trio, t), f["mtype"], f["ntype"]) for t, f in fields(trio, "axis", axis=0)]
-    assert axis == [(0, 1, 0), (0, 1, 2), (21, 0, 2), (22, 2, 0), (42, 0, 0)]
+    assert axis == [(1, 0, 1), (1, 1, 0), (2, 1, 2), (21, 0, 2), (22, 2, 0), (42, 0, 0)]
     assert trio.axis(0)["dpos"] == 0.0
 
 
 def test_process_buffer_drains_two_periods_after_the_end(trio):
-    for _ in range(3):
-        trio.move(0, "MOVE", [10])
+    moves(trio, 0, 3, [10])
     run_to(trio, 0.03)
     drained = fields(trio, "process_buffer", mtype=0)
-    assert [cycle(trio, t) for t, _ in drained] == [23]
+    assert [cycle(trio, t) for t, _ in drained] == [1, 2, 23]
 
 
 def test_multi_axis_move_occupies_every_axis_buffer(trio):
     trio.move(0, "MOVE", [10, 10])  # axes 0 and 1, interpolated
+    next_period(trio)
     assert (trio.axis(0)["mtype"], trio.axis(1)["mtype"]) == (1, 1)
-    assert trio.move(1, "MOVE", [5]) == "ntype"  # axis 1 busy with the group move
+    trio.move(1, "MOVE", [5])
+    next_period(trio)
+    assert trio.axis(1)["ntype"] == 1  # axis 1 busy with the group move
     run_to(trio, 0.05)
     a0, a1 = trio.axis(0), trio.axis(1)
     assert a0["dpos"] == pytest.approx(10.0) and a1["dpos"] == pytest.approx(15.0)
@@ -91,19 +114,17 @@ def test_multi_axis_move_occupies_every_axis_buffer(trio):
 def test_multi_axis_move_waits_for_every_ntype(trio):
     """Sequencing is all or nothing: the group move leaves the process buffer only when the
     NTYPE of both its axes is free."""
-    trio.move(0, "MOVE", [10])
-    trio.move(0, "MOVE", [10])  # axis 0: MTYPE + NTYPE busy
-    assert trio.move(0, "MOVE", [10, 10]) == "process_buffer"  # axis 1 is free, axis 0 not
+    moves(trio, 0, 2, [10])  # axis 0: MTYPE + NTYPE busy
+    trio.move(0, "MOVE", [10, 10])  # axis 1 is free, axis 0 not
     run_to(trio, 0.1)
     pb_out = [cycle(trio, t) for t, _ in fields(trio, "process_buffer", mtype=0)]
-    assert pb_out == [23]
+    assert pb_out == [1, 2, 23]
     starts_axis1 = [cycle(trio, t) for t, _ in fields(trio, "move_start", axis=1)]
     assert starts_axis1 == [43]  # with the group move, after axis 0's second move
 
 
 def test_wait_true_returns_when_the_process_buffer_frees(trio):
-    for _ in range(3):
-        trio.move(0, "MOVE", [10])
+    moves(trio, 0, 3, [10])
     reply = trio.move(0, "MOVE", [10], wait=True)
     assert not reply.done
     run_to(trio, 0.05)
@@ -112,8 +133,7 @@ def test_wait_true_returns_when_the_process_buffer_frees(trio):
 
 
 def test_moves_from_different_processes_use_their_own_process_buffers(trio):
-    for _ in range(3):
-        trio.move(0, "MOVE", [10], process=0)
+    moves(trio, 0, 3, [10], process=0)
     assert trio.move(0, "MOVE", [10], process=1) == "process_buffer"
     with pytest.raises(BufferFull):
         trio.move(0, "MOVE", [10], process=1)
@@ -144,7 +164,9 @@ def test_cancel_decelerates_and_loads_the_next_move(trio):
 
 def test_cancel_1_drops_only_the_ntype_move(trio):
     trio.terminal("MOVE(10) AXIS(0)")
+    next_period(trio)
     trio.terminal("MOVE(10) AXIS(0)")
+    next_period(trio)
     trio.terminal("CANCEL(1) AXIS(0)")
     assert (trio.axis(0)["mtype"], trio.axis(0)["ntype"]) == (1, 0)
     run_to(trio, 0.1)
@@ -152,9 +174,9 @@ def test_cancel_1_drops_only_the_ntype_move(trio):
 
 
 def test_rapidstop_empties_every_buffer(trio):
-    trio.terminal("FORWARD AXIS(1)")
-    trio.terminal("MOVE(100) AXIS(0)")
-    trio.terminal("MOVE(100) AXIS(0)")
+    for line in ("FORWARD AXIS(1)", "MOVE(100) AXIS(0)", "MOVE(100) AXIS(0)"):
+        trio.terminal(line)
+        next_period(trio)
     assert trio.terminal("MOVE(100) AXIS(0)").done  # into process 0's process buffer
     run_to(trio, 0.05)
     assert trio.terminal("? PMOVE").reply == "1.0000"
@@ -199,7 +221,9 @@ def test_dpos_endmove_remain_follow_the_profile(trio):
 def test_no_event_per_servo_period_during_a_long_move(trio):
     trio.move(0, "MOVE", [10_000])  # about 10 s
     run_to(trio, 5.0)
-    assert trio.log.last_seq == 2  # axis (placed), move_start; nothing while it runs
+    # process_buffer in, axis (NTYPE), process_buffer out, axis (MTYPE), move_start;
+    # nothing while it runs
+    assert trio.log.last_seq == 5
 
 
 def test_axis_parameters_checked_before_written(trio):

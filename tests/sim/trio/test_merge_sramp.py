@@ -17,7 +17,7 @@ import math
 import pytest
 from motionsim.sim.errors import InvalidValue
 
-from tests.sim.trio.conftest import cycle, fields, make, run_to
+from tests.sim.trio.conftest import cycle, fields, make, next_period, run_to
 
 
 def _starts_ends(c, axis: int = 0) -> tuple[list[int], list[int]]:
@@ -40,6 +40,7 @@ def test_merge_off_by_default_moves_stop_between():
     c = make()
     assert c.axis(0)["merge"] == 0.0
     c.move(0, "MOVE", [100])
+    next_period(c)  # each move transits the process buffer
     c.move(0, "MOVE", [100])
     c.env.run()
     assert _starts_ends(c) == ([1, 112], [111, 222])
@@ -53,6 +54,7 @@ def test_merge_on_second_move_loaded_runs_through_at_speed():
     c = make()
     c.set_axis(0, merge=1)
     c.move(0, "MOVE", [100])
+    next_period(c)  # each move transits the process buffer
     c.move(0, "MOVE", [100])
     assert _dpos_at(c, 0.0505) == pytest.approx(44.0)  # 5 ramping + 39 cruising
     assert _dpos_at(c, 0.1065) == pytest.approx(100.0)  # cycle 106: first move ended
@@ -116,6 +118,7 @@ def test_merge_needs_the_same_axis_group_and_a_profiled_move():
     c = make()
     c.set_axis(0, merge=1)
     c.move(0, "MOVE", [100])
+    next_period(c)  # each move transits the process buffer
     c.move(0, "MOVE", [100, 0])
     c.env.run()
     assert _starts_ends(c) == ([1, 112], [111, 222])
@@ -127,6 +130,7 @@ def test_cancel_of_a_merged_move_ramps_down_and_the_next_starts_from_rest():
     c = make()
     c.set_axis(0, merge=1)
     c.move(0, "MOVE", [100])
+    next_period(c)  # each move transits the process buffer
     c.move(0, "MOVE", [100])
     run_to(c, 0.0505)
     c.buffers.cancel(0)
@@ -196,6 +200,7 @@ def test_sramp_with_merge_keeps_the_s_only_at_the_outer_ramps():
     c = make()
     c.set_axis(0, merge=1, sramp=5)
     c.move(0, "MOVE", [100])
+    next_period(c)  # each move transits the process buffer
     c.move(0, "MOVE", [100])
     c.env.run()
     starts, ends = _starts_ends(c)
@@ -246,6 +251,7 @@ def test_merge_of_interpolated_moves_uses_the_base_axis_merge():
     c = make()
     c.set_axis(0, merge=1)
     c.move(0, "MOVE", [30, 40])
+    next_period(c)  # each move transits the process buffer
     c.move(0, "MOVE", [30, 40])
     run_to(c, 0.0805)
     assert c.axis(0)["dpos"] == pytest.approx(0.6 * 74)

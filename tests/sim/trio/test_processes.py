@@ -124,16 +124,22 @@ def test_two_processes_sharing_an_axis_each_with_their_own_process_buffer(trio):
 
 
 def test_blocked_even_for_a_single_servo_period_is_reported(trio):
-    """A move ending at period e frees the process buffer at e + 2: the process blocks."""
+    """Each move waits in the process buffer for the next servo interrupt (TRM p. 8-130), so
+    a second move line within one servo period blocks until then; a move ending at period e
+    frees the process buffer at e + 2."""
     trio.set_axis(0, speed=10_000, accel=1e9, decel=1e9)
     run(trio, "FOR i=1 TO 4\n MOVE(1) AXIS(0)\nNEXT i\n", until=0.1)
-    # the 4th MOVE finds MTYPE, NTYPE and the process buffer taken (3 statements of 100 µs
-    # after the start, on line 2): blocked until the first move's end (period 2) + 2
     period = trio.clock.period_s
     got = [(round(t / period, 3), f["state"], f["line"], f.get("blocked_on"))
            for t, f in fields(trio, "process", process=1)]
-    assert got == [(0.0, "running", 1, None), (0.7, "blocked", 2, "MOVE(1) AXIS(0)"),
-                   (4.0, "running", 2, None), (4.2, "stopped", 3, None)]
+    blocked = (2, "MOVE(1) AXIS(0)")
+    assert got == [
+        (0.0, "running", 1, None),
+        (0.3, "blocked", *blocked), (1.0, "running", 2, None),  # 2nd: until the interrupt
+        (1.2, "blocked", *blocked), (2.0, "running", 2, None),  # 3rd: likewise
+        (2.2, "blocked", *blocked), (4.0, "running", 2, None),  # 4th: first end (2) + 2
+        (4.2, "stopped", 3, None),
+    ]
     ends = [cycle(trio, t) for t, _ in fields(trio, "move_end", axis=0)]
     assert ends == [2, 4, 6, 8] and ends[0] + 2 == 4
     assert trio.axis(0)["dpos"] == 4.0

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from tests.sim.trio.conftest import cycle, fields, run_to
+from tests.sim.trio.conftest import fields, next_period, run_to
 
 
 def test_print_answers_in_trio_number_format(trio):
@@ -31,19 +31,20 @@ def test_axis_parameters_read_and_written_with_axis_modifier(trio):
 def test_terminal_locks_on_a_move_that_cannot_be_buffered(trio):
     for _ in range(3):
         assert trio.terminal("MOVE(10) AXIS(0)").done
+        next_period(trio)
     blocked = trio.terminal("MOVE(10) AXIS(0)")
     assert not blocked.done
     later = trio.terminal("? VR(1)")
     assert not later.done
     assert trio.terminal_state() == {"locked": True, "pending": ["MOVE(10) AXIS(0)", "? VR(1)"]}
-    assert fields(trio, "terminal") == [(0.0, {"locked": True})]
+    assert fields(trio, "terminal") == [(0.0035, {"locked": True})]
     assert fields(trio, "process", process=0) == [
-        (0.0, {"process": 0, "state": "blocked", "line": 0, "blocked_on": "MOVE(10) AXIS(0)"})
+        (0.0035, {"process": 0, "state": "blocked", "line": 0, "blocked_on": "MOVE(10) AXIS(0)"})
     ]
     run_to(trio, 0.1)
     # unlocked in the servo period where process 0's buffer drains (2 after the first end)
-    assert [(cycle(trio, t), f["locked"]) for t, f in fields(trio, "terminal")] == [
-        (0, True), (23, False)
+    assert [(round(t * 1e3, 1), f["locked"]) for t, f in fields(trio, "terminal")] == [
+        (3.5, True), (23.0, False)
     ]
     assert blocked.done and blocked.error is None and blocked.t_done == 0.023
     assert later.done and later.reply == "0.0000"
@@ -56,21 +57,26 @@ def test_terminal_locks_on_a_move_that_cannot_be_buffered(trio):
 
 
 def test_queued_move_can_lock_the_terminal_again(trio):
-    for _ in range(4):
+    for _ in range(3):
         trio.terminal("MOVE(10) AXIS(0)")
+        next_period(trio)
+    trio.terminal("MOVE(10) AXIS(0)")
     again = trio.terminal("MOVE(10) AXIS(0)")
     run_to(trio, 0.03)
     assert not again.done
-    locks = [(cycle(trio, t), f["locked"]) for t, f in fields(trio, "terminal")]
-    assert locks == [(0, True), (23, False), (23, True)]
+    locks = [(round(t * 1e3, 1), f["locked"]) for t, f in fields(trio, "terminal")]
+    assert locks == [(3.5, True), (23.0, False), (23.0, True)]
     run_to(trio, 0.1)
     assert again.done
-    assert [(cycle(trio, t), f["locked"]) for t, f in fields(trio, "terminal")][-1] == (44, False)
+    assert [(round(t * 1e3, 1), f["locked"]) for t, f in fields(trio, "terminal")][-1] == (
+        44.0, False
+    )
 
 
 def test_rest_of_the_line_runs_after_the_move_is_buffered(trio):
     for _ in range(3):
         trio.terminal("MOVE(10) AXIS(0)")
+        next_period(trio)
     r = trio.terminal("MOVE(10) AXIS(0) : ? NTYPE AXIS(0)")
     run_to(trio, 0.1)
     assert r.reply == "1.0000"
@@ -103,8 +109,8 @@ def test_print_formats_decimals_and_width(trio):
 
 
 def test_moves_buffered_counts_mtype_and_ntype(trio):
-    trio.terminal("MOVE(10) AXIS(0)")
-    trio.terminal("MOVE(10) AXIS(0)")
-    trio.terminal("MOVE(10) AXIS(0)")
+    for _ in range(3):
+        trio.terminal("MOVE(10) AXIS(0)")
+        next_period(trio)
     assert trio.terminal("? MOVES_BUFFERED AXIS(0)").reply == "2.0000"
     assert trio.axis(0)["moves_buffered"] == 2

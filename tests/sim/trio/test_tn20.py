@@ -9,8 +9,6 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import pytest
-
 from tests.sim.trio.conftest import cycle, fields, make, run_to
 
 EXAMPLES = Path(__file__).resolve().parents[3] / "examples" / "trio"
@@ -41,25 +39,27 @@ def state(c) -> dict:
 
 
 def test_tn20_table_row_by_row():
+    """Each move first enters the process buffer and is transferred at the next servo
+    interrupt (M206-320), so the program also waits briefly when it issues two moves within
+    one servo period; the TN20 rows then follow one per servo period."""
     c = tn20(BLOCKING)
-    # MOVE(VR(1)) AXIS(0): "MOVE(VR(1)) in MTYPE"
+    # MOVE(VR(1)) AXIS(0) at 0.1 ms: in the process buffer until the interrupt at 1 ms
     run_to(c, 0.00015)
-    assert state(c) == {"axis0": (1, 0), "axis1": (0, 0), "pmove": 0, "process": "running"}
-    assert c.axis(0)["endmove"] == 0.0  # placed, starts at the next servo period
-    # MOVE(VR(101)) AXIS(1): "MOVE(VR(101)) in MTYPE"
-    run_to(c, 0.00025)
+    assert state(c) == {"axis0": (0, 0), "axis1": (0, 0), "pmove": 1, "process": "running"}
+    # "MOVE(VR(1)) in MTYPE"; MOVE(VR(101)) AXIS(1) took the freed process buffer
+    run_to(c, 0.0011)
+    assert state(c) == {"axis0": (1, 0), "axis1": (0, 0), "pmove": 1, "process": "running"}
+    # "MOVE(VR(101)) in MTYPE"
+    run_to(c, 0.0021)
     assert state(c)["axis1"] == (1, 0)
-    # MOVE(VR(2)) AXIS(0): "MOVE(VR(2)) in NTYPE"
-    run_to(c, 0.00045)
+    # "MOVE(VR(2)) in NTYPE"
+    run_to(c, 0.0031)
     assert state(c)["axis0"] == (1, 1)
-    # MOVE(VR(102)) AXIS(1): "MOVE(VR(102)) in NTYPE"
-    run_to(c, 0.00055)
-    assert state(c)["axis1"] == (1, 1)
-    # MOVE(VR(3)) AXIS(0): "MOVE(VR(3)) in PROCESS BUFFER"
-    run_to(c, 0.00075)
+    # "MOVE(VR(102)) in NTYPE"; "MOVE(VR(3)) in PROCESS BUFFER"
+    run_to(c, 0.00405)
     assert state(c) == {"axis0": (1, 1), "axis1": (1, 1), "pmove": 1, "process": "running"}
     # MOVE(VR(103)) AXIS(1): "waits at this line for MOVE(VR(1)) to finish"
-    run_to(c, 0.00085)
+    run_to(c, 0.0042)
     assert state(c)["process"] == "blocked"
     assert c.processes()[0]["blocked_on"] == "MOVE(VR(100+n)) AXIS(1)"
     assert c.processes()[0]["line"] == L_AXIS1
@@ -83,12 +83,12 @@ def test_tn20_table_row_by_row():
     assert c.axis(0)["dpos"] == 30.0
     assert state(c)["axis1"] == (1, 1)  # VR(101) still running, VR(102) next
     assert state(c)["process"] == "blocked"
-    # "MOVE(VR(101)) finishes": VR(4) in MTYPE of axis 0; VR(104) goes on (process buffer)
-    run_to(c, 0.2135)
-    assert state(c)["axis0"] == (1, 0)
-    assert state(c)["axis1"] == (1, 1)  # VR(102) executing, VR(103) next
-    assert state(c)["pmove"] == 1  # MOVE(VR(104)) AXIS(1) in the process buffer
+    # "MOVE(VR(101)) finishes" (at 212): VR(102) executing, VR(103) next, VR(4) in the
+    # process buffer; one interrupt later VR(4) is in MTYPE of axis 0
     run_to(c, 0.2145)
+    assert state(c) == {"axis0": (0, 0), "axis1": (1, 1), "pmove": 1, "process": "blocked"}
+    run_to(c, 0.2155)
+    assert state(c)["axis0"] == (1, 0)
     assert c.axis(0)["endmove"] == 40.0
 
 
@@ -99,56 +99,82 @@ def test_tn20_axis0_stops_and_resumes_on_the_servo_periods():
     ends = [cycle(c, t) for t, _ in fields(c, "move_end", axis=0)]
     # VR(1) starts at the first servo period after it was issued; each later move starts in
     # the servo period after its predecessor ended.
-    assert starts[:4] == [1, 22, 43, 214]
+    assert starts[:4] == [1, 22, 43, 215]
     assert ends[:3] == [21, 42, 63]
     idle = [cycle(c, t) for t, f in fields(c, "axis", axis=0, mtype=0, ntype=0)]
     assert idle[0] == 63  # AXIS(0) has now stopped!
-    # VR(101) ends at 211; VR(102) loads at 212; VR(103) leaves the process buffer at 213,
-    # where the waiting MOVE(VR(4)) AXIS(0) is buffered and the program runs on.
-    assert [cycle(c, t) for t, _ in fields(c, "move_end", axis=1)][:1] == [211]
-    drained = fields(c, "process_buffer", process=1, mtype=0)
-    assert [cycle(c, t) for t, _ in drained[:2]] == [23, 213]
+    # VR(101) ends at 212; VR(102) loads at 213; VR(103) leaves the process buffer at 214,
+    # where the waiting MOVE(VR(4)) AXIS(0) is buffered; it reaches axis 0 at 215.
+    assert [cycle(c, t) for t, _ in fields(c, "move_end", axis=1)][:1] == [212]
+    pb = [(cycle(c, t), f["axis"], f["mtype"]) for t, f in fields(c, "process_buffer")
+          if 0.005 < t < 0.216]
+    assert pb == [(23, 0, 0), (23, 1, 1), (214, 1, 0), (214, 0, 1), (215, 0, 0), (215, 1, 1)]
 
 
 def test_tn20_process_waits_at_the_two_lines_of_the_note():
+    """Beside the one-period waits for the transfer, the program waits at the two lines of
+    the note: at MOVE(VR(103)) until VR(1) ends, at MOVE(VR(4)) until VR(101) ends."""
     c = tn20(BLOCKING)
     run_to(c, 0.22)
     procs = [(round(t, 7), f["state"], f.get("blocked_on"), f["line"])
              for t, f in fields(c, "process", process=1)]
-    assert procs[:5] == [
+    long_waits = [
+        (a[0], a[2], a[3], b[0]) for a, b in zip(procs, procs[1:], strict=False)
+        if a[1] == "blocked" and b[0] - a[0] > c.clock.period_s
+    ]
+    assert long_waits == [
+        (0.0041, "MOVE(VR(100+n)) AXIS(1)", L_AXIS1, 0.023),
+        (0.0232, "MOVE(VR(n)) AXIS(0)", L_AXIS0, 0.214),
+    ]
+    assert procs[:3] == [
         (0.0, "running", None, L_MOVE),
-        (0.0008, "blocked", "MOVE(VR(100+n)) AXIS(1)", L_AXIS1),
-        (0.023, "running", None, L_AXIS1),
-        (pytest.approx(0.0232), "blocked", "MOVE(VR(n)) AXIS(0)", L_AXIS0),
-        (0.213, "running", None, L_AXIS0),
+        (0.0002, "blocked", "MOVE(VR(100+n)) AXIS(1)", L_AXIS1),  # VR(1) not yet transferred
+        (0.001, "running", None, L_AXIS1),
     ]
 
 
-def test_tn20_fix_never_blocks_but_skips_the_moves_it_finds_ntype_busy_for():
-    """The note's solution as printed: the program never waits at a move line and never uses
-    the process buffer — but ``n`` counts on when NTYPE is busy, so the FOR loop is over in
-    15.5 ms and only the moves issued while NTYPE was free run: two per axis, not 50."""
+def test_tn20_fix_never_waits_for_a_move_to_end():
+    """The guarded program only ever waits for the servo interrupt that empties its process
+    buffer (at most one servo period), never for a move to finish."""
     c = tn20(FIX)
     run_to(c, 0.5)
-    states = [(round(t, 4), f["state"]) for t, f in fields(c, "process", process=1)]
-    assert states == [(0.0, "running"), (0.0155, "stopped")]
+    procs = [(t, f["state"]) for t, f in fields(c, "process", process=1)]
+    waits = [b[0] - a[0] for a, b in zip(procs, procs[1:], strict=False) if a[1] == "blocked"]
+    assert waits and max(waits) <= c.clock.period_s + 1e-12
+    assert c.processes()[0]["state"] == "stopped"
     assert "error" not in c.processes()[0]
-    assert fields(c, "process_buffer") == []
+    # NTYPE does not show a move still in the process buffer, so the guard let a third
+    # axis-1 move through at 3.4 ms: it waits in the process buffer until NTYPE frees
+    pb = [(round(t * 1e3, 1), f["axis"], f["mtype"]) for t, f in fields(c, "process_buffer")]
+    assert pb[-2:] == [(4.0, 1, 1), (214.0, 1, 0)]
+
+
+def test_tn20_fix_skips_the_moves_it_finds_ntype_busy_for():
+    """The note's solution as printed: ``n`` counts on when NTYPE is busy, so the FOR loop is
+    over in 18.3 ms and only the moves issued while NTYPE was free run — two on axis 0 and
+    three on axis 1 (the third slipped through while the second still sat in the process
+    buffer, which NTYPE does not show), not 50 each."""
+    c = tn20(FIX)
+    run_to(c, 1.0)
+    states = [(round(t, 4), f["state"]) for t, f in fields(c, "process", process=1)]
+    assert states[-1] == (0.0183, "stopped")
+    assert "error" not in c.processes()[0]
     assert _runs(c, 0) == [(1, 21), (22, 42)]
-    assert _runs(c, 1) == [(1, 211), (212, 422)]
-    assert (c.axis(0)["dpos"], c.axis(1)["dpos"]) == (20.0, 400.0)
+    assert _runs(c, 1) == [(2, 212), (213, 423), (424, 634)]
+    assert (c.axis(0)["dpos"], c.axis(1)["dpos"]) == (20.0, 600.0)
 
 
-#: The note's test of NTYPE, with each axis's own move counter: a move is issued only when its
-#: axis can buffer it, and no move is skipped.
+#: The note's test of NTYPE, with each axis's own move counter and PMOVE: a move is issued only
+#: when its axis can buffer it and the process buffer is empty (a move still waiting there for
+#: the servo interrupt is not yet in NTYPE, TRM p. 8-130), and no move is skipped.
 FIX_WAITING = """n0=1
 n1=1
 WHILE n0<=6 OR n1<=6
-  IF NTYPE AXIS(0)=0 AND n0<=6 THEN
+  IF NTYPE AXIS(0)=0 AND PMOVE=0 AND n0<=6 THEN
     MOVE(VR(n0)) AXIS(0)
     n0=n0+1
   ENDIF
-  IF NTYPE AXIS(1)=0 AND n1<=6 THEN
+  IF NTYPE AXIS(1)=0 AND PMOVE=0 AND n1<=6 THEN
     MOVE(VR(100+n1)) AXIS(1)
     n1=n1+1
   ENDIF
@@ -156,17 +182,16 @@ WEND
 """
 
 
-def test_testing_ntype_keeps_axis0_moving_while_axis1_runs_its_long_moves():
+def test_testing_ntype_and_pmove_keeps_axis0_moving_while_axis1_runs_its_long_moves():
     """What the note's fix is for: axis 0 is no longer held up by axis 1. Its six short moves
     run back to back — each starts in the servo period after the previous one ended — while
     axis 1 is still in its first long move, and the process never blocks."""
     c = tn20(FIX_WAITING)
     run_to(c, 1.5)
     assert _runs(c, 0) == [(1 + 21 * i, 21 + 21 * i) for i in range(6)]
-    assert _runs(c, 1) == [(1 + 211 * i, 211 + 211 * i) for i in range(6)]
+    assert _runs(c, 1) == [(2 + 211 * i, 212 + 211 * i) for i in range(6)]
     assert _runs(c, 0)[-1][1] < _runs(c, 1)[0][1]
     assert [f["state"] for _, f in fields(c, "process", process=1)] == ["running", "stopped"]
-    assert fields(c, "process_buffer") == []
 
 
 def _runs(c, axis: int) -> list[tuple[int, int]]:
@@ -177,10 +202,12 @@ def _runs(c, axis: int) -> list[tuple[int, int]]:
 
 def test_tn20_fix_skips_moves_while_ntype_is_full():
     c = tn20(FIX)
-    run_to(c, 0.0020)
+    run_to(c, 0.0035)
     # axis 0: first pass MTYPE, second NTYPE, later passes skip (NTYPE busy)
     assert c.axis(0)["mtype"] == 1 and c.axis(0)["ntype"] == 1
-    assert c.processes()[0]["pmove"] == 0
+    run_to(c, 0.0205)
+    assert c.processes()[0]["state"] == "stopped"
+    assert len(fields(c, "process_buffer", process=1, axis=0, mtype=1)) == 2
 
 
 def test_same_program_same_log_byte_for_byte():
