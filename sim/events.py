@@ -61,6 +61,9 @@ EVENT_FIELDS: dict[str, tuple[str, ...]] = {
     "host_done": ("host",),
     "host_stopped": ("host",),
     "cpu_sample": ("servo", "rti", "background"),
+    "jog": ("motor", "state", "command", "position"),  # PMAC: a jog / home move starts / ends
+    "home": ("motor", "state", "position"),  # PMAC: a home search found its trigger
+    "motor": ("motor", "state"),  # PMAC: servo loop closed / opened / killed
 }
 
 

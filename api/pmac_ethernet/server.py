@@ -112,8 +112,8 @@ class PmacSession(WireSession):
 
     async def execute(self, line: str) -> Answer:
         """Run one command line on the controller; its data lines and error code."""
-        if line.strip() == "":
-            return Answer()
+        if line.strip(" \t") == "":
+            return Answer()  # (str.strip() would also drop CTRL-K and CTRL-L, which are commands)
         if illegal_character(line) is not None:
             return Answer(error="ERR004")
         try:

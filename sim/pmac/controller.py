@@ -25,9 +25,12 @@ from typing import Any, NamedTuple
 import simpy
 from motionsim.sim.controller import Controller, Port, Reply
 from motionsim.sim.errors import BufferFull, Conflict, Halted, InvalidValue, NotFound, ParseError
+from motionsim.sim.pmac import motor_statements as motor_st
 from motionsim.sim.pmac.cpu import CONFIG_KEYS as CPU_CONFIG_KEYS
 from motionsim.sim.pmac.cpu import Processor
 from motionsim.sim.pmac.lookahead import CoordSystem
+from motionsim.sim.pmac.motor_status import motor_status_words
+from motionsim.sim.pmac.motors import Motor, MotorTable
 from motionsim.sim.pmac.plc import PlcTable
 from motionsim.sim.pmac.program import ProgramLine, compile_line
 from motionsim.sim.pmac.rotary import RotaryBuffer
@@ -127,7 +130,13 @@ class PmacController(Controller):
         self.coord_systems = {n: CoordSystem(self, n) for n in range(1, N_CS + 1)}
         self.gather_words: int | None = None
         self.buffer_holder: Port | None = None
-        self.motors: dict[int, tuple[int, str]] = {}
+        self.motors: dict[int, tuple[int, str]] = {}  # axis definitions: n -> (cs, "1000X")
+        if hasattr(self, "motor_table"):
+            self.motor_table.detach()
+        self.motor_table = MotorTable(
+            self.scheduler, self.vars, self.log.emit, self._motor_axis, self._axis_position,
+            self._cs_running,
+        )  # fmt: skip
 
     def _alive(self) -> None:
         """Refuse anything that acts on the card once the watchdog has tripped (TSRM p57: it
@@ -425,6 +434,14 @@ class PmacController(Controller):
         if c.rotary is not None:
             c.rotary.numbering.reset()
 
+    def kill_all(self) -> None:
+        """CTRL-K: kill every motor at once; a running program is aborted with
+        ``error="killed"``, its lookahead and queued synchronous writes lost (TUM p319)."""
+        self._alive()
+        for c in self.coord_systems.values():
+            c.kill("killed")
+        self.motor_table.kill_all()
+
     def coord(self, cs: int) -> dict[str, Any]:
         """``{"cs", "program": {"state", "line"?}, "rotary": Rotary | None}`` (API.md)."""
         c = self.coord_system(cs)
@@ -463,36 +480,66 @@ class PmacController(Controller):
         scale = float(definition[:-1]) if len(definition) > 1 else 1.0
         return cs, axis, scale
 
+    def _axis_position(self, cs: int, axis: str, t: float) -> float:
+        return self.coord_systems[cs].positions(t).get(axis, 0.0)
+
+    def _cs_running(self, cs: int) -> bool:
+        return self.coord_systems[cs].running
+
+    def motor(self, n: int) -> Motor:
+        """Motor ``n`` (1..32). Raises NotFound."""
+        if type(n) is not int or not 1 <= n <= N_MOTORS:
+            raise NotFound(f"no motor {n!r} (1..{N_MOTORS})")
+        return self.motor_table[n]
+
+    def motor_command(self, stmt: Any, n: int) -> None:
+        """An on-line motor command (:mod:`motionsim.sim.pmac.motor_statements`) for motor
+        ``n``; ERR001 while its CS runs a program (:mod:`motionsim.sim.pmac.motors`)."""
+        self._alive()
+        m = self.motor(n)
+        self.motor_table.check_free(n)
+        t = type(stmt)
+        if t is motor_st.Jog:
+            m.jog(stmt.command, stmt.value)
+        elif t is motor_st.Home:
+            if stmt.zero:
+                m.home_zero()
+            else:
+                m.home()
+        elif t is motor_st.Kill:
+            m.kill()
+        elif t is motor_st.OpenLoop:
+            m.open_loop(stmt.percent)
+        elif t is motor_st.Enable:
+            if stmt.absolute:
+                m.absolute_read()
+            else:
+                m.enable()
+        else:  # pragma: no cover - MOTOR_TYPES are all handled above
+            raise InvalidValue(f"not a motor command: {stmt!r}")
+
+    def motor_position(self, n: int, t: float | None = None) -> float:
+        """Commanded (= actual) position of motor ``n`` in counts, now or at ``t``."""
+        return self.motor(n).position(self.env.now if t is None else t)
+
     def motor_report(self, motor: int, what: str) -> float:
-        """``P`` (position, counts), ``V`` (counts/servo cycle) or ``F`` (following error)."""
-        m = self._motor_axis(motor)
-        if m is None or what == "F":
+        """``P`` (position, counts to 1/10), ``V`` (counts per servo cycle, averaged over the
+        last cycle) or ``F`` (following error: 0, the loop tracks perfectly ``[INF]``)."""
+        if what == "F":
             return 0.0
-        cs, axis, scale = m
-        c = self.coord_systems[cs]
-        if what == "P":
-            return round(c.positions().get(axis, 0.0) * scale, 1)
-        dt = self.scheduler.period_s
         now = self.env.now
-        p1 = c.positions(now).get(axis, 0.0)
-        p0 = c.positions(max(0.0, now - dt)).get(axis, p1) if c.moving else p1
-        return round((p1 - p0) * scale, 3)
+        p1 = self.motor_position(motor, now)
+        if what == "P":
+            return round(p1, 1)
+        p0 = self.motor_position(motor, max(0.0, now - self.scheduler.period_s))
+        return round(p1 - p0, 3) if now > 0 else 0.0
 
     def motor_status(self, motor: int) -> tuple[int, int]:
-        """The two 24-bit words of ``?`` (TSRM p284; spec §9.4)."""
-        w1 = (1 << 23) | (1 << 19)
-        w2 = 1 << 10
-        m = self._motor_axis(motor) if 1 <= motor <= N_MOTORS else None
-        moving = False
-        if m is not None:
-            moving = self.coord_systems[m[0]].moving
-            if self.coord_systems[m[0]].run_time_error:
-                w1 |= 1 << 14  # data block error: its CS aborted on a run-time error
-            w2 |= (1 << 15) | ((m[0] - 1) << 20)
-        if not moving:
-            w1 |= 1 << 13
-            w2 |= 1
-        return w1, w2
+        """The two 24-bit words of ``#n?`` (:mod:`motionsim.sim.pmac.motor_status`)."""
+        m = self.motor(motor)
+        axis = self._motor_axis(motor)
+        cs = self.coord_systems[axis[0]] if axis is not None else None
+        return motor_status_words(m, axis, cs, self.vars, self.env.now)
 
     # -- variables ------------------------------------------------------------------------
 

@@ -27,6 +27,7 @@ from typing import Any
 
 from motionsim.sim.errors import ParseError
 from motionsim.sim.pmac import expressions as ex
+from motionsim.sim.pmac import motor_statements as motor_st
 from motionsim.sim.pmac import plc_statements as plc_st
 from motionsim.sim.pmac import statements as st
 
@@ -37,6 +38,7 @@ _WORDS = [
     "ATAN2", "ATAN", "ASIN", "ACOS", "SIN", "COS", "TAN", "SQRT", "EXP", "LN", "ABS", "INT",
     "INC", "PR", "TA", "TS", "TM",
     "ENABLE", "DISABLE", "ENA", "DIS", "PLCC", "PLC", "CLEAR",
+    "HOMEZ", "HOME", "HMZ", "HM",
 ]  # fmt: skip
 _WORDS.sort(key=len, reverse=True)
 
@@ -46,7 +48,8 @@ _TOKEN = re.compile(
     r'|(?P<str>"[^"]*")'
     r"|(?P<comment>;.*)"
     r"|(?P<word>" + "|".join(_WORDS) + r"|[A-Za-z])"
-    r"|(?P<op>\?\?\?|\?\?|\?|->|\.\.|==|&=|\|=|\^=|[=&#|^+\-*/%(),])"
+    r"|(?P<op>\?\?\?|\?\?|\?|->|\.\.|==|&=|\|=|\^=|##|\$\$\$(?:\*\*\*)?|\$\*|\$"
+    r"|[=&#|^+\-*/%(),:])"
     r")",
     re.IGNORECASE | re.ASCII,
 )
@@ -264,6 +267,10 @@ class _Parser:
             return st.AddressMotor(motor)
         if word in ("?", "??", "???"):
             return st.Query(word)
+        if word == "##":
+            return motor_st.MotorGroup(self.integer() if self.at("num") else None)
+        if word in ("$", "$*"):
+            return motor_st.Enable(absolute=word == "$*")
         if word == "%":
             if self.at("num"):
                 return st.FeedOverride(_number(self.take()[1]))
@@ -330,6 +337,8 @@ class _Parser:
             return st.Dwell(self.value())
         if word in ("DELAY", "DLY"):
             return st.Delay(self.value())
+        if word in ("HM", "HOME", "HMZ", "HOMEZ"):
+            return motor_st.Home(zero=word in ("HMZ", "HOMEZ"))
         if word in ("VERSION", "VER"):
             return st.Query("VER")
         if word in ("CID", "CPU", "VID", "TYPE", "SIZE", "PR"):
@@ -390,7 +399,13 @@ class _Parser:
 
     def letter_statement(self, tok: Token) -> Any:
         word = tok[1]
+        if word == "J" and motor_st.is_jog(self):
+            return motor_st.parse_jog(self)
         has_value = self.has_value()
+        if word == "K" and not has_value:
+            return motor_st.Kill()
+        if word == "O" and has_value and not self.open:
+            return motor_st.OpenLoop(self.value_const(tok))
         if word in _VARS and has_value and not (word == "I" and self.open and self._i_vector()):
             return self.variable_statement(word)
         if not has_value:

@@ -29,8 +29,10 @@ from typing import TYPE_CHECKING, Any
 
 from motionsim.sim.controller import Port
 from motionsim.sim.errors import MotionSimError, ParseError
+from motionsim.sim.pmac import motor_statements as motor_st
 from motionsim.sim.pmac import plc_statements as plc_st
 from motionsim.sim.pmac import statements as st
+from motionsim.sim.pmac.control_chars import ControlCharacters, split_controls
 from motionsim.sim.pmac.parser import parse_line
 from motionsim.sim.pmac.program import compile_statements
 from motionsim.sim.pmac.variables import N_CS, N_MOTORS, format_value
@@ -70,9 +72,29 @@ class Terminal:
 
     def __init__(self, ctl: PmacController) -> None:
         self.ctl = ctl
+        self._controls = ControlCharacters(ctl)
 
     def execute(self, text: str, port: Port) -> tuple[str, str | None]:
-        """Run one command line; returns ``(reply, error)``."""
+        """Run one command line; returns ``(reply, error)``.
+
+        Control characters in it act first, in order (:mod:`motionsim.sim.pmac.control_chars`);
+        an unknown one answers its error and the rest of the line is not run.
+        """
+        controls, text = split_controls(text)
+        if controls:
+            out: list[str] = []
+            for ch in controls:
+                reply, error = self._controls.act(ch, port)
+                if reply:
+                    out.append(reply)
+                if error is not None:
+                    return "\r".join(out), error
+            if text.strip():
+                more, error = self.execute(text, port)
+                if more:
+                    out.append(more)
+                return "\r".join(out), error
+            return "\r".join(out), None
         ctl = self.ctl
         if ctl.plcs.editing(port) is not None:
             # OPEN PLC: lines go into the PLC; what follows a CLOSE is on-line again.
@@ -178,6 +200,15 @@ class Terminal:
             if not 1 <= stmt.motor <= N_MOTORS:
                 raise CommandError("ERR003")
             state["motor"] = stmt.motor
+        elif isinstance(stmt, motor_st.MOTOR_TYPES):
+            ctl.motor_command(stmt, state["motor"])
+        elif t is motor_st.MotorGroup:
+            if stmt.group is None:
+                out.append(str(state.get("group", 0)))
+                return
+            if not 0 <= stmt.group < N_MOTORS // 8:
+                raise CommandError("ERR003")
+            state["group"] = stmt.group
         elif t is st.AxisDefinition:
             self._axis_definition(stmt, port, out)
         elif t is st.DefineRotary:

@@ -94,6 +94,7 @@ class Watchdog:
         )
         for c in ctl.coord_systems.values():
             c.kill("watchdog")
+        ctl.motor_table.kill_all()
         vars_ = ctl.vars
         for n in sorted(k for k, v in vars_.m.items() if v != 0):
             vars_.write("M", n, 0.0)

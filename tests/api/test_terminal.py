@@ -104,3 +104,9 @@ async def test_paused_realtime_terminal_returns_pending_at_once(api):
     ev = (await api.get("/controllers/rt/events", params={"type": "terminal_reply"})).json()
     assert [(e["reply"], e["t"]) for e in ev["events"]] == [("x", pytest.approx(t_paused
                                                                                 + 0.0005))]
+
+
+async def test_pmac_control_characters_through_the_rest_terminal(pmac_api):
+    """CTRL-P over REST: the positions of motors 1-8 in one line (spec pmac.md §11.9)."""
+    r = await pmac_api.post("/controllers/p/terminal", json={"command": "\u0010"})
+    assert r.json() == {"reply": "0 0 0 0 0 0 0 0", "error": None, "pending": False}

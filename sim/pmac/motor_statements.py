@@ -1,0 +1,98 @@
+"""On-line motor commands (addressed with ``#n``) and their parsing (TSRM p270-283; spec §11.9).
+
+``J+`` ``J-`` ``J/`` ``J=`` ``J={pos}`` ``J^{d}`` ``J:{d}``, ``HM`` / ``HOME``, ``HMZ`` /
+``HOMEZ``, ``K``, ``O{p}``, ``$``, ``$*``, and ``##n`` (the motor group CTRL-B/F/P/V report).
+They are on-line only: with a buffer open they still act at once (TUM p46) — except that
+``J-5`` there is a circle-vector word and ``O10`` a label, as in a program.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+#: Operators that make a ``J`` a jog command.
+_JOG_OPS = frozenset(["+", "-", "/", "=", "^", ":"])
+
+
+@dataclass(frozen=True, slots=True)
+class Jog:
+    """``J+`` ``J-`` ``J/`` ``J=`` (``value`` None: to the pre-jog position), ``J=pos``,
+    ``J^d``, ``J:d``; ``command`` is the text without the value."""
+
+    command: str
+    value: float | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Home:
+    """``HM`` (search) or, with ``zero``, ``HMZ`` (the present position becomes zero)."""
+
+    zero: bool = False
+
+
+@dataclass(frozen=True, slots=True)
+class Kill:
+    """``K``: kill the addressed motor."""
+
+
+@dataclass(frozen=True, slots=True)
+class OpenLoop:
+    """``O{p}``: open-loop output of ``percent`` % of Ixx69."""
+
+    percent: float
+
+
+@dataclass(frozen=True, slots=True)
+class Enable:
+    """``$``: close the loop; with ``absolute``, ``$*``: read the absolute position."""
+
+    absolute: bool = False
+
+
+@dataclass(frozen=True, slots=True)
+class MotorGroup:
+    """``##n`` selects motors 8n+1..8n+8 for CTRL-B/F/P/V; ``##`` reports it."""
+
+    group: int | None
+
+
+MOTOR_TYPES = (Jog, Home, Kill, OpenLoop, Enable)
+
+
+def is_jog(parser: Any) -> bool:
+    """Is the token after a ``J`` one that makes it a jog (rather than a vector word)?"""
+    tok = parser.peek()
+    if tok is None or tok[0] != "op" or tok[1] not in _JOG_OPS:
+        return False
+    if tok[1] == "-" and parser.open:
+        nxt = parser.peek(1)
+        return not (nxt is not None and (nxt[0] == "num" or nxt[1] == "("))
+    return True
+
+
+def parse_jog(parser: Any) -> Jog:
+    """The rest of a jog after its ``J`` (the parser stands on the operator)."""
+    op = parser.take()[1]
+    if op in ("+", "-", "/"):
+        return Jog("J" + op)
+    if op == "=" and not parser.has_value():
+        return Jog("J=")
+    tok = parser.peek()
+    value = parser.value()
+    if value.const is None:
+        raise parser.error(f"J{op} needs a constant", tok)
+    return Jog("J" + op, float(value.const))
+
+
+__all__ = [
+    "MOTOR_TYPES",
+    "Enable",
+    "Home",
+    "Jog",
+    "Kill",
+    "MotorGroup",
+    "OpenLoop",
+    "is_jog",
+    "parse_jog",
+]
