@@ -24,7 +24,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from motionsim.sim.pmac.lookahead import DWELL
+from motionsim.sim.pmac.modes import DWELL
 from motionsim.sim.pmac.motors import CLOSED, KILLED, Motor
 from motionsim.sim.pmac.variables import Variables, ixx
 
