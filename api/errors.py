@@ -15,6 +15,7 @@ from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
 from motionsim.sim.errors import MotionSimError
+from motionsim.sim.pmac.error_codes import meaning
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 log = logging.getLogger("motionsim.api")
@@ -24,6 +25,7 @@ STATUS_BY_CODE: dict[str, int] = {
     "not_found": 404,
     "buffer_full": 409,
     "conflict": 409,
+    "not_simulated": 501,
     "watchdog": 409,
     "parse_error": 422,
     "validation_error": 422,
@@ -75,7 +77,10 @@ def validation_body(exc: RequestValidationError) -> dict[str, Any]:
 
 async def _motionsim_error(_: Request, exc: Exception) -> JSONResponse:
     assert isinstance(exc, MotionSimError)
-    return JSONResponse(exc.to_dict(), status_code=status_for(exc.code))
+    body = exc.to_dict()
+    if exc.pmac_error is not None and meaning(exc.pmac_error) is not None:
+        body["pmac_meaning"] = meaning(exc.pmac_error)  # the Turbo SRM's table
+    return JSONResponse(body, status_code=status_for(exc.code))
 
 
 async def _validation_error(_: Request, exc: Exception) -> JSONResponse:

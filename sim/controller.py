@@ -29,15 +29,17 @@ class Reply:
 
     ``reply`` is the data the controller sends back (PMAC: data lines joined with ``"\\r"``,
     no handshake characters); ``error`` is the controller's error code (``"ERR003"``) or
-    message, or ``None``.
+    message, or ``None``; ``detail`` is ``(kind, message)`` explaining the error for a
+    person (``("not_simulated", "...")``), or ``None``.
     """
 
-    __slots__ = ("command", "reply", "error", "done", "t_done", "_callbacks")
+    __slots__ = ("command", "reply", "error", "detail", "done", "t_done", "_callbacks")
 
     def __init__(self, command: str) -> None:
         self.command = command
         self.reply = ""
         self.error: str | None = None
+        self.detail: tuple[str, str] | None = None
         self.done = False
         self.t_done: float | None = None
         self._callbacks: list[Callable[[Reply], None]] = []

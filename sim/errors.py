@@ -112,6 +112,12 @@ class ParseError(MotionSimError):
         )
 
 
+class NotSimulated(MotionSimError):
+    """A valid controller command that motionsim does not simulate (not a typo)."""
+
+    code = "not_simulated"
+
+
 class Halted(MotionSimError):
     """The controller does not answer: a PMAC whose watchdog tripped, until it is reset."""
 
@@ -125,5 +131,6 @@ __all__ = [
     "InvalidValue",
     "MotionSimError",
     "NotFound",
+    "NotSimulated",
     "ParseError",
 ]

@@ -9,16 +9,27 @@ from __future__ import annotations
 from fastapi import APIRouter
 from motionsim.api.deps import HandleDep
 from motionsim.api.schemas.terminal import TerminalIn, TerminalOut, TerminalState
+from motionsim.sim.pmac.error_codes import meaning
 
 router = APIRouter(tags=["terminal"])
 
 
-@router.post("/controllers/{controller_id}/terminal", response_model=TerminalOut)
+@router.post(
+    "/controllers/{controller_id}/terminal",
+    response_model=TerminalOut,
+    response_model_exclude_unset=True,
+)
 async def post_terminal(body: TerminalIn, handle: HandleDep) -> dict:
     reply = await handle.command(body.command)
     if not reply.done:
         return {"reply": "", "error": None, "pending": True}
-    return {"reply": reply.reply, "error": reply.error, "pending": False}
+    out: dict = {"reply": reply.reply, "error": reply.error, "pending": False}
+    if reply.error is not None:  # explained for people; a success body stays three fields
+        detail = getattr(reply, "detail", None)
+        out["error_meaning"] = meaning(reply.error)
+        out["not_simulated"] = detail is not None and detail[0] == "not_simulated"
+        out["detail"] = detail[1] if detail is not None else None
+    return out
 
 
 @router.get("/controllers/{controller_id}/terminal", response_model=TerminalState)

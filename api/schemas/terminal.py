@@ -20,6 +20,14 @@ class TerminalOut(BaseModel):
     reply: str
     error: str | None
     pending: bool
+    error_meaning: str | None = Field(
+        default=None, description="PMAC: the Turbo SRM meaning of the ERRnnn in `error`")
+    not_simulated: bool = Field(
+        default=False,
+        description="the command is valid on the real controller but motionsim does not "
+        "simulate it (the wire still answers the controller's error code)")
+    detail: str | None = Field(
+        default=None, description="what was wrong and where (column), or what is not simulated")
 
 
 class TerminalState(BaseModel):

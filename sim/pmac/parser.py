@@ -28,6 +28,7 @@ from typing import Any
 from motionsim.sim.errors import ParseError
 from motionsim.sim.pmac import expressions as ex
 from motionsim.sim.pmac import motor_statements as motor_st
+from motionsim.sim.pmac import list_commands
 from motionsim.sim.pmac import plc_statements as plc_st
 from motionsim.sim.pmac import statements as st
 
@@ -39,6 +40,7 @@ _WORDS = [
     "INC", "PR", "TA", "TS", "TM",
     "ENABLE", "DISABLE", "ENA", "DIS", "PLCC", "PLC", "CLEAR",
     "HOMEZ", "HOME", "HMZ", "HM",
+    "LIST", "PROGRAM", "PROG", "FORWARD", "INVERSE",
 ]  # fmt: skip
 _WORDS.sort(key=len, reverse=True)
 
@@ -316,6 +318,8 @@ class _Parser:
             raise self.error("only OPEN ROT and OPEN PLC are supported", what)
         if word == "CLOSE":
             return st.Close()
+        if word == "LIST":
+            return list_commands.parse(self)
         if word in ("ENABLE", "ENA", "DISABLE", "DIS"):
             return plc_st.EnablePlc(self.plc_list(), word in ("ENABLE", "ENA"))
         if word == "CLEAR":

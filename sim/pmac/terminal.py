@@ -30,12 +30,13 @@ from typing import TYPE_CHECKING, Any
 from motionsim.sim.controller import Port
 from motionsim.sim.errors import MotionSimError, ParseError
 from motionsim.sim.pmac import motor_statements as motor_st
+from motionsim.sim.pmac import list_commands, not_simulated
 from motionsim.sim.pmac import plc_statements as plc_st
 from motionsim.sim.pmac import statements as st
 from motionsim.sim.pmac.control_chars import ControlCharacters, split_controls
 from motionsim.sim.pmac.parser import parse_line
 from motionsim.sim.pmac.program import compile_statements
-from motionsim.sim.pmac.variables import N_CS, N_MOTORS, format_value
+from motionsim.sim.pmac.variables import N_CS, N_MOTORS, format_ivar, format_value
 
 if TYPE_CHECKING:
     from motionsim.sim.pmac.controller import PmacController
@@ -51,7 +52,7 @@ TYPE = "TURBO2"
 #: On-line commands that still act on-line while the port holds a PLC buffer open.
 _ONLINE_IN_PLC = (
     st.AddressCS, st.AddressMotor, st.Query, st.VarQuery, st.MDefinitionQuery, st.FeedOverride,
-    st.Run, st.Step, st.Quit, st.Hold, st.Abort,
+    st.Run, st.Step, st.Quit, st.Hold, st.Abort, list_commands.ListBuffer,
 )  # fmt: skip
 
 
@@ -61,6 +62,22 @@ class CommandError(Exception):
     def __init__(self, code: str) -> None:
         super().__init__(code)
         self.code = code
+
+
+#: What may run before a malformed command on the same line: it changes no controller state.
+_REPORTS = (st.Query, st.VarQuery, st.MDefinitionQuery, st.AddressCS, st.AddressMotor,
+            list_commands.ListBuffer)
+
+
+def _is_report(stmt: Any) -> bool:
+    if isinstance(stmt, st.AxisDefinition):
+        return stmt.definition is None
+    return isinstance(stmt, _REPORTS) and not isinstance(stmt, st.FeedOverride)
+
+
+def _where(e: ParseError) -> str:
+    column = e.details.get("column")
+    return f"{e.message} (column {column})" if column else e.message
 
 
 def _hex_words(*words: int) -> str:
@@ -73,13 +90,17 @@ class Terminal:
     def __init__(self, ctl: PmacController) -> None:
         self.ctl = ctl
         self._controls = ControlCharacters(ctl)
+        #: ``(kind, message)`` explaining the last line's error for people (REST), or None:
+        #: kind ``"not_simulated"``, ``"parse_error"`` or a core error code.
+        self.detail: tuple[str, str] | None = None
 
     def execute(self, text: str, port: Port) -> tuple[str, str | None]:
-        """Run one command line; returns ``(reply, error)``.
+        """Run one command line; returns ``(reply, error)`` (and sets :attr:`detail`).
 
         Control characters in it act first, in order (:mod:`motionsim.sim.pmac.control_chars`);
         an unknown one answers its error and the rest of the line is not run.
         """
+        self.detail = None
         controls, text = split_controls(text)
         if controls:
             out: list[str] = []
@@ -129,12 +150,51 @@ class Terminal:
         return bool(stmts) and all(isinstance(item[0], _ONLINE_IN_PLC) for item in stmts)
 
     def _run(self, text: str, port: Port, open_: bool) -> tuple[str, str | None]:
-        """Parse the whole line, then execute it left to right."""
-        ctl = self.ctl
+        """Parse the line, then execute it left to right.
+
+        A line that fails to parse answers the reports (queries, listings, ``&n``/``#n``)
+        before the blank-delimited command that fails, then its ERR003 (the card interprets
+        left to right, TSRM p259; spec §2.3 ``[INF]``): ``I10 nonsense`` answers I10's value,
+        then the error. A malformed line changes nothing: if anything before the failing
+        command would act (``P1=5 P2=(3``) nothing runs ``[INF]`` — a real card may already
+        have acted on it, a simulator keeps bad input harmless.
+        """
+        self.detail = None
         try:
             stmts = parse_line(text, open_=open_)
+            failed: ParseError | None = None
         except ParseError as e:
-            return "", e.pmac_error or "ERR003"
+            stmts, failed = self._before(text, open_, e), e
+        reply, error = self._execute(text, stmts, port)
+        if error is None and failed is not None:
+            error = failed.pmac_error or "ERR003"
+            name = not_simulated.which(text, failed.details.get("column", 1))
+            if name is not None:
+                self.detail = ("not_simulated", not_simulated.message(name))
+            else:
+                self.detail = ("parse_error", _where(failed))
+        return reply, error
+
+    @staticmethod
+    def _before(text: str, open_: bool, e: ParseError) -> list[tuple[Any, int, int]]:
+        """The statements before the blank-delimited command where parsing failed (none if
+        they do not parse)."""
+        cut = not_simulated.command_start(text, e.details.get("column", 1))
+        while cut > 0:
+            try:
+                before = parse_line(text[:cut], open_=open_)
+                return before if all(_is_report(item[0]) for item in before) else []
+            except ParseError as again:
+                new = not_simulated.command_start(text[:cut], again.details.get("column", 1))
+                if new >= cut:
+                    break
+                cut = new
+        return []
+
+    def _execute(
+        self, text: str, stmts: list[tuple[Any, int, int]], port: Port
+    ) -> tuple[str, str | None]:
+        ctl = self.ctl
         out: list[str] = []
         group: list[tuple[Any, int, int]] = []
         try:
@@ -154,6 +214,7 @@ class Terminal:
         except CommandError as e:
             return "\r".join(out), e.code
         except MotionSimError as e:
+            self.detail = (e.code, e.message)
             return "\r".join(out), e.pmac_error or "ERR003"
         return "\r".join(out), None
 
@@ -241,16 +302,20 @@ class Terminal:
             ctl.coord_system(state["cs"]).set_feed_override(stmt.percent)
         elif t is st.VarQuery:
             # I9 bit 0 (PSRM I9, spec §9.8): 0 reports the value only (``5``), 1 the whole
-            # statement (``I16=5``); bit 1 (hex for address I-variables) is not modelled.
-            full = int(ctl.vars.I(9)) & 1
-            for n in stmt.numbers():
-                if not 0 <= n < 8192:
-                    raise CommandError("ERR003")
-                value = format_value(ctl.vars.read(stmt.kind, n, state["cs"]))
-                out.append(f"{stmt.kind}{n}={value}" if full else value)
+            # statement (``I16=5``); bit 1: address-type I-variables in hex (``$78400``).
+            i9 = int(ctl.vars.I(9))
+            numbers = stmt.numbers()
+            if any(not 0 <= n < 8192 for n in numbers):
+                raise CommandError("ERR003")
+            for n in numbers:
+                raw = ctl.vars.read(stmt.kind, n, state["cs"])
+                value = format_ivar(n, raw, i9) if stmt.kind == "I" else format_value(raw)
+                out.append(f"{stmt.kind}{n}={value}" if i9 & 1 else value)
         elif t is st.VarDefault:
             for n in range(stmt.first, stmt.last + 1):
                 ctl.vars.set_default(n)
+        elif t is list_commands.ListBuffer:
+            out.extend(list_commands.run(stmt, ctl, port))
         elif t is st.MDefinitionQuery:
             out.append("*")
         elif t is plc_st.OpenPlc:

@@ -1,6 +1,7 @@
 """Turbo PMAC variables: I (setup), P (global), Q (per coordinate system), M (I/O pointers).
 
-* I0..8191 start at the manufacturer's defaults (spec §6, §9.7); ``I{n}=*`` restores one.
+* I0..8191 start at the card's factory defaults (:mod:`motionsim.sim.pmac.factory`);
+  ``I{n}=*`` restores one.
   Coordinate-system I-variables are ``Isx`` = I(5000 + 100·x + nn), e.g. I5113 = Isx13 of
   CS 1; motor I-variables ``Ixx`` = I(100·xx + nn), e.g. I115 = Ixx15 of motor 1.
 * P0..8191 are global, Q0..8191 have one bank per coordinate system, M0..8191 are the
@@ -16,35 +17,18 @@ import math
 from collections.abc import Callable
 
 from motionsim.sim.errors import NotFound
+from motionsim.sim.pmac.factory import HEX_IVARS, default_i
 
 N_VARS = 8192
 N_CS = 16
 N_MOTORS = 32
 
-#: Global I-variable defaults (spec §6/§9.7; simulator choices I3=2, I6=1 for host drivers).
-GLOBAL_DEFAULTS: dict[int, float] = {
-    3: 2, 5: 1, 6: 1, 7: 0, 8: 2, 9: 2, 10: 3_713_707, 11: 0, 15: 0, 16: 5, 17: 10,
-    40: 0, 63: 1, 64: 0,
-}  # fmt: skip
-
-#: Isx defaults, nn -> value (TSRM p177-p191; Isx88 from PMAC(1) Ix88, spec §9.7).
-CS_DEFAULTS: dict[int, float] = {
-    13: 0, 20: 0, 87: 0, 88: 50, 89: 1000.0, 90: 1000.0, 92: 0, 94: 1644, 95: 1644, 98: 1000.0,
-}  # fmt: skip
-
-#: Ixx defaults for motors, nn -> value (Ixx15 cts/ms², Ixx16/22 cts/ms, Ixx21 ms).
-MOTOR_DEFAULTS: dict[int, float] = {15: 0.25, 16: 32.0, 19: 0.15, 21: 50, 22: 32.0}
-
-
-def default_i(n: int) -> float:
-    """The manufacturer's default of I{n} (0 where we know of none)."""
-    if n in GLOBAL_DEFAULTS:
-        return float(GLOBAL_DEFAULTS[n])
-    if 5100 <= n < 5100 + 100 * N_CS:
-        return float(CS_DEFAULTS.get(n % 100, 0))
-    if 100 <= n < 100 * (N_MOTORS + 1):
-        return float(MOTOR_DEFAULTS.get(n % 100, 0))
-    return 0.0
+def format_ivar(n: int, value: float, i9: int) -> str:
+    """The value of I{n} as a query reports it: ``$hhhhhh`` (upper case, no padding) for an
+    address-type variable when I9 bit 1 is set (TUM p46; spec §11.5), else decimal."""
+    if int(i9) & 2 and n in HEX_IVARS and value == int(value):
+        return f"${int(value) & 0xFFFFFFFFFFFF:X}"
+    return format_value(value)
 
 
 def isx(cs: int, nn: int) -> int:
@@ -170,13 +154,11 @@ def parse_name(name: str) -> tuple[str, int, int]:
 
 
 __all__ = [
-    "CS_DEFAULTS",
-    "GLOBAL_DEFAULTS",
-    "MOTOR_DEFAULTS",
     "N_CS",
     "N_MOTORS",
     "Variables",
     "default_i",
+    "format_ivar",
     "format_value",
     "isx",
     "ixx",

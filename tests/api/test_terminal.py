@@ -25,7 +25,12 @@ async def test_an_immediate_reply_does_not_move_the_clock(api):
 async def test_controller_error_is_still_http_200(api):
     r = await api.post("/controllers/d/terminal", json={"command": "BOGUS"})
     assert r.status_code == 200
-    assert r.json() == {"reply": "", "error": "ERR003", "pending": False}
+    body = r.json()
+    assert {k: body[k] for k in ("reply", "error", "pending")} == {
+        "reply": "", "error": "ERR003", "pending": False}
+    # the wire code stays; the body adds the Turbo SRM meaning (an extension of the contract)
+    assert body["error_meaning"] == "unrecognized command or invalid data (syntax error)"
+    assert body["not_simulated"] is False
 
 
 async def test_no_reply_within_1s_simulated_is_pending_then_a_terminal_reply_event(api):

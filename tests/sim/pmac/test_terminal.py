@@ -174,7 +174,8 @@ def test_an_epics_style_poll_line_answers_one_line_per_item(rig):
     reply = rig.ok("#1P #1F i124 #1? &1?? ??? &1%")
     lines = reply.split("\r")
     assert len(lines) == 7
-    assert lines[0] == "0" and lines[2] == "0" and lines[6] == "100"
+    # I124 is an address-type variable: reported in hex with the factory I9 = 2 (TUM p46).
+    assert lines[0] == "0" and lines[2] == "$40001" and lines[6] == "100"
     rig.ok("&1%50")
     rig.run_for(1.0)  # the time base slews at Isx94 (≈ 1 s for 100 %)
     assert rig.ok("%") == "50"

@@ -1,0 +1,85 @@
+"""Valid Turbo PMAC commands that motionsim does not simulate.
+
+When a command line fails to parse, the terminal asks :func:`which` whether the text at the
+failing column is the start of one of these. The wire answer stays the card's ``ERR003``
+(the host must get an answer it can handle), but the REST terminal reports ``not_simulated``
+naming the command, so a user does not mistake it for a typo. ``docs/pmac.md`` lists what is
+simulated. Command names from the Turbo SRM on-line command list (TSRM p260–p420) ``[BK]``
+for the spelling of a few abbreviations.
+
+Entries are removed as commands become simulated: a pattern here never shadows a command the
+parser accepts, because it is consulted only after a parse error.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Final
+
+#: (pattern at the failing column, what to call it).
+_COMMANDS: Final[tuple[tuple[str, str], ...]] = (
+    (r"OPEN\s*(PROG|PROGRAM)\b", "OPEN PROG (fixed motion programs)"),
+    (r"OPEN\s*(FORWARD|FWD|INVERSE|INV)\b", "OPEN FORWARD/INVERSE (kinematic programs)"),
+    (r"OPEN\s*(BINARY\s*)?ROT", "OPEN BINARY ROT"),
+    (r"J(\+|-|/|=|\^|:)", "jog commands (J+ J- J/ J= J^ J:)"),
+    (r"HOMEZ|HMZ\b", "HMZ (zero-move homing)"),
+    (r"HOME|HM\b", "HM (homing search)"),
+    (r"K\b", "K (kill motor)"),
+    (r"O-?\d", "O (open-loop output)"),
+    (r"\$\$\$\*\*\*", "$$$*** (re-initialise)"),
+    (r"\$\*|\$(?!\$)", "$ / $* (phase / absolute position read)"),
+    (r"MS\s*\d|MSR|MSW|MSSAVE|MSCLRERR|MSDATE|MACRO", "MACRO station commands (MS...)"),
+    (r"DEFINE\s*(LOOKAHEAD|LOOK)\b|DEF\s*LOOK", "DEFINE LOOKAHEAD"),
+    (r"(DEFINE|DEF)\s*(CCBUF|COMP|TCOMP|BLCOMP|UBUFFER|UBUF)", "DEFINE of that buffer"),
+    (r"(DELETE|DEL)\s*(LOOKAHEAD|LOOK|CCBUF|COMP|TCOMP|BLCOMP|PLCC|TEMPS|ALL)",
+     "DELETE of that buffer"),
+    (r"UNDEFINE|UNDEF", "UNDEFINE (coordinate-system definitions)"),
+    (r"PASSWORD", "PASSWORD"),
+    (r"MFLUSH", "MFLUSH"),
+    (r"PMATCH", "PMATCH"),
+    (r"ENABLE\s*PLCC|ENA\s*PLCC|DISABLE\s*PLCC|DIS\s*PLCC|PLCC", "compiled PLCs (PLCC)"),
+    (r"(LIST)\s*(LDS|LINK|PE|PC|TCOMP|COMP|BLCOMP|CCBUF|LOOKAHEAD)", "that LIST"),
+    (r"CHECKSUM|CLEAR\s*ALL|EAVERSION|DATE|TIME|IDNUMBER|IDC|SID|UPDATE|RESET",
+     "that on-line command"),
+    (r"(MOVETIME|HOLD|STOP|BLKSTART|BLOCKSTART)", "that on-line command"),
+    (r"GATHER|ENDGATHER|ENDG\b", "data gathering (GATHER / ENDGATHER)"),
+)
+_COMPILED: Final = tuple((re.compile(p, re.IGNORECASE), name) for p, name in _COMMANDS)
+
+
+def word_start(text: str, column: int) -> int:
+    """0-based start of the word holding 1-based ``column``: the parser reads unknown words
+    letter by letter, so a failing column can be inside one (``SAVE`` fails at ``V``)."""
+    start = min(max(0, column - 1), len(text))
+    while start > 0 and (text[start - 1].isalpha() or text[start - 1] == "$"):
+        start -= 1
+    return start
+
+
+def command_start(text: str, column: int) -> int:
+    """0-based start of the blank-delimited command holding 1-based ``column`` (``2+3``
+    fails as a whole; ``I10 nonsense`` fails at ``nonsense``)."""
+    start = min(max(0, column - 1), len(text))
+    while start > 0 and not text[start - 1].isspace():
+        start -= 1
+    return start
+
+
+def which(text: str, column: int) -> str | None:
+    """The not-simulated command starting at the word holding 1-based ``column``, or None."""
+    rest = text[word_start(text, column) :].lstrip()
+    for pattern, name in _COMPILED:
+        if pattern.match(rest):
+            return name
+    return None
+
+
+def message(name: str) -> str:
+    """What the REST terminal says for a not-simulated command."""
+    return (
+        f"{name} is a valid Turbo PMAC command that motionsim does not simulate "
+        "(docs/pmac.md lists what is simulated)"
+    )
+
+
+__all__ = ["command_start", "message", "which", "word_start"]
