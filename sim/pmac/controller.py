@@ -26,6 +26,7 @@ import simpy
 from motionsim.sim.controller import Controller, Port, Reply
 from motionsim.sim.errors import BufferFull, Conflict, Halted, InvalidValue, NotFound, ParseError
 from motionsim.sim.pmac import motor_statements as motor_st
+from motionsim.sim.pmac import registers
 from motionsim.sim.pmac.cpu import CONFIG_KEYS as CPU_CONFIG_KEYS
 from motionsim.sim.pmac.cpu import Processor
 from motionsim.sim.pmac.lookahead import CoordSystem
@@ -128,6 +129,7 @@ class PmacController(Controller):
         self.plcs = PlcTable(self)
         self.background.power_on()
         self.coord_systems = {n: CoordSystem(self, n) for n in range(1, N_CS + 1)}
+        self.vars.mvars.registers = registers.for_controller(self)
         self.gather_words: int | None = None
         self.buffer_holder: Port | None = None
         self.motors: dict[int, tuple[int, str]] = {}  # axis definitions: n -> (cs, "1000X")

@@ -66,6 +66,19 @@ class MDef:
 SELF: Final = MDef("*")
 
 
+@dataclass(frozen=True, slots=True)
+class MDefine:
+    """The on-line command ``M{first}[..{last}]->{definition}``."""
+
+    first: int
+    last: int
+    definition: MDef
+
+
+#: Where a definition's text after ``->`` ends: at a blank (``M1->X:$10,8,1 M2->*``).
+DEFINITION_TEXT: Final = re.compile(r"\*|(?:TW[DBSR]|DP|[XYDLF])(?=[\s:$0-9])\S*", re.IGNORECASE)
+
+
 def _int(token: str) -> int:
     return int(token[1:], 16) if token.startswith("$") else int(token)
 
@@ -135,4 +148,4 @@ def report(d: MDef) -> str:
     return f"{d.kind}:{adr},{d.offset},{d.width}{fmt}"
 
 
-__all__ = ["SELF", "DefinitionError", "MDef", "parse", "report"]
+__all__ = ["DEFINITION_TEXT", "SELF", "DefinitionError", "MDef", "MDefine", "parse", "report"]

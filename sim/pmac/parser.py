@@ -28,7 +28,7 @@ from typing import Any
 from motionsim.sim.errors import ParseError
 from motionsim.sim.pmac import expressions as ex
 from motionsim.sim.pmac import motor_statements as motor_st
-from motionsim.sim.pmac import list_commands
+from motionsim.sim.pmac import list_commands, mvar_defs
 from motionsim.sim.pmac import plc_statements as plc_st
 from motionsim.sim.pmac import statements as st
 
@@ -466,13 +466,16 @@ class _Parser:
             return st.Assign(st.VarRef(kind, index), op[1], self.expression())
         if op is not None and op[0] == "op" and op[1] == "->" and kind == "M":
             self.i += 1
-            return st.MDefinitionQuery(self._const_index(index, op))
+            n = self._const_index(index, op)
+            return self.m_definition(n, n, op)
         first = self._const_index(index, op)
         if op is not None and op[0] == "op" and op[1] == "..":
             self.i += 1
             last = self.integer()
             if last < first or last > 8191:
                 raise self.error("bad variable range", self.toks[self.i - 1])
+            if kind == "M" and self.at("op", "->"):
+                return self.m_definition(first, last, self.take())
             if self.at("op", "=") and self.peek(1) is not None and self.peek(1)[1] == "*":
                 if kind != "I":
                     raise self.error("=* is for I-variables only")
@@ -488,6 +491,23 @@ class _Parser:
                 step = self.integer()
             return st.VarQuery(kind, first, count=count, step=step)
         return st.VarQuery(kind, first)
+
+    def m_definition(self, first: int, last: int, arrow: Token) -> Any:
+        """After ``M{n}[..{m}]->``: a definition written right after the arrow
+        (:mod:`motionsim.sim.pmac.mvar_defs`), else the query ``M{n}->``."""
+        m = mvar_defs.DEFINITION_TEXT.match(self.text, arrow[3])
+        if m is None:
+            return st.MDefinitionQuery(first, None if last == first else last)
+        try:
+            definition = mvar_defs.parse(m.group())
+        except mvar_defs.DefinitionError as e:
+            raise ParseError(
+                f"M-variable definition: {e}", column=arrow[3] + e.column, text=self.text,
+                pmac_error=_ERR,
+            ) from None
+        while self.i < len(self.toks) and self.toks[self.i][2] < m.end():
+            self.i += 1
+        return mvar_defs.MDefine(first, last, definition)
 
     def _const_index(self, index: ex.Expr, tok: Token | None) -> int:
         if index.const is None:

@@ -151,9 +151,13 @@ class VarDefault:
 
 @dataclass(frozen=True, slots=True)
 class MDefinitionQuery:
-    """``M1->``: report an M-variable definition."""
+    """``M1->`` / ``M1..10->``: report M-variable definitions (``last`` None: just ``n``)."""
 
     n: int
+    last: int | None = None
+
+    def numbers(self) -> range:
+        return range(self.n, (self.n if self.last is None else self.last) + 1)
 
 
 # -- program statements -----------------------------------------------------------------------

@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any
 from motionsim.sim.controller import Port
 from motionsim.sim.errors import MotionSimError, ParseError
 from motionsim.sim.pmac import motor_statements as motor_st
-from motionsim.sim.pmac import list_commands, not_simulated
+from motionsim.sim.pmac import list_commands, mvar_defs, not_simulated
 from motionsim.sim.pmac import plc_statements as plc_st
 from motionsim.sim.pmac import statements as st
 from motionsim.sim.pmac.control_chars import ControlCharacters, split_controls
@@ -316,8 +316,14 @@ class Terminal:
                 ctl.vars.set_default(n)
         elif t is list_commands.ListBuffer:
             out.extend(list_commands.run(stmt, ctl, port))
+        elif t is mvar_defs.MDefine:
+            ctl.vars.mvars.define(stmt.first, stmt.last, stmt.definition)
         elif t is st.MDefinitionQuery:
-            out.append("*")
+            # one definition per line; I9 bit 0 = 1: as a statement ``M1->Y:$78802,8``
+            full = int(ctl.vars.I(9)) & 1
+            for n in stmt.numbers():
+                text = mvar_defs.report(ctl.vars.mvars.definition(n))
+                out.append(f"M{n}->{text}" if full else text)
         elif t is plc_st.OpenPlc:
             ctl.plcs.open(stmt.n, port)
             return

@@ -5,7 +5,9 @@
   Coordinate-system I-variables are ``Isx`` = I(5000 + 100·x + nn), e.g. I5113 = Isx13 of
   CS 1; motor I-variables ``Ixx`` = I(100·xx + nn), e.g. I115 = Ixx15 of motor 1.
 * P0..8191 are global, Q0..8191 have one bank per coordinate system, M0..8191 are the
-  M-variables. Every M-variable write is an ``mvar`` event (``sync`` tells whether it came from
+  M-variables: defined ones read and write card memory through their definitions
+  (:mod:`motionsim.sim.pmac.mvars`), the others are plain values. Every M-variable write is
+  an ``mvar`` event (``sync`` tells whether it came from
   a synchronous ``==``/``&=``/``|=``/``^=`` assignment).
 * ``[INF]`` M-variables are treated as integer targets (the manual's ``M1=10*2/3`` gives 7),
   so a written value is rounded half away from zero. P/Q/I keep floats.
@@ -18,6 +20,7 @@ from collections.abc import Callable
 
 from motionsim.sim.errors import NotFound
 from motionsim.sim.pmac.factory import HEX_IVARS, default_i
+from motionsim.sim.pmac.mvars import MVariables
 
 N_VARS = 8192
 N_CS = 16
@@ -71,6 +74,8 @@ class Variables:
         self.p: dict[int, float] = {}
         self.q: dict[tuple[int, int], float] = {}
         self.m: dict[int, float] = {}
+        #: M-variable definitions and the memory they point into.
+        self.mvars = MVariables()
         self._on_m_write = on_m_write
         #: Bumped on every I-variable change, so users may cache derived settings.
         self.version = 0
@@ -83,6 +88,7 @@ class Variables:
         self.p.clear()
         self.q.clear()
         self.m.clear()
+        self.mvars.clear()
 
     # -- reading --------------------------------------------------------------------------
 
@@ -99,7 +105,8 @@ class Variables:
         if kind == "Q":
             return self.q.get((cs, n), 0.0)
         if kind == "M":
-            return self.m.get(n, 0.0)
+            d = self.mvars.defs.get(n)
+            return self.m.get(n, 0.0) if d is None else self.mvars.read(d)
         return self.I(n)
 
     def angles_in_degrees(self) -> bool:
@@ -116,8 +123,12 @@ class Variables:
         elif kind == "Q":
             self.q[(cs, n)] = value
         elif kind == "M":
-            value = _round_m(value)
-            self.m[n] = value
+            d = self.mvars.defs.get(n)
+            if d is None:  # self-referenced: a plain variable
+                value = _round_m(value)
+                self.m[n] = value
+            else:
+                value = self.mvars.write(d, value)
             self._on_m_write(n, value, sync)
         else:
             self.i[n] = value

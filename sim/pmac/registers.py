@@ -1,0 +1,109 @@
+"""The mapping table: card memory addresses that show simulated state.
+
+An M-variable pointed at one of these addresses reads (and where marked, writes) the
+simulator's state instead of plain memory. Addresses from the Turbo SRM's suggested
+M-variable definitions and status-word tables (TSRM p281–287; spec pmac.md §3, §9.4)
+``[BK]`` for the motor data-block offsets:
+
+| address (motor xx, CS x) | M-variable | what |
+|---|---|---|
+| ``X:$0000B0 + $80·(xx−1)`` | Mxx30..39 bits | motor status word 1 (the first 6 hex digits of ``#xx?``) |
+| ``Y:$0000C0 + $80·(xx−1)`` | Mxx40..49 bits | motor status word 2 (``Mxx45`` = bit 10, home complete) |
+| ``D:$000088 + $80·(xx−1)`` | Mxx61 | commanded position, 1/(Ixx08·32) counts |
+| ``D:$00008B + $80·(xx−1)`` | Mxx62 | actual position, 1/(Ixx08·32) counts (writable) |
+| ``X:$00009D + $80·(xx−1)`` | Mxx66 | actual velocity, 1/(Ixx09·32) counts per servo cycle |
+| ``X:$002040 + $100·(x−1)`` | Msx80.. bits | CS status word 1 (``&x??`` digits 1–6) |
+| ``Y:$00203F + $100·(x−1)`` | | CS status word 2 (digits 7–12) |
+| ``Y:$002040 + $100·(x−1)`` | | CS status word 3 (digits 13–18) |
+
+Everything else (the Geo Brick's general-purpose I/O at ``Y:$078800``/``Y:$078802``, user
+memory, DPRAM) is plain memory: written values stay and read back. Writing Mxx62 sets the
+motor's position through the controller's ``set_motor_position`` where it has one
+(``[INF]``: following error 0, so actual = commanded); status words are read-only.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Protocol
+
+if TYPE_CHECKING:
+    from motionsim.sim.pmac.controller import PmacController
+
+
+class Card(Protocol):
+    """What the mapping table reads from the controller."""
+
+    def motor_status(self, motor: int) -> tuple[int, int]: ...
+    def motor_report(self, motor: int, what: str) -> float: ...
+    def cs_status(self, cs: int) -> tuple[int, int, int]: ...
+    def ivar(self, n: int) -> float: ...
+
+
+@dataclass(frozen=True, slots=True)
+class Register:
+    """One mapped register: ``read()`` gives the raw integer (24-bit word or 48-bit long);
+    ``write(raw)`` is None for a read-only register."""
+
+    read: Callable[[], int]
+    write: Callable[[int], None] | None = None
+
+
+N_MOTORS = 32
+N_CS = 16
+MOTOR_STEP = 0x80
+CS_STEP = 0x100
+
+
+def table(card: Card, set_position: Callable[[int, float], None] | None) -> dict[
+    tuple[str, int], Register
+]:
+    """``{(space, address): Register}`` with space ``X``, ``Y`` or ``D`` (48-bit longs)."""
+    out: dict[tuple[str, int], Register] = {}
+    for xx in range(1, N_MOTORS + 1):
+        base = MOTOR_STEP * (xx - 1)
+        out[("X", 0xB0 + base)] = Register(lambda xx=xx: card.motor_status(xx)[0])
+        out[("Y", 0xC0 + base)] = Register(lambda xx=xx: card.motor_status(xx)[1])
+
+        def position(xx: int = xx) -> int:
+            return round(card.motor_report(xx, "P") * card.ivar(100 * xx + 8) * 32)
+
+        def set_actual(raw: int, xx: int = xx) -> None:
+            if set_position is not None:
+                set_position(xx, raw / (card.ivar(100 * xx + 8) * 32))
+
+        def velocity(xx: int = xx) -> int:
+            return round(card.motor_report(xx, "V") * card.ivar(100 * xx + 9) * 32)
+
+        out[("D", 0x88 + base)] = Register(position)
+        out[("D", 0x8B + base)] = Register(position, set_actual)
+        out[("X", 0x9D + base)] = Register(velocity)
+    for x in range(1, N_CS + 1):
+        base = CS_STEP * (x - 1)
+        out[("X", 0x2040 + base)] = Register(lambda x=x: card.cs_status(x)[0])
+        out[("Y", 0x203F + base)] = Register(lambda x=x: card.cs_status(x)[1])
+        out[("Y", 0x2040 + base)] = Register(lambda x=x: card.cs_status(x)[2])
+    return out
+
+
+class _ControllerCard:
+    """The narrow view of a :class:`PmacController` the table reads."""
+
+    def __init__(self, ctl: PmacController) -> None:
+        self.motor_status = ctl.motor_status
+        self.motor_report = ctl.motor_report
+        self.ivar = ctl.vars.I
+        self._ctl = ctl
+
+    def cs_status(self, cs: int) -> tuple[int, int, int]:
+        w1, w2, w3 = self._ctl.coord_system(cs).status_words()
+        return w1, w2, w3
+
+
+def for_controller(ctl: PmacController) -> dict[tuple[str, int], Register]:
+    """The mapping table of ``ctl`` (``set_motor_position`` used where it exists)."""
+    return table(_ControllerCard(ctl), getattr(ctl, "set_motor_position", None))
+
+
+__all__ = ["Card", "Register", "for_controller", "table"]
