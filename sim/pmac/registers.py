@@ -7,8 +7,8 @@ M-variable definitions and status-word tables (TSRM p281–287; spec pmac.md §3
 
 | address (motor xx, CS x) | M-variable | what |
 |---|---|---|
-| ``X:$0000B0 + $80·(xx−1)`` | Mxx30..39 bits | motor status word 1 (the first 6 hex digits of ``#xx?``) |
-| ``Y:$0000C0 + $80·(xx−1)`` | Mxx40..49 bits | motor status word 2 (``Mxx45`` = bit 10, home complete) |
+| ``X:$0000B0 + $80·(xx−1)`` | Mxx30..39 bits | motor status word 1 (``#xx?`` digits 1–6) |
+| ``Y:$0000C0 + $80·(xx−1)`` | Mxx40..49 | motor status word 2 (Mxx45: bit 10, home complete) |
 | ``D:$000088 + $80·(xx−1)`` | Mxx61 | commanded position, 1/(Ixx08·32) counts |
 | ``D:$00008B + $80·(xx−1)`` | Mxx62 | actual position, 1/(Ixx08·32) counts (writable) |
 | ``X:$00009D + $80·(xx−1)`` | Mxx66 | actual velocity, 1/(Ixx09·32) counts per servo cycle |
