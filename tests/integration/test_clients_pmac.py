@@ -179,8 +179,8 @@ def test_epics_driver_exchange_flush_then_getresponse_with_40_queries() -> None:
     assert lines[-1] == b"\x06" and len(lines) == 41, poll
     assert lines[0] == b"5" and lines[1] == b"10"
     assert re.fullmatch(rb"[0-9A-F]{18}", lines[4])  # &1?? : three 24-bit words in hex
-    # the line is parsed whole before anything runs: no data, the error alone, no ACK
-    assert bad == b"\x07ERR003\r"
+    # the queries before the malformed command answer, then the error; no ACK (spec §2.3)
+    assert bad == b"5\r\x07ERR003\r"
 
 
 @pytest.mark.parametrize("n_conn", [2])
