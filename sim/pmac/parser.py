@@ -27,8 +27,8 @@ from typing import Any
 
 from motionsim.sim.errors import ParseError
 from motionsim.sim.pmac import expressions as ex
-from motionsim.sim.pmac import motor_statements as motor_st
 from motionsim.sim.pmac import list_commands, mvar_defs
+from motionsim.sim.pmac import motor_statements as motor_st
 from motionsim.sim.pmac import plc_statements as plc_st
 from motionsim.sim.pmac import statements as st
 

@@ -29,8 +29,8 @@ from typing import TYPE_CHECKING, Any
 
 from motionsim.sim.controller import Port
 from motionsim.sim.errors import MotionSimError, ParseError
-from motionsim.sim.pmac import motor_statements as motor_st
 from motionsim.sim.pmac import list_commands, mvar_defs, not_simulated
+from motionsim.sim.pmac import motor_statements as motor_st
 from motionsim.sim.pmac import plc_statements as plc_st
 from motionsim.sim.pmac import statements as st
 from motionsim.sim.pmac.control_chars import ControlCharacters, split_controls
