@@ -139,13 +139,18 @@ class RotaryBuffer:
         self._rise.append(cb)
 
     def reevaluate(self) -> None:
-        """``OPEN ROT`` / addressed CS changed: low, then high if fewer than I17 ahead."""
+        """``OPEN ROT`` / addressed CS changed: low, then high if fewer than I17 ahead (seed
+        000). The full bit keeps its hysteresis (TSRM p286): set at I17 or more ahead,
+        cleared only below I16, so a re-evaluation between the two leaves it as it was."""
         self._set(False)
-        if len(self.pending) < self._thresholds()[1]:
-            self.full = False
-            self._set(True)
-        else:
+        i16, i17 = self._thresholds()
+        ahead = len(self.pending)
+        if ahead >= i17:
             self.full = True
+        elif ahead < i16:
+            self.full = False
+        if ahead < i17:
+            self._set(True)
 
     # -- loading and planning -------------------------------------------------------------
 

@@ -250,10 +250,13 @@ class Terminal:
                 return
             if not 1 <= stmt.cs <= N_CS:
                 raise CommandError("ERR003")
+            changed = stmt.cs != state["cs"]
             state["cs"] = stmt.cs
             rot = ctl.coord_system(stmt.cs).rotary
-            if rot is not None and ctl.buffer_holder is port and ctl.rotary_open():
-                rot.reevaluate()  # seed 000: a change of the addressed CS re-evaluates BREQ
+            if changed and rot is not None and ctl.buffer_holder is port and ctl.rotary_open():
+                # seed 000: a *change* of the addressed CS re-evaluates BREQ; ``&1`` with CS 1
+                # already addressed changes nothing (no BREQ pulse per poll)
+                rot.reevaluate()
         elif t is st.AddressMotor:
             if stmt.motor is None:
                 out.append(str(state["motor"]))
