@@ -7,6 +7,9 @@ stays low (I16 = 5, I17 = 10). Lines are ``X{i % 1000}`` after a ``TA1 TS0 TM5``
 5 ms blended moves (moves shorter than the 1.33 ms RTI would outrun planning and abort the
 program with a run-time error, TUM p339; simulated time does not enter the rate).
 
+The same host then streams 5 ms PVT segments (``X{i}:{v}`` after ``PVT5``): its rate and the
+PVT / LINEAR ratio (target ≥ 0.8, same run) are printed too.
+
 Prints simulated lines per wall second, the bare SimPy reference loop's rate
 (:func:`bench.reference_loop.reference_rate`, same run) and their ratio (target ≥ 0.25), plus
 resident memory at 10 % and at the end of the stream (flat = no growth with line count).
@@ -36,15 +39,20 @@ def rss_mb() -> float:
     return pages * os.sysconf("SC_PAGE_SIZE") / 2**20
 
 
-def stream(n_lines: int, words: int = 600) -> dict:
-    """Run the stream; returns figures."""
+def stream(n_lines: int, words: int = 600, mode: str = "linear") -> dict:
+    """Run the stream; returns figures. ``mode="pvt"``: the same host streams 5 ms PVT
+    segments ``X{i}:{v}`` (position and end velocity) after a ``PVT5`` header instead."""
     rss_start = rss_mb()
     c = PmacController("bench")
     c.define_rotary(1, words)
-    c.load_lines(1, ["TA1 TS0 TM5"])
+    if mode == "pvt":
+        c.load_lines(1, ["PVT5"])
+        batches = [[f"X{i}:{200 if i < 999 else 0}"] for i in range(1000)]
+    else:
+        c.load_lines(1, ["TA1 TS0 TM5"])
+        batches = [[f"X{i}"] for i in range(1000)]  # one-line batches, made once
     c.run(1)
     rot = c.coord_system(1).rotary
-    batches = [[f"X{i}"] for i in range(1000)]  # one-line batches, made once
     marks: dict[str, float] = {}
     max_used = [0]
 
@@ -86,19 +94,27 @@ def main() -> None:
     repeat = int(sys.argv[2]) if len(sys.argv) > 2 else 3
     # The machine is shared: interleave the two loops and keep the best of each, so a burst
     # of someone else's load does not decide the ratio.
-    refs, runs = [], []
+    refs, runs, pvts = [], [], []
     for _ in range(repeat):
         refs.append(reference_rate(min(n, 500_000)))
         runs.append(stream(n))
+        pvts.append(stream(n, mode="pvt"))
     res = max(runs, key=lambda r: r["lines_per_s"])
     ref = max(refs)
     res["reference_lines_per_s"] = ref
     res["ratio"] = res["lines_per_s"] / ref
     res["all_stream_rates"] = [r["lines_per_s"] for r in runs]
     res["all_reference_rates"] = refs
+    pvt = max(pvts, key=lambda r: r["lines_per_s"])
+    res["pvt"] = pvt
+    res["pvt_to_linear"] = pvt["lines_per_s"] / res["lines_per_s"]
+    res["all_pvt_rates"] = [r["lines_per_s"] for r in pvts]
     print(f"pmac stream : {res['lines_per_s']:>10,.0f} lines/s  ({n:,} lines, "
           f"{res['events']:,} events, {res['simulated_s']:.1f} s simulated, "
           f"{res['wall_s']:.2f} s wall; best of {repeat})")
+    print(f"pvt stream  : {pvt['lines_per_s']:>10,.0f} lines/s  (5 ms PVT segments, "
+          f"last move_end n = {pvt['last_move_end_n']:,}; PVT / LINEAR = "
+          f"{res['pvt_to_linear']:.3f}, target >= 0.8)")
     print(f"reference   : {ref:>10,.0f} lines/s  (bare SimPy loop, best of {repeat})")
     print(f"ratio       : {res['ratio']:.3f}  (target >= 0.25)")
     print(f"memory      : {res['rss_start_mb']:.1f} MB before, {res['rss_10pct_mb']:.1f} MB at "

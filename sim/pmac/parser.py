@@ -37,7 +37,7 @@ _WORDS = [
     "LINEAR", "LIN", "RAPID", "RPD", "CIRCLE", "CIR", "DWELL", "DWE", "DELAY", "DLY",
     "VERSION", "VER", "CID", "CPU", "VID", "TYPE", "SIZE", "SEND", "CMD",
     "ATAN2", "ATAN", "ASIN", "ACOS", "SIN", "COS", "TAN", "SQRT", "EXP", "LN", "ABS", "INT",
-    "INC", "PR", "TA", "TS", "TM",
+    "INC", "PR", "TA", "TS", "TM", "PVT", "SPLINE",
     "ENABLE", "DISABLE", "ENA", "DIS", "PLCC", "PLC", "CLEAR",
     "HOMEZ", "HOME", "HMZ", "HM",
     "LIST", "PROGRAM", "PROG", "FORWARD", "INVERSE",
@@ -333,6 +333,13 @@ class _Parser:
             if n not in (1, 2):
                 raise self.error("CIRCLE1 or CIRCLE2", self.toks[self.i - 1])
             return st.MoveMode(f"CIRCLE{n}")
+        if word == "SPLINE":
+            n = self.integer()
+            if n not in (1, 2):
+                raise self.error("SPLINE1 or SPLINE2", self.toks[self.i - 1])
+            return st.MoveMode(f"SPLINE{n}")
+        if word == "PVT":
+            return st.PvtMode(self.pvt_time())
         if word in ("INC", "ABS"):
             return st.AxisMode(word == "INC", self.axis_list())
         if word in ("TA", "TS", "TM"):
@@ -429,7 +436,13 @@ class _Parser:
         if word == "B" and not self.open:
             return st.ProgramPointer(self.value_const(tok))
         if word in st.AXES:
-            return st.AxisWord(word, self.value())
+            value = self.value()
+            if self.at("op", ":"):
+                self.take()
+                if not self.has_value():
+                    raise self.error("PVT: expected the end velocity after ':'")
+                return st.AxisWord(word, value, self.value())
+            return st.AxisWord(word, value)
         if word in ("I", "J", "K", "R"):
             return st.VectorWord(word, self.value())
         if word == "F":
@@ -437,6 +450,17 @@ class _Parser:
         if word in ("N", "O"):
             return st.Label(word, self.integer())
         raise self.error(f"unrecognised command {word!r}", tok)
+
+    def pvt_time(self) -> ex.Expr:
+        """``PVT{t}``'s time; a constant must lie in the move-time register's range
+        (0, 4095.9998] ms (TSRM p463, p58; ERR003 otherwise ``[INF]``)."""
+        tok = self.peek()
+        if not self.has_value():
+            raise self.error("PVT needs the segment time in ms")
+        t = self.value()
+        if t.const is not None and not 0 < t.const <= 4095.9998:
+            raise self.error("PVT segment time must be > 0 and at most 4095.9998 ms", tok)
+        return t
 
     def _i_vector(self) -> bool:
         """With a buffer open, ``I100`` is a vector word unless it is an assignment."""

@@ -1,11 +1,12 @@
 """A stored program line: its statements compiled to operations, and its size in words.
 
 Words per line (seed 000: "each value in a program (e.g. X1250) takes one word"): we count
-**one word per command word**, with or without a value — ``X1250`` is one word, ``X10 Y20`` two,
-``P1=P2+1`` one, ``LINEAR``, ``INC``, ``N10`` or ``SEND"..."`` one each. So the manual's
-four-axis line ``X1000 Y1200 Z1400 A1600`` takes 4 words and 100 of them 400. A line always
-takes at least one word. ``[INF]`` the manual does not say what a value-less word costs; one
-word is the simplest rule that agrees with its example.
+**one word per command word**, with or without a value, and one more for a PVT axis word's
+velocity (``X10:5`` holds two values, ``[INF]``: no PVT figure is published) — ``X1250`` is
+one word, ``X10 Y20`` two, ``P1=P2+1`` one, ``LINEAR``, ``INC``, ``N10`` or ``SEND"..."`` one
+each. So the manual's four-axis line ``X1000 Y1200 Z1400 A1600`` takes 4 words and 100 of
+them 400. A line always takes at least one word. ``[INF]`` the manual does not say what a
+value-less word costs; one word is the simplest rule that agrees with its example.
 
 Operations (``ops``) are small tuples, in program order, executed by the coordinate system's
 move planning (:mod:`motionsim.sim.pmac.lookahead`). The axis words of a line (with its circle
@@ -27,7 +28,7 @@ OP_ASSIGN = 0  # (OP_ASSIGN, kind, index_expr, op, value_expr)
 OP_MODAL = 1  # (OP_MODAL, name, expr)
 OP_MODE = 2  # (OP_MODE, mode)
 OP_AXISMODE = 3  # (OP_AXISMODE, incremental, axes|None)
-OP_MOVE = 4  # (OP_MOVE, ((axis, expr), ...), ((vector, expr), ...))
+OP_MOVE = 4  # (OP_MOVE, ((axis, expr), ...), ((vector, expr), ...), ((axis, vel_expr), ...))
 OP_DWELL = 5  # (OP_DWELL, expr)
 OP_DELAY = 6  # (OP_DELAY, expr)
 
@@ -43,6 +44,9 @@ class ProgramLine:
     #: ``((axis, value), ...)`` when the line is nothing but one move with constant axis
     #: values (the common streamed line): planning takes a short cut for it.
     simple: tuple[tuple[str, float], ...] | None = None
+    #: ``((axis, position, velocity), ...)`` when the line is one move with constant axis
+    #: values and constant (or no) PVT velocities: the PVT planning short cut.
+    simple_pvt: tuple[tuple[str, float, float], ...] | None = None
 
 
 def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:
@@ -51,27 +55,36 @@ def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:
     modal: list[tuple[Any, ...]] = []
     axes: list[tuple[str, Any]] = []
     vectors: list[tuple[str, Any]] = []
+    velocities: list[tuple[str, Any]] = []
     moves = 0
+    words = len(stmts)
 
     def flush() -> None:
         nonlocal moves
         ops.extend(modal)
         modal.clear()
         if axes or vectors:
-            ops.append((OP_MOVE, tuple(axes), tuple(vectors)))
+            ops.append((OP_MOVE, tuple(axes), tuple(vectors), tuple(velocities)))
             moves += 1
             axes.clear()
             vectors.clear()
+            velocities.clear()
 
     for s in stmts:
         if isinstance(s, st.AxisWord):
             axes.append((s.axis, s.value))
+            if s.velocity is not None:
+                velocities.append((s.axis, s.velocity))
+                words += 1  # position and velocity: two values, two words [INF]
         elif isinstance(s, st.VectorWord):
             vectors.append((s.name, s.value))
         elif isinstance(s, st.Modal):
             modal.append((OP_MODAL, s.name, s.value))
         elif isinstance(s, st.MoveMode):
             modal.append((OP_MODE, s.mode))
+        elif isinstance(s, st.PvtMode):
+            modal.append((OP_MODE, "PVT"))
+            modal.append((OP_MODAL, "TM", s.ms))  # the move-time register (I42 = 0)
         elif isinstance(s, st.AxisMode):
             modal.append((OP_AXISMODE, s.incremental, s.axes))
         elif isinstance(s, st.Assign):
@@ -91,10 +104,21 @@ def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:
         len(ops) == 1
         and ops[0][0] == OP_MOVE
         and not ops[0][2]
+        and not ops[0][3]
         and all(e.const is not None for _, e in ops[0][1])
     ):
         simple = tuple((a, float(e.const)) for a, e in ops[0][1])
-    return ProgramLine(text, max(1, len(stmts)), tuple(ops), moves, simple)
+    simple_pvt = None
+    if (
+        len(ops) == 1
+        and ops[0][0] == OP_MOVE
+        and not ops[0][2]
+        and all(e.const is not None for _, e in ops[0][1])
+        and all(e.const is not None for _, e in ops[0][3])
+    ):
+        vel = {a: float(e.const) for a, e in ops[0][3]}
+        simple_pvt = tuple((a, float(e.const), vel.get(a, 0.0)) for a, e in ops[0][1])
+    return ProgramLine(text, max(1, words), tuple(ops), moves, simple, simple_pvt)
 
 
 def compile_line(text: str) -> ProgramLine:

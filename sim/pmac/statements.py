@@ -186,9 +186,17 @@ class Assign:
 
 @dataclass(frozen=True, slots=True)
 class MoveMode:
-    """``LINEAR``, ``RAPID``, ``CIRCLE1``, ``CIRCLE2``."""
+    """``LINEAR``, ``RAPID``, ``CIRCLE1``, ``CIRCLE2``, ``SPLINE1``, ``SPLINE2``."""
 
     mode: str
+
+
+@dataclass(frozen=True, slots=True)
+class PvtMode:
+    """``PVT{t}``: PVT move mode with segment time ``t`` ms (written where ``TM`` writes, the
+    move-time register; TSRM p463)."""
+
+    ms: Expr
 
 
 @dataclass(frozen=True, slots=True)
@@ -209,10 +217,11 @@ class Modal:
 
 @dataclass(frozen=True, slots=True)
 class AxisWord:
-    """``X10``, ``B0`` (buffer open), ``Z(P1*2)``."""
+    """``X10``, ``B0`` (buffer open), ``Z(P1*2)``; ``X10:5`` (PVT) gives an end velocity."""
 
     axis: str
     value: Expr
+    velocity: Expr | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -277,13 +286,24 @@ OnlineStatement = (
 )
 
 ProgramStatement = (
-    Assign | MoveMode | AxisMode | Modal | AxisWord | VectorWord | Dwell | Delay | Label | Message
+    Assign
+    | MoveMode
+    | PvtMode
+    | AxisMode
+    | Modal
+    | AxisWord
+    | VectorWord
+    | Dwell
+    | Delay
+    | Label
+    | Message
 )
 
 #: Statement types that are program statements (stored when a buffer is open).
 PROGRAM_TYPES = (
     Assign,
     MoveMode,
+    PvtMode,
     AxisMode,
     Modal,
     AxisWord,

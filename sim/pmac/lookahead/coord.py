@@ -17,13 +17,21 @@ from motionsim.sim.pmac.lookahead.execution import Execution
 from motionsim.sim.pmac.lookahead.planning import Planning
 from motionsim.sim.pmac.lookahead.states import IDLE, RUNNING, STOPPED, TRANSITIONS, WAITING
 from motionsim.sim.pmac.lookahead.timebase import TimeBase
-from motionsim.sim.pmac.modes import DWELL, Move
+from motionsim.sim.pmac.modes import DWELL, Move, RunTimeError, pvt
 from motionsim.sim.pmac.scheduler import Wake
 from motionsim.sim.pmac.variables import isx
 
 if TYPE_CHECKING:
     from motionsim.sim.pmac.controller import PmacController
     from motionsim.sim.pmac.rotary import RotaryBuffer
+
+
+#: ``??`` word 2 move-mode bits (4, 1, 0): LINEAR 000, RAPID 010, CIRCLE1 001, CIRCLE2 011,
+#: SPLINE 101, PVT 110 (TSRM p286-287; PSRM p195).
+_MODE_BITS = {
+    "LINEAR": 0, "RAPID": 0b10, "CIRCLE1": 0b01, "CIRCLE2": 0b11,
+    "SPLINE1": 0b10001, "SPLINE2": 0b10001, "PVT": 0b10010,
+}  # fmt: skip
 
 
 class CoordSystem(Planning, Execution, TimeBase):
@@ -60,11 +68,16 @@ class CoordSystem(Planning, Execution, TimeBase):
         self.mode = "LINEAR"
         self.time_mode = False
         self.incremental: set[str] = set()
-        self._fast = False  # time mode, LINEAR, all axes absolute: the planning short cut
+        self._fast = 0  # the planning short cut for constant lines (Planning._fast_kind)
+        self._pvt_t = 0.0  # the PVT segment time (program s), 0 if out of range
+        self._pvt_to_s = 1.0  # PVT velocity (units per Isx90 ms) to tangent (units/segment)
         self.no_blend = False  # Isx92 = 1 at the last R / S: stop and re-plan after each move
         #: ``%`` feedrate override (the CS time base), see :meth:`set_feed_override`.
         self.feed_override = 100.0
         self.calc_pos: dict[str, float] = {}
+        #: End velocities of the last calculated PVT segment (user units per Isx90 ms), the
+        #: next segment's start; empty after any other move.
+        self.calc_vel: dict[str, float] = {}
         self.rest_pos: dict[str, float] = {}
         self._ver = -1
         self._isx13 = 0.0
@@ -136,6 +149,11 @@ class CoordSystem(Planning, Execution, TimeBase):
         # TM-mode move time, real seconds
         self._tm_s = motion.clamp_move_time(self._f / 1000.0, self._ta_prog) * self._scale
         self._i11_s = max(0.0, v.I(11)) / 1000.0
+        try:
+            self._pvt_t = pvt.segment_ms(self._f) / 1000.0
+        except RunTimeError:
+            self._pvt_t = 0.0
+        self._pvt_to_s = self._pvt_t * 1000.0 / self._isx90 if self._isx90 else 0.0
 
     def _accel_s(self) -> float:
         if self._ver != self.vars.version:
@@ -159,7 +177,7 @@ class CoordSystem(Planning, Execution, TimeBase):
         self.error = None
         # Isx92 (move blend disable) is read only at R / S (TSRM p190).
         self.no_blend = self.vars.I(isx(self.cs, 92)) == 1
-        self._fast = False  # re-derived at the next calculated line
+        self._fast = 0  # re-derived at the next calculated line
         if self.state != RUNNING and self.state != WAITING:
             self._set_state(RUNNING)
         self._request_plan()
@@ -202,8 +220,7 @@ class CoordSystem(Planning, Execution, TimeBase):
             w1 |= 1 << 2
         if self.time_mode:
             w1 |= 1 << 3
-        mode_bits = {"LINEAR": 0, "RAPID": 0b10, "CIRCLE1": 0b01, "CIRCLE2": 0b11}[self.mode]
-        w2 |= mode_bits
+        w2 |= _MODE_BITS[self.mode]
         if self.current is not None and self.current.kind == DWELL:
             w2 |= 1 << 12
         if self.rotary is not None and self.rotary.full:

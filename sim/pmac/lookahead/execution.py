@@ -41,7 +41,7 @@ from typing import Any
 
 from motionsim.sim.pmac.expressions import pmac_and, pmac_or, pmac_xor
 from motionsim.sim.pmac.lookahead.states import ABORTED, RUNNING, STOPPED, WAITING
-from motionsim.sim.pmac.modes import DWELL, PROFILES, Move
+from motionsim.sim.pmac.modes import BLENDS, PROFILES, Move
 from motionsim.sim.pmac.scheduler import wake_at
 from motionsim.sim.pmac.variables import ixx
 
@@ -102,7 +102,8 @@ class Execution:
             k = _floor(t / p + 1e-6) + 1
             tp = self._plan_due = -(-k // r) * r * p
             self._plan_wake = wake_at(self._env, tp, self._plan_cb_bound, self._plan_wake)
-        if PROFILES[m.kind].breaks:
+        prof = PROFILES[m.kind]
+        if prof.breaks:
             m.b_start = t
             m.b_end = t + m.tm
             m.stopping = True
@@ -114,7 +115,7 @@ class Execution:
         planned = self.planned
         if planned and not self.single_step:
             nxt = planned[0]
-            if PROFILES[nxt.kind].blends:
+            if BLENDS[m.kind][nxt.kind]:
                 # = self._blend_into(m, nxt), written out (the per-line path)
                 lim = 2 * (m.tm - m.ta_in / 2)
                 ta_n = nxt.ta if nxt.ta <= lim else max(0.0, lim)
@@ -125,6 +126,9 @@ class Execution:
                 th = _ceil((m.b_end - ta_n / 2) / p - 1e-6) * p
                 self._pending = wake_at(self._env, th if th > t else t, self._handoff_cb, pend)
                 return
+        if prof.decide_at_end:  # the next move is needed only at this one's end (PVT)
+            self._after(self.sched.servo_at_or_after(m.b_end - m.ta / 2), self._decide_cb)
+            return
         self._decide(None)
 
     def _blend_into(self, m: Move, nxt: Move) -> None:
@@ -159,14 +163,19 @@ class Execution:
         planned = self.planned
         if planned and not self.single_step:
             nxt = planned[0]
-            if PROFILES[nxt.kind].blends and PROFILES[m.kind].blends:
+            if BLENDS[m.kind][nxt.kind]:
+                if PROFILES[m.kind].decide_at_end:
+                    # no blend ramp (PVT): the decision point is the hand-off itself
+                    self._pending = None
+                    self._start_next()
+                    return
                 self._blend_into(m, nxt)
                 return
         elif self._fell_behind(m):
             self.abort("run_time_error")
             return
         m.stopping = True
-        m.ta_out = self._accel_s() if m.kind != DWELL else 0.0
+        m.ta_out = self._accel_s() if PROFILES[m.kind].stop_ramp else 0.0
         self._after(self.sched.servo_at_or_after(m.b_end + m.ta_out / 2), self._stop_end_cb)
 
     def _fell_behind(self, m: Move) -> bool:
@@ -177,7 +186,7 @@ class Execution:
         RAPID / Isx92 break), and the oldest uncalculated line was already in the buffer when
         planning last ran — so planning had its chance and did not get that far.
         """
-        if not m.blends or self.quitting or self.single_step or self.blocked:
+        if not PROFILES[m.kind].blends or self.quitting or self.single_step or self.blocked:
             return False
         rot = self.rotary
         if rot is None or not rot.pending or self.state != RUNNING:
@@ -250,6 +259,7 @@ class Execution:
         if m is None:
             if self.rotary is not None:
                 self.rotary.free_calculated()
+            self.calc_vel = {}
             self.calc_pos = dict(self.rest_pos)
             return
         pos = self.positions(now)
@@ -259,6 +269,7 @@ class Execution:
         t_stop = vmax / rate if rate > 0 else 0.0
         stop = {a: pos[a] + vel.get(a, 0.0) * t_stop / 2 for a in pos}
         self._abort = (now, t_stop, pos, vel)
+        self.calc_vel = {}
         self.calc_pos = dict(stop)
         self._after(self.sched.servo_at_or_after(now + t_stop), lambda _e: self._abort_end(stop))
 
@@ -295,6 +306,7 @@ class Execution:
         self.sync_pending.clear()
         self.planned.clear()
         self._abort = None
+        self.calc_vel = {}
         self.calc_pos = dict(self.rest_pos)
         if self.rotary is not None:
             self.rotary.free_calculated()

@@ -39,7 +39,16 @@ from __future__ import annotations
 from typing import Any
 
 from motionsim.sim.pmac.lookahead.states import RUNNING, WAITING
-from motionsim.sim.pmac.modes import LINEAR, PROFILES, Move, dwell, linear, rapid
+from motionsim.sim.pmac.modes import (
+    LINEAR,
+    PROFILES,
+    Move,
+    RunTimeError,
+    dwell,
+    linear,
+    pvt,
+    rapid,
+)
 from motionsim.sim.pmac.program import (
     OP_ASSIGN,
     OP_AXISMODE,
@@ -52,6 +61,13 @@ from motionsim.sim.pmac.program import (
 )
 from motionsim.sim.pmac.scheduler import Wake, wake_at
 from motionsim.sim.pmac.variables import isx
+
+#: Modes calculated two moves ahead without segmentation (TUM p339: LINEAR, and CIRCLE, which
+#: then runs as LINEAR, TSRM p177); SPLINE needs two ahead always; PVT and RAPID one.
+_TWO_AHEAD = frozenset({"LINEAR", "CIRCLE1", "CIRCLE2"})
+_SPLINES = frozenset({"SPLINE1", "SPLINE2"})
+#: The planning short cuts for a line of constant axis words (``_fast``).
+_FAST_LINEAR, _FAST_PVT = 1, 2
 
 
 class Planning:
@@ -77,7 +93,8 @@ class Planning:
         """How many moves calculation keeps ready (TUM p339, spec §4.2): 2 beyond the executing
         one with Isx13 = 0 — LINEAR, and CIRCLE, which then runs as LINEAR (TSRM p177) — else
         1; one more from rest, where no move is executing yet. (The caller has refreshed.)"""
-        depth = 2 if self._isx13 == 0 and self.mode != "RAPID" else 1
+        mode = self.mode
+        depth = 2 if (self._isx13 == 0 and mode in _TWO_AHEAD) or mode in _SPLINES else 1
         return depth + 1 if self.current is None else depth
 
     def _request_plan(self) -> None:
@@ -117,8 +134,21 @@ class Planning:
             self._seen_n = rot.n_loaded
             pending = rot.pending
             while pending and len(planned) < target and not self.blocked:
-                simple = pending[0][1].simple
-                if simple is not None and self._fast and self._ver == vars_.version:
+                line = pending[0][1]
+                simple = line.simple
+                fast = self._fast
+                if fast == _FAST_PVT and line.simple_pvt is not None and self._ver == vars_.version:
+                    n = rot.take_simple()
+                    move, self.calc_vel = pvt.plan_constant(
+                        n, self.calc_pos, line.simple_pvt, self.calc_vel,
+                        self._pvt_t, self._pvt_to_s, self._scale,
+                    )  # fmt: skip
+                    self.calc_pos = move.end
+                    if self.sync_pending:
+                        move.sync = self.sync_pending
+                        self.sync_pending = []
+                    planned.append(move)
+                elif simple is not None and fast == _FAST_LINEAR and self._ver == vars_.version:
                     n = rot.take_simple()
                     # Short cut for the streamed line: one LINEAR move, constant ABS values, TM.
                     start = self.calc_pos
@@ -135,13 +165,13 @@ class Planning:
                     planned.append(move)
                 else:
                     n, line = rot.take()  # type: ignore[misc]
-                    self._calculate(n, line)
-                    self._fast = (
-                        self.time_mode
-                        and self.mode == "LINEAR"
-                        and not self.incremental
-                        and not self.no_blend
-                    )
+                    try:
+                        self._calculate(n, line)
+                    except RunTimeError:
+                        rot.line_calculated(n)
+                        self.abort("run_time_error")
+                        return
+                    self._fast = self._fast_kind()
                     rot.line_calculated(n)
         if self.current is None and not self._starting and self.feed_override > 0:
             if planned:
@@ -159,6 +189,18 @@ class Planning:
                     self._start_next()
             elif self.state == RUNNING:
                 self._set_state(WAITING)
+
+    def _fast_kind(self) -> int:
+        """Which planning short cut the next constant line may take: ``_FAST_LINEAR`` (time
+        mode, LINEAR, all axes absolute), ``_FAST_PVT`` (PVT, all axes absolute, a valid
+        segment time) or none."""
+        if self.incremental or self.no_blend:
+            return 0
+        if self.mode == "LINEAR" and self.time_mode:
+            return _FAST_LINEAR
+        if self.mode == "PVT" and self._pvt_t > 0:
+            return _FAST_PVT
+        return 0
 
     def _arm_i11(self) -> None:
         """A sequence is to start from rest now (``R``, a line arriving while ``waiting``, the
@@ -201,7 +243,7 @@ class Planning:
         for op in line.ops:
             code = op[0]
             if code == OP_MOVE:
-                self._plan_move(n, op[1], op[2])
+                self._plan_move(n, op[1], op[2], op[3])
             elif code == OP_ASSIGN:
                 _, kind, idx, aop, val = op
                 k = int(idx.const if idx.const is not None else idx.fn(vars_, cs))
@@ -229,9 +271,11 @@ class Planning:
                 else:
                     self.incremental.difference_update(axes)
             elif code == OP_DWELL:
+                self.calc_vel = {}
                 self._append(dwell.plan_dwell(n, op[1](vars_, cs), self.calc_pos))
                 self.blocked = True
             elif code == OP_DELAY:
+                self.calc_vel = {}
                 if self._ver != vars_.version:
                     self._refresh()
                 self._append(dwell.plan_delay(self, n, op[1](vars_, cs), self.calc_pos))
@@ -244,9 +288,10 @@ class Planning:
             self.sync_pending = []
         self.planned.append(move)
 
-    def _plan_move(self, n: int, axes: tuple, vectors: tuple) -> None:
+    def _plan_move(self, n: int, axes: tuple, vectors: tuple, velocities: tuple) -> None:
         """A move line: the end point from the axis words (INC / ABS), then the move of the
-        current mode; RAPID (and every move with Isx92 = 1) is a lookahead break."""
+        current mode; RAPID (and every move with Isx92 = 1) is a lookahead break. A PVT
+        segment starts at the previous segment's end velocities (``calc_vel``)."""
         vars_, cs = self.vars, self.cs
         start = self.calc_pos
         end = start.copy()
@@ -258,10 +303,19 @@ class Planning:
             end[axis] = start[axis] + v if axis in inc else v
         if self._ver != vars_.version:
             self._refresh()
-        if self.mode == "RAPID":
-            move = rapid.plan(self, n, start, end)
+        mode = self.mode
+        if mode == "PVT":
+            v_end = {a: 0.0 for a in end}
+            for axis, expr in velocities:
+                v_end[axis] = expr.const if expr.const is not None else expr.fn(vars_, cs)
+            move: Move = pvt.plan(self, n, start, end, self.calc_vel, v_end)
+            self.calc_vel = v_end
         else:
-            move = linear.plan(self, n, start, end, vectors)
+            self.calc_vel = {}
+            if mode == "RAPID":
+                move = rapid.plan(self, n, start, end)
+            else:
+                move = linear.plan(self, n, start, end, vectors)
         self.calc_pos = end
         self._append(move)
         if self.no_blend or PROFILES[move.kind].breaks:

@@ -8,14 +8,32 @@ and executor (:mod:`motionsim.sim.pmac.lookahead`) call only this interface.
 
 from __future__ import annotations
 
-from motionsim.sim.pmac.modes import dwell, linear, rapid
-from motionsim.sim.pmac.modes.move import DELAY, DWELL, LINEAR, RAPID, Move, Profile
+from motionsim.sim.pmac.modes import dwell, linear, pvt, rapid
+from motionsim.sim.pmac.modes.move import (
+    DELAY,
+    DWELL,
+    LINEAR,
+    PVT,
+    RAPID,
+    SPLINE,
+    Move,
+    Profile,
+    RunTimeError,
+)
 
 #: The profile of each move kind, indexed by ``Move.kind``.
 PROFILES: tuple[Profile, ...] = (
-    linear.PROFILE, dwell.DWELL_PROFILE, dwell.DELAY_PROFILE, rapid.PROFILE,
+    linear.PROFILE, dwell.DWELL_PROFILE, dwell.DELAY_PROFILE, rapid.PROFILE, pvt.PROFILE,
 )  # fmt: skip
 
 assert all(p.kind == k for k, p in enumerate(PROFILES))
 
-__all__ = ["DELAY", "DWELL", "LINEAR", "PROFILES", "RAPID", "Move", "Profile"]
+#: ``BLENDS[a][b]``: a move of kind ``a`` blends into a following move of kind ``b``.
+BLENDS: tuple[tuple[bool, ...], ...] = tuple(
+    tuple(a.blends and b.blends and a.family == b.family for b in PROFILES) for a in PROFILES
+)
+
+__all__ = [
+    "BLENDS", "DELAY", "DWELL", "LINEAR", "PROFILES", "PVT", "RAPID", "SPLINE", "Move",
+    "Profile", "RunTimeError",
+]  # fmt: skip

@@ -29,6 +29,7 @@ class DwellProfile(Profile):
 
     kind = DWELL
     breaks = True
+    stop_ramp = False
 
     def positions(self, m: Move, t: float) -> dict[str, float]:
         return dict(m.end)

@@ -46,6 +46,7 @@ class BlendedProfile(Profile):
 
     kind = LINEAR
     blends = True
+    family = "linear"
 
     def positions(self, m: Move, t: float) -> dict[str, float]:
         out: dict[str, float] = {}

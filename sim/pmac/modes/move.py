@@ -14,7 +14,13 @@ if TYPE_CHECKING:
     from motionsim.sim.pmac.variables import Variables
 
 # Move kinds (index into :data:`motionsim.sim.pmac.modes.PROFILES`).
-LINEAR, DWELL, DELAY, RAPID = 0, 1, 2, 3
+LINEAR, DWELL, DELAY, RAPID, PVT, SPLINE = 0, 1, 2, 3, 4, 5
+_BLENDING = frozenset({LINEAR, DELAY, PVT, SPLINE})
+
+
+class RunTimeError(Exception):
+    """A line cannot be calculated (e.g. a PVT time out of range): the coordinate system
+    aborts with a run-time error, as when calculation falls behind (TUM p339)."""
 
 
 class Move:
@@ -69,7 +75,8 @@ class Move:
 
     @property
     def blends(self) -> bool:
-        return self.kind == LINEAR or self.kind == DELAY
+        """Part of a blended sequence (``??`` word 1 bit 2, continuous motion mode)."""
+        return self.kind in _BLENDING
 
 
 class PlanContext(Protocol):
@@ -113,14 +120,20 @@ class PlanContext(Protocol):
 class Profile:
     """How one move kind behaves once calculated (the executor's view of a move mode).
 
-    ``blends``: the move is blended with a neighbour that also blends (no stop between);
-    ``breaks``: a lookahead break — it starts from rest, ends in a stop at its programmed end,
-    and nothing after it is calculated until it has finished (TUM p341).
+    ``blends``: the move is blended with a neighbour of the same ``family`` (no stop
+    between); ``breaks``: a lookahead break — it starts from rest, ends in a stop at its
+    programmed end, and nothing after it is calculated until it has finished (TUM p341);
+    ``decide_at_end``: whether the next move is needed only at this move's end (its decision
+    point, as in segmentation mode) rather than when it starts; ``stop_ramp``: a stop at the
+    end decelerates over Ta (else the move simply ends at its end point).
     """
 
     kind: ClassVar[int]
     blends: ClassVar[bool] = False
+    family: ClassVar[str] = ""
     breaks: ClassVar[bool] = False
+    decide_at_end: ClassVar[bool] = False
+    stop_ramp: ClassVar[bool] = True
 
     def positions(self, m: Move, t: float) -> dict[str, float]:
         """Commanded axis positions at ``t`` (``m`` is the executing move)."""
@@ -131,4 +144,7 @@ class Profile:
         raise NotImplementedError
 
 
-__all__ = ["DELAY", "DWELL", "LINEAR", "RAPID", "Move", "PlanContext", "Profile"]
+__all__ = [
+    "DELAY", "DWELL", "LINEAR", "PVT", "RAPID", "SPLINE", "Move", "PlanContext", "Profile",
+    "RunTimeError",
+]  # fmt: skip

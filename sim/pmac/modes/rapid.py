@@ -30,6 +30,7 @@ class RapidProfile(BlendedProfile):
 
     kind = RAPID
     blends = False
+    family = ""
     breaks = True
 
 
