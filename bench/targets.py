@@ -39,6 +39,8 @@ TARGETS: tuple[Target, ...] = (
            "<=", 0.01),
     Target("realtime", "health_p99_ms_factor10_plc", "/health p99 at factor 10 with a PLC (ms)",
            "<=", 50.0),
+    Target("pmacanalyse", "full_read_s", "dls-pmacanalyse full read of the card, realtime (s)",
+           "<=", 5.0),
     Target("wire", "getresponse", "PMAC Ethernet GETRESPONSE round trips / bare echo server",
            ">=", 0.5),
     Target("sweep", "speedup_2_workers", "64 scenario runs: 2 local workers vs 1 (speed-up)",

@@ -34,6 +34,9 @@ Inferred (``[INF]``, the manuals found are silent; see spec §5.1 and §7):
 * the single byte answering SENDLINE, SETMEM, SETBIT(S), FWDOWNLOAD and a PORT write is ``@``
   like FLUSH's; an upload that finds nothing queued answers one NUL byte (which dls-pmaclib
   reads as "PMAC busy").
+* a 1400-byte piece never ends in ``\\r`` while more of the same response follows: the piece
+  takes the next byte too (at most a few bytes over 1400), so a client that reads "ends in
+  CR" as "complete" is never left one reply behind.
 * WRITEBUFFER's failing line number is the 0-based index of the line in the request; the
   output of lines it executes successfully is discarded.
 * a download payload longer than the packet's data area (1492 bytes), an unknown
@@ -65,6 +68,8 @@ VR_DOWNLOAD: Final = 0x40
 MAX_PAYLOAD: Final = 1492
 #: Most bytes of queued text one GETRESPONSE / GETBUFFER returns.
 MAX_REPLY: Final = 1400
+#: Longest piece sent: 1400 plus the few terminator bytes carried over (see :meth:`take`).
+MAX_PIECE: Final = MAX_REPLY + 4
 #: The byte answering FLUSH (observed on hardware) and, ``[INF]``, the other 1-byte acks.
 ACK_BYTE: Final = b"@"
 #: Answer to an upload that finds nothing queued ``[INF]``.
@@ -430,6 +435,11 @@ class PmacEthernetCodec:
             return EMPTY
         head = self._queue[0]
         n = max(1, min(max_bytes, MAX_REPLY))
+        while n < len(head) and head[n - 1] in (CR, ACK) and n < MAX_PIECE:
+            # A piece that ends in CR while more of the response follows would read as a
+            # complete (error) reply: dls-pmaclib stops there and the rest of the response
+            # answers its next command. Carry the terminator over into the piece [INF].
+            n += 1
         out = bytes(head[:n])
         del head[:n]
         if not head:
@@ -555,6 +565,7 @@ __all__ = [
     "EXECUTES",
     "HEADER_SIZE",
     "MAX_PAYLOAD",
+    "MAX_PIECE",
     "MAX_REPLY",
     "NEED_DATA",
     "VR",

@@ -537,6 +537,15 @@ class PmacController(Controller):
         p0 = self.motor_position(motor, max(0.0, now - self.scheduler.period_s))
         return round(p1 - p0, 3) if now > 0 else 0.0
 
+    def set_motor_position(self, motor: int, counts: float) -> None:
+        """Make motor ``motor``'s present position ``counts`` without motion: a write of its
+        actual-position register Mxx62 (:mod:`motionsim.sim.pmac.registers`), as a backup
+        tool restores positions after CTRL-K. ``[INF]`` the position reference moves (like
+        ``HMZ`` to a given value); the motor does not."""
+        if 1 <= motor <= N_MOTORS:
+            m = self.motor(motor)
+            m.profile = m.profile.shifted(counts - m.position(self.env.now))
+
     def motor_status(self, motor: int) -> tuple[int, int]:
         """The two 24-bit words of ``#n?`` (:mod:`motionsim.sim.pmac.motor_status`)."""
         m = self.motor(motor)

@@ -115,7 +115,8 @@ def test_getresponse_returns_first_response_and_queues_the_rest_for_getbuffer() 
     lines = tuple(str(n) for n in range(1000, 1200))  # 200 lines of 5 bytes = 1001 bytes
     big = Answer(lines + lines)  # 2001 bytes
     first = codec.reply(req, [big])
-    assert len(first) == MAX_REPLY and not first.endswith(b"\x06")
+    # byte 1400 is a CR (5-byte lines): the piece takes one byte more, never ending in CR
+    assert len(first) == MAX_REPLY + 1 and not first.endswith((b"\x06", b"\r"))
     assert codec.reply(ReadReady()) == b"\x01\x00"
     rest = codec.reply(GetBuffer(2048))
     assert first + rest == frame(big)
@@ -236,3 +237,13 @@ def test_bytes_above_127_are_found_for_err004() -> None:
     codec = PmacEthernetCodec()
     (req,) = feed(codec, getresponse(b"I\xe95"))
     assert illegal_character(req.lines[0]) == 1
+
+
+def test_a_piece_never_ends_in_cr_while_the_response_goes_on() -> None:
+    """700 lines of ``0\\r`` put a CR at byte 1400: the piece carries the ACK over, so a client
+    reading "ends in CR" as a finished (error) reply is not left one reply behind."""
+    codec = PmacEthernetCodec()
+    (req,) = feed(codec, getresponse("P0..699"))
+    first = codec.reply(req, [Answer(("0",) * 700)])
+    assert first == b"0\r" * 700 + b"\x06"
+    assert codec.reply(ReadReady()) == b"\x00\x00"

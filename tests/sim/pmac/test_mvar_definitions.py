@@ -135,3 +135,12 @@ def test_a_malformed_definition_is_err003_and_changes_nothing(rig, bad):
     assert (r.reply, r.error) == ("", "ERR003")
     assert rig.ok("M1->") == "Y:$78802,8"
     assert rig.ok("M8191->") == "*"
+
+
+def test_writing_mxx62_sets_the_motor_position_without_motion(rig):
+    """What dls-backup-bl's restore does: ``M162 = counts/(1/(Ixx08*32))`` after CTRL-K."""
+    rig.ok("M162->D:$00008B")
+    rig.ok("M162 = 1234/0.0003255208333")  # 1234 counts * 96 * 32
+    assert float(rig.ok("#1P")) == pytest.approx(1234, abs=0.1)
+    assert float(rig.ok("M162")) == pytest.approx(1234 * 3072, rel=1e-6)
+    assert rig.ok("#2P") == "0"
