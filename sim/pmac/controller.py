@@ -25,8 +25,8 @@ from typing import Any, NamedTuple
 import simpy
 from motionsim.sim.controller import Controller, Port, Reply
 from motionsim.sim.errors import BufferFull, Conflict, Halted, InvalidValue, NotFound, ParseError
+from motionsim.sim.pmac import card_commands, registers
 from motionsim.sim.pmac import motor_statements as motor_st
-from motionsim.sim.pmac import registers
 from motionsim.sim.pmac.cpu import CONFIG_KEYS as CPU_CONFIG_KEYS
 from motionsim.sim.pmac.cpu import Processor
 from motionsim.sim.pmac.lookahead import CoordSystem
@@ -80,6 +80,7 @@ class PmacController(Controller):
         super().__init__(id, config, log_capacity=log_capacity)
         self._check_config(self.config)
         self.vars = Variables(self._m_written)
+        self.flash = card_commands.Flash()  # what SAVE stored; survives resets
         self._power_on()
 
     # -- construction ---------------------------------------------------------------------

@@ -26,7 +26,6 @@ _COMMANDS: Final[tuple[tuple[str, str], ...]] = (
     (r"HOME|HM\b", "HM (homing search)"),
     (r"K\b", "K (kill motor)"),
     (r"O-?\d", "O (open-loop output)"),
-    (r"\$\$\$\*\*\*", "$$$*** (re-initialise)"),
     (r"\$\*|\$(?!\$)", "$ / $* (phase / absolute position read)"),
     (r"MS\s*\d|MSR|MSW|MSSAVE|MSCLRERR|MSDATE|MACRO", "MACRO station commands (MS...)"),
     (r"DEFINE\s*(LOOKAHEAD|LOOK)\b|DEF\s*LOOK", "DEFINE LOOKAHEAD"),

@@ -26,8 +26,8 @@ import re
 from typing import Any
 
 from motionsim.sim.errors import ParseError
+from motionsim.sim.pmac import card_commands, list_commands, mvar_defs
 from motionsim.sim.pmac import expressions as ex
-from motionsim.sim.pmac import list_commands, mvar_defs
 from motionsim.sim.pmac import motor_statements as motor_st
 from motionsim.sim.pmac import plc_statements as plc_st
 from motionsim.sim.pmac import statements as st
@@ -40,7 +40,7 @@ _WORDS = [
     "INC", "PR", "TA", "TS", "TM", "PVT", "SPLINE",
     "ENABLE", "DISABLE", "ENA", "DIS", "PLCC", "PLC", "CLEAR",
     "HOMEZ", "HOME", "HMZ", "HM",
-    "LIST", "PROGRAM", "PROG", "FORWARD", "INVERSE",
+    "LIST", "PROGRAM", "PROG", "FORWARD", "INVERSE", "SAVE",
 ]  # fmt: skip
 _WORDS.sort(key=len, reverse=True)
 
@@ -271,6 +271,8 @@ class _Parser:
             return st.Query(word)
         if word == "##":
             return motor_st.MotorGroup(self.integer() if self.at("num") else None)
+        if word in ("$$$", "$$$***"):
+            return card_commands.Reset(factory=word == "$$$***")
         if word in ("$", "$*"):
             return motor_st.Enable(absolute=word == "$*")
         if word == "%":
@@ -320,6 +322,8 @@ class _Parser:
             return st.Close()
         if word == "LIST":
             return list_commands.parse(self)
+        if word == "SAVE":
+            return card_commands.Save()
         if word in ("ENABLE", "ENA", "DISABLE", "DIS"):
             return plc_st.EnablePlc(self.plc_list(), word in ("ENABLE", "ENA"))
         if word == "CLEAR":

@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any
 
 from motionsim.sim.controller import Port
 from motionsim.sim.errors import MotionSimError, ParseError
-from motionsim.sim.pmac import list_commands, mvar_defs, not_simulated
+from motionsim.sim.pmac import card_commands, list_commands, mvar_defs, not_simulated
 from motionsim.sim.pmac import motor_statements as motor_st
 from motionsim.sim.pmac import plc_statements as plc_st
 from motionsim.sim.pmac import statements as st
@@ -317,6 +317,10 @@ class Terminal:
         elif t is st.VarDefault:
             for n in range(stmt.first, stmt.last + 1):
                 ctl.vars.set_default(n)
+        elif t is card_commands.Save:
+            card_commands.save(ctl)
+        elif t is card_commands.Reset:
+            card_commands.schedule_reset(ctl, stmt.factory)
         elif t is list_commands.ListBuffer:
             out.extend(list_commands.run(stmt, ctl, port))
         elif t is mvar_defs.MDefine:
