@@ -72,7 +72,7 @@ _REPORTS = (st.Query, st.VarQuery, st.MDefinitionQuery, st.AddressCS, st.Address
 def _is_report(stmt: Any) -> bool:
     if isinstance(stmt, st.AxisDefinition):
         return stmt.definition is None
-    return isinstance(stmt, _REPORTS) and not isinstance(stmt, st.FeedOverride)
+    return isinstance(stmt, _REPORTS)
 
 
 def _where(e: ParseError) -> str:
