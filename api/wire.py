@@ -95,6 +95,9 @@ class WireSession:
         self.closed = False
         #: Set when the host has gone: a command still waiting for its reply is given up.
         self.gone = asyncio.Event()
+        #: The pump's wake-up (set by :func:`serve_connection`): a session with output of its
+        #: own to send (Trio channel 0) sets it.
+        self.wake: asyncio.Event | None = None
 
     def _now(self) -> float:
         """Simulated now (a realtime clock's reading, which runs ahead of a lazily synced env)."""
@@ -152,6 +155,7 @@ async def serve_connection(
     """
     peer = peer_name(writer)
     wake = asyncio.Event()
+    session.wake = wake
 
     async def read_loop() -> None:
         try:

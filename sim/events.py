@@ -50,7 +50,7 @@ EVENT_FIELDS: dict[str, tuple[str, ...]] = {
     "rti_overrun": ("over_s",),
     "watchdog": ("reason",),
     "reset": (),
-    "print": ("process", "text"),  # Trio: a line a BASIC program printed on channel 0
+    "print": ("process", "channel", "text"),  # Trio: a line a BASIC program printed
     # scenario host models (sim/hosts/): what the simulated host did and saw
     "host_write": ("host", "cs", "lines", "sent"),
     "host_timeout": ("host", "cs", "command"),

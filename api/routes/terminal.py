@@ -21,14 +21,19 @@ router = APIRouter(tags=["terminal"])
 )
 async def post_terminal(body: TerminalIn, handle: HandleDep) -> dict:
     reply = await handle.command(body.command)
+    unread = getattr(handle.controller, "unread_output", None)
+    output = handle.apply(unread, "rest") if unread is not None else []
     if not reply.done:
-        return {"reply": "", "error": None, "pending": True}
-    out: dict = {"reply": reply.reply, "error": reply.error, "pending": False}
-    if reply.error is not None:  # explained for people; a success body stays three fields
+        out: dict = {"reply": "", "error": None, "pending": True}
+    else:
+        out = {"reply": reply.reply, "error": reply.error, "pending": False}
+    if reply.done and reply.error is not None:  # explained for people; success stays 3 fields
         detail = getattr(reply, "detail", None)
         out["error_meaning"] = meaning(reply.error)
         out["not_simulated"] = detail is not None and detail[0] == "not_simulated"
         out["detail"] = detail[1] if detail is not None else None
+    if output:  # Trio program output (channel 0) since the previous command
+        out["output"] = output
     return out
 
 

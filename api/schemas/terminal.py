@@ -28,6 +28,12 @@ class TerminalOut(BaseModel):
         "simulate it (the wire still answers the controller's error code)")
     detail: str | None = Field(
         default=None, description="what was wrong and where (column), or what is not simulated")
+    output: list[str] = Field(
+        default_factory=list,
+        description="Trio: lines a program printed on channel 0 (the command line) since the "
+        "REST terminal's previous command, oldest first; the key is present only when there "
+        "are some (never for PMAC)",
+    )
 
 
 class TerminalState(BaseModel):

@@ -7,11 +7,16 @@ taken from REST shows here and the other way round (``GET /terminal``, ``termina
 While a command is pending (a move that cannot be buffered) the prompt does not return and the
 lines typed meanwhile wait, unread and unechoed, as on the controller (TN20: the terminal
 "locks up" until the process buffer frees).
+
+Channel 0 output — a running program's ``PRINT`` and its run-time error line — is pushed to
+every session as it is printed (each line ended by CR LF, no prompt after it), except while
+the session's own command is pending, when it follows the reply.
 """
 
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import logging
 from typing import Any
 
@@ -44,6 +49,22 @@ class TrioSession(WireSession):
                  echo: bool = True) -> None:
         self.codec = TrioTerminalCodec(echo=echo)
         super().__init__(handle, name, recorder, peer)
+        channels = getattr(handle.controller, "channels", None)
+        self._channels = channels
+        self._cursor = channels.count if channels is not None else 0
+        self._unlisten = handle.apply(channels.listen, self._printed) if channels else None
+
+    def _printed(self) -> None:
+        """A channel-0 line was printed: wake the connection's pump to send it."""
+        if self.wake is not None:
+            self.wake.set()
+
+    def _output(self) -> bytes:
+        """Channel-0 lines printed since the last call, as the terminal shows them."""
+        if self._channels is None:
+            return b""
+        lines, self._cursor = self._channels.since(self._cursor)
+        return b"".join(line.encode("latin-1", "replace") + b"\r\n" for line in lines)
 
     async def replies(self):  # noqa: ANN201 - async generator of bytes
         """Run every complete line received so far; yield the bytes to send (echo, replies).
@@ -52,6 +73,9 @@ class TrioSession(WireSession):
             Disconnected: the host went away while a command was pending.
         """
         while True:
+            printed = self._output()
+            if printed:
+                yield self._out(printed)
             line = self.codec.next_line()
             echo = self.codec.data_to_send()
             if echo:
@@ -63,6 +87,13 @@ class TrioSession(WireSession):
                 continue
             text, error = await self.execute(line.text)
             yield self._out(self.codec.reply(text, error))
+
+    def close(self) -> None:
+        if self._unlisten is not None and not self.closed:
+            unlisten, self._unlisten = self._unlisten, None
+            with contextlib.suppress(Exception):
+                self.handle.apply(unlisten)
+        super().close()
 
     async def execute(self, line: str) -> tuple[str, str | None]:
         """Run one line on process 0; the reply text and the error message (or None)."""

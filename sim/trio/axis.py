@@ -7,9 +7,16 @@ move's profile at the last servo cycle at or before the instant asked — the ax
 once per servo period. MPOS equals DPOS (no following error is modelled).
 
 Parameter defaults (SPEED 1000, ACCEL 1000, DECEL 1000, CREEP 10, UNITS 1) are ``[BK]``; set
-them per axis with ``set_axis`` or ``PATCH /axes/{n}``. A new SPEED / ACCEL / DECEL applies to
-moves that start after it is written (the move executing keeps its profile — a simplification
-of the controller, whose profile generator follows SPEED on the fly).
+them per axis with ``set_axis`` or ``PATCH /axes/{n}``. SPEED, ACCEL and DECEL written while the
+axis is the base axis of the executing move re-plan that move at once (see
+:mod:`motionsim.sim.trio.moves`); SPEED may be 0 (the move holds). FORCE_SPEED (default 1000
+``[BK]``) is the speed of the SP moves, captured when each is issued.
+
+OFFPOS (write) shifts the axis' coordinates by the value at the next servo period and reads
+back 0 once applied; DEFPOS(p) declares the position to be p at the next servo period, and
+OFFPOS reads the pending shift until then (TRM MC216 p. 8-220 listing: "DEFPOS and OFFPOS take
+effect at the next servo update"; DEFPOS becomes an OFFPOS internally, so ``WAIT UNTIL
+OFFPOS=0`` waits for it).
 
 MERGE (switch, default OFF) and SRAMP (ms, default 0) shape the profile: see
 :mod:`motionsim.sim.trio.buffers` for when moves merge and :mod:`motionsim.sim.trio.profile` for
@@ -19,6 +26,7 @@ that start (or, for MERGE, reach NTYPE) after they are written.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from motionsim.sim.errors import InvalidValue
@@ -37,11 +45,16 @@ DEFAULTS: dict[str, float] = {
     "units": 1.0,
     "merge": 0.0,
     "sramp": 0.0,
+    "force_speed": 1000.0,
 }
 
 #: Parameters that may be 0: MERGE is a switch (any non-zero value is ON, ``TRUE`` = -1),
 #: SRAMP a time in ms, 0..250 (``[BK]``, see :mod:`motionsim.sim.trio.profile`).
 _SWITCHES = {"merge"}
+#: Speeds that may be 0 (SPEED = 0 holds the executing move, spec §10.5).
+_ZERO_OK = {"speed", "force_speed"}
+#: Parameters whose change re-plans the executing move.
+PROFILE_PARAMS = frozenset({"speed", "accel", "decel"})
 SRAMP_MAX_MS = 250.0
 
 
@@ -50,7 +63,7 @@ class Axis:
 
     __slots__ = (
         "n", "env", "clock", "speed", "accel", "decel", "creep", "units", "mtype", "ntype", "pos",
-        "merge", "sramp",
+        "merge", "sramp", "force_speed", "offset", "defpos", "on_profile_change", "queued",
     )
 
     def __init__(
@@ -63,7 +76,11 @@ class Axis:
         self.ntype: Move | None = None
         self.pos = 0.0  # committed demand position (user units) while no move executes
         self.speed = self.accel = self.decel = self.creep = self.units = 0.0
-        self.merge = self.sramp = 0.0
+        self.merge = self.sramp = self.force_speed = 0.0
+        self.offset = 0.0  # OFFPOS written, applied at the next servo period
+        self.defpos: float | None = None  # DEFPOS(p) pending
+        self.on_profile_change: Callable[[Axis], None] | None = None
+        self.queued = 0  # moves for this axis waiting in a process buffer
         self.set(**{**DEFAULTS, **(params or {})})
 
     # -- parameters ------------------------------------------------------------------------
@@ -87,11 +104,17 @@ class Axis:
                         field=key,
                     )
                 continue
-            if not isinstance(value, (int, float)) or not value > 0 or value != value:
+            low_ok = key in _ZERO_OK and isinstance(value, (int, float)) and value == 0
+            if not low_ok and (
+                not isinstance(value, (int, float)) or not value > 0 or value != value
+            ):
                 raise InvalidValue(
                     f"{key.upper()} AXIS({self.n}) must be a positive number, got {value!r}",
                     field=key,
                 )
+        replan = self.on_profile_change is not None and any(
+            getattr(self, k) != float(params[k]) for k in PROFILE_PARAMS.intersection(params)
+        )
         for key, value in params.items():
             if key == "units" and self.units:
                 # The encoder count stays; the user-unit position rescales (DPOS = edges/UNITS).
@@ -99,6 +122,8 @@ class Axis:
             if key in _SWITCHES:
                 value = 1.0 if value else 0.0
             setattr(self, key, float(value))
+        if replan:
+            self.on_profile_change(self)  # type: ignore[misc]
 
     # -- buffers ---------------------------------------------------------------------------
 
@@ -135,19 +160,21 @@ class Axis:
     def endmove(self) -> float:
         """ENDMOVE: the end position of the executing move (DPOS when idle or endless)."""
         m = self.mtype
-        if m is None or m.start_tick is None or m.kind in ("FORWARD", "REVERSE"):
-            return self.position()
-        return m.final_positions()[m.axes.index(self.n)]
+        end = None if m is None or m.start_tick is None else m.endmove(m.axes.index(self.n))
+        return self.position() if end is None else end
 
     def remain(self) -> float:
         """REMAIN: path distance still to go in the executing move (0 when idle or endless)."""
         m = self.mtype
-        if m is None or m.profile is None or m.kind in ("FORWARD", "REVERSE"):
+        if m is None or m.profile is None:
             return 0.0
-        tau = self._tau(m, self.env.now)
-        if tau is None:
-            return m.profile.length
-        return max(0.0, m.profile.length - m.profile.s(tau))
+        return m.remaining(self._tau(m, self.env.now))
+
+    def offpos(self) -> float:
+        """OFFPOS: the shift still to be applied at the next servo period (0 once applied)."""
+        if self.defpos is not None:
+            return self.defpos - self.position()
+        return self.offset
 
     def vp_speed(self) -> float:
         """VP_SPEED: the profile generator's path speed now."""
@@ -174,12 +201,15 @@ class Axis:
             return self.endmove()
         if name == "REMAIN":
             return self.remain()
-        if name == "IDLE":
-            return -1.0 if self.mtype is None and self.ntype is None else 0.0
+        if name == "IDLE":  # no move executing, next, or on its way in a process buffer
+            idle = self.mtype is None and self.ntype is None and not self.queued
+            return -1.0 if idle else 0.0
         if name == "VP_SPEED":
             return self.vp_speed()
         if name == "MOVES_BUFFERED":
             return float(self.moves_buffered())
+        if name == "OFFPOS":
+            return self.offpos()
         return float(getattr(self, name.lower()))
 
     def snapshot(self) -> dict[str, float | int]:
@@ -200,6 +230,7 @@ class Axis:
             "creep": self.creep,
             "merge": self.merge,
             "sramp": self.sramp,
+            "force_speed": self.force_speed,
             "vp_speed": self.vp_speed(),
             "moves_buffered": self.moves_buffered(),
         }

@@ -65,6 +65,7 @@ import simpy
 from motionsim.sim.events import EventLog
 from motionsim.sim.timing import ServoClock
 from motionsim.sim.trio.axis import Axis
+from motionsim.sim.trio.linked import LinkedMove
 from motionsim.sim.trio.moves import Move
 from motionsim.sim.trio.profile import diverges_at
 from simpy.events import URGENT
@@ -128,6 +129,10 @@ class MotionBuffers:
         self._watchers: list[tuple[Callable[[], bool], Callable[[], None]]] = []
         self._dead = False
         self._next_id = 0
+        self._links: dict[LinkedMove, None] = {}  # CAMBOX / MOVELINK ending by link distance
+        self._offsets: set[int] = set()  # axes with a DEFPOS / OFFPOS to apply
+        for ax in axes:
+            ax.on_profile_change = self._profile_changed
 
     def new_id(self) -> int:
         self._next_id += 1
@@ -179,6 +184,24 @@ class MotionBuffers:
 
         return withdraw
 
+    def queued_for(self, axis: int) -> bool:
+        """Whether a process buffer holds a move for ``axis`` (not yet in its NTYPE)."""
+        return self.axes[axis].queued > 0
+
+    def _pb_put(self, p: int, m: Move) -> None:
+        self.process_buffer[p] = m
+        for a in m.axes:
+            self.axes[a].queued += 1
+        self.log.emit("process_buffer", process=p, axis=m.axes[0], mtype=m.mtype)
+
+    def _pb_take(self, p: int, emit: bool = True) -> Move:
+        m = self.process_buffer.pop(p)
+        for a in m.axes:
+            self.axes[a].queued -= 1
+        if emit:
+            self.log.emit("process_buffer", process=p, axis=m.axes[0], mtype=0)
+        return m
+
     def pmove(self, process: int) -> int:
         """PMOVE: 1 while ``process``' process buffer holds a move."""
         return 1 if process in self.process_buffer else 0
@@ -193,8 +216,7 @@ class MotionBuffers:
         p = move.process
         if p in self.process_buffer:
             return None
-        self.process_buffer[p] = move
-        self.log.emit("process_buffer", process=p, axis=move.axes[0], mtype=move.mtype)
+        self._pb_put(p, move)
         self._tick_at(self.clock.after(self.env.now))
         return "process_buffer"
 
@@ -222,12 +244,85 @@ class MotionBuffers:
         if m is None:
             return
         assert m.profile is not None
-        now_k = self.clock.index(self.env.now)
+        now_k = max(self.clock.index(self.env.now), m.start_tick or 0)
         tau = self.clock.t(now_k) - m.t_start
-        m.cut(m.profile.cancelled_at(tau, self.axes[m.axes[0]].decel))
+        base = self.axes[m.axes[0]]
+        m.cancel_at(tau, base.decel, base.sramp / 1000.0)
+        self._links.pop(m, None)  # type: ignore[call-overload]
+        self._reschedule_end(m, now_k)
+
+    def _reschedule_end(self, m: Move, now_k: int) -> None:
+        """The move's profile changed at period ``now_k``: end it where the profile ends."""
         assert m.profile is not None
+        if m.profile.duration == float("inf"):
+            if m.end_tick is not None:
+                old = self._ending.get(m.end_tick)
+                if old and m in old:
+                    old.remove(m)
+                m.end_tick = None
+            return
         end = max(self.clock.at_or_after(m.t_start + m.profile.duration), now_k + 1)
         self._end_at(m, end)
+
+    def _profile_changed(self, ax: Axis) -> None:
+        """SPEED / ACCEL / DECEL of ``ax`` written: re-plan the move it is the base axis of,
+        from the servo period of the write (spec §10.5)."""
+        m = ax.mtype
+        if m is None or m.start_tick is None or m.axes[0] != ax.n or not m.follows_speed():
+            return
+        k = max(self.clock.index(self.env.now), m.start_tick)
+        t = self.clock.t(k)
+        m.replan(t - m.t_start, k, t, [self.axes[a] for a in m.axes])
+        self._reschedule_end(m, k)
+
+    def offset(self, axis: int) -> None:
+        """DEFPOS / OFFPOS written for ``axis``: applied at the next servo period."""
+        self._offsets.add(axis)
+        self._tick_at(self.clock.after(self.env.now))
+
+    def _apply_offsets(self, k: int) -> None:
+        t = self.clock.t(k)
+        for n in sorted(self._offsets):
+            ax = self.axes[n]
+            off = (ax.defpos - ax.position(t)) if ax.defpos is not None else ax.offset
+            ax.defpos, ax.offset = None, 0.0
+            ax.pos += off
+            m = ax.mtype
+            if m is not None and m.start_tick is not None:
+                m.shift(m.axes.index(n), off)
+            for lm in self._active:
+                if isinstance(lm, LinkedMove) and lm.link is ax:
+                    lm.m0 += off
+            self.log.emit("offpos", axis=n, offset=off)
+        self._offsets.clear()
+
+    def _modify(self, mm: Move, k: int) -> bool:
+        """MOVEMODIFY(p) at sequencing: change the end of the axis' last buffered single-axis
+        linear move to ``p`` (consumed: True), else it loads as a move of its own (spec
+        §10.2: MC4 help text; the MC2xx page was not reachable). A new end behind the
+        executing move's present position cancels it at DECEL first (same source)."""
+        ax = self.axes[mm.axes[0]]
+        target = ax.ntype if ax.ntype is not None else ax.mtype
+        if (
+            target is None or len(target.axes) != 1 or target.cancelled
+            or target.geom not in ("MOVE", "MOVEABS") or target.merged_into is not None
+        ):
+            return False
+        p = mm.args[0]
+        if target.start_tick is None:  # in NTYPE: it will run to p from wherever it starts
+            target.geom, target.args = "MOVEABS", (p,)
+            return True
+        t = self.clock.t(k)
+        tau = t - target.t_start
+        assert target.profile is not None
+        here = target.positions(tau)[0]
+        if (p - here) * target.unit[0] < 0.0 or (p == here and target.profile.v(tau) > 0.0):
+            self.cancel(ax.n)
+            return False
+        target.replan(tau, k, t, [ax], end=p)
+        self._reschedule_end(target, k)
+        self.log.emit("move_modify", axis=ax.n, mtype=target.mtype, end=p)
+        return True
 
     def cancel_next(self, axis: int) -> None:
         """CANCEL(1): drop the move waiting in NTYPE of ``axis`` (and its group)."""
@@ -242,14 +337,21 @@ class MotionBuffers:
             self._changed(ax)
         self._kick()
 
-    def rapidstop(self) -> None:
-        """RAPIDSTOP: every process buffer and NTYPE emptied, every executing move cancelled
-        (buffer clearing is ``[BK]``: the MC2xx manual text was not found)."""
-        for p in sorted(self.process_buffer):
-            m = self.process_buffer.pop(p)
-            self.log.emit("process_buffer", process=p, axis=m.axes[0], mtype=0)
-        for m in list(self._ntype):
-            self.cancel_next(m.axes[0])
+    def rapidstop(self, mode: int = 0) -> None:
+        """RAPIDSTOP: CANCEL on every axis at once; the moves buffered in NTYPE and the process
+        buffers then load as after any CANCEL. ``RAPIDSTOP(2)`` also empties every NTYPE and
+        process buffer first, so nothing runs after the stop.
+
+        The TRM page was not reachable (searched pages/docs for the MC206 RAPIDSTOP entry);
+        evidence ``[INF]``: a production pause program issues RAPIDSTOP twice and then CANCEL
+        three times, i.e. one RAPIDSTOP leaves buffered moves that load; an MC4 template
+        writes ``RAPIDSTOP(2)`` for "stop all motion" (spec §10.10).
+        """
+        if mode == 2:
+            for p in sorted(self.process_buffer):
+                self._pb_take(p)
+            for m in list(self._ntype):
+                self.cancel_next(m.axes[0])
         for m in list(self._active):
             self.cancel(m.axes[0])
 
@@ -274,6 +376,8 @@ class MotionBuffers:
         for m in self.process_buffer.values():
             if all(axes[a].ntype is None for a in m.axes):
                 return True
+        if self._links or self._offsets:
+            return True
         return any(q and p not in self.process_buffer for p, q in self._waiters.items())
 
     def _servo(self, k: int) -> None:
@@ -281,12 +385,27 @@ class MotionBuffers:
         if self._dead:
             return
         axes = self.axes
+        if self._offsets:
+            self._apply_offsets(k)
         # 1. sequencing: process buffers -> NTYPE (all the move's axes or none)
         if self.process_buffer:
             for p in sorted(self.process_buffer):
                 m = self.process_buffer[p]
+                if m.kind == "MOVEMODIFY" and self._modify(m, k):
+                    self._pb_take(p)
+                    continue
                 if all(axes[a].ntype is None for a in m.axes):
-                    del self.process_buffer[p]
+                    self._pb_take(p, emit=False)
+                    if all(axes[a].mtype is None for a in m.axes):
+                        # NTYPE and MTYPE free: sequenced and loaded in this same interrupt;
+                        # the zero-length stay in NTYPE is not reported as a change
+                        self.log.emit("process_buffer", process=p, axis=m.axes[0], mtype=0)
+                        self._active[m] = None
+                        for a in m.axes:
+                            axes[a].mtype = m
+                            self._changed(axes[a])
+                        self._begin(m, k)
+                        continue
                     self._ntype.append(m)
                     for a in m.axes:
                         axes[a].ntype = m
@@ -306,7 +425,16 @@ class MotionBuffers:
                         ax.mtype = m
                         self._changed(ax)
                     self._begin(m, k)
-        # 3. the MTYPE moves advance; those whose profile is complete end now
+        # 3. the MTYPE moves advance; those whose profile is complete end now (a CAMBOX or
+        # MOVELINK when its link axis has covered the link distance)
+        if self._links:
+            t = self.clock.t(k)
+            for lm in list(self._links):
+                if lm.link_done(t):
+                    del self._links[lm]
+                    lm.finish_at(t - lm.t_start)
+                    lm.end_tick = k
+                    self._ending.setdefault(k, []).append(lm)
         ending = self._ending.pop(k, ())
         for m in ending:
             del self._active[m]
@@ -358,6 +486,8 @@ class MotionBuffers:
         base = axes[0]
         if base.merge and base.ntype is not None:
             self._try_merge(base.ntype)
+        if isinstance(m, LinkedMove) and m.kind in ("CAMBOX", "MOVELINK"):
+            self._links[m] = None
 
     def _end_merged(self, m: Move) -> None:
         """Schedule the end of a move whose profile origin is not its start cycle."""

@@ -26,7 +26,7 @@ from typing import Any
 from motionsim.sim.errors import ParseError
 from motionsim.sim.trio import statements as s
 from motionsim.sim.trio.basic_errors import GOSUB_DEPTH, RETURN_WITHOUT_GOSUB, BasicError
-from motionsim.sim.trio.expressions import compile_expr, format_number
+from motionsim.sim.trio.expressions import compile_expr
 
 Op = Callable[[Any], Any]
 
@@ -215,7 +215,8 @@ class _Compiler:
         )
 
     def st_RapidStop(self, st: s.RapidStop) -> None:
-        self.emit(lambda c: c.rapidstop(), st)
+        mode = compile_expr(st.mode) if st.mode is not None else None
+        self.emit(lambda c: c.rapidstop(mode(c) if mode is not None else 0.0), st)
 
     def st_Print(self, st: s.Print) -> None:
         parts: list[tuple[Callable[[Any], str], str]] = []
@@ -224,14 +225,15 @@ class _Compiler:
             if isinstance(e, s.Str):
                 txt = e.value
                 parts.append((lambda c, txt=txt: txt, sep))
-            elif fmt is None:
-                f = compile_expr(e)
-                parts.append((lambda c, f=f: format_number(f(c)), sep))
+            elif isinstance(e, s.Hex):
+                f = compile_expr(e.value)
+                parts.append((lambda c, f=f: c.hex(f(c)), sep))
             else:
                 f = compile_expr(e)
-                spec = f"{fmt[0]}.{fmt[1]}f"
-                parts.append((lambda c, f=f, spec=spec: format(f(c), spec), sep))
+                w, d = fmt if fmt is not None else (0, 4)
+                parts.append((lambda c, f=f, w=w, d=d: c.number(f(c), d, w), sep))
         newline = not st.items or st.items[-1][1] != ";"
+        channel = compile_expr(st.channel) if st.channel is not None else None
 
         def op(c: Any) -> None:
             out = []
@@ -239,9 +241,22 @@ class _Compiler:
                 out.append(fn(c))
                 if sep == ",":
                     out.append("\t")
-            c.output("".join(out), newline)
+            c.output("".join(out), newline, channel(c) if channel is not None else None)
 
         self.emit(op, st)
+
+    def st_DefPos(self, st: s.DefPos) -> None:
+        values = [compile_expr(v) for v in st.values]
+        axis = compile_expr(st.axis) if st.axis is not None else None
+        self.emit(
+            lambda c: c.defpos([v(c) for v in values], axis(c) if axis is not None else None), st
+        )
+
+    def st_Halt(self, st: s.Halt) -> None:
+        self.emit(lambda c: c.halt(), st)
+
+    def st_ProcessList(self, st: s.ProcessList) -> None:
+        self.emit(lambda c: c.process_list(), st)
 
     def st_Stop(self, st: s.Stop) -> None:
         if st.program is None:

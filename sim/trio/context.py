@@ -17,8 +17,10 @@ from motionsim.sim.errors import InvalidValue
 from motionsim.sim.trio import basic_errors as msg
 from motionsim.sim.trio.basic_errors import BasicError
 from motionsim.sim.trio.compiler import HALT, Block, WaitFor
+from motionsim.sim.trio.linked import LINKED, LinkedMove, check_linked, link_axis_of
+from motionsim.sim.trio.models import format_number, hex_text
 from motionsim.sim.trio.moves import Move
-from motionsim.sim.trio.mtypes import axes_driven
+from motionsim.sim.trio.mtypes import SP_GEOMETRY, axes_driven
 from motionsim.sim.trio.parameters import AXIS_PARAMS
 
 if TYPE_CHECKING:
@@ -38,7 +40,7 @@ class Context:
         self,
         ctrl: TrioController,
         process: int,
-        output: Callable[[str, bool], None],
+        output: Callable[[str, bool, float | None], None],
         *,
         command_line: bool = False,
     ) -> None:
@@ -50,6 +52,7 @@ class Context:
         self.loops: dict[int, tuple[float, float]] = {}
         self.gosub_stack: list[int] = []
         self.base: list[int] = list(range(len(ctrl.axes)))
+        self.outdevice = 0  # OUTDEVICE: the channel PRINT writes to (M206-320)
 
     # -- variables -------------------------------------------------------------------------
 
@@ -102,6 +105,10 @@ class Context:
             return float(self.ctrl.buffers.pmove(self.proc_number(proc)))
         if name == "PROCNUMBER":
             return float(self.process)
+        if name == "PROC_STATUS":
+            return float(self.ctrl.proc_status(self.proc_number(proc)))
+        if name == "OUTDEVICE":
+            return float(self.ctrl.context_of(self.proc_number(proc)).outdevice)
         if name == "SERVO_PERIOD":
             return self.ctrl.clock.period_s * 1e6
         raise BasicError(f"Unknown parameter {name}")
@@ -116,7 +123,14 @@ class Context:
             raise BasicError(msg.PROCESS_RANGE.format(process=f"{proc:g}")) from None
 
     def set_param(self, name: str, axis: float | None, value: float) -> None:
+        if name == "OUTDEVICE":
+            self.outdevice = self.ctrl.channels.check(value)
+            return
         n = self.base_axis(axis)
+        if name == "OFFPOS":
+            self.ctrl.axes[n].offset = value
+            self.ctrl.buffers.offset(n)
+            return
         try:
             self.ctrl.axes[n].set(**{name.lower(): value})
         except InvalidValue:
@@ -152,34 +166,87 @@ class Context:
             self.group(1, axis)  # DATUM(0) clears axis errors; no move is buffered
             return None
         size = axes_driven(kind, len(args))
-        move = Move(
-            self.ctrl.buffers.new_id(), kind, self.group(size, axis), args, self.process, text
-        )
+        axes = self.group(size, axis)
+        move: Move
+        if kind in LINKED:
+            move = self._linked(kind, args, axes[0], text)
+        else:
+            move = Move(self.ctrl.buffers.new_id(), kind, axes, args, self.process, text)
+            if kind in SP_GEOMETRY:  # FORCE_SPEED as it is when the SP move is issued
+                move.force_speed = self.ctrl.axes[axes[0]].force_speed
         if self.ctrl.buffers.place(move) is None:
             return Block(move)
         return None
+
+    def _linked(self, kind: str, args: tuple[float, ...], base: int, text: str) -> LinkedMove:
+        check_linked(kind, args, base, self.ctrl.table_size)
+        link = link_axis_of(kind, args)
+        link_axis = self.ctrl.axes[self.axis_number(link)] if link is not None else None
+        table: list[float] = []
+        if kind in ("CAM", "CAMBOX"):
+            lo, hi = int(args[0]), int(args[1])
+            step = 1 if hi >= lo else -1
+            table = [self.table(i) for i in range(lo, hi + step, step)]
+        move = LinkedMove(self.ctrl.buffers.new_id(), kind, (base,), args, self.process, text)
+        move.bind(link_axis, table)
+        return move
+
+    def defpos(self, values: list[float], axis: float | None = None) -> None:
+        """DEFPOS(p1, ...): the BASE axes are declared at p1, ... at the next servo period."""
+        axes = self.group(len(values), axis)
+        for n, v in zip(axes, values, strict=True):
+            self.ctrl.axes[n].defpos = v
+            self.ctrl.buffers.offset(n)
 
     def cancel(self, mode: float, axis: float | None) -> None:
         n = self.base_axis(axis)
         if int(mode) == 1:
             self.ctrl.buffers.cancel_next(n)
+        elif int(mode) == 2:  # MC4 template "CANCEL(2)": the buffered move too ([BK])
+            self.ctrl.buffers.cancel_next(n)
+            self.ctrl.buffers.cancel(n)
         else:
             self.ctrl.buffers.cancel(n)
 
-    def rapidstop(self) -> None:
-        self.ctrl.buffers.rapidstop()
+    def rapidstop(self, mode: float = 0.0) -> None:
+        if int(mode) not in (0, 2):
+            raise BasicError(f"RAPIDSTOP({mode:g}) not simulated (modes 0 and 2 are)")
+        self.ctrl.buffers.rapidstop(int(mode))
+
+    # -- output ----------------------------------------------------------------------------
+
+    def number(self, value: float, decimals: int = 4, width: int = 0) -> str:
+        """PRINT of a number in the model's word (default four decimals)."""
+        return format_number(value, self.ctrl.model, decimals, width)
+
+    def hex(self, value: float) -> str:
+        return hex_text(value, self.ctrl.model)
+
+    def halt(self) -> Any:
+        """HALT: every running program stops; the one that wrote it too."""
+        self.ctrl.halt(except_process=self.process)
+        return None if self.command_line else HALT
+
+    def process_list(self) -> None:
+        for line in self.ctrl.process_table():
+            self.output(line, True, None)
 
     def wait_axis(self, what: str, axis: float | None) -> WaitFor | None:
-        ax = self.ctrl.axes[self.base_axis(axis)]
+        """WAIT IDLE: the axis' moves have ended — the executing one, the one in NTYPE and one
+        still in a process buffer (each move transits it, TRM p. 8-130, so ``MOVE(10)`` then
+        ``WAIT IDLE`` waits for that move, ``[INF]``); WAIT LOADED: nothing buffered ahead of
+        the executing move (NTYPE empty, MOVELINK help text), process buffers included."""
+        n = self.base_axis(axis)
+        ax, buffers = self.ctrl.axes[n], self.ctrl.buffers
         if what == "IDLE":
 
             def pred() -> bool:
-                return ax.mtype is None and ax.ntype is None
+                return ax.mtype is None and ax.ntype is None and not buffers.queued_for(n)
 
         else:
 
             def pred() -> bool:
-                return ax.ntype is None
+                return ax.ntype is None and not buffers.queued_for(n)
 
         return None if pred() else WaitFor(pred)
 

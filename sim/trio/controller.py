@@ -5,9 +5,12 @@ running as processes 1..N, and the command line as process 0 — the buffering o
 
 Config (``POST /controllers {"kind": "trio", "config": {...}}``), unknown keys refused:
 
+* ``model`` (``"mc2xx"``): the generation — number word size and HEX width, default process
+  count (:mod:`motionsim.sim.trio.models`: ``series2``, ``mc2xx``, ``mc4xx``);
 * ``servo_period_ms`` (1.0): SERVO_PERIOD; moves start and end on servo periods;
 * ``axes`` (8): number of axes, 0..axes-1;
-* ``processes`` (7): BASIC processes 1..processes (MC206: 7; process 0 is the command line);
+* ``processes`` (the model's: 7 on mc2xx = MC206, 14 series2 = MC216, 22 mc4xx): BASIC
+  processes 1..processes (process 0 is the command line on every model here);
 * ``statement_us`` (100.0): simulated time one BASIC statement costs (spec §9.6 ``[INF]``);
 * ``vr_count`` (1024) and ``table_size`` (16384): sizes of VR() and TABLE();
 * ``speed``, ``accel``, ``decel``, ``creep``, ``units``: axis parameter defaults for all axes.
@@ -27,8 +30,13 @@ from motionsim.sim.timing import ServoClock
 from motionsim.sim.trio.axis import DEFAULTS, Axis
 from motionsim.sim.trio.buffers import MotionBuffers, Waiter
 from motionsim.sim.trio.compiler import Code, compile_program
+from motionsim.sim.trio.context import Context
+from motionsim.sim.trio.linked import LINKED
+from motionsim.sim.trio.models import DEFAULT_MODEL
+from motionsim.sim.trio.models import model as model_named
 from motionsim.sim.trio.moves import Move
-from motionsim.sim.trio.mtypes import MTYPE, axes_driven
+from motionsim.sim.trio.mtypes import MTYPE, SP_GEOMETRY, axes_driven
+from motionsim.sim.trio.output import Channels
 from motionsim.sim.trio.parser import MOVE_ARGS, parse_program
 from motionsim.sim.trio.process import BasicProcess
 from motionsim.sim.trio.terminal import CommandLine
@@ -50,6 +58,7 @@ class TrioController(Controller):
     """A simulated Trio Motion Coordinator (MC2xx series buffering)."""
 
     kind = "trio"
+    event_types = ("offpos", "move_modify")
 
     #: The command line answers at the current instant and never moves a virtual clock
     #: (API.md): ``ControllerHandle.command`` returns a locked line pending at once.
@@ -61,12 +70,16 @@ class TrioController(Controller):
         super().__init__(id, config, log_capacity=log_capacity)
         settings: dict[str, float] = dict(_CONFIG_DEFAULTS)
         axis_defaults: dict[str, float] = {}
+        self.model = model_named(self.config.get("model", DEFAULT_MODEL))
+        settings["processes"] = self.model.processes
         for key, value in self.config.items():
+            if key == "model":
+                continue
             if key in DEFAULTS:
                 axis_defaults[key] = value
                 continue
             if key not in settings:
-                known = ", ".join(sorted([*settings, *DEFAULTS]))
+                known = ", ".join(sorted([*settings, *DEFAULTS, "model"]))
                 raise InvalidValue(f"unknown trio config key {key!r}; known: {known}", field=key)
             ok = isinstance(value, (int, float)) and not isinstance(value, bool) and value > 0
             if ok and key in _INT_KEYS:
@@ -83,6 +96,8 @@ class TrioController(Controller):
         self.table_size = int(settings["table_size"])
         Axis(0, self.env, self.clock, axis_defaults)  # validates the axis defaults
         self._axis_defaults = axis_defaults
+        self.channels = Channels(self.log)
+        self._cursors: dict[str, int] = {}
         self._build()
 
     def _build(self) -> None:
@@ -123,6 +138,12 @@ class TrioController(Controller):
 
     def terminal_state(self) -> dict[str, Any]:
         return self.command_line.state()
+
+    def unread_output(self, reader: str) -> list[str]:
+        """Channel-0 lines printed since ``reader`` last asked (the REST terminal: ``"rest"``;
+        the first call returns the lines kept since power-up)."""
+        lines, self._cursors[reader] = self.channels.since(self._cursors.get(reader, 0))
+        return lines
 
     # -- axes --------------------------------------------------------------------------------
 
@@ -171,6 +192,10 @@ class TrioController(Controller):
             raise InvalidValue(f"{kind} takes {lo}..{hi} arguments, got {len(args)}", field="args")
         if kind == "DATUM" and int(args[0]) == 0:
             raise InvalidValue("DATUM(0) clears axis errors and buffers no move", field="args")
+        if kind in LINKED:
+            raise InvalidValue(
+                f"{kind} links to another axis or the TABLE: issue it as Trio BASIC "
+                "(POST /terminal or a program)", field="type")
         p = 0 if process is None else self.process_number(process, allow_zero=True)
         size = axes_driven(kind, len(args))
         axes = tuple(range(axis, axis + size))
@@ -182,6 +207,8 @@ class TrioController(Controller):
             )
         text = f"{kind}({','.join(f'{a:g}' for a in args)}) AXIS({axis})"
         move = Move(self.buffers.new_id(), kind, axes, args, p, text)
+        if kind in SP_GEOMETRY:
+            move.force_speed = self.axes[axis].force_speed
         if not wait:
             placed = self.buffers.place(move)
             if placed is None:
@@ -233,6 +260,11 @@ class TrioController(Controller):
     def store_program(self, name: str, text: str) -> None:
         """Parse and compile ``text`` and store it; a parse error changes nothing."""
         key = self._name(name)
+        if not text.strip():
+            raise InvalidValue(
+                f"program {key}: the text is empty (a program needs at least one line)",
+                field="body",
+            )
         code = compile_program(parse_program(text))
         self.programs[key] = (text, code)
 
@@ -280,6 +312,37 @@ class TrioController(Controller):
 
     def processes(self) -> list[dict[str, Any]]:
         return [proc.describe() for _p, proc in sorted(self.basic.items())]
+
+    def proc_status(self, p: int) -> int:
+        """PROC_STATUS PROC(p): 0 = not running, 1 = running (waiting at a line included);
+        the command line (process 0) is always running ``[INF]`` (spec §10.7)."""
+        if p == 0:
+            return 1
+        proc = self.basic.get(p)
+        return 1 if proc is not None and proc.state != "stopped" else 0
+
+    def context_of(self, p: int) -> Context:
+        """The runtime context of process ``p`` (a fresh one for a process that never ran)."""
+        if p == 0:
+            return self.command_line.ctx
+        proc = self.basic.get(p)
+        if proc is None:
+            return Context(self, p, lambda *_a: None)
+        return proc.ctx
+
+    def halt(self, except_process: int | None = None) -> None:
+        """HALT: every running program stops at once (motion already buffered goes on,
+        ``[BK]``: the TRM page was not reachable); ``except_process`` is left to stop itself."""
+        for p, proc in sorted(self.basic.items()):
+            if p != except_process and proc.state != "stopped":
+                proc.stop()
+
+    def process_table(self) -> list[str]:
+        """PROCESS at the command line: one line per running program (``[BK]`` layout: the
+        TRM page was not reachable) — process number, program, state, line."""
+        rows = [f"Process {p:>2}: {proc.program:<14} {proc.state:<8} line {proc.current_line()}"
+                for p, proc in sorted(self.basic.items()) if proc.state != "stopped"]
+        return rows or ["No processes running"]
 
     def stop_process(self, p: int) -> dict[str, Any]:
         n = self.process_number(p)

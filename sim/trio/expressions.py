@@ -56,12 +56,6 @@ FUNCTIONS: dict[str, tuple[int, Callable[..., float]]] = {
 }
 
 
-def format_number(value: float) -> str:
-    """The controller's default number format: fixed point, four decimals (``255.0000``)."""
-    text = f"{value:.4f}"
-    return "0.0000" if text == "-0.0000" else text
-
-
 def truth(value: float) -> bool:
     return value != 0.0
 
@@ -162,4 +156,4 @@ def compile_expr(node: s.Expr) -> Eval:
     raise TypeError(f"not an expression: {node!r}")
 
 
-__all__ = ["FALSE", "FUNCTIONS", "FUZZ", "TRUE", "compile_expr", "format_number", "truth"]
+__all__ = ["FALSE", "FUNCTIONS", "FUZZ", "TRUE", "compile_expr", "truth"]

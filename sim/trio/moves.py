@@ -11,6 +11,16 @@ vector path (``[BK]``). MOVECIRC end and centre are relative to the start point;
 turns positively (anticlockwise from the base axis towards the next axis), 1 negatively
 (spec §9.7); an end point equal to the start is a full circle. DATUM(n) with n > 0 is modelled
 as a return to position 0 at CREEP speed (no datum switch is simulated, ``[INF]``).
+
+SPEED, ACCEL and DECEL written while a move runs act on it (spec §10.5: the TRM's "the speed
+may be changed at any time", M206-207; a production pause program writes SPEED=0 to hold moves
+and restores SPEED to resume them): the move is re-planned from where it is at the servo period
+of the write — ramping at ACCEL / DECEL to the new SPEED, SPEED = 0 holding it where it stopped
+with MTYPE still loaded — along the same path to the same end (``replan``). The SP moves
+(MOVESP, MOVEABSSP, MOVECIRCSP, MHELICALSP) run at the FORCE_SPEED captured when they were
+issued, so that each buffered move keeps its own speed, and ignore SPEED (spec §10.2 ``[BK]``:
+the TRM pages were not reachable); ENDMOVE_SPEED is not simulated (they end at rest).
+MOVEMODIFY (MTYPE 5, spec §10.2) is a MOVEABS when it is loaded as a move of its own.
 """
 
 from __future__ import annotations
@@ -18,8 +28,8 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-from motionsim.sim.trio.mtypes import MTYPE
-from motionsim.sim.trio.profile import Profile, endless, plan, trapezoid
+from motionsim.sim.trio.mtypes import MTYPE, SP_GEOMETRY
+from motionsim.sim.trio.profile import Profile, endless, hold, plan, trapezoid
 
 if TYPE_CHECKING:
     from motionsim.sim.trio.axis import Axis
@@ -31,7 +41,7 @@ class Move:
     __slots__ = (
         "id", "kind", "mtype", "axes", "args", "process", "text",
         "start_tick", "end_tick", "t_start", "profile", "p0", "unit", "circ", "end_pos",
-        "v0", "length", "params", "merged_into", "cancelled",
+        "v0", "length", "params", "merged_into", "cancelled", "geom", "s_off", "force_speed",
     )
 
     def __init__(
@@ -63,6 +73,10 @@ class Move:
         self.params: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
         self.merged_into: Move | None = None  # MERGE: the next move runs on at speed
         self.cancelled = False
+        #: The geometry: an SP move is its plain move, MOVEMODIFY loaded alone a MOVEABS.
+        self.geom = "MOVEABS" if kind == "MOVEMODIFY" else SP_GEOMETRY.get(kind, kind)
+        self.s_off = 0.0  # path run before the profile's origin (re-planned moves)
+        self.force_speed: float | None = None  # SP moves: FORCE_SPEED when issued
 
     def __repr__(self) -> str:
         return f"<Move #{self.id} {self.kind}{self.args} axes={self.axes} p={self.process}>"
@@ -79,10 +93,10 @@ class Move:
         base = axes[0]
         self.p0 = p0 = tuple([ax.position() for ax in axes])
         self.start_tick, self.t_start = tick, t_start
-        speed = base.speed
+        speed = base.speed if self.force_speed is None else self.force_speed
         sramp_s = base.sramp / 1000.0
         self.v0 = v0
-        kind, a = self.kind, self.args
+        kind, a = self.geom, self.args
         if kind == "MOVE" or kind == "MOVEABS" or kind == "DATUM":
             if len(p0) == 1:
                 x0 = p0[0]
@@ -124,8 +138,15 @@ class Move:
 
     def _plan(self, length: float, speed: float, accel: float, decel: float, ts: float) -> None:
         self.length = length
+        self._profile(length, speed, accel, decel, ts)
+
+    def _profile(self, length: float, speed: float, accel: float, decel: float,
+                 ts: float) -> None:
+        """Plan ``length`` still to go from path speed ``v0`` (SPEED = 0: ramp down, hold)."""
         self.params = (speed, accel, decel, ts)
-        if ts == 0.0 and self.v0 == 0.0:  # the common case: a plain trapezoid
+        if speed <= 0.0:
+            self.profile = hold(self.v0, decel, length)
+        elif ts == 0.0 and self.v0 == 0.0:  # the common case: a plain trapezoid
             self.profile = trapezoid(length, speed, accel, decel)
         else:
             self.profile = plan(length, speed, accel, decel, sramp_s=ts, v0=self.v0)
@@ -133,7 +154,8 @@ class Move:
     def merged_profile(self) -> Profile:
         """The same move planned to end at speed (MERGE with the next move loaded)."""
         speed, accel, decel, ts = self.params
-        return plan(self.length, speed, accel, decel, sramp_s=ts, v0=self.v0, stop=False)
+        rest = self.length - self.s_off
+        return plan(rest, speed, accel, decel, sramp_s=ts, v0=self.v0, stop=False)
 
     def _at(self, s: float) -> tuple[float, ...]:
         """Axis positions a path distance ``s`` along the move."""
@@ -151,7 +173,7 @@ class Move:
         assert prof is not None
         if tau >= prof.duration:
             return self.end_pos
-        return self._at(prof.s(tau))
+        return self._at(self.s_off + prof.s(tau))
 
     def final_positions(self) -> tuple[float, ...]:
         """Where the axes are when the move has ended (exact targets for a full move)."""
@@ -162,7 +184,75 @@ class Move:
         self.profile = profile
         self.cancelled = True
         self.merged_into = None
-        self.end_pos = self._at(profile.length)
+        self.end_pos = self._at(self.s_off + profile.length)
+
+    def cancel_at(self, tau: float, decel: float, sramp_s: float = 0.0) -> None:
+        """CANCEL ``tau`` after the profile origin: ramp down to rest at ``decel`` (S-shaped
+        over ``sramp_s`` when the axis has an SRAMP)."""
+        assert self.profile is not None
+        self.cut(self.profile.cancelled_at(tau, decel, sramp_s))
+
+    @property
+    def endless(self) -> bool:
+        return self.geom in ("FORWARD", "REVERSE")
+
+    def remaining(self, tau: float | None) -> float:
+        """REMAIN: path distance still to go (0 for FORWARD / REVERSE)."""
+        prof = self.profile
+        if prof is None or self.endless:
+            return 0.0
+        if tau is None:
+            return prof.length
+        return max(0.0, prof.length - prof.s(tau))
+
+    def endmove(self, i: int) -> float | None:
+        """ENDMOVE of the move's ``i``-th axis (None: the axis' DPOS, for endless moves)."""
+        return None if self.endless else self.end_pos[i]
+
+    def follows_speed(self) -> bool:
+        """Whether SPEED / ACCEL / DECEL written now re-plan this move."""
+        return (
+            self.force_speed is None and not self.cancelled and self.merged_into is None
+            and self.geom != "DATUM" and self.profile is not None
+        )
+
+    def replan(self, tau: float, tick: int, t: float, axes: list[Axis],
+               end: float | None = None) -> None:
+        """Re-plan from ``tau`` (the servo instant ``t`` of period ``tick``): the path run so
+        far is kept; from here on the base axis' present SPEED / ACCEL / DECEL apply, and with
+        ``end`` (MOVEMODIFY, single-axis moves) the move ends at that absolute position."""
+        prof = self.profile
+        assert prof is not None
+        s_here, v_here = prof.s(tau), prof.v(tau)
+        base = axes[0]
+        speed = base.speed if self.force_speed is None else self.force_speed
+        ts = base.sramp / 1000.0
+        self.s_off += s_here
+        self.v0 = v_here
+        self.start_tick, self.t_start = tick, t
+        if end is not None:
+            here = self._at(self.s_off)[0]
+            self.length = self.s_off + abs(end - here)
+            self.end_pos = (end,)
+        if self.endless:
+            rate = base.accel if speed >= v_here else base.decel
+            self.profile = endless(speed, rate, ts, v0=v_here) if speed > 0.0 else hold(
+                v_here, base.decel, float("inf"))
+        else:
+            self._profile(self.length - self.s_off, speed, base.accel, base.decel, ts)
+
+    def shift(self, i: int, offset: float) -> None:
+        """DEFPOS / OFFPOS: the ``i``-th axis' coordinates move by ``offset`` (the path with
+        them, so the axis does not move)."""
+        p0, end = list(self.p0), list(self.end_pos)
+        p0[i] += offset
+        if end:
+            end[i] += offset
+        self.p0, self.end_pos = tuple(p0), tuple(end)
+        if self.circ and i < 2:
+            c = list(self.circ)
+            c[i] += offset
+            self.circ = tuple(c)
 
     def speed(self, tau: float) -> float:
         return self.profile.v(tau) if self.profile is not None else 0.0

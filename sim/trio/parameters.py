@@ -8,7 +8,9 @@ Axis parameters act on the process' BASE axis unless ``AXIS(n)`` follows the nam
 from __future__ import annotations
 
 #: Axis parameters a program can write (units/s, units/s², edges per user unit).
-AXIS_WRITABLE = frozenset({"SPEED", "ACCEL", "DECEL", "UNITS", "CREEP", "MERGE", "SRAMP"})
+AXIS_WRITABLE = frozenset(
+    {"SPEED", "ACCEL", "DECEL", "UNITS", "CREEP", "MERGE", "SRAMP", "FORCE_SPEED", "OFFPOS"}
+)
 
 #: Axis parameters that are read-only: the buffers and the profile generator own them.
 AXIS_READONLY = frozenset(
@@ -17,8 +19,10 @@ AXIS_READONLY = frozenset(
 
 AXIS_PARAMS = AXIS_WRITABLE | AXIS_READONLY
 
-#: Process parameters: PMOVE = 1 while the process buffer holds a move; PROCNUMBER = own number.
-PROCESS_PARAMS = frozenset({"PMOVE", "PROCNUMBER"})
+#: Process parameters: PMOVE = 1 while the process buffer holds a move; PROCNUMBER = own number;
+#: PROC_STATUS 0 = not running, 1 = running; OUTDEVICE = PRINT's channel (writable).
+PROCESS_PARAMS = frozenset({"PMOVE", "PROCNUMBER", "PROC_STATUS", "OUTDEVICE"})
+PROCESS_WRITABLE = frozenset({"OUTDEVICE"})
 
 #: System parameters (SERVO_PERIOD in microseconds, read-only here; TICKS ms since power-up
 #: counting up — the real controller's TICKS counts down and is writable, not modelled).
@@ -36,5 +40,6 @@ __all__ = [
     "AXIS_WRITABLE",
     "CONSTANTS",
     "PROCESS_PARAMS",
+    "PROCESS_WRITABLE",
     "SYSTEM_PARAMS",
 ]

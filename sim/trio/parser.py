@@ -13,11 +13,13 @@ structure of blocks (FOR/NEXT, IF/ENDIF, labels) is checked by :mod:`motionsim.s
 
 from __future__ import annotations
 
-from motionsim.sim.errors import ParseError
+from motionsim.sim.errors import NotSimulated, ParseError
 from motionsim.sim.trio import statements as s
 from motionsim.sim.trio.expressions import FUNCTIONS
+from motionsim.sim.trio.keywords import NOT_SIMULATED
 from motionsim.sim.trio.lexer import Token, tokenize
-from motionsim.sim.trio.parameters import ALL_PARAMS, AXIS_WRITABLE, CONSTANTS
+from motionsim.sim.trio.linked import LINKED
+from motionsim.sim.trio.parameters import ALL_PARAMS, AXIS_WRITABLE, CONSTANTS, PROCESS_WRITABLE
 
 #: Motion commands that enter the buffers, with the argument counts they accept.
 MOVE_ARGS: dict[str, tuple[int, int]] = {
@@ -28,16 +30,25 @@ MOVE_ARGS: dict[str, tuple[int, int]] = {
     "FORWARD": (0, 0),
     "REVERSE": (0, 0),
     "DATUM": (1, 1),
+    "MOVESP": (1, 8),
+    "MOVEABSSP": (1, 8),
+    "MOVECIRCSP": (5, 5),
+    "MHELICALSP": (6, 6),
+    "MOVEMODIFY": (1, 1),
+    **{kind: (lo, hi) for kind, (lo, hi, _link) in LINKED.items()},
 }
+
+#: Short forms of commands (TJ2P-71: CO; MOVELINK help: ML; TRM MC216 p. 220 listing: DP).
+ALIASES = {"CO": "CONNECT", "ML": "MOVELINK", "DP": "DEFPOS"}
 
 _KEYWORDS = frozenset(
     {
         "PRINT", "FOR", "TO", "STEP", "NEXT", "IF", "THEN", "ELSE", "ELSEIF", "ENDIF",
         "WHILE", "WEND", "REPEAT", "UNTIL", "WAIT", "IDLE", "LOADED", "WA", "GOTO", "GOSUB",
         "RETURN", "STOP", "RUN", "BASE", "AXIS", "PROC", "CANCEL", "RAPIDSTOP", "VR", "TABLE",
-        "AND", "OR", "XOR", "NOT", "MOD",
+        "AND", "OR", "XOR", "NOT", "MOD", "DEFPOS", "HALT", "PROCESS", "HEX",
     }
-) | frozenset(MOVE_ARGS)
+) | frozenset(MOVE_ARGS) | frozenset(ALIASES)
 
 _CMP = frozenset({"=", "<>", "<", "<=", ">", ">="})
 _EOL = Token("eol", "", 0)
@@ -145,7 +156,9 @@ class _Line:
             return s.Print(ln, col, *self.print_items())
         if tok.kind != "name":
             raise self.error(f"a statement cannot start with {tok.text!r}")
-        word = tok.text
+        word = ALIASES.get(tok.text, tok.text)
+        if word in NOT_SIMULATED:
+            raise self.not_simulated(word, col)
         method = getattr(self, "st_" + word, None)
         if method is not None and word in _KEYWORDS:
             self.i += 1
@@ -156,7 +169,7 @@ class _Line:
         if word in ALL_PARAMS:
             self.i += 1
             target = self.param_ref(word, col)
-            if word not in AXIS_WRITABLE:
+            if word not in AXIS_WRITABLE and word not in PROCESS_WRITABLE:
                 raise self.error(f"{word} cannot be written", col)
             self.expect("=")
             return s.Assign(ln, col, target, self.expr())
@@ -167,6 +180,12 @@ class _Line:
             raise self.error(f"unknown command {word!r}", col)
         self.i += 1
         return s.Assign(ln, col, s.Local(word), self.expr())
+
+    def not_simulated(self, word: str, col: int) -> NotSimulated:
+        return NotSimulated(
+            f"{word} is a Trio BASIC command that is not simulated",
+            line=self.line_no, column=col, text=self.text, keyword=word,
+        )
 
     def axis_modifier(self) -> s.Expr | None:
         if self.accept("AXIS"):
@@ -196,7 +215,21 @@ class _Line:
         return s.MoveCmd(ln, col, kind, args, self.axis_modifier())
 
     def st_PRINT(self, ln: int, col: int) -> s.Stmt:
-        return s.Print(ln, col, *self.print_items())
+        channel = None
+        if self.accept("#"):
+            channel = self.expr()
+            self.expect(",")
+        return s.Print(ln, col, *self.print_items(), channel=channel)
+
+    def st_DEFPOS(self, ln: int, col: int) -> s.Stmt:
+        values = self.args()
+        return s.DefPos(ln, col, values, self.axis_modifier())
+
+    def st_HALT(self, ln: int, col: int) -> s.Stmt:
+        return s.Halt(ln, col)
+
+    def st_PROCESS(self, ln: int, col: int) -> s.Stmt:
+        return s.ProcessList(ln, col)
 
     def print_format(self) -> tuple[int, int] | None:
         """``[d]`` (decimals) or ``[w,d]`` (width, decimals) after a PRINT item."""
@@ -221,9 +254,15 @@ class _Line:
         items: list[tuple[s.Expr, str]] = []
         formats: list[tuple[int, int] | None] = []
         while not self.end_of_statement() and not self.at("ELSE"):
-            e: s.Expr
-            e = s.Str(self.take().text[1:-1]) if self.peek().kind == "string" else self.expr()
-            formats.append(self.print_format() if not isinstance(e, s.Str) else None)
+            e: s.Expr | s.Hex
+            if self.peek().kind == "string":
+                e = s.Str(self.take().text[1:-1])
+            elif self.accept("HEX"):
+                (value,) = self.args_exact(1, "HEX")
+                e = s.Hex(value)
+            else:
+                e = self.expr()
+            formats.append(self.print_format() if not isinstance(e, (s.Str, s.Hex)) else None)
             sep = ""
             if self.at(";") or self.at(","):
                 sep = self.take().text
@@ -323,9 +362,10 @@ class _Line:
         return s.Cancel(ln, col, mode, self.axis_modifier())
 
     def st_RAPIDSTOP(self, ln: int, col: int) -> s.Stmt:
+        mode = None
         if self.at("("):
-            self.args_exact(1, "RAPIDSTOP")
-        return s.RapidStop(ln, col)
+            (mode,) = self.args_exact(1, "RAPIDSTOP")
+        return s.RapidStop(ln, col, mode)
 
     def args_exact(self, n: int, what: str) -> tuple[s.Expr, ...]:
         c = self.col()
@@ -432,6 +472,10 @@ class _Line:
             return s.Call(word, self.args_exact(arity, word))
         if word in ALL_PARAMS:
             return self.param_ref(word, tok.col)
+        if word in NOT_SIMULATED:
+            raise self.not_simulated(word, tok.col)
+        if word == "HEX":
+            raise self.error("HEX() is only allowed as a PRINT item", tok.col)
         if word in _KEYWORDS:
             raise self.error(f"{word} cannot be used as a value", tok.col)
         return s.Local(word)

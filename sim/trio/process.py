@@ -16,12 +16,12 @@ Waiting, without a SimPy event per servo period:
 * ``WAIT UNTIL c``: ``c`` is re-tested once per servo period (spec §1.6 ``[BK]``);
 * ``WA(ms)``: a timeout.
 
-``PRINT`` in a program writes to channel 0; each printed line is a ``print`` event
-(``process``, ``text``) — an event type of the Trio kind beyond API.md's table.
+``PRINT`` in a program writes to the process' OUTDEVICE (channel 0, the command line, unless
+changed) or to the channel of ``PRINT #n``: see :mod:`motionsim.sim.trio.output`.
 
 A runtime error stops this process only: a ``process`` event with ``state`` ``stopped``, the
 ``line`` and an ``error`` message in the controller's style
-(:mod:`motionsim.sim.trio.basic_errors`).
+(:mod:`motionsim.sim.trio.basic_errors`); the same line is printed on channel 0.
 """
 
 from __future__ import annotations
@@ -51,18 +51,20 @@ class BasicProcess:
         self.pc = 0
         self.blocked_on: str | None = None
         self.error: str | None = None
-        self._pending_line = ""
+        self._pending: dict[int, str] = {}  # channel -> text of a line not yet ended
         self.ctx = Context(ctrl, number, self._output)
         self._withdraw: Any = None
         self.sim = ctrl.env.process(self._run())
 
     # -- output ----------------------------------------------------------------------------
 
-    def _output(self, text: str, newline: bool) -> None:
-        self._pending_line += text
+    def _output(self, text: str, newline: bool, channel: float | None = None) -> None:
+        ch = self.ctx.outdevice if channel is None else self.ctrl.channels.check(channel)
+        line = self._pending.pop(ch, "") + text
         if newline:
-            self.ctrl.log.emit("print", process=self.number, text=self._pending_line)
-            self._pending_line = ""
+            self.ctrl.channels.write(self.number, ch, line)
+        else:
+            self._pending[ch] = line
 
     # -- the interpreter loop ----------------------------------------------------------------
 
@@ -142,9 +144,11 @@ class BasicProcess:
             self._withdraw = None
 
     def _finish(self, error: str | None) -> None:
-        if self._pending_line:
-            self.ctrl.log.emit("print", process=self.number, text=self._pending_line)
-            self._pending_line = ""
+        for ch, text in sorted(self._pending.items()):
+            self.ctrl.channels.write(self.number, ch, text)
+        self._pending.clear()
+        if error is not None:
+            self.ctrl.channels.write(self.number, 0, error)
         self.state, self.blocked_on, self.error = "stopped", None, error
         fields: dict[str, Any] = {"process": self.number, "state": "stopped", "line": self.line}
         if error is not None:

@@ -16,7 +16,8 @@ ramps; ACCEL / DECEL stay the peak rates, so each speed change of ``dv`` takes `
 (``Ts`` = SRAMP in s) when ``dv >= A·Ts``, else ``2·sqrt(dv·Ts/A)`` with a peak acceleration
 below A. A trapezoid move that reaches SPEED therefore lasts exactly SRAMP longer than with
 SRAMP = 0 (the same figure a moving-average filter of SRAMP on the speed gives). SRAMP = 0 is
-today's trapezoid. A CANCEL ramps down at constant DECEL (no S on the stop, ``[INF]``).
+today's trapezoid. A CANCEL ramps down at DECEL with the same S (starting from zero
+acceleration, ``[INF]``), so a cancelled S-ramped move does not jerk to a stop.
 
 Merged moves (see :mod:`motionsim.sim.trio.buffers`) start at the speed the previous move ended with
 (``v0``) and, when the next move is merged onto them, end at speed (``stop=False``): no
@@ -87,11 +88,16 @@ class Profile:
         t0, _s0, _v0, a, j = self._segment(tau)
         return a + j * (tau - t0)
 
-    def cancelled_at(self, tau: float, decel: float) -> Profile:
-        """This profile until ``tau``, then a ramp down to rest at ``decel``."""
+    def cancelled_at(self, tau: float, decel: float, sramp_s: float = 0.0) -> Profile:
+        """This profile until ``tau``, then a ramp down to rest at ``decel`` — S-shaped over
+        ``sramp_s`` (SRAMP) when it is not 0, from zero acceleration ``[INF]``."""
         tau = max(0.0, min(tau, self.duration))
         s0, v0 = self.s(tau), self.v(tau)
         keep = [seg for seg in self.segments if seg[0] < tau]
+        if sramp_s > 0.0 and v0 > 0.0:
+            t_end, length = _ramp(keep, tau, s0, v0, 0.0, decel, sramp_s)
+            keep.append((t_end, length, 0.0, 0.0, 0.0))
+            return Profile(keep, t_end, min(length, self.length))
         t_stop = v0 / decel if v0 > 0.0 else 0.0
         keep.append((tau, s0, v0, -decel, 0.0))
         length = s0 + v0 * t_stop - 0.5 * decel * t_stop * t_stop
@@ -242,12 +248,30 @@ def plan(length: float, speed: float, accel: float, decel: float, *, sramp_s: fl
     return Profile(segs, tau, length)
 
 
-def endless(speed: float, accel: float, sramp_s: float = 0.0) -> Profile:
-    """FORWARD / REVERSE: ramp up to ``speed`` and keep going until cancelled."""
+def endless(speed: float, accel: float, sramp_s: float = 0.0, v0: float = 0.0) -> Profile:
+    """FORWARD / REVERSE: ramp from ``v0`` to ``speed`` at ``accel`` (the rate of the change,
+    up or down) and keep going until cancelled."""
     segs: list[Segment] = []
-    tau, s = _ramp(segs, 0.0, 0.0, 0.0, speed, accel, sramp_s)
+    tau, s = _ramp(segs, 0.0, 0.0, v0, speed, accel, sramp_s)
     segs.append((tau, s, speed, 0.0, 0.0))
     return Profile(segs, math.inf, math.inf)
+
+
+def hold(v0: float, decel: float, length: float) -> Profile:
+    """SPEED = 0: ramp down from ``v0`` at ``decel`` and stay there (the move is not over;
+    ``length`` is what it still has to go). A ramp longer than ``length`` is shortened to stop
+    at the end (``[INF]``)."""
+    segs: list[Segment] = []
+    if v0 > 0.0:
+        rate = decel
+        if v0 * v0 / (2.0 * rate) > length:
+            rate = v0 * v0 / (2.0 * length)
+        t_stop = v0 / rate
+        segs.append((0.0, 0.0, v0, -rate, 0.0))
+        segs.append((t_stop, 0.5 * v0 * t_stop, 0.0, 0.0, 0.0))
+    else:
+        segs.append((0.0, 0.0, 0.0, 0.0, 0.0))
+    return Profile(segs, math.inf, length)
 
 
 def diverges_at(a: Profile, b: Profile) -> float:
@@ -260,5 +284,5 @@ def diverges_at(a: Profile, b: Profile) -> float:
     return rest[0][0] if rest else min(a.duration, b.duration)
 
 
-__all__ = ["Profile", "diverges_at", "endless", "plan", "ramp_distance", "ramp_time",
+__all__ = ["Profile", "diverges_at", "endless", "hold", "plan", "ramp_distance", "ramp_time",
            "trapezoid"]

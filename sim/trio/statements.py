@@ -137,7 +137,9 @@ class Cancel(Stmt):
 
 @dataclass(frozen=True, slots=True)
 class RapidStop(Stmt):
-    """``RAPIDSTOP``: cancel the moves of every axis."""
+    """``RAPIDSTOP`` / ``RAPIDSTOP(mode)``: cancel the moves of every axis."""
+
+    mode: Expr | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -251,12 +253,40 @@ class Return(Stmt):
 
 
 @dataclass(frozen=True, slots=True)
+class Hex:
+    """``HEX(x)`` as a PRINT item: the integer in two's complement hex."""
+
+    value: Expr
+
+
+@dataclass(frozen=True, slots=True)
 class Print(Stmt):
     """``PRINT`` / ``?``: items with their separators (``";"``, ``","`` or ``""`` for the last)
-    and per-item formats ``[d]`` / ``[w,d]`` as ``(width, decimals)`` (``None`` = default)."""
+    and per-item formats ``[d]`` / ``[w,d]`` as ``(width, decimals)`` (``None`` = default);
+    ``PRINT #n, ...`` names the output channel (``None``: the process' OUTDEVICE)."""
 
     items: tuple[tuple[Expr, str], ...]
     formats: tuple[tuple[int, int] | None, ...] = ()
+    channel: Expr | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class DefPos(Stmt):
+    """``DEFPOS(p1[, p2 ...]) [AXIS(n)]``: the BASE axes' (or axis n's) positions declared, at
+    the next servo period."""
+
+    values: tuple[Expr, ...]
+    axis: Expr | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Halt(Stmt):
+    """``HALT``: stop every running program."""
+
+
+@dataclass(frozen=True, slots=True)
+class ProcessList(Stmt):
+    """``PROCESS``: print the table of running processes."""
 
 
 @dataclass(frozen=True, slots=True)

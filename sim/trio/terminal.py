@@ -16,7 +16,10 @@ pending gets its ``terminal_reply`` event.
 Replies: printed lines joined with ``"\\r\\n"`` (no prompt, no echo — the telnet adapter adds
 those). Errors: ``error`` holds the message in the controller's ``%[Process 0:Line 0] - ...``
 style (``[BK]``, :mod:`motionsim.sim.trio.basic_errors`). Program-only statements (``WAIT``, ``WA``)
-are refused; local variables cannot be used at the command line (TJ1P-26).
+are refused; local variables cannot be used at the command line (TJ1P-26). ``PROCESS`` answers
+the table of running programs, ``HALT`` stops them all; ``PRINT #n`` with n > 0 goes to that
+channel, not to the reply; a running program's own output reaches the command line through
+:mod:`motionsim.sim.trio.output`.
 """
 
 from __future__ import annotations
@@ -25,7 +28,7 @@ from collections import deque
 from typing import TYPE_CHECKING, Any
 
 from motionsim.sim.controller import Reply
-from motionsim.sim.errors import ParseError
+from motionsim.sim.errors import NotSimulated, ParseError
 from motionsim.sim.trio import basic_errors as msg
 from motionsim.sim.trio.basic_errors import BasicError, error_line
 from motionsim.sim.trio.buffers import Waiter
@@ -64,7 +67,12 @@ class CommandLine:
         self.locked = False
         self._waiter: Waiter | None = None
 
-    def _output(self, text: str, newline: bool) -> None:
+    def _output(self, text: str, newline: bool, channel: float | None = None) -> None:
+        """A PRINT at the command line is its reply; ``PRINT #n`` with n > 0 goes to that
+        channel (:mod:`motionsim.sim.trio.output`)."""
+        if channel is not None and self.ctrl.channels.check(channel) != 0:
+            self.ctrl.channels.write(0, int(channel), text)
+            return
         run = self._current
         assert run is not None
         run.out[-1] += text
@@ -103,8 +111,11 @@ class CommandLine:
     def _start(self, reply: Reply, pending: bool = False) -> None:
         try:
             code = compile_program(parse_program(reply.command))
-        except ParseError as exc:
-            col = f" at column {exc.column}" if exc.column else ""
+        except (ParseError, NotSimulated) as exc:
+            column = exc.details.get("column")
+            col = f" at column {column}" if column else ""
+            if isinstance(exc, NotSimulated):
+                reply.detail = ("not_simulated", exc.message + col)
             self._complete_with(reply, "", error_line(0, 0, exc.message + col), pending)
             return
         run = _Running(reply, code)

@@ -88,7 +88,8 @@ def test_ntype_promoted_in_the_servo_period_after_the_move_ends(trio):
     start = [cycle(trio, t) for t, _ in fields(trio, "move_start", axis=0)]
     assert start == [1, 22] and end == [21, 42]
     axis = [(cycle(trio, t), f["mtype"], f["ntype"]) for t, f in fields(trio, "axis", axis=0)]
-    assert axis == [(1, 0, 1), (1, 1, 0), (2, 1, 2), (21, 0, 2), (22, 2, 0), (42, 0, 0)]
+    # the first move is sequenced and loaded in one interrupt: one change, straight to MTYPE
+    assert axis == [(1, 1, 0), (2, 1, 2), (21, 0, 2), (22, 2, 0), (42, 0, 0)]
     assert trio.axis(0)["dpos"] == 0.0
 
 
@@ -173,19 +174,39 @@ def test_cancel_1_drops_only_the_ntype_move(trio):
     assert trio.axis(0)["dpos"] == 10.0
 
 
-def test_rapidstop_empties_every_buffer(trio):
+def test_rapidstop_cancels_every_axis_and_the_buffered_moves_then_load(trio):
+    """RAPIDSTOP is CANCEL on every axis at once: the executing moves ramp down at DECEL, the
+    moves in NTYPE and the process buffers stay and load next (spec §10.10 ``[INF]``: a
+    production program issues RAPIDSTOP and then CANCEL again; the TRM page was not
+    reachable)."""
     for line in ("FORWARD AXIS(1)", "MOVE(100) AXIS(0)", "MOVE(100) AXIS(0)"):
         trio.terminal(line)
         next_period(trio)
-    assert trio.terminal("MOVE(100) AXIS(0)").done  # into process 0's process buffer
     run_to(trio, 0.05)
-    assert trio.terminal("? PMOVE").reply == "1.0000"
     trio.terminal("RAPIDSTOP")
-    run_to(trio, 0.2)
-    for n in (0, 1):
-        assert (trio.axis(n)["mtype"], trio.axis(n)["ntype"]) == (0, 0)
+    run_to(trio, 0.0615)
+    stopped_at = trio.axis(0)["dpos"]
+    assert trio.axis(1)["mtype"] == 0 and trio.axis(0)["mtype"] == 1  # the NTYPE move loaded
+    run_to(trio, 0.5)
+    ends = [(cycle(trio, t), f["mtype"]) for t, f in fields(trio, "move_end", axis=1)]
+    assert ends == [(60, 10)]  # FORWARD: 10 ms ramp down from the cancel at period 50
+    assert trio.axis(0)["dpos"] == pytest.approx(stopped_at + 100.0)
+
+
+def test_rapidstop_2_also_empties_ntype_and_the_process_buffers(trio):
+    for line in ("MOVE(100) AXIS(0)", "MOVE(100) AXIS(0)", "MOVE(100) AXIS(0)"):
+        trio.terminal(line)
+        next_period(trio)
+    assert trio.terminal("? PMOVE").reply == "1.0000"
+    run_to(trio, 0.05)
+    trio.terminal("RAPIDSTOP(2)")
     assert trio.terminal("? PMOVE").reply == "0.0000"
+    run_to(trio, 0.5)
+    assert (trio.axis(0)["mtype"], trio.axis(0)["ntype"]) == (0, 0)
+    assert len(fields(trio, "move_start", axis=0)) == 1
     assert trio.axis(0)["dpos"] < 100
+    assert trio.terminal("RAPIDSTOP(1)").error.endswith("RAPIDSTOP(1) not simulated "
+                                                        "(modes 0 and 2 are)")
 
 
 def test_moveabs_target_from_where_the_axis_is_when_it_starts(trio):
@@ -221,9 +242,8 @@ def test_dpos_endmove_remain_follow_the_profile(trio):
 def test_no_event_per_servo_period_during_a_long_move(trio):
     trio.move(0, "MOVE", [10_000])  # about 10 s
     run_to(trio, 5.0)
-    # process_buffer in, axis (NTYPE), process_buffer out, axis (MTYPE), move_start;
-    # nothing while it runs
-    assert trio.log.last_seq == 5
+    # process_buffer in, process_buffer out, axis (MTYPE), move_start; nothing while it runs
+    assert trio.log.last_seq == 4
 
 
 def test_axis_parameters_checked_before_written(trio):

@@ -208,7 +208,7 @@ def test_parse_error_leaves_the_stored_program_unchanged(trio):
 
 def test_print_from_a_program_is_an_event(trio):
     run(trio, 'PRINT "at ";MTYPE AXIS(0)\n')
-    assert fields(trio, "print") == [(0.0, {"process": 1, "text": "at 0.0000"})]
+    assert fields(trio, "print") == [(0.0, {"process": 1, "channel": 0, "text": "at 0.0000"})]
 
 
 def test_reset_clears_programs_and_buffers(trio):

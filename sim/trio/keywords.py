@@ -1,0 +1,68 @@
+"""The Trio BASIC command index of the TRM, and which of its keywords the simulator runs.
+
+``INDEX`` is chapter 8 of the Motion Coordinator Technical Reference Manual (6th edition,
+"Trio BASIC Commands" contents: Motion and Axis Commands, Input / Output Commands, Program
+Loops and Structures; docslib "motion-and-axis-commands"), as far as its contents pages could
+be read — the later sections of the index (system commands, parameters, constants) were not
+reachable. A program using an indexed keyword that is **not** simulated is refused when it is
+stored, with the line, the column and "not simulated" (:class:`motionsim.sim.errors.NotSimulated`,
+HTTP 501 ``not_simulated``) — not as a syntax error. ``docs/trio.md`` prints this table.
+"""
+
+from __future__ import annotations
+
+#: TRM chapter 8 contents, by section, in the manual's order.
+INDEX: dict[str, tuple[str, ...]] = {
+    "Motion and Axis Commands": (
+        "ACC", "ADD_DAC", "ADDAX", "AXIS", "BACKLASH", "BASE", "CAM", "CAMBOX", "CANCEL",
+        "CONNECT", "DATUM", "DEC", "DEFPOS", "DISABLE_GROUP", "ENCODER_RATIO", "FORWARD",
+        "MHELICAL", "MHELICALSP", "MOVE", "MOVEABS", "MOVEABSSP", "MOVECIRC", "MOVECIRCSP",
+        "MOVELINK", "MOVEMODIFY", "MOVESP", "MSPHERICAL", "MOVETANG", "RAPIDSTOP", "REGIST",
+        "REGIST_SPEED", "REVERSE", "STEP_RATIO",
+    ),
+    "Input / Output Commands": (
+        "AIN", "AIN0..3 / AINBI0..3", "AOUT0..3", "CHANNEL_READ", "CHANNEL_WRITE", "CHR",
+        "CLOSE", "CURSOR", "DEFKEY", "ENABLE_OP", "FILE", "FLAG", "FLAGS", "GET", "GET#", "HEX",
+        "IN", "INPUT", "INPUTS0 / INPUTS1", "INVERT_IN", "KEY", "LINPUT", "OP", "OPEN", "PRINT",
+        "PRINT#", "PSWITCH", "READ_OP", "READPACKET", "SEND", "SETCOM", "TIMER",
+    ),
+    "Program Loops and Structures": (
+        "BASICERROR", "ELSE", "ELSEIF", "ENDIF", "FOR..TO..STEP..NEXT", "GOSUB", "GOTO", "NEXT",
+        "ON..GOSUB", "ON..GOTO", "REPEAT..UNTIL", "RETURN", "THEN", "TO", "UNTIL", "WA",
+        "WAIT IDLE", "WAIT LOADED", "WAIT UNTIL", "WEND", "WHILE",
+    ),
+}
+
+#: Index entries the simulator runs (with the notes of docs/trio.md).
+SIMULATED = frozenset({
+    "AXIS", "BASE", "CAM", "CAMBOX", "CANCEL", "CONNECT", "DATUM", "DEFPOS", "FORWARD",
+    "MHELICAL", "MHELICALSP", "MOVE", "MOVEABS", "MOVEABSSP", "MOVECIRC", "MOVECIRCSP",
+    "MOVELINK", "MOVEMODIFY", "MOVESP", "RAPIDSTOP", "REVERSE",
+    "HEX", "PRINT", "PRINT#",
+    "ELSE", "ELSEIF", "ENDIF", "FOR..TO..STEP..NEXT", "GOSUB", "GOTO", "NEXT",
+    "REPEAT..UNTIL", "RETURN", "THEN", "TO", "UNTIL", "WA", "WAIT IDLE", "WAIT LOADED",
+    "WAIT UNTIL", "WEND", "WHILE",
+})
+
+#: Words that start a not-simulated statement or value (index entries split into the words a
+#: program writes, plus process commands outside the reachable index).
+NOT_SIMULATED = frozenset({
+    "ACC", "ADD_DAC", "ADDAX", "BACKLASH", "DEC", "DISABLE_GROUP", "ENCODER_RATIO",
+    "MSPHERICAL", "MOVETANG", "REGIST", "REGIST_SPEED", "STEP_RATIO",
+    "AIN", "AIN0", "AIN1", "AIN2", "AIN3", "AINBI0", "AINBI1", "AINBI2", "AINBI3", "AOUT0",
+    "AOUT1", "AOUT2", "AOUT3", "CHANNEL_READ", "CHANNEL_WRITE", "CHR", "CLOSE", "CURSOR",
+    "DEFKEY", "ENABLE_OP", "FILE", "FLAG", "FLAGS", "GET", "IN", "INPUT", "INPUTS0",
+    "INPUTS1", "INVERT_IN", "KEY", "LINPUT", "OP", "OPEN", "PSWITCH", "READ_OP", "READPACKET",
+    "SEND", "SETCOM", "TIMER",
+    "BASICERROR", "ON",
+    "RUNTYPE", "TRON", "TROFF", "ENDMOVE_SPEED", "STARTMOVE_SPEED", "FLEXLINK", "CONNPATH",
+    "MOVELINK_MODIFY", "REP_OPTION", "CLUTCH_RATE", "JERK", "LIMIT_BUFFERED",
+})
+
+
+def index_rows() -> list[tuple[str, str, bool]]:
+    """``(section, keyword, simulated)`` for every index entry, in the manual's order."""
+    return [(sec, kw, kw in SIMULATED) for sec, kws in INDEX.items() for kw in kws]
+
+
+__all__ = ["INDEX", "NOT_SIMULATED", "SIMULATED", "index_rows"]

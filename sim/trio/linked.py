@@ -1,0 +1,220 @@
+"""Moves linked to another axis or to the TABLE: CONNECT, CAM, CAMBOX, MOVELINK.
+
+They go through the process buffer, NTYPE and MTYPE like every move (TN20, M206-320) and
+report their MTYPE code there: CAM 13, CAMBOX 20, CONNECT 21, MOVELINK 22 (spec §10.1). While
+in MTYPE the base axis' demand position is computed, when read, from the link axis' position
+at the same servo period (the master's *measured* position; MPOS = DPOS in this simulator), or
+from time for CAM. Sources (spec §10.3):
+
+* ``CONNECT(ratio, driving_axis)`` — electronic gearbox: the base axis follows the driving
+  axis' movement times ``ratio``, in encoder edges out per edge in (UNITS of neither axis
+  applied), from where both were when it started; it never ends by itself, only by CANCEL or
+  RAPIDSTOP (TJ2P-71, Trio KB "CONNECT command"). A CONNECT on an axis already connected
+  changes the ratio at the next servo period ``[BK]`` (here: the new CONNECT is buffered like any
+  move and replaces the old one only when it is loaded, ``[INF]``). CLUTCH_RATE is not modelled.
+* ``CAM(start, end, multiplier, distance)`` — the base axis follows the TABLE points
+  ``start..end`` (linearly interpolated); the table values are absolute positions from the
+  start of the motion in encoder edges, scaled by ``multiplier`` (TRM p. 8-17, MC206 listing
+  p. 207). The progress through the table runs over ``distance`` user units at the base axis'
+  SPEED, ramped at ACCEL / DECEL like a move (same page: "the SPEED is ramped up to using the
+  current ACCEL value"; 100 mm at 10 mm/s take 10 s), so SPEED changed while it runs changes
+  its rate. ENDMOVE keeps the end of the previous move (TJ1P-54).
+* ``CAMBOX(start, end, multiplier, link_dist, link_axis[, link_options[, link_pos]])`` — the
+  same TABLE profile (absolute positions from the start, encoder edges, times the multiplier),
+  driven by ``link_dist`` user units of the link axis' measured movement instead of time
+  (TRM p. 8-19, MC206 listing p. 209; TJ2P-56). The cam runs backwards when the link axis does
+  (TJ2P-56) and ends when the link axis has moved ``link_dist`` from the start; REMAIN is the
+  link distance still to go.
+* ``MOVELINK(distance, link_dist, link_acc, link_dec, link_axis[, link_options[, link_pos]])``
+  — the base axis moves ``distance`` while the link axis moves ``link_dist``, ramping its ratio
+  up over the first ``link_acc`` and down over the last ``link_dec`` of the link distance; when
+  ``link_acc + link_dec > link_dist`` both are scaled down in proportion (MOVELINK help text,
+  spec §10.3). The link axis may move either way ``[INF]``: the progress is the distance it
+  has moved, in either direction.
+
+``link_options`` other than 0 (start on MARK, at ``link_pos``, repeat, direction only, ...)
+are refused as not simulated when the statement runs.
+
+A linked move that ends by link distance (CAMBOX, MOVELINK) is checked once per servo period
+while it runs — the only per-period work of the Trio model; CANCEL stops a linked move at once
+where it is (``[BK]``: only speed-profiled moves ramp down at DECEL).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+from motionsim.sim.trio.basic_errors import BasicError
+from motionsim.sim.trio.moves import Move
+from motionsim.sim.trio.profile import Profile
+
+if TYPE_CHECKING:
+    from motionsim.sim.trio.axis import Axis
+
+#: Linked moves: MTYPE code, argument count range, index of the link-axis argument (or None).
+LINKED: dict[str, tuple[int, int, int | None]] = {
+    "CAM": (4, 4, None),
+    "CAMBOX": (5, 7, 4),
+    "CONNECT": (2, 2, 1),
+    "MOVELINK": (5, 7, 4),
+}
+
+_HOLD = Profile([(0.0, 0.0, 0.0, 0.0, 0.0)], math.inf, math.inf)
+
+
+def link_axis_of(kind: str, args: tuple[float, ...]) -> int | None:
+    """The axis a linked command follows (None for CAM)."""
+    i = LINKED[kind][2]
+    return None if i is None else int(args[i])
+
+
+def check_linked(kind: str, args: tuple[float, ...], base: int, table_size: int) -> None:
+    """Run-time checks of a linked command's arguments (a BasicError stops the process)."""
+    link = link_axis_of(kind, args)
+    if link is not None and link == base:
+        raise BasicError(f"{kind}: the link axis must not be the base axis ({base})")
+    if kind in ("CAMBOX", "MOVELINK") and len(args) > 5 and int(args[5]) != 0:
+        raise BasicError(f"{kind} link_options {int(args[5])} not simulated")
+    if kind in ("CAM", "CAMBOX"):
+        start, end = int(args[0]), int(args[1])
+        if not (0 <= start < table_size and 0 <= end < table_size) or start == end:
+            raise BasicError(f"{kind}: TABLE points {start}..{end} out of range")
+    if kind in ("CAMBOX", "MOVELINK") and not args[1 if kind == "MOVELINK" else 3] > 0:
+        raise BasicError(f"{kind}: the link distance must be positive")
+    if kind == "CAM" and args[3] == 0:
+        raise BasicError("CAM: the distance must not be 0")
+
+
+class LinkedMove(Move):
+    """CONNECT, CAM, CAMBOX or MOVELINK on one base axis."""
+
+    __slots__ = ("link", "m0", "table_pts", "scale", "done_pos")
+
+    def bind(self, link: Axis | None, table: list[float]) -> None:
+        """Give the move its link axis and (CAM/CAMBOX) a copy of its TABLE points."""
+        self.link = link
+        self.table_pts = table
+        self.m0 = 0.0
+        self.scale = 1.0
+        self.done_pos: float | None = None
+        self.geom = self.kind
+
+    # -- shape -----------------------------------------------------------------------------
+
+    def begin(self, tick: int, t_start: float, axes: list[Axis], v0: float = 0.0) -> None:
+        base = axes[0]
+        self.p0 = (base.position(),)
+        self.start_tick, self.t_start = tick, t_start
+        kind, a = self.kind, self.args
+        if self.link is not None:
+            self.m0 = self.link.position(t_start)
+        self.unit = (1.0,)
+        if kind == "CAM":
+            self.scale = a[2] / base.units
+            self._plan(abs(a[3]), base.speed, base.accel, base.decel, base.sramp / 1000.0)
+            self.end_pos = (self._cam(1.0),)
+        elif kind == "CAMBOX":
+            self.scale = a[2] / base.units
+            self.length = a[3]
+            self.profile = _HOLD
+            self.end_pos = (self._cam(1.0),)
+        elif kind == "MOVELINK":
+            self.length = a[1]
+            self.profile = _HOLD
+            self.end_pos = (self.p0[0] + a[0],)
+        else:  # CONNECT
+            assert self.link is not None
+            self.scale = a[0] * self.link.units / base.units
+            self.length = math.inf
+            self.profile = _HOLD
+            self.end_pos = self.p0
+
+    def _cam(self, f: float) -> float:
+        pts = self.table_pts
+        x = min(max(f, 0.0), 1.0) * (len(pts) - 1)
+        i = min(int(x), len(pts) - 2)
+        v = pts[i] + (pts[i + 1] - pts[i]) * (x - i)
+        return self.p0[0] + v * self.scale
+
+    def _at(self, s: float) -> tuple[float, ...]:
+        """CAM: the table position a distance ``s`` into the cam."""
+        return (self._cam(s / self.length if self.length > 0.0 else 1.0),)
+
+    def _movelink(self, u: float) -> float:
+        dist, link_dist, la, ld = self.args[0], self.args[1], self.args[2], self.args[3]
+        if la + ld > link_dist:
+            k = link_dist / (la + ld)
+            la, ld = la * k, ld * k
+        r = dist / (link_dist - 0.5 * (la + ld))
+        u = min(max(u, 0.0), link_dist)
+        if u < la:
+            d = r * u * u / (2.0 * la)
+        elif u <= link_dist - ld:
+            d = r * (0.5 * la + (u - la))
+        else:
+            rest = link_dist - u
+            d = dist - r * rest * rest / (2.0 * ld)
+        return self.p0[0] + d
+
+    def progress(self, t: float) -> float:
+        """Link-axis distance moved since the start, at servo instant ``t``."""
+        assert self.link is not None
+        return self.link.position(t) - self.m0
+
+    def positions(self, tau: float) -> tuple[float, ...]:
+        kind = self.kind
+        if kind == "CAM":
+            return super().positions(tau)
+        if self.done_pos is not None:
+            return (self.done_pos,)
+        t = self.t_start + tau
+        if kind == "CONNECT":
+            return (self.p0[0] + self.scale * self.progress(t),)
+        if kind == "CAMBOX":
+            return (self._cam(self.progress(t) / self.length),)
+        return (self._movelink(abs(self.progress(t))),)
+
+    def link_done(self, t: float) -> bool:
+        """CAMBOX / MOVELINK: the link axis has covered the link distance at instant ``t``."""
+        if self.done_pos is not None:
+            return False
+        u = self.progress(t)
+        return (u if self.kind == "CAMBOX" else abs(u)) >= self.length - 1e-9
+
+    def finish_at(self, tau: float) -> None:
+        """CAMBOX / MOVELINK done ``tau`` after the start: the axis is at the end position."""
+        self.done_pos = self.end_pos[0]
+        self.profile = Profile([(0.0, 0.0, 0.0, 0.0, 0.0)], tau, 0.0)
+
+    def cancel_at(self, tau: float, decel: float, sramp_s: float = 0.0) -> None:
+        """CANCEL: CAM ramps down at DECEL like a move; a move linked to another axis stops at
+        once where it is (``[BK]``: only speed-profiled moves ramp down)."""
+        if self.kind == "CAM":
+            super().cancel_at(tau, decel, sramp_s)
+            return
+        self.cancelled = True
+        here = self.positions(tau)[0]
+        self.done_pos = here
+        self.end_pos = (here,)
+        self.profile = Profile([(0.0, 0.0, 0.0, 0.0, 0.0)], tau, 0.0)
+
+    def endmove(self, i: int) -> float | None:
+        """ENDMOVE during CAM / CAMBOX / CONNECT: the end of the previous move (TJ1P-54,
+        TJ2P-56); MOVELINK: its own end."""
+        return self.end_pos[0] if self.kind == "MOVELINK" else self.p0[0]
+
+    def remaining(self, tau: float | None) -> float:
+        """REMAIN: CAM distance, CAMBOX / MOVELINK link distance still to go (TJ2P-56)."""
+        if self.kind == "CAM":
+            return super().remaining(tau)
+        if self.done_pos is not None or tau is None or self.kind == "CONNECT":
+            return 0.0
+        return max(0.0, self.length - abs(self.progress(self.t_start + tau)))
+
+    def follows_speed(self) -> bool:
+        """Only CAM runs at SPEED; the others follow their link axis."""
+        return self.kind == "CAM" and super().follows_speed()
+
+
+__all__ = ["LINKED", "LinkedMove", "check_linked", "link_axis_of"]
