@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from motionsim.sim.errors import ParseError
+from motionsim.sim.errors import NotSimulated, ParseError
 from motionsim.sim.trio import statements as s
 from motionsim.sim.trio.compiler import compile_program
 from motionsim.sim.trio.parser import parse_line, parse_program
@@ -103,3 +103,5 @@ def test_any_text_parses_or_raises_a_positioned_parse_error(text):
     except ParseError as exc:
         assert exc.line is not None and exc.line >= 1
         assert exc.column is not None and exc.column >= 1
+    except NotSimulated as exc:  # a valid keyword the simulator does not model (ON, IN ...)
+        assert exc.details["line"] >= 1 and exc.details["column"] >= 1
