@@ -49,17 +49,31 @@ def _move_motor_1(http: str, x: float) -> None:
     httpx.post(f"{http}/controllers/pmac/clock/advance", json={"seconds": 10}, timeout=30)
 
 
-def test_pmacanalyse_reads_the_whole_card_and_backs_up_what_was_loaded(tmp_path: Path) -> None:
-    port = free_port()
-    with motionsim_serve("--pmac-port", str(port), "--trio-port", "0") as svc:
-        _terminal(svc.http, SETUP)
-        run = subprocess.run(
-            [sys.executable, "-m", "dls_pmacanalyse.dls_pmacanalyse", "--pmac=sim",
-             f"--tcpip=127.0.0.1:{port}", f"--backup={tmp_path / 'backup'}",
-             f"--resultsdir={tmp_path / 'results'}"],
-            capture_output=True, text=True, timeout=TOOL_TIMEOUT_S, cwd=tmp_path)
+def _pmacanalyse(tmp_path: Path, port: int, *args: str) -> str:
+    run = subprocess.run(
+        [sys.executable, "-m", "dls_pmacanalyse.dls_pmacanalyse", "--pmac=sim",
+         f"--tcpip=127.0.0.1:{port}", *args],
+        capture_output=True, text=True, timeout=TOOL_TIMEOUT_S, cwd=tmp_path)
     log = run.stdout + run.stderr
     assert run.returncode == 0, log
+    return log
+
+
+def test_pmacanalyse_reads_the_whole_card_and_backs_up_what_was_loaded(tmp_path: Path) -> None:
+    port = free_port()
+    backup_dir = tmp_path / "backup"
+    with motionsim_serve("--pmac-port", str(port), "--trio-port", "0") as svc:
+        _terminal(svc.http, SETUP)
+        log = _pmacanalyse(tmp_path, port, f"--backup={backup_dir}",
+                           f"--resultsdir={tmp_path / 'results'}")
+        # its own backup as the reference: the card reads back exactly as it was saved
+        same = _pmacanalyse(tmp_path, port, f"--reference={backup_dir / 'sim.pmc'}",
+                            f"--resultsdir={tmp_path / 'compare'}")
+        _terminal(svc.http, ["P10=6"])
+        changed = _pmacanalyse(tmp_path, port, f"--reference={backup_dir / 'sim.pmc'}",
+                               f"--resultsdir={tmp_path / 'compare2'}")
+    assert "Hardware matches reference" in same, same
+    assert "Hardware to reference mismatch detected" in changed, changed
     assert "Geobrick= True" in log and "Num axes= 8" in log
     assert "Error" not in log and "Traceback" not in log, log
     backup = (tmp_path / "backup" / "sim.pmc").read_text()
