@@ -1,9 +1,11 @@
 """The mapping table: card memory addresses that show simulated state.
 
 An M-variable pointed at one of these addresses reads (and where marked, writes) the
-simulator's state instead of plain memory. Addresses from the Turbo SRM's suggested
-M-variable definitions and status-word tables (TSRM p281–287; spec pmac.md §3, §9.4)
-``[BK]`` for the motor data-block offsets:
+simulator's state instead of plain memory. Addresses from the Turbo SRM's status-word tables
+(TSRM p281–287; spec pmac.md §3, §9.4) and Delta Tau's suggested M-variable definitions,
+checked against public definition files that carry them (``M161->D:$000088``,
+``M162->D:$00008B``, ``M166->X:$00009D,0,24,S``, ``M145->Y:$0000C0,10,1``; motor xx at
+``+$80·(xx−1)``):
 
 | address (motor xx, CS x) | M-variable | what |
 |---|---|---|
