@@ -37,10 +37,23 @@ class MotionSimHTTPError(Exception):
 
 @dataclass(frozen=True, slots=True)
 class Clock:
+    """A controller's clock; the fields a mode does not have are None (``holders``: empty)."""
+
     mode: str
     factor: float
     paused: bool
     t: float
+    lag_s: float | None = None
+    behind: bool | None = None
+    slipped_s: float | None = None
+    reaction_s: float | None = None
+    holders: list[dict[str, Any]] = field(default_factory=list)
+    held_by: list[str] = field(default_factory=list)
+
+    @classmethod
+    def from_json(cls, body: Mapping[str, Any]) -> Clock:
+        """From the API's ``Clock`` (fields this client does not know are ignored)."""
+        return cls(**{k: v for k, v in body.items() if k in cls.__dataclass_fields__})
 
 
 @dataclass(frozen=True, slots=True)
@@ -61,8 +74,11 @@ class EventsPage:
 
 @dataclass(frozen=True, slots=True)
 class RunUntilResult:
+    """``outcome``: ``matched``, ``timeout`` (simulated), ``wall_timeout``, ``released``."""
+
     matched: dict[str, Any] | None
     clock: Clock
+    outcome: str = "matched"
 
 
 @dataclass(slots=True)
@@ -110,6 +126,54 @@ class Subscription:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+class PacedHost:
+    """A host taking part in a host-paced clock as holder ``holder`` of controller ``id``.
+
+    Between its calls the host is *acting*: simulated time stands still for it, so whatever it
+    sends lands at the instant it was woken, however slow its thread. ``wait_for`` and
+    ``sleep`` hand time back until the event / simulated delay; ``release`` leaves.
+    ``client`` is its own :class:`MotionSimClient` (one connection per thread)::
+
+        host = ms.host("pmac", "streamer")                 # in the test: time waits for it
+        # in the host's thread:
+        if host.wait_for("breq", 5.0, cs=1, level=True):   # None: timed out or released
+            host.client.load_lines("pmac", 1, next_lines)
+    """
+
+    def __init__(self, client: MotionSimClient, id: str, holder: str) -> None:
+        self.client = client
+        self.id = id
+        self.holder = holder
+        #: How the last ``wait_for`` ended (``matched``, ``timeout``, ``released`` ...).
+        self.outcome: str | None = None
+
+    def wait_for(self, type: str, timeout_s: float, **fields: Any) -> dict[str, Any] | None:
+        """Hand time back until the next new event of ``type`` with ``fields`` (plus the
+        clock's reaction time) or ``timeout_s`` simulated seconds; the event, or None."""
+        result = self.client.run_until(self.id, type, timeout_s, holder=self.holder, **fields)
+        self.outcome = result.outcome
+        return result.matched
+
+    def sleep(self, seconds: float) -> Clock:
+        """Hand time back for ``seconds`` of simulated time (a host's own delay)."""
+        clock = self.client.advance(self.id, seconds, holder=self.holder)
+        if all(h["name"] != self.holder for h in clock.holders):
+            self.outcome = "released"
+        return clock
+
+    @property
+    def released(self) -> bool:
+        """The holder was released (the test is over): the host should stop."""
+        return self.outcome == "released"
+
+    def release(self) -> None:
+        """Leave: time no longer waits for this host."""
+        self.client.release(self.id, self.holder)
+
+    def close(self) -> None:
+        self.client.close()
 
 
 class MotionSimClient:
@@ -190,23 +254,60 @@ class MotionSimClient:
     # -- clock -------------------------------------------------------------------------------
 
     def clock(self, id: str) -> Clock:
-        return Clock(**self.request("GET", f"/controllers/{id}/clock"))
+        return Clock.from_json(self.request("GET", f"/controllers/{id}/clock"))
 
     def set_clock(self, id: str, *, factor: float | None = None, paused: bool | None = None,
-                  mode: str | None = None) -> Clock:
-        body = {k: v for k, v in {"factor": factor, "paused": paused, "mode": mode}.items()
-                if v is not None}
-        return Clock(**self.request("PATCH", f"/controllers/{id}/clock", json=body))
+                  mode: str | None = None, reaction_s: float | None = None,
+                  holders: Sequence[str] | None = None) -> Clock:
+        body = {k: v for k, v in {"factor": factor, "paused": paused, "mode": mode,
+                                  "reaction_s": reaction_s}.items() if v is not None}
+        if holders is not None:
+            body["holders"] = list(holders)
+        return Clock.from_json(self.request("PATCH", f"/controllers/{id}/clock", json=body))
 
-    def advance(self, id: str, seconds: float) -> Clock:
-        return Clock(**self.request("POST", f"/controllers/{id}/clock/advance",
-                                    json={"seconds": seconds}))
+    def host_paced(self, id: str, *holders: str, reaction_s: float = 0.0) -> Clock:
+        """Switch ``id`` to the host-paced clock with ``holders`` registered (acting: time waits
+        for each one's first call), the hosts reacting ``reaction_s`` simulated seconds after
+        the event they waited for."""
+        return self.set_clock(id, mode="host-paced", reaction_s=reaction_s, holders=holders)
 
-    def run_until(self, id: str, type: str, timeout_s: float, **fields: Any) -> RunUntilResult:
-        """Run (virtual) or wait (realtime) for the first new event of ``type`` with ``fields``."""
-        out = self.request("POST", f"/controllers/{id}/clock/run-until",
-                           json={"event": {"type": type, **fields}, "timeout_s": timeout_s})
-        return RunUntilResult(out["matched"], Clock(**out["clock"]))
+    def hold(self, id: str, holder: str) -> Clock:
+        """Register ``holder`` on a host-paced clock (acting now: time waits for it)."""
+        return Clock.from_json(self.request("PUT", f"/controllers/{id}/clock/holders/{holder}"))
+
+    def release(self, id: str, holder: str) -> Clock:
+        """Release ``holder``: time no longer waits for it (a call it waits in returns)."""
+        return Clock.from_json(self.request("DELETE",
+                                            f"/controllers/{id}/clock/holders/{holder}"))
+
+    def host(self, id: str, holder: str, *, register: bool = True) -> PacedHost:
+        """A :class:`PacedHost` named ``holder`` on controller ``id`` with its own connection
+        (give it to the host's thread); registered at once unless ``register`` is False."""
+        host = PacedHost(MotionSimClient(self.base_url, timeout=self.http.timeout.read or 60.0),
+                         id, holder)
+        if register:
+            host.client.hold(id, holder)
+        return host
+
+    def advance(self, id: str, seconds: float, *, holder: str | None = None) -> Clock:
+        """Virtual: run ``seconds`` forward. Host-paced: ``holder`` (default ``main``) waits
+        that long while the other holders act."""
+        body: dict[str, Any] = {"seconds": seconds}
+        if holder is not None:
+            body["holder"] = holder
+        return Clock.from_json(self.request("POST", f"/controllers/{id}/clock/advance",
+                                            json=body))
+
+    def run_until(self, id: str, type: str, timeout_s: float, *, holder: str | None = None,
+                  **fields: Any) -> RunUntilResult:
+        """Run (virtual), wait as ``holder`` (host-paced) or wait (realtime) for the first new
+        event of ``type`` with ``fields``."""
+        body: dict[str, Any] = {"event": {"type": type, **fields}, "timeout_s": timeout_s}
+        if holder is not None:
+            body["holder"] = holder
+        out = self.request("POST", f"/controllers/{id}/clock/run-until", json=body)
+        return RunUntilResult(out["matched"], Clock.from_json(out["clock"]),
+                              out.get("outcome", "matched"))
 
     # -- events ------------------------------------------------------------------------------
 
@@ -320,4 +421,4 @@ class MotionSimClient:
 
 
 __all__ = ["Clock", "EventsPage", "LinesAccepted", "MotionSimClient", "MotionSimHTTPError",
-           "RunUntilResult", "Subscription", "TerminalReply"]
+           "PacedHost", "RunUntilResult", "Subscription", "TerminalReply"]

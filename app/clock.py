@@ -15,6 +15,16 @@ Both share :meth:`Clock.sync` (bring ``env`` to "now" before a command is applie
 a virtual clock) and :meth:`Clock.wake` (the schedule may have changed — a no-op for a virtual
 clock), which is all :class:`motionsim.app.registry.ControllerHandle` needs.
 
+No clock ever runs the simulation for long without yielding: work is done in **slices** of at
+most ``SLICE_S`` wall seconds (:func:`run_env_to` with ``wall_end``), and the ``async`` ways
+in (:meth:`VirtualClock.advance_async`, :meth:`VirtualClock.run_until_async`,
+:meth:`VirtualClock.run_until_reply_async`, the realtime task) give the event loop back between
+slices, so ``/health``, other controllers and other clients are served while one controller
+computes. Slicing is invisible in the event log: the same events are processed in the same
+order whatever the slice boundaries (tests compare logs). A realtime clock that cannot keep up
+reports ``lag_s`` and a ``clock_lag`` event, and slips (gives up simulated time) instead of
+freezing the loop to catch up.
+
 Events exactly at a target instant are processed: advancing by 1 s from t = 0 runs everything
 scheduled at t <= 1 s, and leaves ``env.now`` at 1 s even when nothing was scheduled there.
 "Exactly" allows 1 ns of float rounding (``3 * 0.1`` is 0.30000000000000004): an event that
@@ -29,8 +39,8 @@ import logging
 import math
 import time
 from collections import deque
-from collections.abc import Callable, Mapping
-from typing import Any, Literal
+from collections.abc import Callable, Generator, Mapping
+from typing import Any, Literal, TypeVar
 
 import simpy
 from motionsim.sim.controller import Reply
@@ -39,12 +49,23 @@ from motionsim.sim.events import Event, EventLog
 
 log = logging.getLogger("motionsim.clock")
 
-ClockMode = Literal["virtual", "realtime"]
+T = TypeVar("T")
+
+ClockMode = Literal["virtual", "realtime", "host-paced"]
 
 _INF = float("inf")
 
 #: Float rounding tolerated when deciding whether an event is due at a target instant.
 _TIME_EPS_S = 1e-9
+
+#: Wall seconds one slice of simulation may take before the event loop gets a turn.
+SLICE_S = 0.004
+
+#: SimPy steps between two looks at the wall clock in a slice (a look costs ~5 % of a step).
+_WALL_CHECK_STEPS = 4
+
+#: Wall seconds a ``run_until`` may take at most by default (an event that never comes).
+RUN_UNTIL_WALL_S = 30.0
 
 
 def _check_seconds(value: float, field: str) -> float:
@@ -59,6 +80,53 @@ def _check_seconds(value: float, field: str) -> float:
     return value
 
 
+def drain(steps: Generator[None, None, T]) -> T:
+    """Run a sliced computation to its end without yielding (sync callers: scenarios, replay)."""
+    while True:
+        try:
+            next(steps)
+        except StopIteration as stop:
+            return stop.value
+
+
+async def drain_async(steps: Generator[None, None, T]) -> T:
+    """Run a sliced computation, giving the event loop a turn between slices.
+
+    Cancelling the awaiting task (a client that went away) stops it at a slice boundary: the
+    environment is consistent there, the clock stays where it got to.
+    """
+    try:
+        while True:
+            try:
+                next(steps)
+            except StopIteration as stop:
+                return stop.value
+            await asyncio.sleep(0)
+    finally:
+        steps.close()
+
+
+def reply_steps(env: simpy.Environment, reply: Reply, max_s: float,
+                slice_s: float = SLICE_S) -> Generator[None, None, None]:
+    """Step until ``reply`` is done, at most ``max_s`` simulated seconds, yielding between
+    slices; not done by then: ``env.now`` is ``now + max_s`` and the reply stays pending."""
+    deadline = env.now + max_s
+    limit = _limit(deadline)
+    while True:
+        slice_end = _wall_end(slice_s)
+        steps = 0
+        while not reply.done and env.peek() <= limit:
+            env.step()
+            steps += 1
+            if steps % _WALL_CHECK_STEPS == 0 and time.monotonic() > slice_end:
+                break
+        if reply.done or env.peek() > limit:
+            break
+        yield
+    if not reply.done:
+        run_env_to(env, deadline)
+
+
 def _check_factor(value: float) -> float:
     """A speed-up factor must be finite and > 0."""
     try:
@@ -70,16 +138,30 @@ def _check_factor(value: float) -> float:
     return value
 
 
-def run_env_to(env: simpy.Environment, target: float, max_steps: int | None = None) -> bool:
+def _limit(target: float) -> float:
+    """``target`` plus the float rounding tolerated at it."""
+    return target + max(_TIME_EPS_S, abs(target) * 1e-12)
+
+
+def _wall_end(slice_s: float = SLICE_S) -> float:
+    return time.monotonic() + slice_s
+
+
+def run_env_to(env: simpy.Environment, target: float, max_steps: int | None = None,
+               wall_end: float | None = None) -> bool:
     """Process every event scheduled at or before ``target``, then set ``env.now`` to it.
 
-    Returns False when ``max_steps`` events were processed and more are due (the caller
-    yields to the event loop and calls again); True when ``env.now == target`` (or later).
+    Returns False when ``max_steps`` events were processed, or the monotonic instant
+    ``wall_end`` passed, and more are due (the caller yields to the event loop and calls
+    again); True when ``env.now == target`` (or later).
     """
     steps = 0
-    limit = target + max(_TIME_EPS_S, abs(target) * 1e-12)
+    limit = _limit(target)
     while env.peek() <= limit:
         if max_steps is not None and steps >= max_steps:
+            return False
+        if (wall_end is not None and steps % _WALL_CHECK_STEPS == 0 and steps
+                and time.monotonic() > wall_end):
             return False
         env.step()
         steps += 1
@@ -128,7 +210,7 @@ class Clock:
         """Stop driving time (the environment keeps its state)."""
 
     def to_dict(self) -> dict[str, Any]:
-        """The API's ``Clock``: ``{"mode", "factor", "paused", "t"}``."""
+        """The API's ``Clock``: ``{"mode", "factor", "paused", "t"}`` (+ the mode's own)."""
         return {"mode": self.mode, "factor": self.factor, "paused": self.paused, "t": self.t}
 
 
@@ -137,21 +219,99 @@ class VirtualClock(Clock):
 
     ``factor`` is kept (so a clock switched to realtime remembers it) but has no effect;
     a paused virtual clock refuses to advance (409 ``conflict``).
+
+    Each way of moving time is a sliced computation (a generator yielding between slices of at
+    most ``slice_s`` wall seconds): the plain methods run it through, the ``*_async`` ones give
+    the event loop a turn between slices. Both process exactly the same events.
     """
 
     mode: ClockMode = "virtual"
+
+    def __init__(self, env: simpy.Environment, factor: float = 1.0, paused: bool = False,
+                 *, slice_s: float = SLICE_S) -> None:
+        super().__init__(env, factor, paused)
+        self.slice_s = slice_s
 
     def _check_running(self) -> None:
         if self.paused:
             raise Conflict("the clock is paused; PATCH it with paused=false first")
 
-    def advance(self, seconds: float) -> None:
-        """Run the simulation forward by ``seconds`` (0 is a no-op)."""
+    # -- the sliced computations -------------------------------------------------------------
+
+    def advance_steps(self, seconds: float) -> Generator[None, None, None]:
+        """Run forward by ``seconds``, yielding between slices (validated before the first)."""
         seconds = _check_seconds(seconds, "seconds")
         self._check_running()
+        return self._advance(seconds)
+
+    def _advance(self, seconds: float) -> Generator[None, None, None]:
         if seconds == 0:
             return
-        run_env_to(self.env, self.env.now + seconds)
+        target = self.env.now + seconds
+        while not run_env_to(self.env, target, wall_end=_wall_end(self.slice_s)):
+            yield
+
+    def run_until_steps(
+        self,
+        log: EventLog,
+        pattern: Mapping[str, Any] | Callable[[Event], bool],
+        timeout_s: float,
+        *,
+        wall_budget_s: float | None = RUN_UNTIL_WALL_S,
+    ) -> Generator[None, None, Event | None]:
+        """:meth:`run_until` as a sliced computation (validated before the first slice)."""
+        timeout_s = _check_seconds(timeout_s, "timeout_s")
+        self._check_running()
+        match = pattern if callable(pattern) else (lambda e, p=dict(pattern): e.matches(p))
+        return self._run_until(log, match, timeout_s, wall_budget_s)
+
+    def _run_until(self, log: EventLog, match: Callable[[Event], bool], timeout_s: float,
+                   wall_budget_s: float | None) -> Generator[None, None, Event | None]:
+        found: list[Event] = []
+
+        def listener(event: Event) -> None:
+            if not found and match(event):
+                found.append(event)
+
+        env = self.env
+        deadline = env.now + timeout_s
+        limit = _limit(deadline)
+        t_wall_end = None if wall_budget_s is None else time.monotonic() + wall_budget_s
+        unlisten = log.listen(listener)
+        try:
+            while True:
+                slice_end = _wall_end(self.slice_s)
+                steps = 0
+                while not found and env.peek() <= limit:
+                    env.step()
+                    steps += 1
+                    if steps % _WALL_CHECK_STEPS == 0 and time.monotonic() > slice_end:
+                        break
+                if found or env.peek() > limit:
+                    break
+                if t_wall_end is not None and time.monotonic() > t_wall_end:
+                    return None
+                yield
+        finally:
+            unlisten()
+        if found:
+            return found[0]
+        run_env_to(env, deadline)
+        return None
+
+    def run_until_reply_steps(self, reply: Reply, max_s: float) -> Generator[None, None, None]:
+        """:meth:`run_until_reply` as a sliced computation."""
+        return reply_steps(self.env, reply, max_s, self.slice_s)
+
+    # -- run through (sync) and sliced (async) -----------------------------------------------
+
+    def advance(self, seconds: float) -> None:
+        """Run the simulation forward by ``seconds`` (0 is a no-op)."""
+        drain(self.advance_steps(seconds))
+
+    async def advance_async(self, seconds: float) -> None:
+        """:meth:`advance`, yielding to the event loop between slices."""
+        await drain_async(self.advance_steps(seconds))
 
     def run_until(
         self,
@@ -159,7 +319,7 @@ class VirtualClock(Clock):
         pattern: Mapping[str, Any] | Callable[[Event], bool],
         timeout_s: float,
         *,
-        wall_budget_s: float | None = 30.0,
+        wall_budget_s: float | None = RUN_UNTIL_WALL_S,
     ) -> Event | None:
         """Run until the first *new* event matching ``pattern`` is emitted, at most ``timeout_s``.
 
@@ -169,33 +329,19 @@ class VirtualClock(Clock):
         ``wall_budget_s`` bounds the wall time spent (a simulation with an event per servo cycle
         asked to run for days); when exceeded it returns ``None`` with the clock where it got to.
         """
-        timeout_s = _check_seconds(timeout_s, "timeout_s")
-        self._check_running()
-        match = pattern if callable(pattern) else (lambda e, p=dict(pattern): e.matches(p))
-        found: list[Event] = []
+        return drain(self.run_until_steps(log, pattern, timeout_s, wall_budget_s=wall_budget_s))
 
-        def listener(event: Event) -> None:
-            if not found and match(event):
-                found.append(event)
-
-        env = self.env
-        deadline = env.now + timeout_s
-        unlisten = log.listen(listener)
-        try:
-            t_wall_end = None if wall_budget_s is None else time.monotonic() + wall_budget_s
-            steps = 0
-            limit = deadline + _TIME_EPS_S
-            while not found and env.peek() <= limit:
-                env.step()
-                steps += 1
-                if t_wall_end is not None and steps % 4096 == 0 and time.monotonic() > t_wall_end:
-                    return None
-        finally:
-            unlisten()
-        if found:
-            return found[0]
-        run_env_to(env, deadline)
-        return None
+    async def run_until_async(
+        self,
+        log: EventLog,
+        pattern: Mapping[str, Any] | Callable[[Event], bool],
+        timeout_s: float,
+        *,
+        wall_budget_s: float | None = RUN_UNTIL_WALL_S,
+    ) -> Event | None:
+        """:meth:`run_until`, yielding to the event loop between slices."""
+        return await drain_async(
+            self.run_until_steps(log, pattern, timeout_s, wall_budget_s=wall_budget_s))
 
     def run_until_idle(self, max_s: float | None = None, max_steps: int = 10_000_000) -> bool:
         """Run until nothing is scheduled (True), or ``max_s`` / ``max_steps`` are used up.
@@ -225,25 +371,33 @@ class VirtualClock(Clock):
         Done: the clock stops at the reply's instant. Not done: the clock is at ``now + max_s``
         and the reply stays pending (it later shows as a ``terminal_reply`` event).
         """
-        env = self.env
-        deadline = env.now + max_s
-        while not reply.done and env.peek() <= deadline + _TIME_EPS_S:
-            env.step()
-        if not reply.done:
-            run_env_to(env, deadline)
+        drain(self.run_until_reply_steps(reply, max_s))
+
+    async def run_until_reply_async(self, reply: Reply, max_s: float) -> None:
+        """:meth:`run_until_reply`, yielding to the event loop between slices."""
+        await drain_async(self.run_until_reply_steps(reply, max_s))
 
 
 class RealtimeClock(Clock):
     """Simulated time = wall time × ``factor``, driven by one asyncio task.
 
-    ``t`` is computed from the wall clock whenever it is asked, so it advances even when no
-    SimPy event is scheduled; :meth:`sync` runs ``env`` to that instant before each command is
-    applied, so commands land at the simulated time matching their arrival.
+    The *schedule* (:meth:`target`) is computed from the wall clock whenever it is asked, so it
+    advances even when no SimPy event is scheduled; :meth:`sync` runs ``env`` to it before each
+    command is applied, so commands land at the simulated time matching their arrival.
 
     The task awaits the wall instant of ``env.peek()`` (a ``loop.call_later`` timer on a
-    future, no polling) and is woken early by :meth:`wake`. When the CPU cannot keep up the
-    task steps what is due in slices of ``slice_steps`` events, yielding to the loop in
-    between, so HTTP requests and WebSocket subscribers keep being served.
+    future, no polling) and is woken early by :meth:`wake`. When the CPU cannot keep up it
+    steps what is due in slices of at most ``slice_s`` wall seconds (and ``slice_steps``
+    events), yielding to the loop in between, so HTTP requests and WebSocket subscribers keep
+    being served; :meth:`sync` is bounded the same way (a command then lands at the instant the
+    simulation has reached).
+
+    Lag: ``lag_s`` is how many wall seconds the simulation is behind its schedule. Above
+    ``lag_report_s`` the clock is *behind* (a ``clock_lag`` event with ``behind: true``; one
+    with ``behind: false`` when the lag is back under a fifth of it). It never falls more than
+    ``max_lag_s`` behind: beyond that it re-anchors the schedule at the simulation's instant,
+    giving up the simulated time it could not compute (``slipped_s`` adds it up), so a factor
+    the CPU cannot sustain degrades to the speed it can, and nothing waits for a catch-up.
 
     ``lateness_s`` holds the most recent wake-up latenesses (wall seconds between the instant
     an event was due and the instant the task processed it) for the bench.
@@ -257,11 +411,21 @@ class RealtimeClock(Clock):
         factor: float = 1.0,
         paused: bool = False,
         *,
+        log: EventLog | None = None,
+        slice_s: float = SLICE_S,
         slice_steps: int = 2000,
+        lag_report_s: float = 0.1,
+        max_lag_s: float = 0.5,
         lateness_window: int = 10_000,
     ) -> None:
         super().__init__(env, factor, paused)
+        self.log = log
+        self.slice_s = slice_s
         self.slice_steps = slice_steps
+        self.lag_report_s = lag_report_s
+        self.max_lag_s = max_lag_s
+        self.behind = False
+        self.slipped_s = 0.0
         self._anchor_wall = time.monotonic()
         self._anchor_sim = env.now
         self._task: asyncio.Task[None] | None = None
@@ -271,12 +435,22 @@ class RealtimeClock(Clock):
 
     # -- time ------------------------------------------------------------------------------
 
-    @property
-    def t(self) -> float:
+    def target(self) -> float:
+        """The simulated instant the schedule says it is now (wall time × factor)."""
         if self.paused:
             return max(self.env.now, self._anchor_sim)
         wall = time.monotonic() - self._anchor_wall
         return max(self.env.now, self._anchor_sim + wall * self.factor)
+
+    @property
+    def t(self) -> float:
+        """The simulated instant reached: the schedule, or the next due event when behind."""
+        return max(self.env.now, min(self.target(), self.env.peek()))
+
+    @property
+    def lag_s(self) -> float:
+        """Wall seconds the simulation is behind its schedule (0 when keeping up)."""
+        return max(0.0, (self.target() - self.t) / self.factor)
 
     def _wall_of(self, t_sim: float) -> float:
         """The monotonic wall instant at which simulated time ``t_sim`` is reached."""
@@ -287,7 +461,8 @@ class RealtimeClock(Clock):
         self._anchor_wall = time.monotonic()
 
     def sync(self) -> None:
-        run_env_to(self.env, self.t)
+        """Run to the schedule, at most one slice; when behind the command lands earlier."""
+        run_env_to(self.env, self.target(), self.slice_steps, _wall_end(self.slice_s))
 
     def set(self, *, factor: float | None = None, paused: bool | None = None) -> None:
         new_factor = None if factor is None else _check_factor(factor)
@@ -299,6 +474,35 @@ class RealtimeClock(Clock):
             self.paused = bool(paused)
         self._reanchor()
         self.wake()
+
+    def to_dict(self) -> dict[str, Any]:
+        out = super().to_dict()
+        out["lag_s"] = self.lag_s
+        out["behind"] = self.behind
+        out["slipped_s"] = self.slipped_s
+        return out
+
+    # -- lag -------------------------------------------------------------------------------
+
+    def _check_lag(self) -> None:
+        """Report crossing into / out of *behind*; slip beyond ``max_lag_s``."""
+        lag = self.lag_s
+        if lag > self.max_lag_s:
+            ahead = self.target() - self.env.now
+            self._anchor_sim = self.env.now + self.max_lag_s * self.factor
+            self._anchor_wall = time.monotonic()
+            self.slipped_s += max(0.0, ahead - self.max_lag_s * self.factor)
+        if not self.behind and lag > self.lag_report_s:
+            self.behind = True
+            self._report(lag)
+            log.warning("realtime clock behind by %.3f s (factor %g)", lag, self.factor)
+        elif self.behind and lag < self.lag_report_s / 5:
+            self.behind = False
+            self._report(lag)
+
+    def _report(self, lag: float) -> None:
+        if self.log is not None:
+            self.log.emit("clock_lag", lag_s=round(lag, 6), behind=self.behind)
 
     # -- the driving task ------------------------------------------------------------------
 
@@ -336,10 +540,12 @@ class RealtimeClock(Clock):
         while True:
             behind = False
             try:
-                behind = not run_env_to(env, self.t, self.slice_steps)
+                behind = not run_env_to(env, self.target(), self.slice_steps,
+                                        _wall_end(self.slice_s))
             except Exception as exc:  # a failed SimPy process: report it, keep time going
                 self.last_error = exc
                 log.exception("simulation error in realtime clock")
+            self._check_lag()
             if behind:
                 await asyncio.sleep(0)
                 continue
@@ -365,14 +571,21 @@ class RealtimeClock(Clock):
 
 
 def make_clock(
-    mode: ClockMode, env: simpy.Environment, factor: float = 1.0, paused: bool = False
-) -> VirtualClock | RealtimeClock:
-    """The clock of ``mode`` for ``env``."""
+    mode: ClockMode, env: simpy.Environment, factor: float = 1.0, paused: bool = False,
+    *, log: EventLog | None = None, reaction_s: float = 0.0,
+) -> Clock:
+    """The clock of ``mode`` for ``env`` (``log``: where a clock reports, e.g. its lag)."""
     if mode == "virtual":
         return VirtualClock(env, factor, paused)
     if mode == "realtime":
-        return RealtimeClock(env, factor, paused)
-    raise InvalidValue(f"clock mode must be 'virtual' or 'realtime', got {mode!r}", field="mode")
+        return RealtimeClock(env, factor, paused, log=log)
+    if mode == "host-paced":
+        from motionsim.app.host_paced import HostPacedClock
+
+        return HostPacedClock(env, factor, paused, log=log, reaction_s=reaction_s)
+    raise InvalidValue(
+        f"clock mode must be 'virtual', 'realtime' or 'host-paced', got {mode!r}", field="mode")
 
 
-__all__ = ["Clock", "ClockMode", "RealtimeClock", "VirtualClock", "make_clock", "run_env_to"]
+__all__ = ["RUN_UNTIL_WALL_S", "SLICE_S", "Clock", "ClockMode", "RealtimeClock", "VirtualClock",
+           "drain", "drain_async", "make_clock", "reply_steps", "run_env_to"]

@@ -3,16 +3,24 @@
 Installed with motionsim (entry point ``pytest11``), so a test just asks for it::
 
     def test_my_streamer(motionsim):
-        motionsim.terminal("pmac", "&1 DEFINE ROT 600")
-        my_streamer = Streamer(motionsim.url)      # your host code, over REST/WebSocket
-        my_streamer.send_program(...)
-        motionsim.advance("pmac", 2.0)             # virtual time: runs as fast as the CPU
-        assert not motionsim.events("pmac", types=["program"]).events[-1]["state"] == "waiting"
+        motionsim.define_rotary("pmac", 1, 600)
+        motionsim.host_paced("pmac", "streamer")   # time waits for the host's first call
+        done = pool.submit(my_host, motionsim.host("pmac", "streamer", register=False))
+        motionsim.advance("pmac", 60.0)            # runs while the host waits, holds while it acts
+        motionsim.release("pmac", "streamer")
+        done.result()
+        assert "waiting" not in [e["state"] for e in motionsim.all_events("pmac", ["program"])]
 
 ``motionsim`` is a :class:`motionsim.app.client.MotionSimClient` connected to a service served on a
 free 127.0.0.1 port, on a **virtual** clock, with the default controllers ``pmac`` and ``trio``
 (kinds not installed are skipped); it is torn down after the test. Its extra attributes:
 ``url`` and ``ports`` (protocol -> TCP port of the PMAC Ethernet / Trio telnet listeners).
+
+A host in its own thread (or process) runs deterministically against virtual time on a
+**host-paced** clock: ``motionsim.host_paced("pmac", "streamer")`` registers the holder, and
+``motionsim.host("pmac", "streamer", register=False)`` gives the thread a
+:class:`motionsim.app.client.PacedHost` (``wait_for`` an event, ``sleep``). Holders still
+registered at teardown are released, so such threads end cleanly.
 
 Override the fixture ``motionsim_settings`` to change what is served, e.g. to get the
 controllers' TCP protocols on free ports::
@@ -52,5 +60,19 @@ def motionsim(motionsim_settings: Any) -> Iterator[Any]:
     try:
         yield client
     finally:
+        _release_hosts(client)
         client.close()
         service.stop()
+
+
+def _release_hosts(client: Any) -> None:
+    """Release every host-paced holder, so host threads still waiting get ``released``
+    and stop instead of dying on a closed connection."""
+    try:
+        for controller in client.controllers():
+            clock = controller["clock"]
+            if clock.get("mode") == "host-paced":
+                for holder in clock.get("holders") or ():
+                    client.release(controller["id"], holder["name"])
+    except Exception:  # the service may already be gone (a test that stopped it)
+        pass

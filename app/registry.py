@@ -15,7 +15,16 @@ import re
 from collections.abc import Callable, Iterator, Mapping
 from typing import Any, TypeVar
 
-from motionsim.app.clock import ClockMode, RealtimeClock, VirtualClock, make_clock
+from motionsim.app.clock import (
+    Clock,
+    ClockMode,
+    RealtimeClock,
+    VirtualClock,
+    drain_async,
+    make_clock,
+    reply_steps,
+)
+from motionsim.app.host_paced import DEFAULT_HOLDER, HostPacedClock
 from motionsim.app.kinds import kind_class
 from motionsim.sim.controller import Controller, Port, Reply
 from motionsim.sim.errors import Conflict, InvalidValue, NotFound
@@ -32,8 +41,10 @@ TERMINAL_WAIT_S = 1.0
 #: Wall seconds a realtime terminal command waits for its reply before answering "pending".
 REALTIME_REPLY_CAP_S = 5.0
 
-#: Wall seconds a realtime run-until waits at most.
+#: Wall seconds a realtime or host-paced run-until waits at most.
 RUN_UNTIL_WALL_CAP_S = 30.0
+
+AnyClock = VirtualClock | RealtimeClock | HostPacedClock
 
 _ID = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$")
 
@@ -53,11 +64,11 @@ class ControllerHandle:
         id: the controller's id (``"pmac"``).
         kind: its kind (``"pmac"``, ``"trio"``, ...).
         controller: the simulation object.
-        clock: the :class:`VirtualClock` or :class:`RealtimeClock` driving its environment.
+        clock: the :class:`VirtualClock`, :class:`RealtimeClock` or :class:`HostPacedClock`
+            driving its environment.
     """
 
-    def __init__(self, id: str, kind: str, controller: Controller,
-                 clock: VirtualClock | RealtimeClock) -> None:
+    def __init__(self, id: str, kind: str, controller: Controller, clock: AnyClock) -> None:
         self.id = id
         self.kind = kind
         self.controller = controller
@@ -80,10 +91,12 @@ class ControllerHandle:
 
         The environment is first brought to the current instant (realtime). A reply that is
         done at once is returned as is. Otherwise, if the kind lets its terminal wait
-        (``terminal_wait_s > 0``, the PMAC answering in its background cycle): a virtual
-        clock steps the simulation until the reply (at most ``terminal_wait_s`` simulated);
-        a realtime clock awaits it (at most ``realtime_reply_cap_s`` wall). A reply still not
-        done is returned pending; the kind emits ``terminal_reply`` when it completes.
+        (``terminal_wait_s > 0``, the PMAC answering in its background cycle): a virtual or
+        host-paced clock steps the simulation until the reply (at most ``terminal_wait_s``
+        simulated, in slices that give the loop a turn; on a host-paced clock this is part of
+        the caller's action, and holders due meanwhile act at its end); a realtime clock awaits
+        it (at most ``realtime_reply_cap_s`` wall). A reply still not done is returned pending;
+        the kind emits ``terminal_reply`` when it completes.
         """
         self.ensure_running()
         port = port if port is not None else self.controller.rest_port
@@ -94,9 +107,10 @@ class ControllerHandle:
             clock.wake()
             return reply
         wait_s = self.terminal_wait_s
-        if isinstance(clock, VirtualClock):
+        if not isinstance(clock, RealtimeClock):
             if wait_s > 0 and not clock.paused:
-                clock.run_until_reply(reply, wait_s)
+                await self.run_until_reply(reply, wait_s)
+            clock.wake()
             return reply
         clock.wake()
         if wait_s <= 0 or clock.paused:
@@ -113,32 +127,72 @@ class ControllerHandle:
             await asyncio.wait_for(done, timeout=cap)
         return reply
 
-    async def run_until(self, pattern: Mapping[str, Any], timeout_s: float) -> Event | None:
+    async def run_until_reply(self, reply: Reply, max_s: float) -> None:
+        """Virtual or host-paced: step (in slices) until ``reply`` is done, at most ``max_s``
+        simulated seconds. The way a REST call that waits for the controller moves time."""
+        clock = self.clock
+        if isinstance(clock, RealtimeClock):
+            raise Conflict("a realtime clock is not stepped by its callers")
+        await drain_async(reply_steps(clock.env, reply, max_s, clock.slice_s))
+
+    async def advance(self, seconds: float, holder: str | None = None) -> None:
+        """Virtual: run forward by ``seconds`` (in slices). Host-paced: holder ``holder``
+        (default ``main``) waits ``seconds`` of simulated time while the other holders act.
+        Realtime: 409 ``conflict``."""
+        clock = self.clock
+        if isinstance(clock, VirtualClock):
+            await clock.advance_async(seconds)
+        elif isinstance(clock, HostPacedClock):
+            _, outcome = await clock.wait(holder or DEFAULT_HOLDER, None, seconds,
+                                          wall_timeout_s=RUN_UNTIL_WALL_CAP_S)
+            if outcome == "wall_timeout":
+                raise Conflict(
+                    f"time did not reach the target within {RUN_UNTIL_WALL_CAP_S:g} s of wall "
+                    f"time: held by {', '.join(clock.held_by()) or 'nobody'}",
+                    held_by=clock.held_by())
+        else:
+            raise Conflict("a realtime clock cannot be advanced; PATCH its mode to virtual first")
+
+    async def run_until(self, pattern: Mapping[str, Any], timeout_s: float,
+                        holder: str | None = None) -> Event | None:
         """The first *new* event matching ``pattern`` (``{"type": ..., field: value}``).
 
-        Virtual: runs the simulation until it is emitted (the clock stops at its instant) or
-        ``timeout_s`` simulated seconds pass. Realtime: waits for it, at most ``timeout_s``
-        simulated seconds and at most ``RUN_UNTIL_WALL_CAP_S`` wall seconds. ``None`` if no
-        match.
+        Virtual: runs the simulation (in slices) until it is emitted (the clock stops at its
+        instant) or ``timeout_s`` simulated seconds pass. Host-paced: holder ``holder`` waits for
+        it; the clock holds ``reaction_s`` after it (see :mod:`motionsim.app.host_paced`).
+        Realtime: waits for it, at most ``timeout_s`` simulated seconds and at most
+        ``RUN_UNTIL_WALL_CAP_S`` wall seconds. ``None`` if no match.
         """
+        return (await self.run_until_outcome(pattern, timeout_s, holder))[0]
+
+    async def run_until_outcome(self, pattern: Mapping[str, Any], timeout_s: float,
+                                holder: str | None = None) -> tuple[Event | None, str]:
+        """:meth:`run_until` with how it ended: ``matched``, ``timeout`` (simulated),
+        ``wall_timeout`` or (host-paced) ``released``."""
         clock = self.clock
         log = self.controller.log
         if isinstance(clock, VirtualClock):
-            return clock.run_until(log, pattern, timeout_s)
+            found = await clock.run_until_async(log, pattern, timeout_s,
+                                                wall_budget_s=RUN_UNTIL_WALL_CAP_S)
+            return found, "matched" if found is not None else "timeout"
+        if isinstance(clock, HostPacedClock):
+            return await clock.wait(holder or DEFAULT_HOLDER, pattern, timeout_s,
+                                    wall_timeout_s=RUN_UNTIL_WALL_CAP_S)
         self.ensure_running()
         clock.sync()
-        found: asyncio.Future[Event] = asyncio.get_running_loop().create_future()
+        found_f: asyncio.Future[Event] = asyncio.get_running_loop().create_future()
 
         def listener(event: Event) -> None:
-            if not found.done() and event.matches(pattern):
-                found.set_result(event)
+            if not found_f.done() and event.matches(pattern):
+                found_f.set_result(event)
 
         unlisten = log.listen(listener)
         try:
             wall = timeout_s if clock.paused else timeout_s / clock.factor
-            return await asyncio.wait_for(found, timeout=min(wall, RUN_UNTIL_WALL_CAP_S))
+            cap = min(wall, RUN_UNTIL_WALL_CAP_S)
+            return await asyncio.wait_for(found_f, timeout=cap), "matched"
         except TimeoutError:
-            return None
+            return None, "timeout" if wall <= RUN_UNTIL_WALL_CAP_S else "wall_timeout"
         finally:
             unlisten()
 
@@ -196,23 +250,46 @@ class ControllerHandle:
             return
         if self.loop is None or self.loop.is_closed():
             self.loop = loop
-        if isinstance(self.clock, RealtimeClock) and not self.clock.running:
-            self.clock.start()
+        clock = self.clock
+        if isinstance(clock, RealtimeClock | HostPacedClock) and not clock.running:
+            clock.start()
 
     async def set_clock(self, mode: ClockMode | None = None, *, factor: float | None = None,
-                        paused: bool | None = None) -> None:
-        """Change factor / paused, or switch between virtual and realtime at the current t."""
-        if mode is not None and mode != self.clock.mode:
-            old = self.clock
-            old.sync()
-            await old.stop()
+                        paused: bool | None = None, reaction_s: float | None = None,
+                        holders: list[str] | None = None) -> None:
+        """Change factor / paused (/ a host-paced clock's ``reaction_s``, register ``holders``),
+        or switch between virtual, realtime and host-paced at the current t.
+
+        Switching validates everything first: a bad value changes nothing.
+        """
+        old = self.clock
+        if mode is not None and mode != old.mode:
             new = make_clock(mode, self.controller.env,
                              old.factor if factor is None else factor,
-                             old.paused if paused is None else paused)
+                             old.paused if paused is None else paused,
+                             log=self.controller.log,
+                             reaction_s=_reaction_of(old) if reaction_s is None else reaction_s)
+            if isinstance(new, HostPacedClock):
+                for name in holders or ():
+                    new.hold(name)
+            elif holders:
+                _close_clock(new)
+                raise InvalidValue("holders need a host-paced clock", field="holders")
+            old.sync()
+            await old.stop()
+            _close_clock(old)
             self.clock = new
             self.ensure_running()
             return
-        self.clock.set(factor=factor, paused=paused)
+        if isinstance(old, HostPacedClock):
+            for name in holders or ():
+                old.hold(name)
+            old.set(factor=factor, paused=paused, reaction_s=reaction_s)
+            return
+        if reaction_s is not None or holders:
+            raise InvalidValue("reaction_s and holders belong to a host-paced clock",
+                               field="reaction_s" if reaction_s is not None else "holders")
+        old.set(factor=factor, paused=paused)
 
     def on_close(self, callback: Callable[[], None]) -> Callable[[], None]:
         """Call ``callback()`` when the controller is deleted; returns an unsubscribe."""
@@ -234,6 +311,7 @@ class ControllerHandle:
         for callback in callbacks:
             callback()
         await self.clock.stop()
+        _close_clock(self.clock)
 
     def snapshot(self) -> dict[str, Any]:
         """:meth:`to_dict` at the current instant (a realtime environment is run to it first)."""
@@ -248,6 +326,15 @@ class ControllerHandle:
 
     def __repr__(self) -> str:
         return f"<ControllerHandle {self.id} kind={self.kind} clock={self.clock.mode}>"
+
+
+def _reaction_of(clock: Clock) -> float:
+    return clock.reaction_s if isinstance(clock, HostPacedClock) else 0.0
+
+
+def _close_clock(clock: Clock) -> None:
+    if isinstance(clock, HostPacedClock):
+        clock.close()
 
 
 class Registry:
@@ -298,6 +385,8 @@ class Registry:
         factor: float = 1.0,
         paused: bool = False,
         config: Mapping[str, Any] | None = None,
+        reaction_s: float = 0.0,
+        holders: list[str] | None = None,
     ) -> ControllerHandle:
         """Create and register a controller; nothing changes if anything is invalid.
 
@@ -314,8 +403,14 @@ class Registry:
         if id in self._handles:
             raise Conflict(f"a controller {id!r} already exists", controller=id)
         controller = cls(id, dict(config or {}), log_capacity=self.log_capacity)
-        handle = ControllerHandle(id, kind, controller,
-                                  make_clock(clock, controller.env, factor, paused))
+        new_clock = make_clock(clock, controller.env, factor, paused, log=controller.log,
+                               reaction_s=reaction_s)
+        if isinstance(new_clock, HostPacedClock):
+            for name in holders or ():
+                new_clock.hold(name)
+        elif holders:
+            raise InvalidValue("holders need a host-paced clock", field="holders")
+        handle = ControllerHandle(id, kind, controller, new_clock)
         self._handles[id] = handle
         if self._started:
             handle.ensure_running()

@@ -50,7 +50,8 @@ def build_registry(settings: Settings) -> Registry:
         clock = spec.clock or settings.clock
         try:
             registry.add(spec.kind, spec.id, clock=clock.mode, factor=clock.factor,
-                         paused=clock.paused, config=spec.config)
+                         paused=clock.paused, config=spec.config,
+                         reaction_s=clock.reaction_s)
         except Exception:
             if defaults:
                 log.exception("default controller %r could not be created", spec.id)

@@ -39,10 +39,12 @@ class ClockSpec(BaseModel):
 
     model_config = ConfigDict(extra="forbid")
 
-    mode: Literal["virtual", "realtime"] = "realtime"
+    mode: Literal["virtual", "realtime", "host-paced"] = "realtime"
     factor: float = Field(1.0, gt=0, allow_inf_nan=False,
                           description="speed-up: simulated seconds per wall second (realtime)")
     paused: bool = False
+    reaction_s: float = Field(0.0, ge=0, le=60, allow_inf_nan=False, description=(
+        "host-paced: simulated seconds a host takes to react to the event it waited for"))
 
 
 class ControllerSpec(BaseModel):

@@ -64,6 +64,8 @@ EVENT_FIELDS: dict[str, tuple[str, ...]] = {
     "jog": ("motor", "state", "command", "position"),  # PMAC: a jog / home move starts / ends
     "home": ("motor", "state", "position"),  # PMAC: a home search found its trigger
     "motor": ("motor", "state"),  # PMAC: servo loop closed / opened / killed
+    # the service's realtime clock: it fell behind its schedule / caught up (app/clock.py)
+    "clock_lag": ("lag_s", "behind"),
 }
 
 

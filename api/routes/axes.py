@@ -16,7 +16,7 @@ from typing import Annotated, Any
 from fastapi import APIRouter, Path, Query
 from motionsim.api.deps import HandleDep
 from motionsim.api.schemas.axes import AxisOut, AxisPatch, MoveIn, MovePlaced
-from motionsim.app.clock import VirtualClock
+from motionsim.app.clock import RealtimeClock
 from motionsim.app.registry import ControllerHandle
 from motionsim.sim.errors import BufferFull, NotFound
 
@@ -63,8 +63,8 @@ async def post_move(
     reply = handle.apply(ctrl.move, axis, body.type, body.args, body.process, True)
     clock = handle.clock
     if not reply.done and not clock.paused:
-        if isinstance(clock, VirtualClock):
-            clock.run_until_reply(reply, timeout_s)
+        if not isinstance(clock, RealtimeClock):
+            await handle.run_until_reply(reply, timeout_s)
         else:
             done = asyncio.get_running_loop().create_future()
             reply.add_done_callback(lambda _r: done.done() or done.set_result(None))

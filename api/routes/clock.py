@@ -1,15 +1,49 @@
-"""``/controllers/{id}/clock``: read and steer a controller's simulated time."""
+"""``/controllers/{id}/clock``: read and steer a controller's simulated time.
+
+Calls that move time (``advance``, ``run-until``) run the simulation in slices that give the
+event loop a turn, so other clients are served meanwhile, and they stop at a slice boundary
+when their client disconnects.
+"""
 
 from __future__ import annotations
 
-from fastapi import APIRouter
+import asyncio
+from collections.abc import Awaitable
+from typing import Annotated, TypeVar
+
+from fastapi import APIRouter, Path, Request
 from motionsim.api.deps import HandleDep
 from motionsim.api.schemas.clock import AdvanceIn, ClockOut, ClockPatch, RunUntilIn, RunUntilOut
-from motionsim.app.clock import VirtualClock
+from motionsim.app.host_paced import HostPacedClock
+from motionsim.app.registry import ControllerHandle
 from motionsim.sim.errors import Conflict
 from motionsim.sim.events import Event
 
 router = APIRouter(tags=["clock"])
+
+T = TypeVar("T")
+
+Holder = Annotated[str, Path(pattern=r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$",
+                             description="the holder's name (the client chooses it)")]
+
+
+async def until_disconnect(request: Request, work: Awaitable[T]) -> T:
+    """Await ``work``; cancel it if the client disconnects first (its body is already read, so
+    the next ASGI message can only be ``http.disconnect``)."""
+    task = asyncio.ensure_future(work)
+
+    async def watch() -> None:
+        while True:
+            message = await request.receive()
+            if message["type"] == "http.disconnect":
+                task.cancel()
+                return
+
+    watcher = asyncio.ensure_future(watch())
+    try:
+        return await task
+    finally:
+        watcher.cancel()
 
 
 @router.get("/controllers/{controller_id}/clock", response_model=ClockOut)
@@ -19,30 +53,54 @@ async def get_clock(handle: HandleDep) -> dict:
 
 @router.patch("/controllers/{controller_id}/clock", response_model=ClockOut)
 async def patch_clock(body: ClockPatch, handle: HandleDep) -> dict:
-    await handle.set_clock(body.mode, factor=body.factor, paused=body.paused)
+    await handle.set_clock(body.mode, factor=body.factor, paused=body.paused,
+                           reaction_s=body.reaction_s, holders=body.holders)
     return handle.clock.to_dict()
 
 
 @router.post("/controllers/{controller_id}/clock/advance", response_model=ClockOut)
-async def advance(body: AdvanceIn, handle: HandleDep) -> dict:
-    """Run a virtual clock forward (409 ``conflict`` on a realtime clock)."""
-    clock = handle.clock
-    if not isinstance(clock, VirtualClock):
-        raise Conflict("a realtime clock cannot be advanced; PATCH its mode to virtual first")
-    clock.advance(body.seconds)
-    return clock.to_dict()
+async def advance(body: AdvanceIn, handle: HandleDep, request: Request) -> dict:
+    """Run a virtual clock forward (409 ``conflict`` on a realtime clock); on a host-paced
+    clock the ``holder`` waits that long while the other holders act."""
+    await until_disconnect(request, handle.advance(body.seconds, body.holder))
+    return handle.clock.to_dict()
 
 
 @router.post("/controllers/{controller_id}/clock/run-until", response_model=RunUntilOut)
-async def run_until(body: RunUntilIn, handle: HandleDep) -> dict:
+async def run_until(body: RunUntilIn, handle: HandleDep, request: Request) -> dict:
     """Wait for the first *new* event matching ``event``.
 
     Virtual: runs the simulation until it is emitted (the clock stops at its instant) or
-    ``timeout_s`` simulated seconds pass. Realtime: waits for it, at most ``timeout_s`` of
-    simulated time and at most 30 s of wall time.
+    ``timeout_s`` simulated seconds pass. Host-paced: the ``holder`` waits for it and acts
+    ``reaction_s`` after it. Realtime: waits for it, at most ``timeout_s`` of simulated time.
+    At most 30 s of wall time in every mode.
     """
-    matched = await handle.run_until(body.event.as_pattern(), body.timeout_s)
-    return {"matched": _wire(matched, handle.id), "clock": handle.clock.to_dict()}
+    matched, outcome = await until_disconnect(
+        request, handle.run_until_outcome(body.event.as_pattern(), body.timeout_s, body.holder))
+    return {"matched": _wire(matched, handle.id), "clock": handle.clock.to_dict(),
+            "outcome": outcome}
+
+
+@router.put("/controllers/{controller_id}/clock/holders/{holder}", response_model=ClockOut)
+async def put_holder(handle: HandleDep, holder: Holder) -> dict:
+    """Register a holder of a host-paced clock, acting now: time waits for its first call."""
+    _host_paced(handle).hold(holder)
+    return handle.clock.to_dict()
+
+
+@router.delete("/controllers/{controller_id}/clock/holders/{holder}", response_model=ClockOut)
+async def delete_holder(handle: HandleDep, holder: Holder) -> dict:
+    """Release a holder: time no longer waits for it; a call it waits in returns
+    ``released``. Releasing an unknown holder changes nothing."""
+    _host_paced(handle).release(holder)
+    return handle.clock.to_dict()
+
+
+def _host_paced(handle: ControllerHandle) -> HostPacedClock:
+    clock = handle.clock
+    if not isinstance(clock, HostPacedClock):
+        raise Conflict(f"holders belong to a host-paced clock; this one is {clock.mode}")
+    return clock
 
 
 def _wire(event: Event | None, controller: str) -> dict | None:

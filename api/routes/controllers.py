@@ -18,7 +18,8 @@ async def list_controllers(registry: RegistryDep) -> list[dict]:
 async def create_controller(body: ControllerIn, registry: RegistryDep) -> dict:
     """Create a controller of an installed ``kind`` (422 for an unknown kind or config key)."""
     handle = registry.add(body.kind, body.id, clock=body.clock.mode, factor=body.clock.factor,
-                          paused=body.clock.paused, config=body.config)
+                          paused=body.clock.paused, config=body.config,
+                          reaction_s=body.clock.reaction_s, holders=body.clock.holders)
     return handle.to_dict()
 
 

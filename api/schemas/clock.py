@@ -2,22 +2,54 @@
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 from motionsim.api.schemas.events import EventOut
 from pydantic import BaseModel, ConfigDict, Field
 
-ClockModeField = Literal["virtual", "realtime"]
+ClockModeField = Literal["virtual", "realtime", "host-paced"]
+
+HolderName = Annotated[str, Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$",
+                                  description="a client taking part in host pacing")]
+ReactionS = Annotated[float, Field(ge=0, le=60, allow_inf_nan=False, description=(
+    "host-paced: simulated seconds between the event a holder waits for and the instant it "
+    "acts (its host's reaction time)"))]
+
+
+def _Only(description: str) -> Any:  # noqa: N802 - reads as a field type
+    """A field only some clock modes have: absent (not null) on the others."""
+    return Field(None, description=description, exclude_if=lambda v: v is None)
+
+
+class HolderOut(BaseModel):
+    """A host-paced clock's holder: ``acting`` (time stands still for it) or ``waiting``."""
+
+    name: str
+    state: Literal["acting", "waiting"]
+    since_t: float = Field(description="simulated instant it began acting / waiting")
+    event: dict[str, Any] | None = Field(None, description="the pattern it waits for")
+    until_t: float | None = Field(None, description="the simulated deadline of its wait")
 
 
 class ClockOut(BaseModel):
     """``virtual``: moves only on advance / run-until / terminal replies. ``realtime``:
-    simulated time = wall time × ``factor``. ``t`` is simulated seconds."""
+    simulated time = wall time × ``factor``. ``host-paced``: moves as fast as the CPU allows
+    while every holder waits, holds where one is due. ``t`` is simulated seconds."""
 
     mode: ClockModeField
     factor: float
     paused: bool
     t: float
+    lag_s: float | None = _Only("realtime: wall seconds the simulation is behind its schedule "
+                                "(0 when it keeps up)")
+    behind: bool | None = _Only("realtime: lag above 0.1 s (a `clock_lag` event marks each "
+                                "change)")
+    slipped_s: float | None = _Only("realtime: simulated seconds given up so far to stay within "
+                                    "0.5 s of the schedule")
+    reaction_s: float | None = _Only("host-paced: the hosts' reaction time")
+    holders: list[HolderOut] | None = _Only("host-paced: its holders")
+    held_by: list[str] | None = _Only("host-paced: the holders acting now (time stands still "
+                                      "for them)")
 
 
 class ClockIn(BaseModel):
@@ -28,6 +60,9 @@ class ClockIn(BaseModel):
     mode: ClockModeField = "realtime"
     factor: float = Field(1.0, gt=0, allow_inf_nan=False)
     paused: bool = False
+    reaction_s: ReactionS = 0.0
+    holders: list[HolderName] | None = Field(None, max_length=64, description=(
+        "host-paced: holders registered acting at once (time waits for their first call)"))
 
 
 class ClockPatch(BaseModel):
@@ -38,6 +73,9 @@ class ClockPatch(BaseModel):
     factor: float | None = Field(None, gt=0, allow_inf_nan=False)
     paused: bool | None = None
     mode: ClockModeField | None = None
+    reaction_s: ReactionS | None = None
+    holders: list[HolderName] | None = Field(None, max_length=64, description=(
+        "host-paced: holders to register (acting at the current instant)"))
 
 
 class AdvanceIn(BaseModel):
@@ -46,6 +84,8 @@ class AdvanceIn(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
     seconds: float = Field(ge=0, allow_inf_nan=False)
+    holder: HolderName | None = Field(None, description=(
+        "host-paced: the holder that waits (default `main`)"))
 
 
 class EventPattern(BaseModel):
@@ -67,12 +107,18 @@ class RunUntilIn(BaseModel):
 
     event: EventPattern
     timeout_s: float = Field(ge=0, allow_inf_nan=False)
+    holder: HolderName | None = Field(None, description=(
+        "host-paced: the holder that waits (default `main`)"))
 
 
 class RunUntilOut(BaseModel):
     matched: EventOut | None
     clock: ClockOut
+    outcome: Literal["matched", "timeout", "wall_timeout", "released"] = Field(
+        "matched", description=(
+            "`timeout`: `timeout_s` of simulated time passed; `wall_timeout`: the wall cap "
+            "(30 s) passed first; `released`: host-paced, its holder was released"))
 
 
-__all__ = ["AdvanceIn", "ClockIn", "ClockOut", "ClockPatch", "EventPattern", "RunUntilIn",
-           "RunUntilOut"]
+__all__ = ["AdvanceIn", "ClockIn", "ClockOut", "ClockPatch", "EventPattern", "HolderOut",
+           "RunUntilIn", "RunUntilOut"]

@@ -101,7 +101,9 @@ def test_protocol_ports_are_reported_when_enabled(pytester):
 def test_a_stuck_websocket_subscriber_later_gets_a_gap_and_catches_up(motionsim):
     """Over a real socket: a client that stops reading only falls behind in the ring (the
     server holds no queue for it); when it reads again it gets a gap, then the newest events,
-    in order, with no duplicates."""
+    in order, with no duplicates. The advance runs in slices while the server keeps sending,
+    so the reader may be overrun more than once: every event is either delivered or inside
+    exactly one gap."""
     from websockets.sync.client import connect
 
     url = motionsim.url.replace("http", "ws") + "/controllers/d/events"
@@ -115,10 +117,12 @@ def test_a_stuck_websocket_subscriber_later_gets_a_gap_and_catches_up(motionsim)
                 gaps.append((msg["from"], msg["to"]))
             elif msg["type"] != "epoch":
                 seqs.append(msg["seq"])
-    assert len(gaps) == 1
-    start, end = gaps[0]
+    assert gaps
     assert seqs == sorted(set(seqs))
     assert seqs[-1] == last == 150_000
-    assert end >= last - 100_000          # the ring held the last 100 000
-    assert all(s < start or s > end for s in seqs)
-    assert len(seqs) + (end - start + 1) == last
+    tail = list(range(gaps[-1][1] + 1, last + 1))  # after the last gap: every event, in order
+    assert seqs[-len(tail):] == tail
+    lost = [s for start, end in gaps for s in range(start, end + 1)]
+    assert len(lost) == len(set(lost))
+    assert not set(lost) & set(seqs)
+    assert len(seqs) + len(lost) == last

@@ -1,0 +1,83 @@
+"""The three ways to drive time (examples/hosts/), each run as a test against a real server.
+
+For each: the README's assertion (the program never ran out of lines) holds for the host as
+written and FAILS for the same host slowed beyond the time its I16 lines cover; the two
+virtual-time ways give a byte-identical event log when the same host runs twice; 60 simulated
+seconds take less wall time than they simulate (the figures are in bench/bench_host_modes.py).
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "examples" / "hosts"))
+
+import drive_the_clock  # noqa: E402
+import host_paced  # noqa: E402
+import realtime  # noqa: E402
+import streamer  # noqa: E402
+
+SIM_S = 60.0
+
+
+def readme_assertion(events: list[dict]) -> None:
+    """The README's "In your own tests" check, verbatim."""
+    states = [e["state"] for e in events if e["type"] == "program"]
+    assert "waiting" not in states                 # never starved
+
+
+def _play(module, **kwargs) -> tuple[list[dict], float]:
+    return streamer.play(module.run, **kwargs)
+
+
+def _log_bytes(events: list[dict]) -> bytes:
+    return "\n".join(json.dumps(e, sort_keys=True) for e in events).encode()
+
+
+@pytest.mark.parametrize("module", [drive_the_clock, host_paced], ids=["drive", "host_paced"])
+def test_virtual_time_host_twice_gives_a_byte_identical_log_and_keeps_the_buffer_fed(module):
+    first, wall = _play(module)
+    second, _ = _play(module)
+    readme_assertion(first)
+    assert _log_bytes(first) == _log_bytes(second)
+    moves = [e for e in first if e["type"] == "move_end"]
+    assert moves[-1]["t"] > SIM_S - 1.0 and len(moves) > 500  # it streamed the whole minute
+    assert wall < SIM_S                                        # faster than the time simulated
+
+
+@pytest.mark.parametrize("module", [drive_the_clock, host_paced], ids=["drive", "host_paced"])
+def test_virtual_time_host_slower_than_its_i16_lines_cover_fails_the_readme_assertion(module):
+    """BREQ rises below I16 = 5 lines ahead (~0.5 s of 100 ms moves): a 1 s host starves."""
+    events, _ = _play(module, delay_s=1.0)
+    with pytest.raises(AssertionError):
+        readme_assertion(events)
+    first_wait = next(e for e in events if e["type"] == "program" and e["state"] == "waiting")
+    assert first_wait["t"] < 3.0  # at one of its first refills already
+
+
+def test_host_paced_reaction_time_is_where_the_host_acts():
+    """The host writes ``reaction_s`` after the BREQ rising edge it waited for, in simulated
+    time, whatever its thread's wall-clock timing."""
+    events, _ = _play(host_paced, sim_s=3.0, reaction_s=0.004)
+    rises = [e for e in events if e["type"] == "breq" and e["level"]]
+    loads = [e for e in events if e["type"] == "line_loaded"]
+    later = [e for e in loads if e["t"] > 0]
+    assert later
+    for load in later[:5]:
+        before = [r for r in rises if r["t"] < load["t"]]
+        assert load["t"] == pytest.approx(before[-1]["t"] + 0.004, abs=1e-9)
+
+
+def test_realtime_unmodified_host_keeps_the_buffer_fed_and_a_slow_one_fails():
+    """Realtime × 10: the polling host keeps up; one sleeping 5 simulated seconds (0.5 s wall)
+    per BREQ, beyond the ~2 s its I16 = 20 lines cover, starves the program."""
+    events, wall = _play(realtime)
+    readme_assertion(events)
+    assert wall < SIM_S
+    slow, _ = _play(realtime, delay_s=5.0)
+    with pytest.raises(AssertionError):
+        readme_assertion(slow)
