@@ -34,6 +34,7 @@ from motionsim.sim.pmac.motor_status import motor_status_words
 from motionsim.sim.pmac.motors import Motor, MotorTable
 from motionsim.sim.pmac.plc import PlcTable
 from motionsim.sim.pmac.program import ProgramLine, compile_line
+from motionsim.sim.pmac.programs import MotionPrograms
 from motionsim.sim.pmac.rotary import RotaryBuffer
 from motionsim.sim.pmac.scheduler import Scheduler
 from motionsim.sim.pmac.terminal import Terminal
@@ -132,6 +133,7 @@ class PmacController(Controller):
         self.coord_systems = {n: CoordSystem(self, n) for n in range(1, N_CS + 1)}
         self.vars.mvars.registers = registers.for_controller(self)
         self.gather_words: int | None = None
+        self.programs = MotionPrograms()
         self.buffer_holder: Port | None = None
         self.motors: dict[int, tuple[int, str]] = {}  # axis definitions: n -> (cs, "1000X")
         if hasattr(self, "motor_table"):
@@ -227,7 +229,7 @@ class PmacController(Controller):
     def size_words(self) -> int:
         """Free buffer memory in words; negative while a buffer is open (``SIZE``)."""
         used = sum(c.rotary.size_words for c in self.coord_systems.values() if c.rotary)
-        free = MEMORY_WORDS - used - (self.gather_words or 0)
+        free = MEMORY_WORDS - used - (self.gather_words or 0) - self.programs.words()
         return -free if self.buffer_holder is not None else free
 
     def define_rotary(self, cs: int, words: int, *, entered: bool = False) -> dict[str, Any]:
@@ -297,6 +299,8 @@ class PmacController(Controller):
         """``OPEN ROT`` on ``port``: ERR007 if another port holds a buffer open."""
         if self.buffer_holder is not None and self.buffer_holder is not port:
             raise Conflict("another port holds a buffer open", pmac_error="ERR007")
+        if self.programs.editing() is not None:
+            raise Conflict("a PROG is open: CLOSE it first", pmac_error="ERR007")
         rotaries = [c.rotary for c in self.coord_systems.values() if c.rotary is not None]
         if not rotaries:
             raise Conflict("no rotary buffer is defined", pmac_error="ERR003")
@@ -308,6 +312,34 @@ class PmacController(Controller):
         """``CLOSE``: this port's open buffers stop accepting lines; execution goes on."""
         if self.buffer_holder is port:
             self.buffer_holder = None
+        self.programs.close(port)
+
+    def open_program(self, n: int, port: Port) -> None:
+        """``OPEN PROG n`` (:mod:`motionsim.sim.pmac.programs`): ERR007 with any buffer open,
+        ERR001 while any CS runs a program; afterwards every CS must be pointed again with
+        ``B`` before it may run (TSRM p381)."""
+        self._alive()
+        if self.buffer_holder is not None:
+            raise Conflict("a buffer is open: CLOSE it first", pmac_error="ERR007")
+        running = [c.cs for c in self.coord_systems.values() if c.running]
+        if running:
+            raise Conflict(f"CS {running[0]} is running a program", pmac_error="ERR001")
+        self.programs.open(n, port)
+        self.buffer_holder = port
+        for c in self.coord_systems.values():
+            c.program = None
+
+    def program_lines(self, n: int) -> list[str] | None:
+        """The lines of fixed program ``n`` as entered (what ``LIST PROG n`` decompiles), or
+        None when there is no such program or it is empty."""
+        lines = self.programs.programs.get(n)
+        return [line.text for line in lines] if lines else None
+
+    def store_program_line(self, line: ProgramLine) -> None:
+        """One line into the open fixed program (ERR006 when buffer memory is full)."""
+        if line.words > abs(self.size_words()):
+            raise BufferFull("buffer memory is full", pmac_error="ERR006")
+        self.programs.store(line)
 
     def store_line(self, c: CoordSystem, line: ProgramLine) -> None:
         """Store one compiled line in ``c``'s rotary buffer (ERR006 if it does not fit)."""
@@ -402,27 +434,42 @@ class PmacController(Controller):
         return line
 
     def point_program(self, cs: int, program: float) -> None:
-        """``B{n}``: point the CS at program ``n`` (0 = rotary). ERR001 while running."""
+        """``B{n}``: point the CS at program ``n`` (0 = rotary) at its top. ERR001 while
+        running."""
         c = self.coord_system(cs)
         if c.running:
             raise Conflict(f"CS {cs} is running", pmac_error="ERR001")
-        c.program = program
+        if program != int(program) or not 0 <= program <= 32767:
+            raise InvalidValue(f"no program {program}", field="program", pmac_error="ERR003")
+        c.program = int(program)
+        c.fixed = None
 
     def run(self, cs: int, pointer: float | None = 0, single_step: bool = False) -> None:
         """``R`` (``S`` with ``single_step``); REST's run is ``B0 R`` (``pointer=0``).
 
+        ``B0`` runs the rotary buffer; ``B{n}`` fixed program n (:mod:`.programs`), which
+        continues where it stopped (``Q``, ``S``, ``A``) or, once it has ended, from the top.
+
         Raises:
-            Conflict: ERR015 when the CS does not point at a rotary buffer.
+            Conflict: ERR015 when the CS does not point at a valid program (no ``B`` since a
+                PROG was opened, no rotary buffer, no such PROG, a PROG open for entry).
         """
         self._alive()
         c = self.coord_system(cs)
         if pointer is not None and not c.running:
             c.program = pointer
-        if c.program != 0 or c.rotary is None:
+        if c.program is None or (c.program == 0 and c.rotary is None):
             raise Conflict(
-                f"CS {cs} does not point to a valid program buffer (B0 with a rotary buffer)",
+                f"CS {cs} does not point to a valid program buffer (B0 with a rotary buffer, "
+                "or B{n} of a PROG)",
                 pmac_error="ERR015",
             )
+        if self.programs.editing() is not None:
+            raise Conflict("a PROG is open for entry: CLOSE first", pmac_error="ERR015")
+        if c.program != 0 and not c.running:
+            run = c.fixed
+            if run is None or run.number != c.program or not run.pending:
+                c.fixed = self.programs.run_of(cs, int(c.program), self.log.emit)
         c.run(single_step)
 
     def quit(self, cs: int) -> None:
@@ -461,7 +508,11 @@ class PmacController(Controller):
         ``buffer_holder`` is the port holding *any* buffer open (only one may, ERR007); while
         it holds a PLC open (``OPEN PLC n``) the rotary buffers stay closed.
         """
-        return self.buffer_holder is not None and self.plcs.editing() is None
+        return (
+            self.buffer_holder is not None
+            and self.plcs.editing() is None
+            and self.programs.editing() is None
+        )
 
     def positions(self, cs: int, t: float | None = None) -> dict[str, float]:
         """Commanded axis positions of ``cs`` now (or at a ``t`` within the current move)."""

@@ -236,7 +236,7 @@ class _Parser:
             start = self.peek()[2]  # type: ignore[index]
             stmt = self.statement()
             end = self.toks[self.i - 1][3]
-            if isinstance(stmt, st.OpenRotary):
+            if isinstance(stmt, (st.OpenRotary, st.OpenProgram)):
                 self.open = True
             elif isinstance(stmt, st.Close):
                 self.open = False
@@ -317,7 +317,13 @@ class _Parser:
                 return st.OpenRotary()
             if what[1] == "PLC":
                 return plc_st.OpenPlc(self.plc_number())
-            raise self.error("only OPEN ROT and OPEN PLC are supported", what)
+            if what[1] in ("PROGRAM", "PROG"):
+                tok = self.peek()
+                n = self.integer()
+                if not 1 <= n <= 32767:
+                    raise self.error("PROG number must be 1..32767", tok)
+                return st.OpenProgram(n)
+            raise self.error("only OPEN ROT, OPEN PROG and OPEN PLC are supported", what)
         if word == "CLOSE":
             return st.Close()
         if word == "LIST":

@@ -72,6 +72,13 @@ class OpenRotary:
 
 
 @dataclass(frozen=True, slots=True)
+class OpenProgram:
+    """``OPEN PROG n``: open fixed motion program ``n`` for entry."""
+
+    n: int
+
+
+@dataclass(frozen=True, slots=True)
 class Close:
     """``CLOSE``: stop entry into the open buffers (execution goes on)."""
 

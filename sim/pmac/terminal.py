@@ -226,6 +226,9 @@ class Terminal:
         line_text = text[group[0][1] : group[-1][2]]
         stmts = [g[0] for g in group]
         group.clear()
+        if self.ctl.programs.editing(port) is not None:
+            self.ctl.store_program_line(compile_statements(line_text, stmts))
+            return
         cs = self.ctl.coord_system(port.state["cs"])
         if cs.rotary is None:
             raise CommandError("ERR006")
@@ -285,6 +288,8 @@ class Terminal:
             ctl.delete_gather()
         elif t is st.OpenRotary:
             ctl.open_rotary(port)
+        elif t is st.OpenProgram:
+            ctl.open_program(stmt.n, port)
         elif t is st.Close:
             ctl.close_buffers(port)
         elif t is st.ProgramPointer:
@@ -337,7 +342,9 @@ class Terminal:
         elif t is plc_st.EnablePlc:
             ctl.plcs.set_enabled(stmt.numbers, stmt.enable)
         elif t is plc_st.Clear:
-            raise CommandError("ERR005")  # CLEAR needs an open PLC buffer [INF]
+            if ctl.programs.editing(port) is None:
+                raise CommandError("ERR005")  # CLEAR needs an open buffer [INF]
+            ctl.programs.clear()
         else:  # pragma: no cover - every parsed statement type is handled above
             raise CommandError("ERR003")
 

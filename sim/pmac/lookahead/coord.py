@@ -23,6 +23,7 @@ from motionsim.sim.pmac.variables import isx
 
 if TYPE_CHECKING:
     from motionsim.sim.pmac.controller import PmacController
+    from motionsim.sim.pmac.programs import ProgramRun
     from motionsim.sim.pmac.rotary import RotaryBuffer
 
 
@@ -47,6 +48,8 @@ class CoordSystem(Planning, Execution, TimeBase):
         self._emit = ctl.log.emit
         self.rotary: RotaryBuffer | None = None
         self.program: float | None = None  # B{n}; 0 = rotary
+        #: The fixed program being run (B{n}, n > 0), :mod:`motionsim.sim.pmac.programs`.
+        self.fixed: ProgramRun | None = None
         self.state = IDLE
         self.planned: deque[Move] = deque()
         self.current: Move | None = None
@@ -118,6 +121,18 @@ class CoordSystem(Planning, Execution, TimeBase):
             raise AssertionError(f"program state {self.state} -> {state} is not legal")
         self.state = state
         self._emit("program", cs=self.cs, state=state, **extra)
+
+    def lines(self) -> RotaryBuffer | ProgramRun | None:
+        """Where planning reads program lines: the rotary buffer (``B0``) or the fixed
+        program the CS was pointed at (``B{n}``); both offer the same interface."""
+        return self.rotary if self.program == 0 else self.fixed
+
+    def _ran_out(self) -> None:
+        """Running, motion at rest and nothing left to calculate: a fixed program has come to
+        its end (``stopped``, TSRM p381); a rotary program waits for more lines."""
+        src = self.lines()
+        ended = src is not None and getattr(src, "ends", False) and not src.pending
+        self._set_state(STOPPED if ended else WAITING)
 
     @property
     def running(self) -> bool:

@@ -40,7 +40,7 @@ import math
 from typing import Any
 
 from motionsim.sim.pmac.expressions import pmac_and, pmac_or, pmac_xor
-from motionsim.sim.pmac.lookahead.states import ABORTED, RUNNING, STOPPED, WAITING
+from motionsim.sim.pmac.lookahead.states import ABORTED, RUNNING, STOPPED
 from motionsim.sim.pmac.modes import BLENDS, PROFILES, Move
 from motionsim.sim.pmac.scheduler import wake_at
 from motionsim.sim.pmac.variables import ixx
@@ -82,7 +82,7 @@ class Execution:
         else:
             b = t + m.ta / 2
         m.b_start = b
-        rot = self.rotary
+        rot = self.lines()
         if rot is not None:
             calc = rot.calculated
             if calc and calc[0][0] < n:
@@ -188,7 +188,7 @@ class Execution:
         """
         if not PROFILES[m.kind].blends or self.quitting or self.single_step or self.blocked:
             return False
-        rot = self.rotary
+        rot = self.lines()
         if rot is None or not rot.pending or self.state != RUNNING:
             return False
         return rot.pending[0][0] <= self._seen_n
@@ -206,7 +206,7 @@ class Execution:
 
     def _motion_stopped(self) -> None:
         """Motion has come to rest: start what is calculated, or stop / wait."""
-        rot = self.rotary
+        rot = self.lines()
         if self.planned:
             if self.feed_override > 0:
                 self._start_next()
@@ -223,7 +223,7 @@ class Execution:
                 self._request_plan()
                 self._arm_i11()
             else:
-                self._set_state(WAITING)
+                self._ran_out()
 
     def _sync_write(self, k: int, aop: str, value: float) -> None:
         vars_ = self.vars

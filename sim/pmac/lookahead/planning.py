@@ -121,7 +121,7 @@ class Planning:
         state = self.state
         if self.blocked or self.quitting or (state != RUNNING and state != WAITING):
             return
-        rot = self.rotary
+        rot = self.lines()
         planned = self.planned
         vars_ = self.vars
         if self._ver != vars_.version:
@@ -130,7 +130,7 @@ class Planning:
             target = 0 if (self.current is not None or planned) else 1
         else:
             target = self._depth()
-        if rot is not None and self.program == 0:
+        if rot is not None:
             self._seen_n = rot.n_loaded
             pending = rot.pending
             while pending and len(planned) < target and not self.blocked:
@@ -188,7 +188,7 @@ class Planning:
                 else:
                     self._start_next()
             elif self.state == RUNNING:
-                self._set_state(WAITING)
+                self._ran_out()
 
     def _fast_kind(self) -> int:
         """Which planning short cut the next constant line may take: ``_FAST_LINEAR`` (time
@@ -225,7 +225,7 @@ class Planning:
         self._i11_wake = None
         if self.current is not None or self.planned or not self.running:
             return
-        rot = self.rotary
+        rot = self.lines()
         if self.blocked or self.quitting or rot is None or not rot.pending:
             return
         self.abort("run_time_error")
