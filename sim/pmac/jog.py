@@ -78,6 +78,23 @@ class Profile:
             return 0.0
         return self._segment(t).velocity(t)
 
+    def crossing(self, t_from: float, level: float, rising: bool) -> float | None:
+        """The first instant after ``t_from`` the position passes ``level`` going up
+        (``rising``) or down, or None if it never does."""
+        segs = self.segments
+        for i, s in enumerate(segs):
+            end = segs[i + 1].t0 if i + 1 < len(segs) else self.t_end
+            if end is not None and end <= t_from:
+                continue
+            lo = max(t_from, s.t0)
+            for tau in _roots(0.5 * s.a, s.v0, s.p0 - level):
+                t = s.t0 + tau
+                if t > lo and (end is None or t <= end):
+                    v = s.velocity(t)
+                    if (v > 0) if rising else (v < 0):
+                        return t
+        return None
+
     def shifted(self, dp: float) -> Profile:
         """The same motion with every position moved by ``dp`` (a new zero after homing)."""
         segs = tuple(Segment(s.t0, s.p0 + dp, s.v0, s.a) for s in self.segments)
@@ -88,6 +105,17 @@ class Profile:
         t = new.segments[0].t0
         head = tuple(s for s in self.segments if s.t0 < t)
         return Profile(head + new.segments, new.t_end)
+
+
+def _roots(a: float, b: float, c: float) -> list[float]:
+    """Real roots of ``a·x² + b·x + c``, ascending."""
+    if a == 0:
+        return [] if b == 0 else [-c / b]
+    d = b * b - 4 * a * c
+    if d < 0:
+        return []
+    r = math.sqrt(d)
+    return sorted(((-b - r) / (2 * a), (-b + r) / (2 * a)))
 
 
 def ramp_rate(speed: float, i19: float, i20: float, i21: float) -> float:

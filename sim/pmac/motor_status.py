@@ -7,7 +7,11 @@ A-axis, assigned to a CS, (bit 14), home complete, in position.
 Bits driven here (others stay 0; there are no limit switches, amplifier faults, phasing or
 following errors in the simulation ``[INF]``):
 
-word 1: 23 motor activated (always ``[INF]``: Ixx00 is not consulted), 19 amplifier enabled
+The manual's example has word 1 bit 19 clear although its motor is enabled; the EPICS driver and
+dls-pmac-control both read bit 19 as "amplifier enabled", so it is set here ``[INF]``.
+
+word 1: 23 motor activated (always ``[INF]``: Ixx00 is not consulted), 22 / 21 negative /
+positive end limit set (beyond the software limit Ixx14 / Ixx13), 19 amplifier enabled
 (not killed), 18 open-loop mode (killed or ``O``), 17 move timer active (a definite jog, the
 post-trigger home move, or a program move of its CS ``[INF]``), 16 integration mode
 (Ixx34 = 1), 15 dwell in progress (its CS), 14 data block error (its CS aborted on a
@@ -17,7 +21,8 @@ run-time error), 13 desired velocity zero, 12 abort deceleration (CTRL-A of a jo
 word 2: 23-20 CS number − 1, 19-16 axis definition code (1 A, 2 B, 3 C, 4 U/V/W, 7 X/Y/Z —
 the codes dls-pmac-control's ``status.py`` decodes), 15 assigned to a CS, 14 set with
 amplifier enabled (reproduces the manual's example; the bit is reserved on Turbo ``[INF]``),
-10 home complete, 0 in position (loop closed, desired velocity zero, no move timer).
+11 stopped on position limit, 10 home complete, 0 in position (loop closed, desired velocity
+zero, no move timer).
 """
 
 from __future__ import annotations
@@ -71,6 +76,14 @@ def motor_status_words(
         w1 |= 1 << 12
     if motor.homing:
         w1 |= 1 << 10
+    hi, lo = motor.soft_limits()
+    p = motor.position(t)
+    if hi is not None and p > hi:
+        w1 |= 1 << 21
+    if lo is not None and p < lo:
+        w1 |= 1 << 22
+    if motor.limit_stop:
+        w2 |= 1 << 11
     if axis is not None:
         w2 |= ((axis[0] - 1) & 0xF) << 20
         w2 |= AXIS_CODE.get(axis[1], 0) << 16

@@ -29,6 +29,11 @@ with ``#n``:
   or home command ``[INF]``; ``$*`` reads the absolute position — with no absolute sensor
   (Ixx10 = 0) the position becomes 0, home complete is cleared and the motor is left killed
   (TSRM p275);
+* software position limits (PSRM Ix13-Ix15; ``[BK]`` 0 = that limit off): a jog or the
+  post-trigger home move that passes Ixx13 (up) or Ixx14 (down) decelerates at Ixx15 from the
+  servo cycle it passes it, like an abort, and "stopped on position limit" stays set until the
+  next move command; the limits are off during the home search (PUM-V p130). No hardware limit
+  switch is simulated, so none ever trips ``[INF]`` (Ixx24 bit 17 has nothing to disable);
 * a motor whose coordinate system runs a program refuses ``J``, ``HM``, ``K``, ``O`` and
   ``$`` with ERR001 (TSRM p377 for ``O``; ``[INF]`` the others alike).
 
@@ -69,6 +74,7 @@ class Motor:
         self.homing = False
         self.home_complete = False
         self.aborting = False
+        self.limit_stop = False  # stopped on a position limit (stays set until the next move)
         self.pre_jog = 0.0
         self._wake: Wake | None = None
 
@@ -171,7 +177,7 @@ class Motor:
 
     def _begin(self, command: str, new: Profile) -> None:
         self._close_loop()
-        self.aborting = False
+        self.aborting = self.limit_stop = False
         self.profile = self.profile.then(new)
         self.command = command
         t0 = new.segments[0].t0
@@ -182,9 +188,47 @@ class Motor:
         then()
 
     def _schedule_end(self) -> None:
+        """Wake at the end of the move, or where it first passes a software limit."""
+        sched = self._table.sched
+        hit = None if self.command == "HM" else self._limit_crossing()
+        if hit is not None:
+            self._at(sched.servo_at_or_after(hit), self._limit_hit)
+            return
         t_end = self.profile.t_end
         if t_end is not None:
-            self._at(self._table.sched.servo_at_or_after(t_end), self._ended)
+            self._at(sched.servo_at_or_after(t_end), self._ended)
+
+    def soft_limits(self) -> tuple[float | None, float | None]:
+        """Ixx13 / Ixx14 in counts (0 = that limit off ``[BK]``; TSRM Ixx13, Ixx14)."""
+        v = self._table.vars
+        hi, lo = v.I(ixx(self.n, 13)), v.I(ixx(self.n, 14))
+        return (hi if hi != 0 else None), (lo if lo != 0 else None)
+
+    def _limit_crossing(self) -> float | None:
+        now = self._table.sched.env.now
+        base = self._table.base(self.n, now)
+        hi, lo = self.soft_limits()
+        hits = []
+        if hi is not None:
+            hits.append(self.profile.crossing(now, hi - base, rising=True))
+        if lo is not None:
+            hits.append(self.profile.crossing(now, lo - base, rising=False))
+        found = [t for t in hits if t is not None]
+        return min(found) if found else None
+
+    def _limit_hit(self, _ev: Any) -> None:
+        """Past a software limit: decelerate at Ixx15 like an abort (PSRM Ix15), flag it."""
+        self._wake = None
+        now = self._table.sched.env.now
+        rate = abs(self._table.vars.I(ixx(self.n, 15)))
+        stop = jog.to_velocity(now, self.profile.position(now), self.profile.velocity(now), 0.0,
+                               rate)
+        self.profile = self.profile.then(stop)
+        self.definite = False
+        self.limit_stop = self.aborting = True
+        t_end = self.profile.t_end
+        assert t_end is not None
+        self._at(self._table.sched.servo_at_or_after(t_end), self._ended)
 
     def _ended(self, _ev: Any) -> None:
         self._wake = None

@@ -18,15 +18,8 @@ from typing import Final
 
 #: (pattern at the failing column, what to call it).
 _COMMANDS: Final[tuple[tuple[str, str], ...]] = (
-    (r"OPEN\s*(PROG|PROGRAM)\b", "OPEN PROG (fixed motion programs)"),
     (r"OPEN\s*(FORWARD|FWD|INVERSE|INV)\b", "OPEN FORWARD/INVERSE (kinematic programs)"),
     (r"OPEN\s*(BINARY\s*)?ROT", "OPEN BINARY ROT"),
-    (r"J(\+|-|/|=|\^|:)", "jog commands (J+ J- J/ J= J^ J:)"),
-    (r"HOMEZ|HMZ\b", "HMZ (zero-move homing)"),
-    (r"HOME|HM\b", "HM (homing search)"),
-    (r"K\b", "K (kill motor)"),
-    (r"O-?\d", "O (open-loop output)"),
-    (r"\$\*|\$(?!\$)", "$ / $* (phase / absolute position read)"),
     (r"MS\s*\d|MSR|MSW|MSSAVE|MSCLRERR|MSDATE|MACRO", "MACRO station commands (MS...)"),
     (r"DEFINE\s*(LOOKAHEAD|LOOK)\b|DEF\s*LOOK", "DEFINE LOOKAHEAD"),
     (r"(DEFINE|DEF)\s*(CCBUF|COMP|TCOMP|BLCOMP|UBUFFER|UBUF)", "DEFINE of that buffer"),

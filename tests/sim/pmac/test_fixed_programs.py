@@ -95,3 +95,13 @@ def test_a_bad_line_in_an_open_prog_is_refused_and_stores_nothing(rig):
 def test_running_a_missing_program_answers_err015(rig):
     assert rig.cmd("&1 B9 R").error == "ERR015"
     assert rig.events("program") == []
+
+
+def test_list_prog_answers_the_program_as_the_card_lists_it(rig):
+    """Spec §11.8: decompiled lines (blanks and comments dropped), ``RET`` added; with
+    ``,start,len`` as ``offset:text``; a missing program is ERR003."""
+    load(rig, 3, ["TM100 TA10 TS0", "X10 ; first", "X20"])
+    assert rig.ok("LIST PROG 3").split("\r") == ["TM100TA10TS0", "X10", "X20", "RET"]
+    assert rig.ok("LIST PROG 3,0,80").split("\r") == ["0:TM100TA10TS0", "3:X10", "4:X20",
+                                                      "5:RET"]
+    assert rig.cmd("LIST PROG 4").error == "ERR003"

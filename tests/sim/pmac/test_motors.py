@@ -211,3 +211,33 @@ def test_jog_of_an_unknown_form_is_a_syntax_error_that_changes_nothing(rig):
     for bad in ("#1J=(P1)", "#1J^", "#33J+", "#1O"):
         assert rig.cmd(bad).error == "ERR003", bad
     assert rig.c.log.events()[n:] == []
+
+
+def test_software_limit_ixx13_stops_a_jog_at_ixx15_and_flags_it(rig):
+    """PSRM Ix13/Ix15, TSRM p281-284: past Ixx13 the motor decelerates at Ixx15; word 1 bit 21
+    "positive end limit set" while it is beyond, word 2 bit 11 "stopped on position limit"
+    until the next move command."""
+    rig.ok(JOG + " I115=0.1 I113=2000")
+    rig.ok("#1J+")
+    rig.run_until_idle()
+    (k0, _, _), (k1, _, end) = jog_events(rig, "jog")
+    t_cross = k0 * rig.period + 0.1 + (2000 - 500) / 10_000  # ramp, then 10 cts/ms
+    k_hit = math.ceil(t_cross / rig.period - 1e-6)
+    assert k1 == math.ceil((k_hit * rig.period + 0.1) / rig.period - 1e-6)  # 10/0.1 ms
+    assert end["position"] == pytest.approx(2000 + 500, abs=10 * rig.period * 1000)
+    w1, w2 = status(rig)
+    assert w1 & (1 << 21) and not w1 & (1 << 22) and w2 & (1 << 11)
+    rig.ok("#1J=0")
+    w1, w2 = status(rig)
+    assert not w2 & (1 << 11)
+    rig.run_until_idle()
+    assert not status(rig)[0] & (1 << 21) and rig.ok("#1P") == "0"
+
+
+def test_software_limit_ixx14_also_stops_a_definite_jog_short_of_its_target(rig):
+    rig.ok(JOG + " I115=1 I114=-1000")
+    rig.ok("#1J=-5000")
+    rig.run_until_idle()
+    p = float(rig.ok("#1P"))
+    assert -1100 < p < -1000
+    assert status(rig)[0] & (1 << 22)
