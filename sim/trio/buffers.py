@@ -227,7 +227,7 @@ class MotionBuffers:
         the move is placed; the returned :class:`Waiter` can be cancelled before that.
         """
         q = self._waiters.get(move.process)
-        if not q:
+        if not q and move.process not in self.process_buffer:
             placed = self.place(move)
             if placed is not None:
                 return placed
@@ -388,15 +388,19 @@ class MotionBuffers:
         if self._offsets:
             self._apply_offsets(k)
         # 1. sequencing: process buffers -> NTYPE (all the move's axes or none)
-        if self.process_buffer:
-            for p in sorted(self.process_buffer):
-                m = self.process_buffer[p]
+        pb = self.process_buffer
+        if pb:
+            for p in sorted(pb) if len(pb) > 1 else list(pb):
+                m = pb[p]
+                ms = m.axes
                 if m.kind == "MOVEMODIFY" and self._modify(m, k):
                     self._pb_take(p)
                     continue
-                if all(axes[a].ntype is None for a in m.axes):
+                if (axes[ms[0]].ntype is None if len(ms) == 1
+                        else all(axes[a].ntype is None for a in ms)):
                     self._pb_take(p, emit=False)
-                    if all(axes[a].mtype is None for a in m.axes):
+                    if (axes[ms[0]].mtype is None if len(ms) == 1
+                            else all(axes[a].mtype is None for a in ms)):
                         # NTYPE and MTYPE free: sequenced and loaded in this same interrupt;
                         # the zero-length stay in NTYPE is not reported as a change
                         self.log.emit("process_buffer", process=p, axis=m.axes[0], mtype=0)

@@ -9,9 +9,10 @@ from time for CAM. Sources (spec §10.3):
 * ``CONNECT(ratio, driving_axis)`` — electronic gearbox: the base axis follows the driving
   axis' movement times ``ratio``, in encoder edges out per edge in (UNITS of neither axis
   applied), from where both were when it started; it never ends by itself, only by CANCEL or
-  RAPIDSTOP (TJ2P-71, Trio KB "CONNECT command"). A CONNECT on an axis already connected
-  changes the ratio at the next servo period ``[BK]`` (here: the new CONNECT is buffered like any
-  move and replaces the old one only when it is loaded, ``[INF]``). CLUTCH_RATE is not modelled.
+  RAPIDSTOP (TJ2P-71, Trio KB "CONNECT command"). On the controller a new CONNECT on a
+  connected axis changes the ratio at once (TJ2P-71); here it is buffered like any move and
+  runs only once the first is CANCELled (not simulated: the ratio change in place).
+  CLUTCH_RATE is not modelled.
 * ``CAM(start, end, multiplier, distance)`` — the base axis follows the TABLE points
   ``start..end`` (linearly interpolated); the table values are absolute positions from the
   start of the motion in encoder edges, scaled by ``multiplier`` (TRM p. 8-17, MC206 listing
@@ -92,7 +93,8 @@ class LinkedMove(Move):
     __slots__ = ("link", "m0", "table_pts", "scale", "done_pos")
 
     def bind(self, link: Axis | None, table: list[float]) -> None:
-        """Give the move its link axis and (CAM/CAMBOX) a copy of its TABLE points."""
+        """Give the move its link axis and (CAM/CAMBOX) its TABLE points, as they are when the
+        command is issued (``[INF]``: TABLE writes during the cam do not reach it)."""
         self.link = link
         self.table_pts = table
         self.m0 = 0.0
