@@ -296,6 +296,20 @@ class MotionBuffers:
             self.log.emit("offpos", axis=n, offset=off)
         self._offsets.clear()
 
+    def _reconnect(self, new: Move, k: int) -> bool:
+        """CONNECT on an axis already CONNECTed to the same driving axis: the ratio changes
+        from this servo period on, without a step (TJ2P-71); consumed (True). One naming
+        another driving axis waits behind the first until that is CANCELled."""
+        ax = self.axes[new.axes[0]]
+        old = ax.mtype
+        if (
+            not isinstance(old, LinkedMove) or old.kind != "CONNECT" or ax.ntype is not None
+            or not isinstance(new, LinkedMove) or old.link is not new.link or old.cancelled
+        ):
+            return False
+        old.rebase_ratio(self.clock.t(k), new.args[0], ax)
+        return True
+
     def _modify(self, mm: Move, k: int) -> bool:
         """MOVEMODIFY(p) at sequencing: change the end of the axis' last buffered single-axis
         linear move to ``p`` (consumed: True), else it loads as a move of its own (spec
@@ -393,7 +407,9 @@ class MotionBuffers:
             for p in sorted(pb) if len(pb) > 1 else list(pb):
                 m = pb[p]
                 ms = m.axes
-                if m.kind == "MOVEMODIFY" and self._modify(m, k):
+                if (m.kind == "MOVEMODIFY" and self._modify(m, k)) or (
+                    m.kind == "CONNECT" and self._reconnect(m, k)
+                ):
                     self._pb_take(p)
                     continue
                 if (axes[ms[0]].ntype is None if len(ms) == 1

@@ -9,10 +9,10 @@ from time for CAM. Sources (spec §10.3):
 * ``CONNECT(ratio, driving_axis)`` — electronic gearbox: the base axis follows the driving
   axis' movement times ``ratio``, in encoder edges out per edge in (UNITS of neither axis
   applied), from where both were when it started; it never ends by itself, only by CANCEL or
-  RAPIDSTOP (TJ2P-71, Trio KB "CONNECT command"). On the controller a new CONNECT on a
-  connected axis changes the ratio at once (TJ2P-71); here it is buffered like any move and
-  runs only once the first is CANCELled (not simulated: the ratio change in place).
-  CLUTCH_RATE is not modelled.
+  RAPIDSTOP (TJ2P-71, Trio KB "CONNECT command"). A new CONNECT on an axis connected to the
+  same driving axis changes the ratio, without a step, at the servo period it is transferred
+  (TJ2P-71); one naming another driving axis waits until the first is CANCELled. CLUTCH_RATE
+  (ramped ratio changes) is not modelled.
 * ``CAM(start, end, multiplier, distance)`` — the base axis follows the TABLE points
   ``start..end`` (linearly interpolated); the table values are absolute positions from the
   start of the motion in encoder edges, scaled by ``multiplier`` (TRM p. 8-17, MC206 listing
@@ -176,6 +176,15 @@ class LinkedMove(Move):
         if kind == "CAMBOX":
             return (self._cam(self.progress(t) / self.length),)
         return (self._movelink(abs(self.progress(t))),)
+
+    def rebase_ratio(self, t: float, ratio: float, base: Axis) -> None:
+        """CONNECT's ratio changed at servo instant ``t``: follow on from where both axes are."""
+        assert self.link is not None
+        here = self.positions(t - self.t_start)[0]
+        self.p0 = (here,)
+        self.m0 = self.link.position(t)
+        self.args = (ratio, *self.args[1:])
+        self.scale = ratio * self.link.units / base.units
 
     def link_done(self, t: float) -> bool:
         """CAMBOX / MOVELINK: the link axis has covered the link distance at instant ``t``."""

@@ -44,6 +44,23 @@ def test_connect_never_ends_by_itself(trio):
     assert trio.axis(0)["dpos"] == pytest.approx(2.0 * trio.axis(3)["dpos"])
 
 
+def test_a_new_connect_changes_the_ratio_without_a_step(trio):
+    """TJ2P-71: CONNECT again on the same axis changes the ratio at any time."""
+    trio.terminal("CONNECT(1,0) AXIS(1)")
+    run_to(trio, 0.0015)
+    trio.terminal("FORWARD AXIS(0)")
+    run_to(trio, 0.1005)
+    a0, a1 = trio.axis(0)["dpos"], trio.axis(1)["dpos"]
+    assert a1 == pytest.approx(a0)
+    trio.terminal("CONNECT(3,0) AXIS(1)")
+    run_to(trio, 0.1015)  # transferred at period 101: from here 3 x what axis 0 moves
+    b0, b1 = trio.axis(0)["dpos"], trio.axis(1)["dpos"]
+    assert b1 == pytest.approx(a1 + (b0 - a0))  # no step: the old ratio up to period 101
+    run_to(trio, 0.2005)
+    assert trio.axis(1)["dpos"] - b1 == pytest.approx(3.0 * (trio.axis(0)["dpos"] - b0))
+    assert len(fields(trio, "move_start", axis=1)) == 1  # still the first CONNECT in MTYPE
+
+
 def test_cam_follows_the_table_over_distance_at_speed(trio):
     """CAM(0, 2, 1, 100): 100 units at SPEED 1000 with 10 ms ramps take 110 periods; half-way
     (50 of 100) it is at table point 1; ENDMOVE is the previous end during the cam."""
