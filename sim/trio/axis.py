@@ -14,14 +14,15 @@ axis is the base axis of the executing move re-plan that move at once (see
 
 OFFPOS (write) shifts the axis' coordinates by the value at the next servo period and reads
 back 0 once applied; DEFPOS(p) declares the position to be p at the next servo period, and
-OFFPOS reads the pending shift until then (TRM MC216 p. 8-220 listing: "DEFPOS and OFFPOS take
-effect at the next servo update"; DEFPOS becomes an OFFPOS internally, so ``WAIT UNTIL
+OFFPOS reads the pending shift until then (TRM, MC216 listing p. 220: DEFPOS and OFFPOS take
+effect at the next servo update; DEFPOS becomes an OFFPOS internally, so ``WAIT UNTIL
 OFFPOS=0`` waits for it).
 
 MERGE (switch, default OFF) and SRAMP (ms, default 0) shape the profile: see
 :mod:`motionsim.sim.trio.buffers` for when moves merge and :mod:`motionsim.sim.trio.profile` for
-the S-ramp; both are ``[BK]`` (the TRM pages were not reachable). Like SPEED, they apply to moves
-that start (or, for MERGE, reach NTYPE) after they are written.
+the S-ramp; both are ``[BK]`` (the TRM pages were not reachable). Unlike SPEED, they apply to
+moves that start (or, for MERGE, reach NTYPE) after they are written (a CANCEL uses the SRAMP
+of the moment).
 """
 
 from __future__ import annotations
