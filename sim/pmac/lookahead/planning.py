@@ -196,8 +196,8 @@ class Planning:
         segment time) or none."""
         if self.incremental or self.no_blend:
             return 0
-        if self.mode == "LINEAR" and self.time_mode:
-            return _FAST_LINEAR
+        if self.mode == "LINEAR" and self.time_mode and not self.ctl.motors:
+            return _FAST_LINEAR  # (with motors assigned, Ixx16 needs the full path)
         if self.mode == "PVT" and self._pvt_t > 0:
             return _FAST_PVT
         return 0
@@ -346,6 +346,15 @@ class Planning:
     @property
     def segmented(self) -> bool:
         return self._isx13 > 0
+
+    def motors_of(self, axis: str) -> list[tuple[int, float]]:
+        ctl = self.ctl
+        out = []
+        for n in ctl.motors:
+            have = ctl._motor_axis(n)
+            if have is not None and have[0] == self.cs and have[1] == axis:
+                out.append((n, have[2]))
+        return out
 
 
 __all__ = ["Planning"]

@@ -2,16 +2,22 @@
 
 Timing (TSRM p188-189, p177; spec §9.1): the move time is TM in move-by-time mode, else the
 vector distance over the feedrate axes / F × Isx90 ms; CIRCLE1/2 use the arc length when
-Isx13 > 0 (without segmentation they run as LINEAR, TSRM p177). The time is at least the
-acceleration time ``Ta = max(TA, 2·TS)`` and is stretched by the ``%`` time base. The axes run
-at constant velocity between blend ramps centred on the programmed points
-(:func:`motionsim.sim.pmac.motion.position_at`); along an arc the chord is used ``[INF]``.
+Isx13 > 0 (without segmentation they run as LINEAR, TSRM p177). With Isx13 = 0 a move that
+would take any motor past its Ixx16 is made longer so all motors slow in proportion (TSRM p98,
+TUM "the move time is extended so that motor will not exceed its limit"); with Isx13 > 0
+Ixx16 acts only through the special lookahead (Isx20, ``DEFINE LOOKAHEAD``), which is not
+modelled, so no limit applies there. Ixx17 (acceleration limit) is not modelled: the ramps
+keep their TA / TS time. The time is at least the acceleration time ``Ta = max(TA, 2·TS)``
+and is stretched by the ``%`` time base. The axes run at constant velocity between blend
+ramps centred on the programmed points (:func:`motionsim.sim.pmac.motion.position_at`);
+along an arc the chord is used ``[INF]``.
 """
 
 from __future__ import annotations
 
 from motionsim.sim.pmac import motion
 from motionsim.sim.pmac.modes.move import LINEAR, Move, PlanContext, Profile
+from motionsim.sim.pmac.variables import ixx
 
 
 def plan(
@@ -36,8 +42,30 @@ def plan(
         else:
             dist = motion.vector_distance({a: end[a] - start[a] for a in end})
         t = motion.feed_time_s(dist, ctx.feedrate, ctx.isx90_ms)
+    if not ctx.segmented:
+        t = velocity_limited(ctx, start, end, t)
     t = motion.clamp_move_time(t, ctx.accel_prog_s) * ctx.time_scale
     return Move(n, LINEAR, t, ctx.accel_real_s, start, end, None)
+
+
+def velocity_limited(
+    ctx: PlanContext, start: dict[str, float], end: dict[str, float], t: float
+) -> float:
+    """The move time extended so no motor exceeds its Ixx16 (TSRM p98, Isx13 = 0: "all
+    motors in the coordinate system are slowed proportionally", same path). Velocities are
+    compared at 100 % (program time); an axis with no motor assigned has no limit ``[INF]``."""
+    if t <= 0:
+        return t
+    worst = 1.0
+    for axis, p1 in end.items():
+        d = abs(p1 - start.get(axis, 0.0))
+        if d == 0:
+            continue
+        for motor, scale in ctx.motors_of(axis):
+            vmax = ctx.vars.I(ixx(motor, 16)) * 1000.0  # counts/ms -> counts/s
+            if vmax > 0:
+                worst = max(worst, d * abs(scale) / t / vmax)
+    return t * worst
 
 
 class BlendedProfile(Profile):
@@ -72,4 +100,4 @@ class BlendedProfile(Profile):
 
 PROFILE = BlendedProfile()
 
-__all__ = ["PROFILE", "BlendedProfile", "plan"]
+__all__ = ["PROFILE", "BlendedProfile", "plan", "velocity_limited"]

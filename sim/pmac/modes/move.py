@@ -116,6 +116,10 @@ class PlanContext(Protocol):
         """Isx13 > 0."""
         ...
 
+    def motors_of(self, axis: str) -> list[tuple[int, float]]:
+        """The motors assigned to ``axis`` in this CS and their scales (counts per unit)."""
+        ...
+
 
 class Profile:
     """How one move kind behaves once calculated (the executor's view of a move mode).

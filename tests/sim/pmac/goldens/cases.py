@@ -20,7 +20,7 @@ SAMPLE_MS = 5.0
 
 Step = tuple[float, Any]
 
-_SETUP = ["&1 DEFINE ROT 2000", "&1 B0", "#1->1000X", "#2->1000Y", "#3->1000Z"]
+_SETUP = ["&1 DEFINE ROT 2000", "&1 B0", "#1->X", "#2->Y", "#3->Z"]
 
 CASES: dict[str, tuple[dict[str, Any], list[str], list[Step], float]] = {
     # name: (config, setup commands, steps, duration_s)
