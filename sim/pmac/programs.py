@@ -74,8 +74,6 @@ class MotionPrograms:
     def __init__(self) -> None:
         self.programs: dict[int, list[ProgramLine]] = {}
         self._edit: tuple[Port, int] | None = None
-        #: Set when a PROG was opened: every CS must be pointed again with B before R.
-        self.opened = False
 
     def editing(self, port: Port | None = None) -> int | None:
         """The program open for entry (on ``port`` if given), or None."""
@@ -90,7 +88,6 @@ class MotionPrograms:
             raise NotFound(f"no PROG {n} (1..{N_PROGRAMS})")
         self.programs.setdefault(n, [])
         self._edit = (port, n)
-        self.opened = True
 
     def store(self, line: ProgramLine) -> None:
         """One compiled line at the end of the open program."""
