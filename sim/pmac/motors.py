@@ -18,7 +18,7 @@ with ``#n``:
   servo cycle;
 * ``HM`` searches at Ixx23 (sign = direction): "home search in progress" until the trigger,
   "home complete" cleared at the start and set at the trigger; the new zero is the captured
-  position + Ixx26 (1/16 count units), and the motor moves on to it and stops there
+  position + Ixx26 (1/16 count units, TSRM p108), and the motor moves on to it and stops there
   (PUM-V p128-130, TSRM p283). ``[INF]`` no home switch is simulated: the trigger comes the
   first servo cycle the search is at full speed (at once with Ixx23 = 0), so a search always
   ends;
@@ -29,11 +29,14 @@ with ``#n``:
   or home command ``[INF]``; ``$*`` reads the absolute position — with no absolute sensor
   (Ixx10 = 0) the position becomes 0, home complete is cleared and the motor is left killed
   (TSRM p275);
-* software position limits (PSRM Ix13-Ix15; ``[BK]`` 0 = that limit off): a jog or the
-  post-trigger home move that passes Ixx13 (up) or Ixx14 (down) decelerates at Ixx15 from the
-  servo cycle it passes it, like an abort, and "stopped on position limit" stays set until the
-  next move command; the limits are off during the home search (PUM-V p130). No hardware limit
-  switch is simulated, so none ever trips ``[INF]`` (Ixx24 bit 17 has nothing to disable);
+* software position limits (TSRM p96 Ixx13, PSRM p72 Ix13/Ix14: 0 = that limit off, counted
+  from the power-up or home zero): a jog or the post-trigger home move that passes Ixx13 (up)
+  or Ixx14 (down) decelerates at Ixx15 from the servo cycle it passes it, like an abort, and
+  "stopped on position limit" stays set until the next move command; the limits are off
+  during the home search until the trigger, on for the post-trigger move (same pages).
+  ``[INF]`` not modelled: the manual's "no further increments in that direction" while past
+  the limit — a new jog outward from beyond it runs. No hardware limit switch is
+  simulated, so none ever trips ``[INF]`` (Ixx24 bit 17 has nothing to disable);
 * a motor whose coordinate system runs a program refuses ``J``, ``HM``, ``K``, ``O`` and
   ``$`` with ERR001 (TSRM p377 for ``O``; ``[INF]`` the others alike).
 
@@ -199,7 +202,7 @@ class Motor:
             self._at(sched.servo_at_or_after(t_end), self._ended)
 
     def soft_limits(self) -> tuple[float | None, float | None]:
-        """Ixx13 / Ixx14 in counts (0 = that limit off ``[BK]``; TSRM Ixx13, Ixx14)."""
+        """Ixx13 / Ixx14 in counts (0 = that limit off; TSRM p96, PSRM p72)."""
         v = self._table.vars
         hi, lo = v.I(ixx(self.n, 13)), v.I(ixx(self.n, 14))
         return (hi if hi != 0 else None), (lo if lo != 0 else None)
