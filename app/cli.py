@@ -71,9 +71,10 @@ def serve(
         metavar="PORT",
         help="REST + WebSocket port; 0 picks a free port (printed). [default: 8000]")] = None,
     clock: Annotated[str | None, typer.Option(
-        metavar="realtime|virtual",
+        metavar="realtime|virtual|host-paced",
         help="realtime: simulated time follows the wall clock × factor; virtual: time moves "
-             "only when a client advances it (tests). [default: realtime]")] = None,
+             "only when a client advances it (tests); host-paced: virtual time that holds "
+             "for hosts registered as holders (API.md). [default: realtime]")] = None,
     factor: Annotated[float | None, typer.Option(
         metavar="FACTOR",
         help="Realtime speed-up: simulated seconds per wall second. [default: 1.0]")] = None,
@@ -113,8 +114,9 @@ def serve(
 
     logging.basicConfig(level=logging.WARNING, format="motionsim: %(message)s")
 
-    if clock is not None and clock not in ("realtime", "virtual"):
-        raise typer.BadParameter("must be 'realtime' or 'virtual'", param_hint="--clock")
+    if clock is not None and clock not in ("realtime", "virtual", "host-paced"):
+        raise typer.BadParameter("must be 'realtime', 'virtual' or 'host-paced'",
+                                 param_hint="--clock")
     try:
         file_data = load_config_file(config) if config else {}
     except (OSError, ValueError) as exc:

@@ -45,6 +45,7 @@ from motionsim.app.clock import (
     ClockMode,
     _check_seconds,
     _limit,
+    loop_turns,
     run_env_to,
 )
 from motionsim.sim.errors import Conflict, InvalidValue
@@ -333,7 +334,7 @@ class HostPacedClock(Clock):
                     wakeup.clear()
                     await wakeup.wait()
                     continue
-            await asyncio.sleep(0)
+            await loop_turns()
 
 
 __all__ = ["DEFAULT_HOLDER", "MAX_REACTION_S", "Holder", "HostPacedClock", "check_holder",
