@@ -108,7 +108,7 @@ def test_a_stuck_websocket_subscriber_later_gets_a_gap_and_catches_up(motionsim)
 
     url = motionsim.url.replace("http", "ws") + "/controllers/d/events"
     with connect(url, compression=None, proxy=None, max_queue=4) as ws:
-        motionsim.advance("d", 1500.0)  # 150 000 ticks, more than the 100 000-event ring
+        motionsim.advance("d", 4000.0)  # 400 000 ticks, four times the 100 000-event ring
         last = motionsim.controller("d")["ticks"]
         seqs, gaps = [], []
         while not seqs or seqs[-1] < last:
@@ -119,7 +119,7 @@ def test_a_stuck_websocket_subscriber_later_gets_a_gap_and_catches_up(motionsim)
                 seqs.append(msg["seq"])
     assert gaps
     assert seqs == sorted(set(seqs))
-    assert seqs[-1] == last == 150_000
+    assert seqs[-1] == last == 400_000
     tail = list(range(gaps[-1][1] + 1, last + 1))  # after the last gap: every event, in order
     assert seqs[-len(tail):] == tail
     lost = [s for start, end in gaps for s in range(start, end + 1)]
