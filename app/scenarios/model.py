@@ -288,6 +288,7 @@ class ControllerSpec(Strict):
     controller has PLCs, else never. Trio: ``axes``
     parameters (``{0: {speed: 10}}``), ``programs`` (name -> BASIC text) and ``run``.
     Both: ``variables`` (``P1``, ``VR(5)``) and ``setup`` terminal commands, at t = 0.
+    Trio: ``expected_moves`` (``{0: 6, 1: 6}``) — what a BASIC program should complete.
     """
 
     kind: Literal["pmac", "trio"]
@@ -300,6 +301,9 @@ class ControllerSpec(Strict):
     axes: dict[int, dict[str, float]] = Field(default_factory=dict)
     programs: dict[str, str] = Field(default_factory=dict)
     run: list[RunSpec] = Field(default_factory=list)
+    #: Trio: moves each axis should complete (the summary shows done / expected and says
+    #: when an axis fell short); feeder hosts' moves are counted without it.
+    expected_moves: dict[int, Annotated[int, Field(ge=0)]] = Field(default_factory=dict)
 
     @model_validator(mode="after")
     def _kind_fields(self) -> ControllerSpec:
