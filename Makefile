@@ -55,5 +55,9 @@ mutate: $(TEST_STAMP)
 	$(BIN)/python -m pip install -q -e '.[test,mutation]'
 	$(BIN)/python tools/mutate.py $(MODULES)
 
+# The README's plots, regenerated from the example scenarios (examples/scenarios/readme_plots.py).
+plots: $(RUN_STAMP)
+	$(BIN)/python examples/scenarios/readme_plots.py
+
 clean:
 	rm -rf $(VENV) build *.egg-info .mutation .coverage .coverage.*
