@@ -23,14 +23,13 @@ the same ones. Every injection is a ``fault`` event (``fault`` = the fault's id,
 
 from __future__ import annotations
 
-import random
 import re
 import weakref
 from dataclasses import dataclass
 from typing import Annotated, Any, Literal
 
 from motionsim.sim.errors import InvalidValue, NotFound
-from motionsim.sim.faults import EdgeLoss
+from motionsim.sim.faults import EdgeLoss, Selector
 from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, field_validator
 
 #: Faults one controller may hold at once.
@@ -130,27 +129,18 @@ class ReplyAction:
 
 
 class _CommandFault:
-    """A command fault's state: which commands it has seen and hit."""
+    """A command fault: its spec, its pattern, and which matching commands it takes."""
 
     def __init__(self, id: str, spec: Any) -> None:
         self.id = id
         self.spec = spec
         self.pattern = re.compile(spec.match, re.IGNORECASE) if spec.match else None
-        self.seen = 0
-        self.injected = 0
-        self._rng = random.Random(spec.seed)
+        self.select = Selector(spec.nth, spec.count, spec.probability, spec.seed)
 
     def hits(self, command: str) -> bool:
-        spec = self.spec
         if self.pattern is not None and not self.pattern.search(command):
             return False
-        self.seen += 1
-        if self.seen < spec.nth or (spec.count is not None and self.injected >= spec.count):
-            return False
-        if spec.probability < 1.0 and self._rng.random() >= spec.probability:
-            return False
-        self.injected += 1
-        return True
+        return self.select.take()
 
 
 class FaultTable:
@@ -190,7 +180,8 @@ class FaultTable:
             ctl.log.emit("fault", fault=id, kind=kind, start_s=start, end_s=end)
             self._faults[id] = (spec, None)
         elif kind == "breq_lost":
-            loss = EdgeLoss(id, spec.cs, spec.nth, spec.count, spec.probability, spec.seed)
+            loss = EdgeLoss(id, spec.cs,
+                            Selector(spec.nth, spec.count, spec.probability, spec.seed))
             ctl.card_faults.add_edge_loss(loss)
             self._faults[id] = (spec, loss)
         else:
@@ -200,11 +191,11 @@ class FaultTable:
     def describe(self, id: str) -> dict[str, Any]:
         entry = self._faults[id]
         if isinstance(entry, _CommandFault):
-            spec, seen, injected = entry.spec, entry.seen, entry.injected
+            spec, seen, injected = entry.spec, entry.select.seen, entry.select.injected
         else:
             spec, loss = entry
-            seen = loss.seen if loss is not None else 0
-            injected = loss.injected if loss is not None else 1
+            seen = loss.select.seen if loss is not None else 0
+            injected = loss.select.injected if loss is not None else 1
         return {"id": id, **spec.model_dump(), "seen": seen, "injected": injected}
 
     def list(self) -> list[dict[str, Any]]:

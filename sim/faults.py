@@ -14,9 +14,10 @@ Two faults act on the card itself rather than on the link to it (those live in
   processor (TUM p236-237: the background runs only in the time the servo and RTI tasks
   leave).
 
-Decisions are deterministic: a :class:`EdgeLoss` counts the rising edges it sees and draws from
-its own ``random.Random(seed)`` only for edges it may take, so the same inputs and seed lose
-the same edges. Every loss is logged as a ``fault`` event.
+Decisions are deterministic: a :class:`Selector` counts the occurrences it sees and draws from
+its own ``random.Random(seed)`` only for those it may take, so the same inputs and seed lose
+the same edges (the command faults of :mod:`motionsim.app.faults` pick commands the same way).
+Every loss is logged as a ``fault`` event.
 """
 
 from __future__ import annotations
@@ -28,12 +29,11 @@ from typing import Any
 
 
 @dataclass(slots=True)
-class EdgeLoss:
-    """Lose rising BREQ edges of coordinate system ``cs`` (any CS if None): from the ``nth``
-    edge seen on, each with ``probability``, at most ``count`` of them (None: no limit)."""
+class Selector:
+    """Which occurrences a fault takes: from the ``nth`` one counted on, each with
+    ``probability`` (drawn from its own ``random.Random(seed)``, only for the occurrences it
+    may take), at most ``count`` of them (None: no limit)."""
 
-    fault: str
-    cs: int | None = None
     nth: int = 1
     count: int | None = 1
     probability: float = 1.0
@@ -45,10 +45,8 @@ class EdgeLoss:
     def __post_init__(self) -> None:
         self._rng = random.Random(self.seed)
 
-    def takes(self, cs: int) -> bool:
-        """Count this edge; True when it is lost."""
-        if self.cs is not None and cs != self.cs:
-            return False
+    def take(self) -> bool:
+        """Count one occurrence; True when the fault takes it."""
         self.seen += 1
         if self.seen < self.nth or (self.count is not None and self.injected >= self.count):
             return False
@@ -56,6 +54,20 @@ class EdgeLoss:
             return False
         self.injected += 1
         return True
+
+
+@dataclass(slots=True)
+class EdgeLoss:
+    """Lose rising BREQ edges of coordinate system ``cs`` (any CS if None), as ``select``
+    picks them among that CS's edges."""
+
+    fault: str
+    cs: int | None
+    select: Selector
+
+    def takes(self, cs: int) -> bool:
+        """Count this edge; True when it is lost."""
+        return (self.cs is None or cs == self.cs) and self.select.take()
 
 
 class CardFaults:
@@ -79,9 +91,6 @@ class CardFaults:
         self._losses = [x for x in self._losses if x.fault != fault]
         self.active = bool(self._losses)
 
-    def injected(self, fault: str) -> int:
-        return sum(x.injected for x in self._losses if x.fault == fault)
-
     def lose_breq_rise(self, cs: int) -> bool:
         """A rising BREQ edge of ``cs`` is about to be signalled: True if it is lost (then a
         ``fault`` event says so, at the same instant)."""
@@ -92,4 +101,4 @@ class CardFaults:
         return False
 
 
-__all__ = ["CardFaults", "EdgeLoss"]
+__all__ = ["CardFaults", "EdgeLoss", "Selector"]
