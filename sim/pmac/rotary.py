@@ -183,8 +183,8 @@ class RotaryBuffer:
             self._limits()
         if ahead < self._i17:
             self.breq = True  # the rising half of the pulse: an interrupt to the host
-            if self._faults is not None and self._faults.active and self._lost():
-                return n
+            if self._faults is not None and self._lost():
+                return n  # the rise happened but was never signalled (an injected fault)
             emit("breq", cs=cs, level=True)
             if self._rise:
                 waiters, self._rise = self._rise, []
