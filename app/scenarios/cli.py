@@ -73,7 +73,10 @@ def run_command(
         raise _fail(str(exc)) from None
     rep = report(result)
     out_dir = out or Path("out") / scn.name
-    paths = write_outputs(result, rep, out_dir, plots=plots, window=span)
+    try:
+        paths = write_outputs(result, rep, out_dir, plots=plots, window=span)
+    except OSError as exc:
+        raise _fail(f"cannot write to {exc.filename or out_dir}: {exc.strerror}", 1) from None
     print_summary(rep)
     if span is not None and span[0] >= result.t_end:
         typer.echo(f"motionsim: --window starts after the run ended ({result.t_end:.3f} s)",

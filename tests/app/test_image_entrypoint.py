@@ -4,7 +4,9 @@
 
 The Dockerfile is read for what the image does (``ENV MOTIONSIM_*``, ``CMD``, the ``chown`` of
 its ``WORKDIR``); the test mirrors it with a temporary directory owned by an unprivileged uid
-and ``setpriv`` (CI runs as root; a developer who is not root already is unprivileged)."""
+and ``setpriv`` (CI runs as root; a developer who is not root already is unprivileged). The
+user keeps only the right to read files anywhere (the checkout may sit in a root-only folder);
+writing still needs what the image gives it."""
 
 from __future__ import annotations
 
@@ -55,7 +57,10 @@ def _as_user() -> list[str]:
         return []
     setpriv = shutil.which("setpriv")
     assert setpriv, "setpriv (util-linux) drops to the image's uid"
-    return [setpriv, f"--reuid={UID}", f"--regid={UID}", "--clear-groups", "--"]
+    # CAP_DAC_READ_SEARCH only: the user may read this checkout and its venv wherever CI put
+    # them (a root-only folder too), but writes still need the permissions the image grants.
+    return [setpriv, f"--reuid={UID}", f"--regid={UID}", "--clear-groups",
+            "--inh-caps=+dac_read_search", "--ambient-caps=+dac_read_search", "--"]
 
 
 @pytest.fixture
@@ -144,3 +149,17 @@ def test_motionsim_run_writes_its_outputs_in_the_working_directory(workdir):
     assert run.returncode == 0, run.stdout + run.stderr
     written = {p.name for p in (workdir / "out").rglob("*") if p.is_file()}
     assert {"events.jsonl", "metrics.json"} <= written
+
+
+def test_an_output_folder_the_user_cannot_write_is_one_clear_line(workdir):
+    locked = workdir / "locked"
+    locked.mkdir(mode=0o555)
+    if os.geteuid() == 0:
+        os.chown(locked, 0, 0)
+    scenario = ROOT / "examples" / "scenarios" / "m1_sync.yaml"
+    run = subprocess.run([*_as_user(), str(BIN / "motionsim"), "run", str(scenario),
+                          "--out", "locked/out"], cwd=workdir, env=_env(workdir),
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 1
+    assert "cannot write to locked/out: Permission denied" in run.stderr
+    assert "Traceback" not in run.stderr
