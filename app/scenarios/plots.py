@@ -68,8 +68,8 @@ def zoom_window(host_writes: list[float], t_end: float) -> Window | None:
     if len(host_writes) <= ZOOM_REFILLS:
         return None
     writes = sorted(host_writes)
-    end = writes[ZOOM_REFILLS]
-    return 0.0, min(t_end, end + 0.1 * end)
+    end = min(t_end, writes[ZOOM_REFILLS] * 1.1)
+    return (0.0, end) if end > 0 else None
 
 
 def _legend(ax: Any, extra: list[Any]) -> None:
@@ -106,7 +106,7 @@ def plot_pmac_cs(
     window: Window | None = None,
 ) -> Path:
     c = pmac_traces(events)[cs]
-    t0, t1 = window if window is not None else (0.0, t_end)
+    t0, t1 = window if window is not None else (0.0, max(t_end, 1e-6))
     fig, (ax1, ax2) = plt.subplots(
         2, 1, figsize=(10, 6), dpi=100, sharex=True, gridspec_kw={"height_ratios": [3, 1]}
     )
@@ -212,7 +212,7 @@ def plot_trio(
     window: Window | None = None,
 ) -> Path:
     axes, _ = trio_traces(events)
-    t0, t1 = window if window is not None else (0.0, t_end)
+    t0, t1 = window if window is not None else (0.0, max(t_end, 1e-6))
     ends = [e.t for e in events if e.type == "move_end"]
     n = max(1, len(axes))
     fig, subs = plt.subplots(n, 1, figsize=(10, 1.6 * n + 1.6), dpi=100, sharex=True,

@@ -110,13 +110,17 @@ def test_a_fix_that_skips_moves_does_not_read_as_a_success():
     assert "no starvation" not in text  # ... but it is no success
 
 
-def test_the_tn20_fix_runs_every_move_without_blocking():
+def test_the_tn20_examples_skipping_fix_is_flagged_and_the_stall_ran_everything():
     _, rep = run_example("tn20_stall_and_fix.yaml")
-    for cid in ("stall", "fix"):
-        for axis in (0, 1):
-            m = rep["controllers"][cid]["axes"][axis]
-            assert (m["moves_done"], m["moves_planned"]) == (6, 6)
-    assert "not every move ran" not in _printed(rep)
+    for axis in (0, 1):
+        m = rep["controllers"]["stall"]["axes"][axis]
+        assert (m["moves_done"], m["moves_planned"]) == (6, 6)
+    fix = rep["controllers"]["fix"]["axes"]
+    assert fix[0]["moves_done"] < 6 and fix[0]["moves_planned"] == 6
+    text = _printed(rep)
+    assert f"not every move ran: fix axis 0: {fix[0]['moves_done']} of 6 moves" in text
+    assert "stall axis" not in "".join(line for line in text.splitlines()
+                                      if line.startswith("not every move ran"))
 
 
 def test_feeder_hosts_moves_are_counted_per_axis():
