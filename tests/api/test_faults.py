@@ -224,3 +224,17 @@ def test_faults_are_listed_removed_one_by_one_and_cleared(motionsim):
     finally:
         host.close()
     assert host.outcomes == ["ok"]
+
+
+def test_a_delayed_trio_reply_makes_the_host_time_out_and_ask_again(motionsim):
+    _add(motionsim, "trio", {"kind": "reply_delay", "match": "^PRINT", "delay_ms": 1200})
+    host = RetryingHost(motionsim.ports["telnet"], "trio", timeout_s=0.4)
+    try:
+        host.command("")
+        reply = host.command("PRINT 6*7")
+    finally:
+        host.close()
+    assert host.outcomes == ["ok", "timeout", "ok"]
+    assert b"42" in reply
+    (event,) = _fault_events(motionsim, "trio")
+    assert event["kind"] == "reply_delay" and event["command"] == "PRINT 6*7"
