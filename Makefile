@@ -2,34 +2,48 @@
 PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
-STAMP := $(VENV)/.installed
+# `make run` installs what serving needs; `make test` adds the `test` extra (pytest, clients,
+# Dask). Each install has its own stamp, so `make run` never pulls the test tools.
+VENV_STAMP := $(VENV)/.created
+RUN_STAMP := $(VENV)/.installed-run
+TEST_STAMP := $(VENV)/.installed-test
+# An editable install with a package-dir map makes setuptools print an information-only note
+# ("Editable installation ... be careful with folders named like your package"); not a problem.
+PIP_INSTALL := PYTHONWARNINGS="ignore:Editable installation" $(BIN)/python -m pip install -q
 
-.PHONY: run test lint bench cov mutate clean
+.PHONY: run test lint bench cov mutate plots clean
 
-$(STAMP): pyproject.toml
+$(VENV_STAMP):
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install -q --upgrade pip
-	$(BIN)/python -m pip install -q -e '.[test]'
-	touch $(STAMP)
+	touch $(VENV_STAMP)
 
-run: $(STAMP)
+$(RUN_STAMP): pyproject.toml $(VENV_STAMP)
+	$(PIP_INSTALL) -e .
+	touch $(RUN_STAMP)
+
+$(TEST_STAMP): pyproject.toml $(VENV_STAMP)
+	$(PIP_INSTALL) -e '.[test]'
+	touch $(TEST_STAMP)
+
+run: $(RUN_STAMP)
 	$(BIN)/motionsim serve
 
-test: $(STAMP)
+test: $(TEST_STAMP)
 	$(BIN)/ruff check .
 	$(BIN)/pytest
 
-lint: $(STAMP)
+lint: $(TEST_STAMP)
 	$(BIN)/ruff check .
 
 # Every benchmark (each prints its table and writes bench/results/<name>.json), then the
 # summary of every target (PASS / SHORT, a report, never a failure) into README's Performance.
-bench: $(STAMP)
+bench: $(TEST_STAMP)
 	@for f in bench/bench_*.py; do echo "== $$f"; $(BIN)/python $$f || echo "== $$f FAILED"; done
 	$(BIN)/python bench/summary.py --readme
 
 # Branch coverage of the whole suite, subprocesses included (pyproject [tool.coverage]).
-cov: $(STAMP)
+cov: $(TEST_STAMP)
 	rm -f .coverage .coverage.*
 	$(BIN)/coverage run -m pytest
 	$(BIN)/coverage combine -q
@@ -37,9 +51,13 @@ cov: $(STAMP)
 
 # Mutation testing of the decision modules (tools/mutation.toml); slow: not part of `make test`.
 # `make mutate MODULES=sim/pmac/rotary.py` for one module.
-mutate: $(STAMP)
+mutate: $(TEST_STAMP)
 	$(BIN)/python -m pip install -q -e '.[test,mutation]'
 	$(BIN)/python tools/mutate.py $(MODULES)
+
+# The README's plots, regenerated from the example scenarios (examples/scenarios/readme_plots.py).
+plots: $(RUN_STAMP)
+	$(BIN)/python examples/scenarios/readme_plots.py
 
 clean:
 	rm -rf $(VENV) build *.egg-info .mutation .coverage .coverage.*

@@ -14,13 +14,18 @@ from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 
 from fastapi import APIRouter, FastAPI
+from fastapi_offline import FastAPIOffline
 from motionsim.api import routes as route_modules
 from motionsim.api.errors import install_error_handlers
+from motionsim.api.routes.favicon import FAVICON_URL
 from motionsim.api.schemas.common import ERROR_RESPONSES
 from motionsim.app import __version__
 from motionsim.app.registry import Registry
 from motionsim.app.service import build_registry
 from motionsim.app.settings import Settings
+
+#: Where the Swagger UI / ReDoc scripts and styles are served from.
+DOCS_STATIC_URL = "/static/docs"
 
 
 def discover_routers() -> list[tuple[str, APIRouter]]:
@@ -55,13 +60,17 @@ def create_app(settings: Settings | None = None, registry: Registry | None = Non
                 server.close()
             await registry.close()
 
-    app = FastAPI(
+    # /docs and /redoc with Swagger UI and ReDoc served from the fastapi-offline package (no CDN:
+    # they work in CI, in a container and offline).
+    app = FastAPIOffline(
         title="motionsim",
         version=__version__,
         summary="Discrete-event simulation of Turbo PMAC and Trio Motion Coordinator "
                 "program buffering",
         lifespan=lifespan,
         responses=ERROR_RESPONSES,
+        static_url=DOCS_STATIC_URL,
+        favicon_url=FAVICON_URL,
     )
     app.state.settings = settings
     app.state.registry = registry
@@ -73,4 +82,4 @@ def create_app(settings: Settings | None = None, registry: Registry | None = Non
     return app
 
 
-__all__ = ["create_app", "discover_routers"]
+__all__ = ["DOCS_STATIC_URL", "create_app", "discover_routers"]

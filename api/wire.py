@@ -16,6 +16,8 @@ import logging
 from collections.abc import AsyncIterator, Callable
 from typing import Any, Final
 
+from motionsim.app.faults import ReplyAction, faults_of, has_faults
+
 
 class NeedData:
     """The type of :data:`NEED_DATA` (for annotations)."""
@@ -98,6 +100,8 @@ class WireSession:
         #: The pump's wake-up (set by :func:`serve_connection`): a session with output of its
         #: own to send (Trio channel 0) sets it.
         self.wake: asyncio.Event | None = None
+        #: An injected link fault for the next reply (:mod:`motionsim.app.faults`), or None.
+        self.fault_action: ReplyAction | None = None
 
     def _now(self) -> float:
         """Simulated now (a realtime clock's reading, which runs ahead of a lazily synced env)."""
@@ -113,6 +117,14 @@ class WireSession:
         self.codec.receive_data(data)
         if not data:
             self.gone.set()
+
+    def note_command(self, command: str) -> None:
+        """A command line is about to run: an injected link fault may claim its reply."""
+        controller = self.handle.controller
+        if has_faults(controller):
+            action = self.handle.apply(faults_of(controller).reply_action, command)
+            if action is not None:
+                self.fault_action = action
 
     def _out(self, data: bytes) -> bytes:
         """Record bytes about to be sent to the host; return them."""
@@ -175,6 +187,10 @@ async def serve_connection(
             await wake.wait()
             wake.clear()
             async for out in session.replies():
+                action, session.fault_action = session.fault_action, None
+                if action is not None:
+                    await _faulty_reply(action, out, writer)
+                    continue
                 writer.write(out)
                 await writer.drain()
             if session.codec.eof:
@@ -193,6 +209,27 @@ async def serve_connection(
         writer.close()
         with contextlib.suppress(Exception):
             await writer.wait_closed()
+
+
+async def _faulty_reply(action: ReplyAction, out: bytes, writer: asyncio.StreamWriter) -> None:
+    """Send ``out`` as an injected link fault says: late, not at all, or cut by a reset.
+
+    Raises:
+        ConnectionResetError: after a ``connection_reset`` (the connection is gone).
+    """
+    if action.kind == "reply_drop":
+        return
+    if action.kind == "reply_delay":
+        await asyncio.sleep(action.delay_s)
+        writer.write(out)
+        await writer.drain()
+        return
+    keep = len(out) // 2 if action.after_bytes is None else min(action.after_bytes, len(out))
+    if keep:
+        writer.write(out[:keep])
+        await writer.drain()
+    writer.transport.abort()  # an RST, not an orderly close
+    raise ConnectionResetError("injected connection_reset")
 
 
 async def start_server(

@@ -24,6 +24,7 @@ from motionsim.app.clock import (
     make_clock,
     reply_steps,
 )
+from motionsim.app.faults import faults_of, has_faults
 from motionsim.app.host_paced import DEFAULT_HOLDER, HostPacedClock
 from motionsim.app.kinds import kind_class
 from motionsim.sim.controller import Controller, Port, Reply
@@ -102,6 +103,12 @@ class ControllerHandle:
         port = port if port is not None else self.controller.rest_port
         clock = self.clock
         clock.sync()
+        if has_faults(self.controller):
+            forced = faults_of(self.controller).forced_error(command)
+            if forced is not None:  # an injected error_reply: answered, not executed
+                reply = Reply(command)
+                reply.resolve("", forced, t=self.controller.now)
+                return reply
         reply = self.controller.terminal(command, port)
         if reply.done:
             clock.wake()

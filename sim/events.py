@@ -66,6 +66,8 @@ EVENT_FIELDS: dict[str, tuple[str, ...]] = {
     "motor": ("motor", "state"),  # PMAC: servo loop closed / opened / killed
     # the service's realtime clock: it fell behind its schedule / caught up (app/clock.py)
     "clock_lag": ("lag_s", "behind"),
+    # an injected fault took effect (sim/faults.py, app/faults.py)
+    "fault": ("fault", "kind", "command|cs|start_s", "end_s|error"),
 }
 
 

@@ -116,6 +116,7 @@ class PmacSession(WireSession):
             return Answer()  # (str.strip() would also drop CTRL-K and CTRL-L, which are commands)
         if illegal_character(line) is not None:
             return Answer(error="ERR004")
+        self.note_command(line)
         try:
             reply = await self.handle.command(line, self.port)
             reply = await await_reply(reply, self.gone)

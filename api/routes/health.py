@@ -21,6 +21,6 @@ async def health(request: Request) -> JSONResponse | Health:
 @router.get("/", response_model=ServiceInfo)
 async def root(request: Request) -> ServiceInfo:
     """What this service is and where to look next."""
-    return ServiceInfo(service="motionsim", version=__version__, docs="/docs",
-                       openapi="/openapi.json",
+    return ServiceInfo(service="motionsim", version=__version__, docs="/docs", redoc="/redoc",
+                       openapi="/openapi.json", dashboard="/dashboard",
                        controllers=request.app.state.registry.ids())

@@ -1,4 +1,4 @@
-"""``/controllers/{id}/plcs``: the PMAC's PLC programs (issue 4; TSRM p39, p381; seed 003).
+"""``/controllers/{id}/plcs``: the PMAC's PLC programs (TSRM p39, p381; TUM p236-237).
 
 ``GET /plcs`` lists each PLC with a program (state, scans, last scan time) and I5;
 ``GET|PUT /plcs/{n}`` reads / replaces one program whole (422 ``parse_error`` with ``line``

@@ -33,8 +33,10 @@ class ServiceInfo(BaseModel):
 
     service: str
     version: str
-    docs: str
+    docs: str = Field(description="Swagger UI, served offline")
+    redoc: str = Field("/redoc", description="ReDoc, served offline")
     openapi: str
+    dashboard: str = Field("/dashboard", description="the live page of the controllers")
     controllers: list[str]
 
 

@@ -97,6 +97,7 @@ class TrioSession(WireSession):
 
     async def execute(self, line: str) -> tuple[str, str | None]:
         """Run one line on process 0; the reply text and the error message (or None)."""
+        self.note_command(line)
         try:
             reply = await self.handle.command(line, self.port)
             reply = await await_reply(reply, self.gone)

@@ -24,6 +24,9 @@ def run_command(
         "--out", "-o", help="Output folder [default: out/<scenario name>].")] = None,
     seed: Annotated[int | None, typer.Option(help="Override the scenario's seed.")] = None,
     plots: Annotated[bool, typer.Option("--plots/--no-plots", help="Write PNG plots.")] = True,
+    window: Annotated[str | None, typer.Option(
+        metavar="START:END", help="Plot only this span of simulated seconds, e.g. 0.2:0.5 "
+        "[default: the whole run, plus a zoom on the first refill cycles].")] = None,
     open_: Annotated[bool, typer.Option("--open", help="Show the plots when done.")] = False,
     realtime: Annotated[bool, typer.Option(
         "--realtime", help="Play it on a running server (wall-clock time) instead.")] = False,
@@ -35,6 +38,14 @@ def run_command(
     from motionsim.app.scenarios.errors import ScenarioError
     from motionsim.app.scenarios.model import load_scenario, parse_scenario
 
+    span = None
+    if window is not None:
+        from motionsim.app.scenarios.plots import parse_window
+
+        try:
+            span = parse_window(window)
+        except ValueError as exc:
+            raise _fail(str(exc)) from None
     try:
         scn = load_scenario(scenario)
         if seed is not None:
@@ -62,8 +73,14 @@ def run_command(
         raise _fail(str(exc)) from None
     rep = report(result)
     out_dir = out or Path("out") / scn.name
-    paths = write_outputs(result, rep, out_dir, plots=plots)
+    try:
+        paths = write_outputs(result, rep, out_dir, plots=plots, window=span)
+    except OSError as exc:
+        raise _fail(f"cannot write to {exc.filename or out_dir}: {exc.strerror}", 1) from None
     print_summary(rep)
+    if span is not None and span[0] >= result.t_end:
+        typer.echo(f"motionsim: --window starts after the run ended ({result.t_end:.3f} s)",
+                   err=True)
     typer.echo(
         f"simulated {result.t_end:.3f} s in {result.wall_s:.3f} s wall "
         f"({result.stopped_by}); wrote {len(paths)} files to {out_dir}"
@@ -89,7 +106,8 @@ def sweep_command(
     out: Annotated[Path | None, typer.Option(
         "--out", "-o", help="Output folder [default: out/<scenario name>-sweep].")] = None,
     metric: Annotated[str | None, typer.Option(
-        help="Metric for the heat-map [default: the scenario's metric].")] = None,
+        help="Metric for the heat-map [default: the scenario's metric]: a headline column "
+             "(all controllers) or one controller's, e.g. slow.time_starved_s.")] = None,
     sample: Annotated[int | None, typer.Option(
         help="Run a random sample of this many points instead of the whole product.")] = None,
     replicates: Annotated[int, typer.Option(
@@ -151,13 +169,17 @@ def sweep_command(
     finally:
         if client is not None:
             client.close()
+    columns = sorted({k for r in rows for k in r if not r.get("error")})
+    if any(not r.get("error") for r in rows) and metric not in columns:
+        raise _fail(f"no metric {metric!r}; columns: {', '.join(columns)}")
     out_dir = out or Path("out") / f"{scn.name}-sweep"
     out_dir.mkdir(parents=True, exist_ok=True)
     (out_dir / "sweep.csv").write_text(sw.rows_csv(rows), encoding="utf-8")
     wrote = ["sweep.csv"]
     if sw.write_parquet(rows, out_dir / "sweep.parquet"):
         wrote.append("sweep.parquet")
-    sw.heatmap(rows, params, metric, out_dir / "heatmap.png", title=f"{scn.name}: {metric}")
+    sw.heatmap(rows, params, metric, out_dir / "heatmap.png",
+               title=sw.metric_title(scn.name, metric, list(scn.controllers)))
     wrote.append("heatmap.png")
     _print_rows(rows, params, metric, console=Console())
     errors = [r for r in rows if r.get("error")]

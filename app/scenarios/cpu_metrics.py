@@ -7,7 +7,7 @@ the trip), ``mvar`` at the trip instant (outputs turned off), the run's ``cpu_sa
 (:mod:`motionsim.sim.hosts.monitor`: the card's ``status()["cpu"]`` sampled on a grid) and the
 hosts' ``host_pr`` / ``host_timeout`` / ``host_stopped`` (:mod:`motionsim.sim.hosts.pmac`).
 
-Seed 003: the more foreground work (servo, RTI: move planning and PLC 0), the slower the
+TUM p236-237: the more foreground work (servo, RTI: move planning and PLC 0), the slower the
 background cycles; the background answers host commands and each of its cycles reloads the
 watchdog, so a PLC 0 longer than the RTI period leaves no background cycle and the watchdog
 trips I40 servo cycles (0 → 4096, ≈ 1.81 s at the default 442.7 µs) after the last one.

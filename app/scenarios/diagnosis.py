@@ -23,7 +23,7 @@ For each episode found by :mod:`motionsim.app.scenarios.metrics`:
     (``host_timeout``) between its last write and the buffer running dry: the card answers
     host commands in the background, which PLC 0 and the RTI left no processor time.
 
-* PMAC ``watchdog`` — the card tripped (seed 003; TUM p215): ``plc0_too_long`` when PLC 0's
+* PMAC ``watchdog`` — the card tripped (TUM p215): ``plc0_too_long`` when PLC 0's
   scan alone needs more processor time than one RTI period leaves after the servo task (the
   RTI overruns every time and the background never completes a cycle), ``rti_tasks_too_long``
   when PLC 0 plus move planning do, else ``background_starved``. The detail names the scan

@@ -355,6 +355,7 @@ class AxisTrace:
     axis: int
     states: list[tuple[float, int, int]] = field(default_factory=list)  # t, mtype, ntype
     pbuf: list[tuple[float, int]] = field(default_factory=list)  # t, process-buffer mtype
+    moves_done: int = 0  # move_end events: moves the axis completed
 
 
 def trio_traces(events: Iterable[Event]) -> tuple[dict[int, AxisTrace], list[dict[str, Any]]]:
@@ -376,6 +377,8 @@ def trio_traces(events: Iterable[Event]) -> tuple[dict[int, AxisTrace], list[dic
         f = e.fields
         if e.type == "axis":
             ax(f["axis"]).states.append((e.t, int(f["mtype"]), int(f["ntype"])))
+        elif e.type == "move_end" and "axis" in f:
+            ax(f["axis"]).moves_done += 1
         elif e.type == "process_buffer":
             p = f["process"]
             a = f.get("axis")
@@ -498,6 +501,7 @@ def trio_metrics(
                         )
                     )
         m["idle_while_blocked_s"] = idle_blocked
+        m["moves_done"] = a.moves_done
         per_axis[n] = m
     return {
         "axes": per_axis,

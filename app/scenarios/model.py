@@ -19,6 +19,7 @@ import re
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
+from motionsim.app.faults import FaultSpec as InjectedFaultSpec
 from motionsim.app.scenarios.errors import ScenarioError, dotted
 from motionsim.app.scenarios.source import load_yaml, locate, read_text, value_line
 from pydantic import (
@@ -287,6 +288,7 @@ class ControllerSpec(Strict):
     controller has PLCs, else never. Trio: ``axes``
     parameters (``{0: {speed: 10}}``), ``programs`` (name -> BASIC text) and ``run``.
     Both: ``variables`` (``P1``, ``VR(5)``) and ``setup`` terminal commands, at t = 0.
+    Trio: ``expected_moves`` (``{0: 6, 1: 6}``) — what a BASIC program should complete.
     """
 
     kind: Literal["pmac", "trio"]
@@ -299,6 +301,9 @@ class ControllerSpec(Strict):
     axes: dict[int, dict[str, float]] = Field(default_factory=dict)
     programs: dict[str, str] = Field(default_factory=dict)
     run: list[RunSpec] = Field(default_factory=list)
+    #: Trio: moves each axis should complete (the summary shows done / expected and says
+    #: when an axis fell short); feeder hosts' moves are counted without it.
+    expected_moves: dict[int, Annotated[int, Field(ge=0)]] = Field(default_factory=dict)
 
     @model_validator(mode="after")
     def _kind_fields(self) -> ControllerSpec:
@@ -499,8 +504,22 @@ class SetVariableFault(Strict):
     value: float
 
 
+class InjectFault(Strict):
+    """Inject ``fault`` into ``controller`` at ``at_ms`` (:mod:`motionsim.app.faults`; in a
+    scenario the hosts are simulated, so only the card's own faults apply: ``stall``,
+    ``breq_lost``)."""
+
+    type: Literal["inject"]
+    controller: str | None = None
+    at_ms: NonNeg = 0.0
+    fault: InjectedFaultSpec
+
+
+#: Injected faults a scenario's simulated hosts can meet (the others act on TCP replies).
+SCENARIO_FAULT_KINDS = ("stall", "breq_lost")
+
 FaultSpec = Annotated[
-    HostStallFault | TerminalFault | SetVariableFault, Field(discriminator="type")
+    HostStallFault | TerminalFault | SetVariableFault | InjectFault, Field(discriminator="type")
 ]
 
 
@@ -599,11 +618,26 @@ def _cross_checks(s: Scenario) -> list[tuple[tuple[Any, ...], str]]:
         if isinstance(f, HostStallFault):
             if f.host not in names:
                 problems.append((("faults", i, "host"), f"no host {f.host!r}"))
+        elif isinstance(f, InjectFault) and f.fault.kind not in SCENARIO_FAULT_KINDS:
+            problems.append((("faults", i, "fault", "kind"),
+                             f"{f.fault.kind} acts on TCP replies; a scenario's hosts are "
+                             f"simulated: use {' or '.join(SCENARIO_FAULT_KINDS)}"))
+        elif isinstance(f, InjectFault) and _kind_of(s, f.controller) not in (None, "pmac"):
+            problems.append((("faults", i, "fault", "kind"),
+                             f"{f.fault.kind} needs a pmac controller"))
         elif f.controller is not None and f.controller not in s.controllers:
             problems.append((("faults", i, "controller"), f"no controller {f.controller!r}"))
         elif f.controller is None and len(ids) > 1:
             problems.append((("faults", i), "name the controller (there are several)"))
     return problems
+
+
+def _kind_of(s: Scenario, controller: str | None) -> str | None:
+    """The kind of ``controller`` (the only one if None); None if there is no such one."""
+    ids = list(s.controllers)
+    cid = controller if controller is not None else (ids[0] if len(ids) == 1 else None)
+    spec = s.controllers.get(cid) if cid is not None else None
+    return spec.kind if spec is not None else None
 
 
 def _plc_checks(

@@ -41,9 +41,11 @@ def _cell(v: Any) -> Any:
 
 
 def write_outputs(
-    result: RunResult, rep: dict[str, Any], out_dir: str | Path, *, plots: bool = True
+    result: RunResult, rep: dict[str, Any], out_dir: str | Path, *, plots: bool = True,
+    window: tuple[float, float] | None = None,
 ) -> dict[str, Path]:
-    """Write ``events.jsonl``, ``events.csv``, ``metrics.json`` and the PNGs; return paths."""
+    """Write ``events.jsonl``, ``events.csv``, ``metrics.json`` and the PNGs (``window``: the
+    span of simulated time they show); return paths."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     paths: dict[str, Path] = {}
@@ -59,7 +61,7 @@ def write_outputs(
     if plots:
         from motionsim.app.scenarios.plots import plot_run
 
-        for name, path in plot_run(result, rep, out).items():
+        for name, path in plot_run(result, rep, out, window).items():
             paths[name] = path
     return paths
 

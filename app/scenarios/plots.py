@@ -7,6 +7,11 @@
   it; a PLC 0 being enabled is a dotted grey line.
 * Trio, one figure per controller: per axis a timeline of MTYPE, NTYPE and the process buffer
   occupied, with the time the axis idled while its process was blocked shaded.
+
+Every shading, hatch and mark has a legend entry, and the end of the program (the last move
+ending) is a dash-dotted line. ``window=(start, end)`` shows only that span of simulated time;
+without it each PMAC figure shows the whole run, and a second one (``..._zoom.png``) the first
+refill cycles (:data:`ZOOM_REFILLS` host writes), where a host's timing can be seen.
 """
 
 from __future__ import annotations
@@ -19,11 +24,57 @@ import matplotlib
 matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.patches import Patch  # noqa: E402
 from motionsim.app.scenarios.metrics import pmac_traces, trio_traces  # noqa: E402
 from motionsim.app.scenarios.runner import RunResult  # noqa: E402
 
-_SHADE = {"buffer_empty": "tab:red", "lookahead_break": "tab:orange", "axis_blocked": "tab:red"}
+_SHADE = {"buffer_empty": "tab:red", "lookahead_break": "tab:orange", "axis_blocked": "tab:red",
+          "run_time_error": "tab:brown"}
+_SHADE_LABEL = {"buffer_empty": "buffer empty (starved)", "lookahead_break": "lookahead stopped",
+                "axis_blocked": "axis idle while its process waits",
+                "run_time_error": "program aborted (run-time error)"}
+_END_STYLE = {"color": "black", "lw": 1, "ls": "-."}
 _MAX_POINTS = 20_000
+#: Host writes the default zoom covers (the first refill cycles).
+ZOOM_REFILLS = 8
+
+Window = tuple[float, float]
+
+
+def parse_window(text: str) -> Window:
+    """``"0.2:0.5"`` → ``(0.2, 0.5)`` seconds; ``":0.5"`` starts at 0.
+
+    Raises:
+        ValueError: not ``START:END`` with 0 <= START < END.
+    """
+    start, sep, end = text.partition(":")
+    try:
+        if not sep:
+            raise ValueError
+        a = float(start) if start.strip() else 0.0
+        b = float(end)
+    except ValueError:
+        raise ValueError(f"--window {text!r}: expected START:END in seconds, e.g. 0.2:0.5") \
+            from None
+    if not (0 <= a < b) or b != b:
+        raise ValueError(f"--window {text!r}: need 0 <= START < END")
+    return a, b
+
+
+def zoom_window(host_writes: list[float], t_end: float) -> Window | None:
+    """The first :data:`ZOOM_REFILLS` refill cycles: from 0 to the write after them (None when
+    the run has no more refills than that — the whole run is the zoom)."""
+    if len(host_writes) <= ZOOM_REFILLS:
+        return None
+    writes = sorted(host_writes)
+    end = min(t_end, writes[ZOOM_REFILLS] * 1.1)
+    return (0.0, end) if end > 0 else None
+
+
+def _legend(ax: Any, extra: list[Any]) -> None:
+    handles, _ = ax.get_legend_handles_labels()
+    ax.legend(handles=[*handles, *extra], loc="upper right", fontsize=8, framealpha=0.9)
 
 
 def _thin(ts: list[float], vs: list[Any]) -> tuple[list[float], list[Any]]:
@@ -52,8 +103,10 @@ def plot_pmac_cs(
     starvations: list[dict[str, Any]],
     title: str,
     path: Path,
+    window: Window | None = None,
 ) -> Path:
     c = pmac_traces(events)[cs]
+    t0, t1 = window if window is not None else (0.0, max(t_end, 1e-6))
     fig, (ax1, ax2) = plt.subplots(
         2, 1, figsize=(10, 6), dpi=100, sharex=True, gridspec_kw={"height_ratios": [3, 1]}
     )
@@ -64,21 +117,40 @@ def plot_pmac_cs(
         ax1.step([*ts, t_end], [*vs, vs[-1]], where="post", lw=0.8, label="lines ahead (PR)")
     ax1.axhline(i17, ls="--", color="tab:green", lw=1, label=f"I17 = {i17}")
     ax1.axhline(i16, ls="--", color="tab:purple", lw=1, label=f"I16 = {i16}")
+    extra: list[Any] = []
+    shaded: set[str] = set()
     for s in starvations:
         if s.get("cs") == cs:
-            ax1.axvspan(s["start_s"], s["end_s"], color=_SHADE.get(s["kind"], "grey"), alpha=0.3)
-            ax2.axvspan(s["start_s"], s["end_s"], color=_SHADE.get(s["kind"], "grey"), alpha=0.3)
+            color = _SHADE.get(s["kind"], "grey")
+            for ax in (ax1, ax2):
+                ax.axvspan(s["start_s"], s["end_s"], color=color, alpha=0.3)
+            if s["kind"] not in shaded:
+                shaded.add(s["kind"])
+                extra.append(Patch(color=color, alpha=0.3,
+                                   label=_SHADE_LABEL.get(s["kind"], s["kind"])))
+    stopped = False
     for t, label, style in _card_marks(events):
         for ax in (ax1, ax2):
             ax.axvline(t, **style)
             if style["color"] == "tab:red" and t < t_end:  # the card is stopped from here
                 ax.axvspan(t, t_end, facecolor="none", edgecolor="gray", hatch="//", lw=0)
-        ax1.annotate(label, (t, 0.55), xycoords=("data", "axes fraction"), xytext=(4, 0),
-                     textcoords="offset points", fontsize=8, color=style["color"],
-                     backgroundcolor="white")  # fmt: skip
+                stopped = True
+        if t0 <= t <= t1:
+            ax1.annotate(label, (t, 0.55), xycoords=("data", "axes fraction"), xytext=(4, 0),
+                         textcoords="offset points", fontsize=8, color=style["color"],
+                         backgroundcolor="white")  # fmt: skip
+        extra.append(Line2D([], [], label=label.rsplit(" ", 2)[0], **style))
+    if stopped:
+        extra.append(Patch(facecolor="none", edgecolor="gray", hatch="//",
+                           label="card stopped (watchdog)"))
+    t_last = program_end(events, cs)
+    if t_last is not None:
+        for ax in (ax1, ax2):
+            ax.axvline(t_last, **_END_STYLE)
+        extra.append(Line2D([], [], label=f"last move ends {t_last:.3f} s", **_END_STYLE))
     ax1.set_ylabel("lines ahead")
-    ax1.set_title(title)
-    ax1.legend(loc="upper right", fontsize=8)
+    ax1.set_title(title if window is None else f"{title} ({t0:.3f}-{t1:.3f} s)")
+    _legend(ax1, extra)
     bt = [0.0] + [t for t, _ in c.breq]
     bv = [0] + [int(lv) for _, lv in c.breq]
     bt, bv = _thin(bt, bv)
@@ -90,12 +162,36 @@ def plot_pmac_cs(
     ax2.set_yticks([0, 1])
     ax2.set_yticklabels(["low", "high"])
     ax2.set_xlabel("simulated time (s)")
-    ax2.set_xlim(0, t_end)
+    ax2.set_xlim(t0, t1)
     ax2.legend(loc="upper right", fontsize=8)
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)
     return path
+
+
+def program_end(events: list[Any], cs: int) -> float | None:
+    """When the program of ``cs`` ended: its last move's end, if the program then stopped
+    (waiting for lines that never came, quit, aborted) and nothing more was loaded; None while
+    it still ran at the end of the run."""
+    last_move = None
+    state: tuple[float, str] | None = None
+    loaded = None
+    for e in events:
+        f = e.fields
+        if f.get("cs") != cs:
+            continue
+        if e.type == "move_end":
+            last_move = e.t
+        elif e.type == "program":
+            state = (e.t, f.get("state", ""))
+        elif e.type == "line_loaded":
+            loaded = e.t
+    if last_move is None or state is None or state[1] == "running" or state[0] < last_move:
+        return None
+    if loaded is not None and loaded > state[0]:
+        return None
+    return last_move
 
 
 def _card_marks(events: list[Any]) -> list[tuple[float, str, dict[str, Any]]]:
@@ -112,11 +208,17 @@ def _card_marks(events: list[Any]) -> list[tuple[float, str, dict[str, Any]]]:
 
 
 def plot_trio(
-    events: list[Any], *, t_end: float, starvations: list[dict[str, Any]], title: str, path: Path
+    events: list[Any], *, t_end: float, starvations: list[dict[str, Any]], title: str, path: Path,
+    window: Window | None = None,
 ) -> Path:
     axes, _ = trio_traces(events)
+    t0, t1 = window if window is not None else (0.0, max(t_end, 1e-6))
+    ends = [e.t for e in events if e.type == "move_end"]
     n = max(1, len(axes))
-    fig, subs = plt.subplots(n, 1, figsize=(10, 1.6 * n + 1.2), dpi=100, sharex=True, squeeze=False)
+    fig, subs = plt.subplots(n, 1, figsize=(10, 1.6 * n + 1.6), dpi=100, sharex=True,
+                             squeeze=False)
+    lanes_seen: list[Any] = []
+    shaded = False
     for row, (axis, a) in zip(subs[:, 0], sorted(axes.items()), strict=False):
         lanes = [
             ("MTYPE", [(t, m) for t, m, _ in a.states], "tab:blue"),
@@ -126,17 +228,30 @@ def plot_trio(
         for lane, (_label, series, color) in enumerate(lanes):
             bars = _busy_bars(series, t_end)
             row.broken_barh(bars, (2 - lane - 0.4, 0.8), color=color)
+        if not lanes_seen:
+            lanes_seen = [Patch(color=color, label=f"{label} occupied")
+                          for label, _, color in lanes]
         for s in starvations:
             if s.get("axis") == axis:
                 row.axvspan(s["start_s"], s["end_s"], color="tab:red", alpha=0.25)
+                shaded = True
+        if ends:
+            row.axvline(max(ends), **_END_STYLE)
         row.set_yticks([2, 1, 0])
         row.set_yticklabels([lb for lb, _, _ in lanes], fontsize=8)
         row.set_ylim(-0.6, 2.6)
         row.set_ylabel(f"axis {axis}")
-    subs[0, 0].set_title(title)
+    extra = list(lanes_seen)
+    if shaded:
+        extra.append(Patch(color="tab:red", alpha=0.25, label=_SHADE_LABEL["axis_blocked"]))
+    if ends:
+        extra.append(Line2D([], [], label=f"last move ends {max(ends):.3f} s", **_END_STYLE))
+    subs[0, 0].set_title(title if window is None else f"{title} ({t0:.3f}-{t1:.3f} s)")
+    if extra:
+        fig.legend(handles=extra, loc="lower center", ncol=min(5, len(extra)), fontsize=8)
     subs[-1, 0].set_xlabel("simulated time (s)")
-    subs[-1, 0].set_xlim(0, t_end)
-    fig.tight_layout()
+    subs[-1, 0].set_xlim(t0, t1)
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
     fig.savefig(path)
     plt.close(fig)
     return path
@@ -155,29 +270,39 @@ def _busy_bars(series: list[tuple[float, int]], t_end: float) -> list[tuple[floa
     return bars
 
 
-def plot_run(result: RunResult, rep: dict[str, Any], out_dir: Path) -> dict[str, Path]:
-    """Every plot of a run into ``out_dir``; returns ``{file name: path}``."""
+def plot_run(result: RunResult, rep: dict[str, Any], out_dir: Path,
+             window: Window | None = None) -> dict[str, Path]:
+    """Every plot of a run into ``out_dir``; returns ``{file name: path}``. With ``window``
+    each figure shows that span; without, each PMAC figure also gets its ``_zoom`` twin."""
     paths: dict[str, Path] = {}
     scn = result.scenario
     for cid, spec in scn.controllers.items():
         events = result.events(cid)
+        starv = [s for s in rep["starvations"] if s["controller"] == cid]
         if spec.kind == "pmac":
             i16, i17 = spec.i16_i17()
+            traces = pmac_traces(events)
             for cs in rep["controllers"][cid]["cs"]:
-                name = f"{cid}_cs{cs}_lines_ahead.png"
-                paths[name] = plot_pmac_cs(
-                    events, cs, i16=i16, i17=i17, t_end=result.t_end,
-                    starvations=[s for s in rep["starvations"] if s["controller"] == cid],
-                    title=f"{scn.name}: {cid} &{cs} rotary buffer", path=out_dir / name,
-                )  # fmt: skip
+                name = f"{cid}_cs{cs}_lines_ahead"
+                common = {"i16": i16, "i17": i17, "t_end": result.t_end, "starvations": starv,
+                          "title": f"{scn.name}: {cid} &{cs} rotary buffer"}
+                paths[f"{name}.png"] = plot_pmac_cs(
+                    events, cs, path=out_dir / f"{name}.png", window=window, **common)
+                zoom = None
+                if window is None and cs in traces:
+                    zoom = zoom_window([t for t, _ in traces[cs].host_writes], result.t_end)
+                if zoom is not None:
+                    paths[f"{name}_zoom.png"] = plot_pmac_cs(
+                        events, cs, path=out_dir / f"{name}_zoom.png", window=zoom, **common)
         else:
             name = f"{cid}_buffers.png"
             paths[name] = plot_trio(
-                events, t_end=result.t_end,
-                starvations=[s for s in rep["starvations"] if s["controller"] == cid],
+                events, t_end=result.t_end, starvations=starv,
                 title=f"{scn.name}: {cid} MTYPE / NTYPE / process buffer", path=out_dir / name,
+                window=window,
             )  # fmt: skip
     return paths
 
 
-__all__ = ["plot_pmac_cs", "plot_run", "plot_trio"]
+__all__ = ["ZOOM_REFILLS", "Window", "parse_window", "plot_pmac_cs", "plot_run", "plot_trio",
+           "program_end", "zoom_window"]

@@ -116,7 +116,12 @@ class _TrioHost(_Host):
 def play(scn: Scenario, server: str, *, factor: float = 1.0, echo: Any = print) -> dict[str, Any]:
     """Create the scenario's controllers on ``server`` and feed them in wall-clock time."""
     from motionsim.app.client import MotionSimClient, MotionSimHTTPError
-    from motionsim.app.scenarios.report import headline, pmac_report, trio_report
+    from motionsim.app.scenarios.report import (
+        headline,
+        pmac_report,
+        summarise_starvations,
+        trio_report,
+    )
     from motionsim.app.scenarios.summary import print_summary
 
     if factor <= 0:
@@ -189,6 +194,7 @@ def play(scn: Scenario, server: str, *, factor: float = 1.0, echo: Any = print) 
         "stopped_by": "realtime",
         "controllers": per,
         "starvations": [s.to_dict() for s in sorted(episodes, key=lambda s: s.start)],
+        "starvation_summary": summarise_starvations(sorted(episodes, key=lambda s: s.start)),
         "headline": headline(per),
     }
     print_summary(rep)

@@ -194,6 +194,7 @@ def report(result: RunResult) -> dict[str, Any]:
         else:
             servo_s = float(spec.config.get("servo_period_ms", 1.0)) / 1000
             r = trio_report(events, result.t_end, controller=cid, servo_period_s=servo_s)
+            _moves_planned(r, {**spec.expected_moves, **planned_moves(scn, cid)})
         episodes += r.pop("starvation_list")
         r["events"] = result.controllers[cid].log.last_seq
         r["events_lost"] = result.events_lost(cid)
@@ -206,8 +207,52 @@ def report(result: RunResult) -> dict[str, Any]:
         "stopped_by": result.stopped_by,
         "controllers": per,
         "starvations": [s.to_dict() for s in episodes],
+        "starvation_summary": summarise_starvations(episodes),
         "headline": headline(per),
     }
+
+
+def planned_moves(scn: Any, controller: str) -> dict[int, int]:
+    """Moves per axis the scenario's feeder hosts issue to ``controller`` (a BASIC program's
+    moves are not known before it runs)."""
+    out: dict[int, int] = {}
+    for i, h in enumerate(scn.hosts):
+        if h.type.startswith("trio_") and scn.host_controller(i) == controller:
+            for move in h.moves.to_moves():
+                out[move.axis] = out.get(move.axis, 0) + 1
+    return out
+
+
+def _moves_planned(r: dict[str, Any], planned: dict[int, int]) -> None:
+    """``moves_planned`` per axis (None where unknown); an axis with planned moves that never
+    moved gets a row too."""
+    for axis in planned:
+        r["axes"].setdefault(axis, {"mtype_busy_s": 0.0, "ntype_busy_s": 0.0,
+                                    "process_buffer_busy_s": 0.0, "idle_while_blocked_s": 0.0,
+                                    "moves_done": 0})
+    for axis, m in r["axes"].items():
+        m["moves_planned"] = planned.get(axis)
+    r["axes"] = dict(sorted(r["axes"].items()))
+
+
+def summarise_starvations(episodes: list[Starvation]) -> list[dict[str, Any]]:
+    """Starvations grouped by controller, place and cause: ``count``, ``total_s``,
+    ``longest_s``, ``first_s`` / ``last_s`` (starts) and the longest one's ``detail``."""
+    groups: dict[tuple[Any, ...], list[Starvation]] = {}
+    for s in episodes:
+        where = f"&{s.cs}" if s.cs is not None else (
+            f"axis {s.axis}" if s.axis is not None else "card")
+        groups.setdefault((s.controller, where, s.cause), []).append(s)
+    out = []
+    for (controller, where, cause), items in groups.items():
+        longest = max(items, key=lambda x: x.length)
+        out.append({
+            "controller": controller, "where": where, "cause": cause, "count": len(items),
+            "total_s": sum(x.length for x in items), "longest_s": longest.length,
+            "first_s": min(x.start for x in items), "last_s": max(x.start for x in items),
+            "detail": longest.detail,
+        })
+    return out
 
 
 def headline(per: dict[str, Any]) -> dict[str, Any]:
@@ -279,4 +324,5 @@ def headline(per: dict[str, Any]) -> dict[str, Any]:
     }
 
 
-__all__ = ["HEADLINE", "headline", "pmac_report", "report", "trio_report"]
+__all__ = ["HEADLINE", "headline", "planned_moves", "pmac_report", "report",
+           "summarise_starvations", "trio_report"]

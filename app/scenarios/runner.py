@@ -23,9 +23,11 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
+from motionsim.app.faults import faults_of
 from motionsim.app.scenarios.model import (
     BreqInterruptSpec,
     HostStallFault,
+    InjectFault,
     NaiveSpec,
     PrPollingSpec,
     Scenario,
@@ -240,6 +242,8 @@ def build(scn: Scenario) -> tuple[dict[str, Controller], dict[str, Any]]:
             ctl = controllers[f.controller or next(iter(controllers))]
             if isinstance(f, TerminalFault):
                 _at(ctl.env, f.at_ms / 1000, _command(ctl, f.command))
+            elif isinstance(f, InjectFault):
+                _at(ctl.env, f.at_ms / 1000, _quiet(faults_of(ctl).add, f.fault))
             else:
                 assert isinstance(f, SetVariableFault)
                 _at(ctl.env, f.at_ms / 1000, _quiet(ctl.set_variable, f.name, f.value))

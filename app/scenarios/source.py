@@ -62,8 +62,9 @@ def _walk(loader: yaml.SafeLoader, node: yaml.Node, path: Path_, out: dict[Path_
 def locate(data: Any, loc: Sequence[Any], lines: dict[Path_, int]) -> tuple[Path_, int | None]:
     """The data path of a validation ``loc`` and the line where it (or its parent) starts.
 
-    Pydantic puts union tags (the ``type`` of a host) and validator names in ``loc``; only the
-    elements that are keys / indices of ``data`` are kept, plus a final unknown or missing key.
+    Pydantic puts union tags (the ``type`` of a host, the ``kind`` of an injected fault) and
+    validator names in ``loc``; only the elements that are keys / indices of ``data`` are kept,
+    plus a final unknown or missing key.
     """
     path: list[Any] = []
     cur = data
@@ -78,9 +79,10 @@ def locate(data: Any, loc: Sequence[Any], lines: dict[Path_, int]) -> tuple[Path
             path.append(part)
             cur = cur[part]
         elif isinstance(part, str) and (
-            "[" in part or "-" in part or (isinstance(cur, dict) and cur.get("type") == part)
+            "[" in part or "-" in part
+            or (isinstance(cur, dict) and part in (cur.get("type"), cur.get("kind")))
         ):
-            continue  # a union tag or a validator's name
+            continue  # a union tag (a host's ``type``, a fault's ``kind``) or a validator's name
         else:
             path.append(part)  # a field that is not in the file (unknown or missing)
             break

@@ -204,8 +204,37 @@ def run_point(
         row["error"] = str(exc)
         return row
     row.update(rep["headline"])
+    row.update(per_controller(rep))
     row["error"] = ""
     return row
+
+
+#: Separates the controller id from the metric in a per-controller column (``slow.time_starved_s``).
+SEP = "."
+
+
+def per_controller(rep: dict[str, Any]) -> dict[str, Any]:
+    """Each controller's own headline, its columns prefixed ``<id>.`` (metrics a kind does not
+    have are left out)."""
+    from motionsim.app.scenarios.report import headline
+
+    out: dict[str, Any] = {}
+    for cid, r in rep["controllers"].items():
+        for key, value in headline({cid: r}).items():
+            if value is not None:
+                out[f"{cid}{SEP}{key}"] = value
+    return out
+
+
+def metric_title(scenario: str, metric: str, controllers: Sequence[str]) -> str:
+    """What a heat-map shows: the metric and the controller it is of (or that it combines
+    every controller's)."""
+    cid, sep, key = metric.partition(SEP)
+    if sep and cid in controllers:
+        return f"{scenario}: {key} of controller {cid}"
+    if len(controllers) == 1:
+        return f"{scenario}: {metric} of controller {controllers[0]}"
+    return f"{scenario}: {metric}, all controllers ({', '.join(controllers)})"
 
 
 Executor = Callable[[Callable[..., dict[str, Any]], list[dict[str, Any]]], Iterator[dict[str, Any]]]
@@ -364,6 +393,8 @@ __all__ = [
     "Param",
     "count_runs",
     "heatmap",
+    "metric_title",
+    "per_controller",
     "make_params",
     "parse_grid_spec",
     "points",

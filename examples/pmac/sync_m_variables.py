@@ -1,4 +1,4 @@
-"""Seed 001 as a script: plain ``M1=1`` versus synchronous ``M1==1`` between two moves.
+"""TUM p249 as a script: plain ``M1=1`` versus synchronous ``M1==1`` between two moves.
 
 Run: ``.venv/bin/python examples/pmac/sync_m_variables.py``. Prints the event log of each
 program in servo cycles: the plain write fires when the move to X10 starts (calculation runs

@@ -25,6 +25,7 @@ from typing import Any, NamedTuple
 import simpy
 from motionsim.sim.controller import Controller, Port, Reply
 from motionsim.sim.errors import BufferFull, Conflict, Halted, InvalidValue, NotFound, ParseError
+from motionsim.sim.faults import CardFaults
 from motionsim.sim.pmac import card_commands, registers
 from motionsim.sim.pmac import motor_statements as motor_st
 from motionsim.sim.pmac.cpu import CONFIG_KEYS as CPU_CONFIG_KEYS
@@ -82,6 +83,8 @@ class PmacController(Controller):
         self._check_config(self.config)
         self.vars = Variables(self._m_written)
         self.flash = card_commands.Flash()  # what SAVE stored; survives resets
+        #: Injected faults inside the card (sim.faults); they outlive a reset.
+        self.card_faults = CardFaults(self.log.emit)
         self._power_on()
 
     # -- construction ---------------------------------------------------------------------
@@ -267,7 +270,8 @@ class PmacController(Controller):
             raise Conflict(f"CS {cs} already has a rotary buffer", pmac_error="ERR003")
         if words > self.size_words():
             raise BufferFull(f"only {self.size_words()} words of memory free", pmac_error="ERR006")
-        c.rotary = RotaryBuffer(cs, words, self.log, self._thresholds, self.vars)
+        c.rotary = RotaryBuffer(cs, words, self.log, self._thresholds, self.vars,
+                                self.card_faults)
         if entered:
             c.rotary.reevaluate()
         return self.rotary(cs)  # type: ignore[return-value]

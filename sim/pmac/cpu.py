@@ -147,6 +147,7 @@ class Processor:
         self.plc0_scans = 0
         self._win = [self.env.now, 0.0]  # window start, RTI work done in it
         self._last_rti_share: float | None = None
+        self._stall = (-_INF, -_INF)  # an injected stall: the background gets nothing in it
 
     # -- host commands and changes ---------------------------------------------------------
 
@@ -162,6 +163,18 @@ class Processor:
         if self._active:
             self._advance(self.env.now)
         self._schedule()
+
+    def stall(self, start: float, end: float) -> None:
+        """Starve the background from ``start`` to ``end`` (simulated seconds), an injected
+        fault (:mod:`motionsim.sim.faults`): no host command is answered, no PLC 1-31 scans
+        and the watchdog is not reloaded in that window; the servo and RTI tasks go on."""
+        self._stall = (start, end)
+        self.poke()
+
+    def _bg_time(self, a: float, b: float) -> float:
+        """Wall time of ``[a, b]`` outside the stall window (what the background may use)."""
+        s0, s1 = self._stall
+        return (b - a) - max(0.0, min(b, s1) - max(a, s0))
 
     @property
     def active(self) -> bool:
@@ -204,6 +217,7 @@ class Processor:
             or self._latched
             or plcs.foreground() is not None
             or plcs.any_background()
+            or self._stall[1] > self.env.now
         )
 
     def _schedule(self) -> None:
@@ -234,8 +248,16 @@ class Processor:
             bg = self._bg
             if bg is not None:
                 work = max(0.0, self._fg) + bg.left
-                t_bg = max(self.scheduler.servo_at_or_after(now + work / r), bg.min_end)
+                done = now + work / r
+                s0, s1 = self._stall
+                if s1 > now and s0 < done:
+                    done += s1 - max(now, s0)  # the stall holds the background back
+                t_bg = max(self.scheduler.servo_at_or_after(done), bg.min_end)
                 t_next = min(t_next, t_bg)
+            elif self._stall[0] > now:
+                t_next = min(t_next, self.scheduler.servo_at_or_after(self._stall[0]))
+        if self._stall[0] <= now < self._stall[1]:
+            t_next = min(t_next, max(self._stall[1], now))
         self._wake = Wake(self.env, max(t_next, now), self._on_wake)
 
     def _advance(self, t: float) -> None:
@@ -251,6 +273,8 @@ class Processor:
         self._fg -= use
         cap -= use
         self._win[1] += use
+        if self._stall[1] > self._t:
+            cap = min(cap, self._bg_time(self._t, t) * r)
         bg = self._bg
         if bg is not None:
             bg.left = max(0.0, bg.left - cap)

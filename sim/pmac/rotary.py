@@ -44,6 +44,8 @@ class RotaryBuffer:
         log: the controller's event log.
         thresholds: returns ``(I16, I17)`` now (they may change at any time).
         vars_: the variable store; its ``version`` tells when to call ``thresholds`` again.
+        faults: the card's :class:`motionsim.sim.faults.CardFaults` (a rising edge it says
+            is lost raises the level without a ``breq`` event or interrupt), or None.
     """
 
     __slots__ = (
@@ -63,6 +65,7 @@ class RotaryBuffer:
         "_ver",
         "_i16",
         "_i17",
+        "_faults",
     )
 
     def __init__(
@@ -72,7 +75,9 @@ class RotaryBuffer:
         log: EventLog,
         thresholds: Callable[[], tuple[float, float]],
         vars_: Any,
+        faults: Any = None,
     ) -> None:
+        self._faults = faults
         self.cs = cs
         self.size_words = size_words
         self.used_words = 0
@@ -128,11 +133,18 @@ class RotaryBuffer:
         if level == self.breq:
             return
         self.breq = level
+        if level and self._lost():
+            return
         self._emit("breq", cs=self.cs, level=level)
         if level and self._rise:
             waiters, self._rise = self._rise, []
             for cb in waiters:
                 cb()
+
+    def _lost(self) -> bool:
+        """An injected fault takes this rising edge: the level is high, nobody is told."""
+        faults = self._faults
+        return faults is not None and faults.active and faults.lose_breq_rise(self.cs)
 
     def on_rise(self, cb: Callable[[], Any]) -> None:
         """Call ``cb()`` once, at the next rising edge of BREQ (a host's interrupt)."""
@@ -171,6 +183,8 @@ class RotaryBuffer:
             self._limits()
         if ahead < self._i17:
             self.breq = True  # the rising half of the pulse: an interrupt to the host
+            if self._faults is not None and self._lost():
+                return n  # the rise happened but was never signalled (an injected fault)
             emit("breq", cs=cs, level=True)
             if self._rise:
                 waiters, self._rise = self._rise, []

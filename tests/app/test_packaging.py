@@ -11,6 +11,7 @@ no ``.pth`` file of that directory, so this checkout's editable install stays in
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -22,6 +23,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
+SETUPTOOLS_WARNING = re.compile(r"Setuptools\w*Warning|BuildBackendWarning|_DeprecatedConfig")
 LAYERS = {"motionsim": "motionsim", "motionsim.sim": "sim", "motionsim.app": "app",
           "motionsim.api": "api"}
 
@@ -72,8 +74,11 @@ def _build_wheel(tmp: Path) -> Path:
         shutil.copytree(ROOT / folder, src / folder,
                         ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
     out = tmp / "dist"
-    subprocess.run([sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "-w", str(out),
-                    str(src)], check=True, timeout=300, capture_output=True)
+    built = subprocess.run([sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "-w",
+                            str(out), str(src)], check=True, timeout=300, capture_output=True,
+                           text=True)
+    # the build is clean: no setuptools deprecation or configuration warning
+    assert not SETUPTOOLS_WARNING.search(built.stdout + built.stderr), built.stderr
     (wheel,) = out.glob("motionsim-*.whl")
     return wheel
 

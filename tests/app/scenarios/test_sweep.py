@@ -131,7 +131,8 @@ def test_cli_run_writes_log_metrics_and_plot(tmp_path):
     res = CliRunner().invoke(cli, ["run", str(scn), "--out", str(out)])
     assert res.exit_code == 0, res.output
     names = {p.name for p in Path(out).iterdir()}
-    assert names == {"events.jsonl", "events.csv", "metrics.json", "pmac_cs1_lines_ahead.png"}
+    assert names == {"events.jsonl", "events.csv", "metrics.json", "pmac_cs1_lines_ahead.png",
+                     "pmac_cs1_lines_ahead_zoom.png"}  # the whole run, the first refills
     assert "rotary buffers" in res.output
 
 
