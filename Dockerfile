@@ -3,8 +3,10 @@
 #   docker run --rm -p 8000:8000 -p 1025:1025 -p 2323:2323 motionsim
 FROM python:3.11-slim
 
+# MOTIONSIM_ALLOWED_HOSTS: the compose network reaches the service by its service name.
 ENV PYTHONDONTWRITEBYTECODE=1 \
     PYTHONUNBUFFERED=1 \
+    MOTIONSIM_ALLOWED_HOSTS=motionsim \
     PIP_NO_CACHE_DIR=1 \
     PIP_DISABLE_PIP_VERSION_CHECK=1
 

@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: run test lint bench cov mutate clean
+.PHONY: run test lint bench cov mutate fuzz clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -21,6 +21,11 @@ test: $(STAMP)
 
 lint: $(STAMP)
 	$(BIN)/ruff check .
+
+# Bigger fuzz budgets: hypothesis over every parser and codec (>= 10^5 cases, counts in
+# fuzz-counts.json) and schemathesis over every operation, stateful phase included.
+fuzz: $(STAMP)
+	MOTIONSIM_FUZZ=1 $(BIN)/pytest -p no:cacheprovider -s tests/fuzz tests/integration/test_schemathesis.py
 
 # Every benchmark (each prints its table and writes bench/results/<name>.json), then the
 # summary of every target (PASS / SHORT, a report, never a failure) into README's Performance.
