@@ -37,7 +37,7 @@ def test_schemathesis_finds_no_server_error_and_no_schema_violation(tmp_path):
                "--seed", "1", "--generation-deterministic" if not FUZZING else "--no-shrink",
                "--report", "junit", "--report-dir", str(tmp_path)]
         out = subprocess.run(cmd, capture_output=True, text=True, timeout=int(max_time) + 300,
-                             env={**os.environ, "NO_COLOR": "1"})
+                             env={**os.environ, "NO_COLOR": "1"}, cwd=tmp_path)
         health = svc.proc.poll()
     summary = out.stdout[-6000:]
     print(next((ln for ln in out.stdout.splitlines() if "generated" in ln), "no test cases?"))
