@@ -8,8 +8,10 @@
 # `motionsim serve --record FILE` write there (or into a mounted volume).
 FROM python:3.11-slim
 
+# MOTIONSIM_ALLOWED_HOSTS: the compose network reaches the service by its service name.
 ENV PYTHONDONTWRITEBYTECODE=1 \
     PYTHONUNBUFFERED=1 \
+    MOTIONSIM_ALLOWED_HOSTS=motionsim \
     PIP_NO_CACHE_DIR=1 \
     PIP_DISABLE_PIP_VERSION_CHECK=1
 

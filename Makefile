@@ -11,7 +11,7 @@ TEST_STAMP := $(VENV)/.installed-test
 # ("Editable installation ... be careful with folders named like your package"); not a problem.
 PIP_INSTALL := PYTHONWARNINGS="ignore:Editable installation" $(BIN)/python -m pip install -q
 
-.PHONY: run test lint bench cov mutate plots clean
+.PHONY: run test lint bench cov mutate plots fuzz clean
 
 $(VENV_STAMP):
 	$(PYTHON) -m venv $(VENV)
@@ -35,6 +35,11 @@ test: $(TEST_STAMP)
 
 lint: $(TEST_STAMP)
 	$(BIN)/ruff check .
+
+# Bigger fuzz budgets: hypothesis over every parser and codec (>= 10^5 cases, counts in
+# fuzz-counts.json) and schemathesis over every operation, stateful phase included.
+fuzz: $(STAMP)
+	MOTIONSIM_FUZZ=1 $(BIN)/pytest -p no:cacheprovider -s tests/fuzz tests/integration/test_schemathesis.py
 
 # Every benchmark (each prints its table and writes bench/results/<name>.json), then the
 # summary of every target (PASS / SHORT, a report, never a failure) into README's Performance.

@@ -14,9 +14,11 @@ from typing import Any
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
+from motionsim.app.fatal import exit_if_fatal
 from motionsim.sim.errors import MotionSimError
 from motionsim.sim.pmac.error_codes import meaning
 from starlette.exceptions import HTTPException as StarletteHTTPException
+from starlette.routing import Match
 
 log = logging.getLogger("motionsim.api")
 
@@ -34,7 +36,8 @@ STATUS_BY_CODE: dict[str, int] = {
 #: Status for a MotionSimError whose code is not in the table.
 DEFAULT_STATUS = 400
 
-_HTTP_CODES = {404: "not_found", 405: "method_not_allowed", 415: "unsupported_media_type"}
+_HTTP_CODES = {404: "not_found", 405: "method_not_allowed", 413: "body_too_large",
+               415: "unsupported_media_type"}
 
 
 def status_for(code: str) -> int:
@@ -88,15 +91,35 @@ async def _validation_error(_: Request, exc: Exception) -> JSONResponse:
     return JSONResponse(validation_body(exc), status_code=422)
 
 
-async def _http_error(_: Request, exc: Exception) -> JSONResponse:
+async def _http_error(request: Request, exc: Exception) -> JSONResponse:
     assert isinstance(exc, StarletteHTTPException)
     code = _HTTP_CODES.get(exc.status_code, "http_error")
     message = exc.detail if isinstance(exc.detail, str) else str(exc.detail)
+    headers = dict(getattr(exc, "headers", None) or {})
+    if exc.status_code == 405:
+        allowed = allowed_methods(request)
+        headers["Allow"] = ", ".join(allowed)
+        message = f"{request.method} is not allowed here; allowed: {', '.join(allowed)}"
     return JSONResponse({"code": code, "message": message}, status_code=exc.status_code,
-                        headers=getattr(exc, "headers", None))
+                        headers=headers or None)
+
+
+def allowed_methods(request: Request) -> list[str]:
+    """Every method some route serves at this request's path (the router reports only the
+    first route's, and GET and DELETE of one resource are two routes)."""
+    methods = []
+    for method in _METHODS:
+        scope = {**request.scope, "method": method}
+        if any(route.matches(scope)[0] is Match.FULL for route in request.app.routes):
+            methods.append(method)
+    return methods
+
+
+_METHODS = ("GET", "HEAD", "POST", "PUT", "PATCH", "DELETE")
 
 
 async def _internal_error(_: Request, exc: Exception) -> JSONResponse:
+    exit_if_fatal(exc)  # a MemoryError ends the process (motionsim.app.fatal)
     log.error("internal error", exc_info=exc)
     return JSONResponse({"code": "internal_error",
                          "message": f"internal error: {type(exc).__name__}: {exc}"},

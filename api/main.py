@@ -8,18 +8,23 @@ api.main:create_app`` or ``motionsim serve``.
 
 from __future__ import annotations
 
+import asyncio
 import importlib
 import pkgutil
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 
 from fastapi import APIRouter, FastAPI
+from fastapi.middleware.cors import CORSMiddleware
 from fastapi_offline import FastAPIOffline
 from motionsim.api import routes as route_modules
+from motionsim.api.body_guard import BodyGuard
 from motionsim.api.errors import install_error_handlers
 from motionsim.api.routes.favicon import FAVICON_URL
 from motionsim.api.schemas.common import ERROR_RESPONSES
+from motionsim.api.web_guard import WebGuard, allowed_host_set
 from motionsim.app import __version__
+from motionsim.app.fatal import install_loop_handler
 from motionsim.app.registry import Registry
 from motionsim.app.service import build_registry
 from motionsim.app.settings import Settings
@@ -52,6 +57,7 @@ def create_app(settings: Settings | None = None, registry: Registry | None = Non
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
+        install_loop_handler(asyncio.get_running_loop())
         await registry.start()
         try:
             yield
@@ -79,7 +85,22 @@ def create_app(settings: Settings | None = None, registry: Registry | None = Non
     install_error_handlers(app)
     for _, router in discover_routers():
         app.include_router(router)
+    install_guards(app, settings)
     return app
+
+
+def install_guards(app: FastAPI, settings: Settings) -> None:
+    """Request bodies checked (api/body_guard.py), then Host / Origin / token (api/web_guard.py);
+    CORS only for the origins ``settings.cors_origins`` names (off by default)."""
+    app.add_middleware(BodyGuard, max_body_bytes=settings.max_body_bytes,
+                       routes=app.router.routes)
+    app.add_middleware(WebGuard, allowed_hosts=allowed_host_set(settings.host,
+                                                                settings.allowed_hosts),
+                       token=settings.token, cors_origins=settings.cors_origins)
+    if settings.cors_origins:
+        app.add_middleware(CORSMiddleware, allow_origins=settings.cors_origins,
+                           allow_methods=["*"], allow_headers=["*"],
+                           allow_credentials=False)
 
 
 __all__ = ["DOCS_STATIC_URL", "create_app", "discover_routers"]

@@ -16,6 +16,7 @@ import logging
 from collections.abc import AsyncIterator, Callable
 from typing import Any, Final
 
+from motionsim.app.fatal import exit_if_fatal
 from motionsim.app.faults import ReplyAction, faults_of, has_faults
 
 
@@ -153,26 +154,65 @@ def peer_name(writer: asyncio.StreamWriter) -> str:
     return f"{peer[0]}:{peer[1]}" if isinstance(peer, tuple) else str(peer)
 
 
+def current_handle(source: Any) -> Any:
+    """The controller handle a new connection talks to: ``source.current()`` for a listener's
+    :class:`motionsim.app.registry.LiveHandle` (the controller registered under the id *now*;
+    raises ``NotFound`` while there is none), else ``source`` itself."""
+    current = getattr(type(source), "current", None)
+    return source.current() if current is not None else source
+
+
+def close_when_deleted(handle: Any, writer: asyncio.StreamWriter) -> Callable[[], None]:
+    """Close ``writer``'s connection when ``handle``'s controller is deleted (no connection
+    keeps driving a deleted controller); returns the unsubscribe."""
+    on_close = getattr(handle, "on_close", None)
+    if on_close is None:
+        return lambda: None
+    return on_close(writer.close)
+
+
+async def read_chunk(reader: asyncio.StreamReader, limits: Any) -> bytes:
+    """The next bytes from the host; ``b""`` when it closed or stayed silent past
+    ``limits.idle_timeout_s`` (then the connection is closed as if the host had gone)."""
+    try:
+        return await asyncio.wait_for(reader.read(65536), limits.idle_timeout_s)
+    except TimeoutError:
+        return b""
+
+
 async def serve_connection(
     session: WireSession,
     reader: asyncio.StreamReader,
     writer: asyncio.StreamWriter,
     log: logging.Logger,
+    limits: Any = None,
 ) -> None:
     """Pump one connection: bytes in → ``session.receive``; ``session.replies()`` → bytes out.
 
     Reading runs as its own task so that a host going away is noticed while a command is still
-    waiting for the controller. A broken stream or an unexpected error closes this connection
-    only; the server and the other connections keep running.
+    waiting for the controller. It reads at most ``limits.read_ahead_bytes`` ahead of the
+    replies sent: a host pipelining input without reading its replies is held back by TCP flow
+    control instead of filling the server's memory. A host silent for ``limits.idle_timeout_s``
+    is disconnected; so is every connection of a controller that is deleted. A broken stream or
+    an unexpected error closes this connection only; the server and the other connections keep
+    running.
     """
+    limits = limits if limits is not None else default_limits()
     peer = peer_name(writer)
     wake = asyncio.Event()
     session.wake = wake
+    caught_up = asyncio.Event()
+    ahead = 0
 
     async def read_loop() -> None:
+        nonlocal ahead
         try:
             while True:
-                data = await reader.read(65536)
+                if ahead > limits.read_ahead_bytes:
+                    caught_up.clear()
+                    await caught_up.wait()
+                data = await read_chunk(reader, limits)
+                ahead += len(data)
                 session.receive(data)
                 wake.set()
                 if not data:
@@ -181,6 +221,7 @@ async def serve_connection(
             session.receive(b"")
             wake.set()
 
+    unsubscribe = close_when_deleted(session.handle, writer)
     reading = asyncio.create_task(read_loop())
     try:
         while True:
@@ -193,15 +234,19 @@ async def serve_connection(
                     continue
                 writer.write(out)
                 await writer.drain()
+            ahead = 0
+            caught_up.set()
             if session.codec.eof:
                 break
     except (Disconnected, ConnectionError, OSError):
         pass
     except ProtocolError as exc:
         log.warning("%s %s: %s; closing the connection", session.protocol, peer, exc)
-    except Exception:  # noqa: BLE001 - one broken connection must not take the server down
+    except Exception as exc:  # noqa: BLE001 - one broken connection must not take the server down
+        exit_if_fatal(exc)
         log.exception("%s %s: unexpected error; closing the connection", session.protocol, peer)
     finally:
+        unsubscribe()
         reading.cancel()
         with contextlib.suppress(BaseException):
             await reading
@@ -232,20 +277,42 @@ async def _faulty_reply(action: ReplyAction, out: bytes, writer: asyncio.StreamW
     raise ConnectionResetError("injected connection_reset")
 
 
+def default_limits() -> Any:
+    from motionsim.app.listeners import ConnectionLimits
+
+    return ConnectionLimits()
+
+
 async def start_server(
-    connect: Callable[[asyncio.StreamReader, asyncio.StreamWriter], Any], host: str, port: int
+    connect: Callable[[asyncio.StreamReader, asyncio.StreamWriter], Any], host: str, port: int,
+    limits: Any = None,
 ) -> asyncio.Server:
-    """``asyncio.start_server`` whose connections end quietly when the server shuts down."""
+    """``asyncio.start_server`` whose connections end quietly when the server shuts down, with
+    at most ``limits.max_connections`` open at once (one more is closed at once)."""
+    limits = limits if limits is not None else default_limits()
+    active = 0
 
     async def on_connect(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
-        with contextlib.suppress(asyncio.CancelledError):
-            await connect(reader, writer)
+        nonlocal active
+        if active >= limits.max_connections:
+            writer.close()
+            return
+        active += 1
+        try:
+            with contextlib.suppress(asyncio.CancelledError):
+                await connect(reader, writer)
+        finally:
+            active -= 1
 
     return await asyncio.start_server(on_connect, host, port)
 
 
 __all__ = [
     "NEED_DATA",
+    "close_when_deleted",
+    "current_handle",
+    "default_limits",
+    "read_chunk",
     "Disconnected",
     "NeedData",
     "ProtocolError",

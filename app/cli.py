@@ -100,7 +100,17 @@ def serve(
              "Repeatable.")] = None,
     record: Annotated[Path | None, typer.Option(
         metavar="FILE",
-        help="Record every TCP protocol session's bytes to this JSON Lines file.")] = None,
+        help="Record every TCP protocol session's bytes to this JSON Lines file (an existing "
+             "one is kept as FILE.1, FILE.2, ...).")] = None,
+    token: Annotated[str | None, typer.Option(
+        metavar="TOKEN",
+        help="Require 'Authorization: Bearer TOKEN' (or ?token=) on every request but GET "
+             "/health; env MOTIONSIM_TOKEN.")] = None,
+    allow_host: Annotated[list[str] | None, typer.Option(
+        metavar="HOST",
+        help="Also accept requests whose Host header names HOST (besides the loopback names "
+             "and the bound address); '*' = any. Repeatable; env MOTIONSIM_ALLOWED_HOSTS.")
+    ] = None,
 ) -> None:
     """Run the simulation service.
 
@@ -136,6 +146,10 @@ def serve(
         overrides["clock"] = clock_data
     if plugin:
         overrides["plugins"] = [*file_data.get("plugins", []), *plugin]
+    if token is not None:
+        overrides["token"] = token
+    if allow_host:
+        overrides["allowed_hosts"] = [*file_data.get("allowed_hosts", []), *allow_host]
     file_data.update({k: v for k, v in overrides.items() if v is not None})
     try:
         settings = build_settings(None, **file_data)

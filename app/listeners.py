@@ -18,6 +18,11 @@ is installed and awaits its server function with the controller's handle::
   ``motionsim serve`` exits with a non-zero status). ``0`` disables the listener.
 - ``"auto"`` — a free port, printed.
 
+The server function gets a :class:`motionsim.app.registry.LiveHandle` (the controller currently
+registered under the id, so a deleted and re-created controller is served by its new
+incarnation) and ``limits`` (:class:`motionsim.api.wire.ConnectionLimits`: connection cap, idle
+timeout, from the settings ``tcp_max_connections`` / ``tcp_idle_timeout_s``).
+
 Each listener started prints one line: ``motionsim listening pmac://127.0.0.1:1025 (controller
 pmac)``. Extra keyword arguments (e.g. ``recorder=`` for ``--record``) are passed to every
 server function.
@@ -54,6 +59,22 @@ class Protocol:
     default_port: int
     setting: str       # Settings field with the port
     controller_setting: str  # Settings field with the controller id
+
+
+@dataclass(frozen=True, slots=True)
+class ConnectionLimits:
+    """What one TCP protocol listener allows (settings ``tcp_max_connections``,
+    ``tcp_idle_timeout_s``).
+
+    ``max_connections``: connections open at once; one more is closed at once.
+    ``idle_timeout_s``: a connection that sends nothing this long is closed.
+    ``read_ahead_bytes``: input a connection may send ahead of the replies it has been given;
+    beyond it the server stops reading (TCP flow control holds the host back) [INF].
+    """
+
+    max_connections: int = 32
+    idle_timeout_s: float = 600.0
+    read_ahead_bytes: int = 256 * 1024
 
 
 @dataclass(frozen=True, slots=True)
@@ -102,6 +123,7 @@ async def start_listeners(
     """
     started: list[Listener] = []
     host = settings.host
+    limits = ConnectionLimits(settings.tcp_max_connections, settings.tcp_idle_timeout_s)
     try:
         for protocol in PROTOCOLS:
             value = getattr(settings, protocol.setting)
@@ -126,7 +148,8 @@ async def start_listeners(
                 skip(f"adapter {protocol.module} is not installed")
                 continue
             try:
-                server = await serve(registry.get(cid), host, port, **serve_kwargs)
+                server = await serve(registry.live(cid), host, port, limits=limits,
+                                     **serve_kwargs)
             except OSError as exc:
                 skip(f"cannot listen ({exc.strerror or exc})")
                 continue
@@ -140,4 +163,5 @@ async def start_listeners(
     return started
 
 
-__all__ = ["PROTOCOLS", "Listener", "ListenerError", "Protocol", "start_listeners"]
+__all__ = ["PROTOCOLS", "ConnectionLimits", "Listener", "ListenerError", "Protocol",
+           "start_listeners"]

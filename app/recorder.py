@@ -41,7 +41,9 @@ class Recorder:
     """Appends session bytes to a JSON Lines transcript (flushed line by line).
 
     Args:
-        path: the transcript file (truncated).
+        path: the transcript file. One that already exists is kept: it is renamed
+            ``FILE.1`` (``FILE.1`` to ``FILE.2`` ..., the :data:`KEEP` newest kept), so a
+            restart never overwrites the last run's transcript.
         controllers: ``{id: {"kind": ..., "config": {...}}}`` of the controllers served, so
             a replay can build fresh ones.
     """
@@ -50,7 +52,8 @@ class Recorder:
         self, path: str | Path, controllers: Mapping[str, Mapping[str, Any]] | None = None
     ) -> None:
         self.path = Path(path)
-        self._file: IO[str] | None = self.path.open("w", encoding="utf-8")
+        rotate(self.path)
+        self._file: IO[str] | None = self.path.open("x", encoding="utf-8")
         self._next = 0
         self._write({"kind": "header", "version": 1, "controllers": dict(controllers or {})})
 
@@ -90,6 +93,24 @@ class Recorder:
             self._file = None
 
 
+#: Earlier transcripts kept beside the current one (``FILE.1`` newest .. ``FILE.5``).
+KEEP = 5
+
+
+def rotate(path: Path, keep: int = KEEP) -> None:
+    """Move an existing ``path`` to ``path.1``, ``path.1`` to ``path.2``, ...; the oldest beyond
+    ``keep`` is removed."""
+    if not path.exists():
+        return
+    older = [path.with_name(f"{path.name}.{n}") for n in range(1, keep + 1)]
+    if older[-1].exists():
+        older[-1].unlink()
+    for n in range(keep - 1, 0, -1):
+        if older[n - 1].exists():
+            older[n - 1].rename(older[n])
+    path.rename(older[0])
+
+
 def read_transcript(path: str | Path) -> Iterator[Record]:
     """The records of a transcript, in order."""
     with Path(path).open(encoding="utf-8") as f:
@@ -108,4 +129,4 @@ def read_transcript(path: str | Path) -> Iterator[Record]:
                          data, obj)
 
 
-__all__ = ["Record", "Recorder", "read_transcript"]
+__all__ = ["KEEP", "Record", "Recorder", "read_transcript", "rotate"]

@@ -344,15 +344,40 @@ def _close_clock(clock: Clock) -> None:
         clock.close()
 
 
+class LiveHandle:
+    """The controller *currently* registered under ``id``, looked up at each use.
+
+    What the TCP protocol listeners hold: a controller deleted and created again under the
+    same id is served by its new incarnation from the next connection on (no "ghost" driving
+    the deleted object). Attribute access is forwarded to the current handle; :meth:`current`
+    returns it (raises :class:`NotFound` while there is none).
+    """
+
+    def __init__(self, registry: Registry, id: str) -> None:
+        self._registry = registry
+        self.id = id
+
+    def current(self) -> ControllerHandle:
+        return self._registry.get(self.id)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.current(), name)
+
+    def __repr__(self) -> str:
+        return f"<LiveHandle {self.id}>"
+
+
 class Registry:
     """The running controllers by id.
 
     Args:
         log_capacity: events each controller's log holds (at least 100 000 in the service).
+        max_controllers: how many may exist at once (the setting ``max_controllers``).
     """
 
-    def __init__(self, *, log_capacity: int = 100_000) -> None:
+    def __init__(self, *, log_capacity: int = 100_000, max_controllers: int = 64) -> None:
         self.log_capacity = log_capacity
+        self.max_controllers = max_controllers
         self._handles: dict[str, ControllerHandle] = {}
         self._started = False
 
@@ -364,6 +389,10 @@ class Registry:
             raise NotFound(f"no controller {id!r}; running: {', '.join(self._handles) or 'none'}",
                            controller=id) from None
         return handle
+
+    def live(self, id: str) -> LiveHandle:
+        """A :class:`LiveHandle` for ``id`` (for listeners that outlive one incarnation)."""
+        return LiveHandle(self, id)
 
     def __iter__(self) -> Iterator[ControllerHandle]:
         return iter(list(self._handles.values()))
@@ -409,6 +438,10 @@ class Registry:
                 f"controller id {id!r} must be 1-64 letters, digits, '_', '.', '-'", field="id")
         if id in self._handles:
             raise Conflict(f"a controller {id!r} already exists", controller=id)
+        if len(self._handles) >= self.max_controllers:
+            raise Conflict(f"{len(self._handles)} controllers exist, the most allowed "
+                           "(setting max_controllers): delete one first",
+                           limit=self.max_controllers)
         controller = cls(id, dict(config or {}), log_capacity=self.log_capacity)
         new_clock = make_clock(clock, controller.env, factor, paused, log=controller.log,
                                reaction_s=reaction_s)
@@ -443,4 +476,4 @@ class Registry:
 
 
 __all__ = ["REALTIME_REPLY_CAP_S", "RUN_UNTIL_WALL_CAP_S", "TERMINAL_WAIT_S", "ControllerHandle",
-           "Registry"]
+           "LiveHandle", "Registry"]

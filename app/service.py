@@ -32,7 +32,8 @@ def import_plugins(settings: Settings) -> None:
 def build_registry(settings: Settings) -> Registry:
     """A registry holding the controllers ``settings`` asks for (clocks not yet started)."""
     import_plugins(settings)
-    registry = Registry(log_capacity=settings.log_capacity)
+    registry = Registry(log_capacity=settings.log_capacity,
+                        max_controllers=settings.max_controllers)
     specs = settings.controllers
     defaults = specs is None
     if specs is None:

@@ -21,11 +21,15 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 import yaml
+from motionsim.sim.bounds import CLOCK_FACTOR
 from pydantic import BaseModel, ConfigDict, Field, field_validator
-from pydantic_settings import BaseSettings, SettingsConfigDict
+from pydantic_settings import BaseSettings, NoDecode, SettingsConfigDict
+
+#: Default request body limit (bytes); the setting ``max_body_bytes``.
+DEFAULT_MAX_BODY_BYTES = 8 * 1024 * 1024
 
 #: The PMAC Ethernet protocol's port, and the Trio command line's (telnet) port.
 DEFAULT_PMAC_PORT = 1025
@@ -40,7 +44,7 @@ class ClockSpec(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
     mode: Literal["virtual", "realtime", "host-paced"] = "realtime"
-    factor: float = Field(1.0, gt=0, allow_inf_nan=False,
+    factor: float = Field(1.0, ge=CLOCK_FACTOR.low, le=CLOCK_FACTOR.high, allow_inf_nan=False,
                           description="speed-up: simulated seconds per wall second (realtime)")
     paused: bool = False
     reaction_s: float = Field(0.0, ge=0, le=60, allow_inf_nan=False, description=(
@@ -86,6 +90,33 @@ class Settings(BaseSettings):
                               description="events each controller's log holds")
     plugins: list[str] = Field(default_factory=list,
                                description="modules imported at start (may register kinds)")
+    # -- limits (README "What is protected") --------------------------------------------
+    max_body_bytes: int = Field(DEFAULT_MAX_BODY_BYTES, ge=1024, le=1 << 30,
+                                description="largest request body (413 above)")
+    max_controllers: int = Field(64, ge=1, le=10_000,
+                                 description="controllers that may exist at once (409 above)")
+    tcp_max_connections: int = Field(
+        32, ge=1, le=10_000, description="open connections per TCP protocol listener")
+    tcp_idle_timeout_s: float = Field(
+        600.0, gt=0, le=86_400, allow_inf_nan=False,
+        description="a TCP protocol connection that sends nothing this long is closed")
+    # -- web safety ----------------------------------------------------------------------
+    allowed_hosts: Annotated[list[str], NoDecode] = Field(
+        default_factory=list,
+        description="Host names accepted besides the loopback names and the bound address "
+                    "('*' = any); env MOTIONSIM_ALLOWED_HOSTS is comma-separated")
+    token: str | None = Field(None, min_length=1, description="bearer token every request "
+                              "but GET /health must carry (env MOTIONSIM_TOKEN)")
+    cors_origins: Annotated[list[str], NoDecode] = Field(
+        default_factory=list, description="origins CORS allows (default none: CORS off); "
+                                          "env MOTIONSIM_CORS_ORIGINS is comma-separated")
+
+    @field_validator("allowed_hosts", "cors_origins", mode="before")
+    @classmethod
+    def _comma_list(cls, v: Any) -> Any:
+        if isinstance(v, str):
+            return [part.strip() for part in v.split(",") if part.strip()]
+        return v
 
     @field_validator("pmac_port", "trio_port", "modbus_port")
     @classmethod

@@ -43,7 +43,7 @@ async def rest_client(app: FastAPI) -> AsyncIterator[httpx.AsyncClient]:
     ``client.app`` is the app."""
     async with app.router.lifespan_context(app):
         transport = httpx.ASGITransport(app=app)
-        async with httpx.AsyncClient(transport=transport, base_url="http://motionsim") as client:
+        async with httpx.AsyncClient(transport=transport, base_url="http://127.0.0.1") as client:
             client.app = app  # type: ignore[attr-defined]
             yield client
 

@@ -7,6 +7,7 @@ so deterministic); its terminal answers like a controller's host port, after
 - ``ECHO text`` -> ``text``; ``NOW text`` -> ``text`` at once; ``SLOW`` -> ``slow`` after 2 s
   (longer than the 1 s a virtual terminal waits, so it ends pending and the reply arrives as a
   ``terminal_reply`` event); ``ERR`` -> error ``ERR003``; ``HALT`` raises ``Halted``;
+  ``OOM`` raises ``MemoryError``;
   ``ADDR n`` / ``ADDR?`` -> per-port modal state; ``PING`` emits a ``ping`` event at once.
 - variables ``V0`` .. ``V9`` (0.0 by default); other names -> ``NotFound``.
 
@@ -66,6 +67,8 @@ class DummyController(Controller):
         word = word.upper()
         if word == "HALT":
             raise Halted("the dummy controller is halted")
+        if word == "OOM":
+            raise MemoryError("the dummy controller ran out of memory")
         if word == "NOW":
             reply.resolve(rest, None, self.env.now)
         elif word == "PING":

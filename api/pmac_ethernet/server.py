@@ -35,11 +35,12 @@ from motionsim.api.wire import (
     NEED_DATA,
     WireSession,
     await_reply,
+    current_handle,
     peer_name,
     serve_connection,
     start_server,
 )
-from motionsim.sim.errors import Halted, MotionSimError
+from motionsim.sim.errors import Halted, MotionSimError, NotFound
 
 log = logging.getLogger("motionsim.pmac_ethernet")
 
@@ -128,20 +129,28 @@ class PmacSession(WireSession):
 
 
 async def serve_pmac(
-    handle: Any, host: str = "127.0.0.1", port: int = 1025, *, recorder: Any = None
+    handle: Any, host: str = "127.0.0.1", port: int = 1025, *, recorder: Any = None,
+    limits: Any = None,
 ) -> asyncio.Server:
     """Listen for PMAC Ethernet connections to ``handle``'s controller (``port=0`` picks one).
 
-    Returns the started :class:`asyncio.Server`; ``server.sockets[0].getsockname()[1]`` is
-    the port bound.
+    ``handle`` may be a :class:`motionsim.app.registry.LiveHandle`: each connection then talks
+    to the controller registered under its id when it connects (none: the connection is
+    closed). ``limits``: :class:`motionsim.app.listeners.ConnectionLimits`. Returns the started
+    :class:`asyncio.Server`; ``server.sockets[0].getsockname()[1]`` is the port bound.
     """
 
     async def connect(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         peer = peer_name(writer)
-        session = PmacSession(handle, f"tcp:{peer}", recorder, peer)
-        await serve_connection(session, reader, writer, log)
+        try:
+            current = current_handle(handle)
+        except NotFound:
+            writer.close()
+            return
+        session = PmacSession(current, f"tcp:{peer}", recorder, peer)
+        await serve_connection(session, reader, writer, log, limits)
 
-    return await start_server(connect, host, port)
+    return await start_server(connect, host, port, limits)
 
 
 __all__ = ["PmacSession", "serve_pmac"]

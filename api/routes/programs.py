@@ -55,7 +55,7 @@ async def put_program(handle: HandleDep, name: NameParam, request: Request) -> d
 
 @router.get(
     "/controllers/{controller_id}/programs/{name}",
-    response_class=PlainTextResponse,
+    # no response_class: its media type would also be claimed for the JSON error bodies
     responses={200: {"content": {"text/plain": {"schema": {"type": "string"}}}}},
 )
 def get_program(handle: HandleDep, name: NameParam) -> PlainTextResponse:

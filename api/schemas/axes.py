@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Annotated, Literal
 
+from motionsim.api.schemas.common import Int
+from motionsim.sim.bounds import TRIO_DISTANCE, TRIO_RATE
 from pydantic import BaseModel, ConfigDict, Field
 
 
@@ -33,16 +35,20 @@ class AxisOut(BaseModel):
 class AxisPatch(BaseModel):
     """Parameters to write; all are checked before any is written."""
 
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", strict=True)
 
-    speed: float | None = Field(None, gt=0, allow_inf_nan=False)
-    accel: float | None = Field(None, gt=0, allow_inf_nan=False)
-    decel: float | None = Field(None, gt=0, allow_inf_nan=False)
-    units: float | None = Field(None, gt=0, allow_inf_nan=False)
-    creep: float | None = Field(None, gt=0, allow_inf_nan=False)
+    speed: float | None = Field(None, gt=0, le=TRIO_RATE.high, allow_inf_nan=False)
+    accel: float | None = Field(None, gt=0, le=TRIO_RATE.high, allow_inf_nan=False)
+    decel: float | None = Field(None, gt=0, le=TRIO_RATE.high, allow_inf_nan=False)
+    units: float | None = Field(None, gt=0, le=TRIO_RATE.high, allow_inf_nan=False)
+    creep: float | None = Field(None, gt=0, le=TRIO_RATE.high, allow_inf_nan=False)
     merge: float | None = Field(None, allow_inf_nan=False, description="non-zero = ON")
     sramp: float | None = Field(None, ge=0, le=250, allow_inf_nan=False, description="ms")
 
+
+#: A move argument: finite and within ±1e12 user units (sim/bounds.py).
+Distance = Annotated[float, Field(ge=TRIO_DISTANCE.low, le=TRIO_DISTANCE.high,
+                                  allow_inf_nan=False)]
 
 MoveType = Literal["MOVE", "MOVEABS", "MOVECIRC", "MHELICAL", "FORWARD", "REVERSE", "DATUM"]
 
@@ -51,11 +57,12 @@ class MoveIn(BaseModel):
     """A motion command with the path axis as its base axis (multi-axis commands drive the
     axes after it: ``MOVE`` with 2 args on axis 0 drives axes 0 and 1)."""
 
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", strict=True)
 
     type: MoveType
-    args: list[float] = Field(default_factory=list)
-    process: int | None = Field(None, ge=0, description="issuing process (default 0, the "
+    args: list[Distance] = Field(default_factory=list, max_length=16,
+                                 description="distances / positions, user units")
+    process: Int | None = Field(None, ge=0, description="issuing process (default 0, the "
                                                         "command line)")
 
 

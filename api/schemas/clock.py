@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import Annotated, Any, Literal
 
 from motionsim.api.schemas.events import EventOut
+from motionsim.sim.bounds import ADVANCE_SECONDS, CLOCK_FACTOR, TIMEOUT_SECONDS
 from pydantic import BaseModel, ConfigDict, Field
 
 ClockModeField = Literal["virtual", "realtime", "host-paced"]
@@ -55,10 +56,11 @@ class ClockOut(BaseModel):
 class ClockIn(BaseModel):
     """A clock for a new controller."""
 
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", strict=True)
 
     mode: ClockModeField = "realtime"
-    factor: float = Field(1.0, gt=0, allow_inf_nan=False)
+    factor: float = Field(1.0, ge=CLOCK_FACTOR.low, le=CLOCK_FACTOR.high, allow_inf_nan=False,
+                          description="simulated seconds per wall second (realtime)")
     paused: bool = False
     reaction_s: ReactionS = 0.0
     holders: list[HolderName] | None = Field(None, max_length=64, description=(
@@ -68,9 +70,10 @@ class ClockIn(BaseModel):
 class ClockPatch(BaseModel):
     """Change the speed-up ``factor``, pause / resume, or switch ``mode`` (at the current t)."""
 
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", strict=True)
 
-    factor: float | None = Field(None, gt=0, allow_inf_nan=False)
+    factor: float | None = Field(None, ge=CLOCK_FACTOR.low, le=CLOCK_FACTOR.high,
+                                 allow_inf_nan=False)
     paused: bool | None = None
     mode: ClockModeField | None = None
     reaction_s: ReactionS | None = None
@@ -81,9 +84,10 @@ class ClockPatch(BaseModel):
 class AdvanceIn(BaseModel):
     """Run a virtual clock forward by ``seconds`` of simulated time (0 is a no-op)."""
 
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", strict=True)
 
-    seconds: float = Field(ge=0, allow_inf_nan=False)
+    seconds: float = Field(ge=ADVANCE_SECONDS.low, le=ADVANCE_SECONDS.high, allow_inf_nan=False,
+                           description="simulated seconds")
     holder: HolderName | None = Field(None, description=(
         "host-paced: the holder that waits (default `main`)"))
 
@@ -103,10 +107,11 @@ class EventPattern(BaseModel):
 class RunUntilIn(BaseModel):
     """Wait for the first new event matching ``event``, at most ``timeout_s`` simulated."""
 
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", strict=True)
 
     event: EventPattern
-    timeout_s: float = Field(ge=0, allow_inf_nan=False)
+    timeout_s: float = Field(ge=TIMEOUT_SECONDS.low, le=TIMEOUT_SECONDS.high,
+                             allow_inf_nan=False, description="simulated seconds")
     holder: HolderName | None = Field(None, description=(
         "host-paced: the holder that waits (default `main`)"))
 

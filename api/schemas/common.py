@@ -2,7 +2,21 @@
 
 from __future__ import annotations
 
-from pydantic import BaseModel, ConfigDict, Field
+from typing import Annotated, Any
+
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
+
+
+def _integral(value: Any) -> Any:
+    """``2.0`` -> ``2`` (JSON Schema counts it an integer); ``true``, ``"2"``, ``2.5`` stay
+    wrong for a strict ``int``."""
+    if isinstance(value, float) and value.is_integer():
+        return int(value)
+    return value
+
+
+#: An ``int`` body field in a strict model: integral numbers only, never a bool or a string.
+Int = Annotated[int, BeforeValidator(_integral)]
 
 
 class ErrorBody(BaseModel):
@@ -49,4 +63,4 @@ ERROR_RESPONSES: dict[int | str, dict] = {
           "description": "bad field or program text (`validation_error`, `parse_error`)"},
 }
 
-__all__ = ["ERROR_RESPONSES", "ErrorBody", "Health", "ServiceInfo"]
+__all__ = ["ERROR_RESPONSES", "ErrorBody", "Health", "Int", "ServiceInfo"]

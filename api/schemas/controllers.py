@@ -5,7 +5,15 @@ from __future__ import annotations
 from typing import Any
 
 from motionsim.api.schemas.clock import ClockIn, ClockOut
+from motionsim.sim.bounds import PMAC_CONFIG, PMAC_CPU_COST, TRIO_CONFIG, TRIO_RATE, describe
 from pydantic import BaseModel, ConfigDict, Field
+
+CONFIG_DOC = (
+    "the kind's initial settings; unknown keys and values outside these bounds are 422. "
+    f"PMAC: {describe(PMAC_CONFIG)}; cpu_<task>_us: {PMAC_CPU_COST.describe()}; "
+    "iN (I-variables): finite. "
+    f"Trio: {describe(TRIO_CONFIG)}; speed, accel, decel, creep, units: "
+    f"{TRIO_RATE.describe()}.")
 
 
 class ControllerOut(BaseModel):
@@ -22,7 +30,7 @@ class ControllerIn(BaseModel):
     """A new controller. ``config`` holds the kind's initial settings, e.g. PMAC
     ``{"i16": 5, "i17": 10, "i8": 2, "servo_hz": 2258.0}`` or Trio ``{"servo_period_ms": 1.0}``."""
 
-    model_config = ConfigDict(extra="forbid", json_schema_extra={
+    model_config = ConfigDict(extra="forbid", strict=True, json_schema_extra={
         "examples": [{"id": "pmac2", "kind": "pmac", "clock": {"mode": "virtual"},
                       "config": {"i16": 5, "i17": 10}}]})
 
@@ -30,7 +38,7 @@ class ControllerIn(BaseModel):
                            description="default: kind + a number")
     kind: str = Field(description="an installed kind: pmac, trio, ...")
     clock: ClockIn = Field(default_factory=ClockIn)
-    config: dict[str, Any] = Field(default_factory=dict)
+    config: dict[str, Any] = Field(default_factory=dict, description=CONFIG_DOC)
 
 
 __all__ = ["ControllerIn", "ControllerOut"]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Literal
 
+from motionsim.api.schemas.common import Int
 from pydantic import BaseModel, ConfigDict, Field
 
 
@@ -41,18 +42,18 @@ class CoordPublic(BaseModel):
 class RotaryIn(BaseModel):
     """``PUT .../rotary`` = ``&cs DEFINE ROT size_words``."""
 
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", strict=True)
 
-    size_words: int = Field(gt=0, le=65_536)
+    size_words: Int = Field(gt=0, le=65_536)
 
 
 class LinesIn(BaseModel):
     """A batch of program lines, stored atomically; ``first_seq`` numbers them."""
 
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", strict=True)
 
     lines: list[str] = Field(description="program lines, e.g. ['X10 Y20', 'M1==1']")
-    first_seq: int | None = Field(
+    first_seq: Int | None = Field(
         None, ge=0, description="the client's number of lines[0]: a resend of exactly the "
         "stored lines is acknowledged, a gap / different text / number beyond 2^53-1 is 409 "
         "`conflict` with `expected_seq` (API.md)")

@@ -31,7 +31,7 @@ class PlcList(BaseModel):
 
 
 class PlcProgramIn(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", strict=True)
 
     text: str = Field(max_length=200_000, description="PLC program, one statement line per line")
 

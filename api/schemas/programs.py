@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from motionsim.api.schemas.common import Int
 from pydantic import BaseModel, ConfigDict, Field
 
 
@@ -15,9 +16,9 @@ class ProgramList(BaseModel):
 
 
 class RunIn(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", strict=True)
 
-    process: int | None = Field(None, ge=1, description="default: the highest free process")
+    process: Int | None = Field(None, ge=1, description="default: the highest free process")
 
 
 class RunOut(BaseModel):

@@ -6,7 +6,7 @@ from pydantic import BaseModel, ConfigDict, Field
 
 
 class TerminalIn(BaseModel):
-    model_config = ConfigDict(extra="forbid", json_schema_extra={
+    model_config = ConfigDict(extra="forbid", strict=True, json_schema_extra={
         "examples": [{"command": "&1 B0 R"}, {"command": "PRINT MTYPE AXIS(0)"}]})
 
     command: str = Field(max_length=4096, description="one line exactly as typed")

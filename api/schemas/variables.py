@@ -14,7 +14,7 @@ class VariableOut(BaseModel):
 
 
 class VariableIn(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", strict=True)
 
     value: float = Field(allow_inf_nan=False)
 

@@ -22,8 +22,14 @@ from motionsim.api.trio_modbus.protocol import (
     WriteRegisters,
     to_register,
 )
-from motionsim.api.wire import start_server
-from motionsim.sim.errors import MotionSimError
+from motionsim.api.wire import (
+    close_when_deleted,
+    current_handle,
+    default_limits,
+    read_chunk,
+    start_server,
+)
+from motionsim.sim.errors import MotionSimError, NotFound
 
 log = logging.getLogger("motionsim.trio_modbus")
 
@@ -50,10 +56,15 @@ def answer(handle: Any, codec: ModbusCodec, request: Any) -> bytes:
 
 
 async def _serve_connection(handle: Any, reader: asyncio.StreamReader,
-                            writer: asyncio.StreamWriter, max_register: int) -> None:
+                            writer: asyncio.StreamWriter, max_register: int,
+                            limits: Any) -> None:
+    """Answer requests in order; reading waits for each batch's answers to be sent (so a master
+    pipelining without reading is held back), a silent master is dropped after the idle
+    timeout, and the connection is closed when the controller is deleted."""
     codec = ModbusCodec(max_register)
+    unsubscribe = close_when_deleted(handle, writer)
     try:
-        while data := await reader.read(65536):
+        while data := await read_chunk(reader, limits):
             codec.receive_data(data)
             while (request := codec.next_request()) is not NEED_DATA:
                 writer.write(answer(handle, codec, request))
@@ -63,19 +74,28 @@ async def _serve_connection(handle: Any, reader: asyncio.StreamReader,
     except (ConnectionError, OSError):
         pass
     finally:
+        unsubscribe()
         writer.close()
         with contextlib.suppress(Exception):
             await writer.wait_closed()
 
 
 async def serve_modbus(handle: Any, host: str = "127.0.0.1", port: int = 502, *,
-                       max_register: int = 1023, **_: Any) -> asyncio.Server:
-    """Listen for Modbus TCP masters on ``handle``'s Trio (``port=0`` picks one)."""
+                       max_register: int = 1023, limits: Any = None,
+                       **_: Any) -> asyncio.Server:
+    """Listen for Modbus TCP masters on ``handle``'s Trio (``port=0`` picks one); ``handle``
+    and ``limits`` as for :func:`motionsim.api.pmac_ethernet.server.serve_pmac`."""
+    limits = limits if limits is not None else default_limits()
 
     async def connect(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
-        await _serve_connection(handle, reader, writer, max_register)
+        try:
+            current = current_handle(handle)
+        except NotFound:
+            writer.close()
+            return
+        await _serve_connection(current, reader, writer, max_register, limits)
 
-    return await start_server(connect, host, port)
+    return await start_server(connect, host, port, limits)
 
 
 __all__ = ["answer", "serve_modbus"]

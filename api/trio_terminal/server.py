@@ -25,11 +25,12 @@ from motionsim.api.wire import (
     NEED_DATA,
     WireSession,
     await_reply,
+    current_handle,
     peer_name,
     serve_connection,
     start_server,
 )
-from motionsim.sim.errors import MotionSimError
+from motionsim.sim.errors import MotionSimError, NotFound
 
 log = logging.getLogger("motionsim.trio_terminal")
 
@@ -107,15 +108,24 @@ class TrioSession(WireSession):
 
 
 async def serve_trio(handle: Any, host: str = "127.0.0.1", port: int = 23, *,
-                     recorder: Any = None, echo: bool = True) -> asyncio.Server:
-    """Listen for telnet sessions on ``handle``'s Trio command line (``port=0`` picks one)."""
+                     recorder: Any = None, echo: bool = True,
+                     limits: Any = None) -> asyncio.Server:
+    """Listen for telnet sessions on ``handle``'s Trio command line (``port=0`` picks one).
+
+    ``handle`` and ``limits``: as for :func:`motionsim.api.pmac_ethernet.server.serve_pmac`
+    (a session to a controller that is gone is closed)."""
 
     async def connect(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         peer = peer_name(writer)
-        session = TrioSession(handle, f"telnet:{peer}", recorder, peer, echo)
-        await serve_connection(session, reader, writer, log)
+        try:
+            current = current_handle(handle)
+        except NotFound:
+            writer.close()
+            return
+        session = TrioSession(current, f"telnet:{peer}", recorder, peer, echo)
+        await serve_connection(session, reader, writer, log, limits)
 
-    return await start_server(connect, host, port)
+    return await start_server(connect, host, port, limits)
 
 
 __all__ = ["TrioSession", "serve_trio"]

@@ -23,7 +23,10 @@ VALUE_LINE = "<value line>"
 
 def load_yaml(text: str, filename: str = "<scenario>") -> tuple[Any, dict[Path_, int]]:
     """Parse ``text``; return the data and ``{path: line}`` (path ``()`` is the document)."""
-    loader = yaml.SafeLoader(text)
+    try:
+        loader = yaml.SafeLoader(text)
+    except yaml.YAMLError as exc:  # a character YAML does not allow (the reader checks first)
+        raise ScenarioError(f"not valid YAML: {exc}", file=filename) from None
     try:
         node = loader.get_single_node()
         if node is None:
@@ -35,6 +38,8 @@ def load_yaml(text: str, filename: str = "<scenario>") -> tuple[Any, dict[Path_,
         raise ScenarioError(
             f"not valid YAML: {exc.problem or exc}", file=filename, line=line
         ) from None
+    except yaml.YAMLError as exc:  # e.g. a control character met while scanning
+        raise ScenarioError(f"not valid YAML: {exc}", file=filename) from None
     finally:
         loader.dispose()
     lines: dict[Path_, int] = {}

@@ -23,6 +23,7 @@ from collections.abc import Iterable, Mapping
 from typing import Any, NamedTuple
 
 import simpy
+from motionsim.sim.bounds import FINITE, PMAC_CONFIG, PMAC_CPU_COST
 from motionsim.sim.controller import Controller, Port, Reply
 from motionsim.sim.errors import BufferFull, Conflict, Halted, InvalidValue, NotFound, ParseError
 from motionsim.sim.faults import CardFaults
@@ -47,6 +48,11 @@ MEMORY_WORDS = 65_536
 #: Parsed lines by text: streams repeat line texts, and a parse is the costliest per-line step.
 _LINE_CACHE: dict[str, ProgramLine] = {}
 _LINE_CACHE_SIZE = 8192
+
+#: Longest program line accepted: 255 characters. [INF] from the Ethernet protocol's one-byte
+#: command length (spec pmac.md §5: dls-pmaclib cannot send a command over 255 characters) and
+#: the command-line buffer of 256 characters [BK]; the Turbo SRM pages searched give no figure.
+MAX_LINE_CHARS = 255
 _CONFIG_KEY = re.compile(r"^i(\d{1,4})$")
 
 
@@ -91,32 +97,20 @@ class PmacController(Controller):
 
     @staticmethod
     def _check_config(config: Mapping[str, Any]) -> None:
+        """Every key known and every value within its bound (sim/bounds.py)."""
         for key, value in config.items():
             if key in CPU_CONFIG_KEYS:
-                # processor-time costs in µs (sim.pmac.cpu)
-                if isinstance(value, bool) or not isinstance(value, int | float):
-                    raise InvalidValue(f"{key} must be a number", field=key)
-                if not (math.isfinite(value) and value >= 0):
-                    raise InvalidValue(f"{key} must be >= 0 (microseconds)", field=key)
+                PMAC_CPU_COST.check(value, key)  # processor-time costs in µs (sim.pmac.cpu)
                 continue
-            if key in ("servo_hz", "background_cycles") or _CONFIG_KEY.match(key):
-                if isinstance(value, bool) or not isinstance(value, int | float):
-                    raise InvalidValue(f"{key} must be a number", field=key)
-                if not math.isfinite(value):
-                    raise InvalidValue(f"{key} must be finite", field=key)
-                if key == "servo_hz" and not value > 0:
-                    raise InvalidValue("servo_hz must be positive", field=key)
-                if key == "background_cycles" and value < 1:
-                    raise InvalidValue("background_cycles must be >= 1", field=key)
-                m = _CONFIG_KEY.match(key)
-                if m and int(m.group(1)) > 8191:
+            m = _CONFIG_KEY.match(key)
+            if key in PMAC_CONFIG:
+                PMAC_CONFIG[key].check(value, key)
+            elif m:
+                if int(m.group(1)) > 8191:
                     raise InvalidValue(f"no I-variable {key}", field=key)
-                if key == "i10" and value <= 0:
-                    raise InvalidValue("i10 must be positive", field=key)
-                if key == "i8" and not 0 <= value <= 255:
-                    raise InvalidValue("i8 must be 0..255", field=key)
-                continue
-            raise InvalidValue(f"unknown PMAC config key {key!r}", field=key)
+                FINITE.check(value, key)
+            else:
+                raise InvalidValue(f"unknown PMAC config key {key!r}", field=key)
 
     def _power_on(self) -> None:
         self.vars.reset()
@@ -387,6 +381,7 @@ class PmacController(Controller):
             # The streaming case: one line, no sequence numbers.
             text = texts[0]
             line = cache.get(text) if type(text) is str else None
+            fresh = line is None
             if line is None:
                 line = self._compile(text, 0)
             if rot.used_words + line.words > rot.size_words:
@@ -396,15 +391,21 @@ class PmacController(Controller):
                     free_words=rot.free_words,
                 )
             rot.store(line)
+            if fresh:
+                self._remember(texts, [line])
             if c._plan_due is None and (c.current is None or len(c.planned) < 2):
                 c.lines_arrived()  # (depth is at most 2: with 2 calculated it wants nothing)
             return _new_result(
                 LoadResult, (1, 1, len(rot.pending), rot.size_words - rot.used_words, rot.breq)
             )
         compiled: list[ProgramLine] = []
+        fresh: list[int] = []
         for i, text in enumerate(texts):
             line = cache.get(text) if type(text) is str else None
-            compiled.append(line if line is not None else self._compile(text, i))
+            if line is None:
+                line = self._compile(text, i)
+                fresh.append(i)
+            compiled.append(line)
         skip = 0 if first_seq is None else rot.numbering.repeated(first_seq, texts)
         new = compiled[skip:]
         words = sum(line.words for line in new)
@@ -417,6 +418,8 @@ class PmacController(Controller):
         store = rot.store
         for line in new:
             store(line)
+        if fresh:
+            self._remember([texts[i] for i in fresh], [compiled[i] for i in fresh])
         if new:
             c.lines_arrived()
         if first_seq is not None:
@@ -428,14 +431,23 @@ class PmacController(Controller):
         """Parse one batch line (cached by text); errors carry the batch ``index``."""
         if not isinstance(text, str):
             raise InvalidValue(f"line {index} is not text", field="lines", index=index)
+        if len(text) > MAX_LINE_CHARS:
+            raise ParseError(
+                f"program line of {len(text)} characters is longer than the "
+                f"{MAX_LINE_CHARS} a PMAC command line holds", index=index, line=index + 1,
+                column=MAX_LINE_CHARS + 1, text=text[:80] + "...", pmac_error="ERR003")
         try:
-            line = compile_line(text)
+            return compile_line(text)
         except ParseError as e:
             raise e.at(index=index, line=index + 1) from None
-        if len(_LINE_CACHE) >= _LINE_CACHE_SIZE:
+
+    @staticmethod
+    def _remember(texts: list[str], compiled: list[ProgramLine]) -> None:
+        """Cache the compiled form of lines just stored (never of refused ones)."""
+        if len(_LINE_CACHE) + len(texts) > _LINE_CACHE_SIZE:
             _LINE_CACHE.clear()
-        _LINE_CACHE[text] = line
-        return line
+        for text, line in zip(texts[:_LINE_CACHE_SIZE], compiled, strict=False):
+            _LINE_CACHE[text] = line
 
     def point_program(self, cs: int, program: float) -> None:
         """``B{n}``: point the CS at program ``n`` (0 = rotary) at its top. ERR001 while

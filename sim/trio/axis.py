@@ -30,6 +30,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
+from motionsim.sim.bounds import TRIO_RATE
 from motionsim.sim.errors import InvalidValue
 from motionsim.sim.timing import ServoClock
 from motionsim.sim.trio.mtypes import IDLE
@@ -107,11 +108,11 @@ class Axis:
                 continue
             low_ok = key in _ZERO_OK and isinstance(value, (int, float)) and value == 0
             if not low_ok and (
-                not isinstance(value, (int, float)) or not value > 0 or value != value
+                not isinstance(value, (int, float)) or not 0 < value <= TRIO_RATE.high
             ):
                 raise InvalidValue(
-                    f"{key.upper()} AXIS({self.n}) must be a positive number, got {value!r}",
-                    field=key,
+                    f"{key.upper()} AXIS({self.n}) must be {TRIO_RATE.describe()}, "
+                    f"got {value!r}", field=key,
                 )
         replan = self.on_profile_change is not None and any(
             getattr(self, k) != float(params[k]) for k in PROFILE_PARAMS.intersection(params)

@@ -24,6 +24,7 @@ import re
 from collections.abc import Mapping
 from typing import Any
 
+from motionsim.sim.bounds import TRIO_CONFIG
 from motionsim.sim.controller import Controller, Port, Reply
 from motionsim.sim.errors import BufferFull, Conflict, InvalidValue, NotFound
 from motionsim.sim.timing import ServoClock
@@ -49,7 +50,6 @@ _CONFIG_DEFAULTS: dict[str, float] = {
     "vr_count": 1024,
     "table_size": 16384,
 }
-_INT_KEYS = {"axes", "processes", "vr_count", "table_size"}
 _VARIABLE = re.compile(r"^\s*(VR|TABLE)\s*\(\s*(\d+)\s*\)\s*$", re.I)
 _PROGRAM_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]{0,31}$")
 
@@ -81,12 +81,7 @@ class TrioController(Controller):
             if key not in settings:
                 known = ", ".join(sorted([*settings, *DEFAULTS, "model"]))
                 raise InvalidValue(f"unknown trio config key {key!r}; known: {known}", field=key)
-            ok = isinstance(value, (int, float)) and not isinstance(value, bool) and value > 0
-            if ok and key in _INT_KEYS:
-                ok = float(value).is_integer()
-            if not ok:
-                raise InvalidValue(f"config {key} must be a positive number, got {value!r}",
-                                   field=key)
+            TRIO_CONFIG[key].check(value, key)  # sim/bounds.py
             settings[key] = value
         self.clock = ServoClock(float(settings["servo_period_ms"]) / 1000.0)
         self.statement_s = float(settings["statement_us"]) / 1e6

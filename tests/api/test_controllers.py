@@ -177,7 +177,7 @@ async def test_an_unexpected_exception_is_a_500_json_body(make_app):
 
     handle.controller.get_variable = broken
     transport = httpx.ASGITransport(app=app, raise_app_exceptions=False)
-    async with httpx.AsyncClient(transport=transport, base_url="http://m") as c:
+    async with httpx.AsyncClient(transport=transport, base_url="http://127.0.0.1") as c:
         r = await c.get("/controllers/d/variables/V1")
     assert r.status_code == 500
     assert r.json() == {"code": "internal_error", "message": "internal error: RuntimeError: boom"}

@@ -71,7 +71,7 @@ async def test_events_dropped_from_the_ring_are_reported_as_a_gap(make_app):
     for i in range(100_010):
         handle.controller.log.emit("fill", i=i)
     async with httpx.AsyncClient(transport=httpx.ASGITransport(app=app),
-                                 base_url="http://m") as c:
+                                 base_url="http://127.0.0.1") as c:
         page = (await c.get("/controllers/d/events", params={"since": 2, "limit": 2})).json()
     assert page["gap"] == {"type": "gap", "from": 3, "to": 10}
     assert [e["seq"] for e in page["events"]] == [11, 12]

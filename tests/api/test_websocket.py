@@ -15,7 +15,7 @@ from tests.conftest import dummy_settings
 
 @pytest.fixture
 def tc():
-    app = create_app(dummy_settings())
+    app = create_app(dummy_settings(allowed_hosts=["testserver"]))
     with TestClient(app) as client:
         yield client
 
@@ -115,7 +115,7 @@ def test_a_slow_subscriber_does_not_block_the_simulation_or_others(tc):
 
 
 def test_live_events_of_a_realtime_controller_arrive_without_any_request():
-    app = create_app(dummy_settings(controllers=[
+    app = create_app(dummy_settings(allowed_hosts=["testserver"], controllers=[
         {"id": "rt", "kind": "dummy", "clock": {"mode": "realtime", "factor": 1},
          "config": {"tick_s": 0.02}}]))
     with TestClient(app) as tc, tc.websocket_connect("/controllers/rt/events?type=tick") as ws:

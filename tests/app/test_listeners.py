@@ -72,7 +72,7 @@ def test_auto_port_is_bound_served_and_printed(fake_adapter):
     started, lines, answer = asyncio.run(main())
     assert answer == b"HELLO\n"
     assert lines == [f"motionsim listening fake://127.0.0.1:{started[0].port} (controller pmac)"]
-    assert fake_adapter[1][0][3] == {"recorder": "R"}
+    assert fake_adapter[1][0][3] == {"recorder": "R", "limits": L.ConnectionLimits(32, 600.0)}
 
 
 def test_zero_disables_the_listener(fake_adapter):

@@ -68,3 +68,32 @@ def test_deleting_the_controller_closes_its_stream_4410(svc):
         assert httpx.delete(svc.http + "/controllers/trio", timeout=10).status_code == 204
         code, reason, _ = _close_of(ws)
     assert (code, reason) == (4410, "controller deleted")
+
+
+def test_a_memory_error_ends_the_process_so_a_supervisor_restarts_it(tmp_path):
+    import subprocess
+
+    config = tmp_path / "settings.json"
+    config.write_text(json.dumps({"plugins": ["tests.dummy_kind"], "controllers": [
+        {"id": "d", "kind": "dummy", "clock": {"mode": "virtual"}}]}))
+    with motionsim_serve("--pmac-port", "0", "--trio-port", "0", "--config", str(config)) as s:
+        with pytest.raises(httpx.HTTPError):
+            httpx.post(s.http + "/controllers/d/terminal", json={"command": "OOM"}, timeout=10)
+        try:
+            code = s.proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            pytest.fail("the service stayed alive after a MemoryError")
+    assert code == 3
+
+
+def test_the_token_guards_rest_and_websocket_of_a_served_instance():
+    with motionsim_serve("--pmac-port", "0", "--trio-port", "0", "--token", "t0k") as s:
+        assert httpx.get(s.http + "/health", timeout=10).status_code == 200
+        assert httpx.get(s.http + "/controllers", timeout=10).status_code == 401
+        assert httpx.get(s.http + "/controllers", headers={"authorization": "Bearer t0k"},
+                         timeout=10).status_code == 200
+        with _ws(s, "/controllers/pmac/events") as ws:
+            code, _, _ = _close_of(ws)
+        assert code == 4401
+        with _ws(s, "/controllers/pmac/events?token=t0k") as ws:
+            assert json.loads(ws.recv(timeout=10))["type"] == "epoch"

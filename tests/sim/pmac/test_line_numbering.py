@@ -112,3 +112,23 @@ def test_unnumbered_lines_do_not_move_the_expected_seq(rig):
     rig.c.load_lines(1, ["X2", "X3"])
     assert rig.c.load_lines(1, ["X4"], first_seq=2).stored == 1
     assert _refused(rig, ["X4"], 4).details["expected_seq"] == 3
+
+
+def test_a_line_longer_than_the_card_holds_is_err003_and_nothing_is_kept(rig):
+    """255 characters at most; a refused line is neither stored nor cached."""
+    from motionsim.sim.errors import BufferFull, ParseError
+    from motionsim.sim.pmac import controller as pmac_controller
+
+    rig.rotary_setup(words=10)
+    longest = "X1" + " " * 253
+    assert rig.c.load_lines(1, [longest]).stored == 1
+    huge = "X1 " * 400_000
+    with pytest.raises(ParseError) as exc:
+        rig.c.load_lines(1, ["X2", huge])
+    assert (exc.value.index, exc.value.column, exc.value.pmac_error) == (1, 256, "ERR003")
+    assert len(exc.value.text) < 100
+    with pytest.raises(BufferFull):  # 20 words do not fit in the 10
+        rig.c.load_lines(1, [f"X{i} Y{i}" for i in range(10, 20)])
+    cache = pmac_controller._LINE_CACHE
+    assert huge not in cache and not any(f"X{i} Y{i}" in cache for i in range(10, 20))
+    assert _texts(rig) == [longest]
