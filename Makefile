@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: run test lint bench cov mutate clean
+.PHONY: run test lint bench cov mutate screenshot clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -40,6 +40,10 @@ cov: $(STAMP)
 mutate: $(STAMP)
 	$(BIN)/python -m pip install -q -e '.[test,mutation]'
 	$(BIN)/python tools/mutate.py $(MODULES)
+
+# The README's dashboard pictures (docs/dashboard-*.png) from a real run in Debian's chromium.
+screenshot: $(STAMP)
+	$(BIN)/python -m tests.browser.screenshot docs
 
 clean:
 	rm -rf $(VENV) build *.egg-info .mutation .coverage .coverage.*

@@ -25,9 +25,14 @@ def _line(i: int) -> str:
 
 
 def stream_rotary(ms: MotionSimClient, cid: str = "p", lines: int = 60,
-                  step_s: float = 0.01, until_s: float = 1.2) -> None:
-    """Create a virtual PMAC ``cid`` and stream ``lines`` lines into &1's rotary buffer."""
+                  step_s: float = 0.01, until_s: float = 1.2, cs2_lines: int = 0) -> None:
+    """Create a virtual PMAC ``cid`` and stream ``lines`` lines into &1's rotary buffer;
+    with ``cs2_lines``, &2 also runs that many lines loaded at once (and then waits)."""
     ms.create_controller("pmac", id=cid, clock="virtual", config={"i16": 5, "i17": 10})
+    if cs2_lines:   # buffers are defined from the highest CS down (TUM p337)
+        ms.define_rotary(cid, 2, 300)
+        ms.load_lines(cid, 2, [f"TM40 TA10 TS0 Y{i + 1}" for i in range(cs2_lines)])
+        ms.run(cid, 2)
     ms.define_rotary(cid, 1, 600)
     first = [_line(i) for i in range(9)]
     ms.load_lines(cid, 1, first, first_seq=1)

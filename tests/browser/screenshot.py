@@ -55,8 +55,8 @@ def main(out: Path) -> None:
         browser = pw.chromium.launch(executable_path=exe, headless=True, args=CHROMIUM_ARGS)
         page = browser.new_page(viewport=VIEWPORT, device_scale_factor=1)
         page.goto(f"{url}/dashboard")
-        stream_rotary(ms, "p", until_s=1.6)
-        run_tn20(ms, "t", seconds=0.12)
+        stream_rotary(ms, "p", lines=80, until_s=1.5, cs2_lines=9)
+        run_tn20(ms, "t", seconds=0.3)
         page.wait_for_selector('[data-tab="t"]')
         _tab(page, "p")
         for command in ("I16", "I17", "PR"):

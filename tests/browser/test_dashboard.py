@@ -276,5 +276,35 @@ def test_clock_controls_disabled_where_they_cannot_act(browser, ms):
     ms.delete_controller("rt")
 
 
+def test_a_controller_deleted_and_created_again_is_shown_from_its_new_log(browser, ms):
+    """Its old stream ends (4410, or on resume the service answers ``reset`` for the stale
+    epoch); the page starts the new log from its first event, with nothing of the old one."""
+    b = browser
+    ms.create_controller("pmac", id="again", clock="virtual")
+    ms.define_rotary("again", 1, 600)
+    ms.load_lines("again", 1, ["TM20 X1"] * 8)
+    b.page.wait_for_selector('[data-tab="again"]')
+    select(b, "again")
+    old = caught_up(b, ms, "again")
+    ms.delete_controller("again")
+    stream_rotary(ms, "again", lines=12, until_s=0.05)
+    b.page.wait_for_function(
+        """([want]) => {
+             const el = document.querySelector('[data-controller="again"] [data-role=stream]');
+             return el && el.isConnected && el.dataset.state === "live"
+                    && Number(el.dataset.received) === Number(el.dataset.lastSeq)
+                    && Number(el.dataset.lastSeq) >= want; }""",
+        arg=[last_seq(ms, "again")])
+    new = status(b.page, "again")
+    assert new["epoch"] != old["epoch"]
+    assert (new["gaps"], new["duplicates"]) == ("0", "0")
+    assert int(new["lastSeq"]) == last_seq(ms, "again")
+    ms.set_clock("again", paused=True)
+    caught_up(b, ms, "again")
+    pr = ms.coord("again", 1)["rotary"]["lines_ahead"]
+    assert shown(b, "again", "#cs-1 [data-role=lines-ahead]") == str(pr)
+    ms.delete_controller("again")
+
+
 def test_no_script_errors(browser):
     assert browser.errors == []

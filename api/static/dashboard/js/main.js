@@ -115,7 +115,12 @@ async function pollList() {
   const ids = new Set(list.map((c) => c.id));
   for (const id of [...controllers.keys()]) if (!ids.has(id)) remove(id);
   for (const info of list) {
+    const old = controllers.get(info.id);
+    const again = old && old.stream.state === "deleted";   // deleted and created again
+    const wasSelected = selected === info.id;
+    if (again) remove(info.id);
     const ctl = controllers.get(info.id) ?? add(info);
+    if (again && wasSelected) select(info.id);
     ctl.snap.clock = info.clock;
     ctl.snap.clockWall = performance.now();
     if (info.coord) ctl.snap.coordStates = info.coord;
@@ -216,9 +221,12 @@ function render() {
   ctl.status.dataset.duplicates = m.duplicates;
   ctl.status.dataset.reconnects = s.reconnects;
   ctl.status.dataset.state = s.state;
+  ctl.status.dataset.epoch = s.epoch ?? "";
+  ctl.status.dataset.resets = s.resets;
   ctl.status.textContent =
     `${ctl.id} (${ctl.kind}) · stream ${s.state} · seq ${m.lastSeq}` +
-    (s.epoch !== null ? ` · epoch ${s.epoch}` : "") +
+    (s.epoch !== null ? ` · epoch ${s.epoch}` : "") + (s.resets ? ` · ${s.resets} resets` : "") +
+    (s.error ? ` · ${s.error}` : "") +
     ` · ${m.received} events · ${m.gaps.length ? `${m.gaps.length} gaps` : "no gaps"}` +
     ` · ${s.reconnects} reconnects · model t = ${fmt(m.t)} s`;
   ctl.clock.render();

@@ -86,7 +86,8 @@ export class ControllerModel {
     this.coords = new Map();
     this.axes = new Map();
     this.processes = new Map();
-    this.syncM = new Marks();
+    this.syncM = new Marks();           // [t, "M1=1", cs]: synchronous M writes
+    this.unplaced = [];                 // sync writes whose CS is not known yet
     this.mvars = new Map();             // name -> {value, sync, t}
     this.alerts = [];                   // rti_overrun, watchdog, ...
     this.prints = [];                   // Trio PRINT output [{t, process, text}]
@@ -200,6 +201,10 @@ const HANDLERS = {
     const line = c.line(e.n);
     if (line) line.state = "executing";
     c.executing = e.n;
+    // A synchronous M write is made just before the move_start of the move it is tied to,
+    // at the same instant (sim/pmac/lookahead.py): that names its CS, which `mvar` lacks.
+    for (const mark of m.unplaced) if (mark[0] === e.t) mark[2] = e.cs;
+    m.unplaced = [];
     for (const l of c.lines.values()) {   // lines before it that are not moves (M==, ...)
       if (l.n < e.n && (l.state === "loaded" || l.state === "calculated")) l.state = "done";
     }
@@ -231,7 +236,9 @@ const HANDLERS = {
   },
   mvar(m, e) {
     m.mvars.set(e.name, { value: e.value, sync: !!e.sync, t: e.t });
-    if (e.sync) m.syncM.push(e.t, `${e.name}=${e.value}`);
+    if (!e.sync) return;
+    m.syncM.push(e.t, `${e.name}=${e.value}`);
+    m.unplaced.push(m.syncM.items[m.syncM.items.length - 1]);
   },
   rti_overrun(m, e) {
     m.alerts.push({ t: e.t, text: `RTI overrun by ${(e.over_s * 100).toFixed(0)} %` });

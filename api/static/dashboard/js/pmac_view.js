@@ -116,8 +116,8 @@ export class PmacView {
     }
     g.appendChild(svg("path", { d: stepPath(s, ax, y), class: "trace ahead",
                                 "data-role": "lines-ahead-trace" }));
-    for (const [t, label] of model.syncM.items) {
-      if (t < win.t0 || t > win.t1) continue;
+    for (const [t, label, cs] of model.syncM.items) {
+      if (t < win.t0 || t > win.t1 || (cs !== undefined && cs !== c.cs)) continue;
       const x = ax.x(t);
       const mark = svg("line", { x1: x, x2: x, y1: TOP, y2: TOP + 8, class: "sync-m" });
       mark.appendChild(svg("title", {}, `t = ${fmt(t)} s: ${label}`));

@@ -1,9 +1,10 @@
 // The events WebSocket of one controller (`batch=true`), resumed by `seq` and `epoch`.
 //
-// After any close that is not final (4404 unknown controller, 4410 deleted) it reconnects
-// with `since=` the last seq applied and the log's `epoch`, so nothing still held is missed
-// or applied twice. A different epoch means a new log (the controller was re-created or the
-// service restarted): the model starts again from seq 1.
+// The first message of a stream is `{"type": "epoch", "epoch", "first_seq", "last_seq",
+// "reset"}`. After any close that is not final (4404 unknown controller, 4410 deleted) it
+// reconnects with `since=` the last seq applied and that `epoch`, so nothing still held is
+// missed or applied twice. A `reset` (or another epoch) means a new log — the controller was
+// re-created or the service restarted — and the model starts again from its first event.
 
 const FINAL_CLOSE = new Set([4404, 4410]);
 
@@ -18,6 +19,8 @@ export class EventStream {
     this.state = "connecting";
     this.reconnects = 0;
     this.closes = [];                   // [code]: every close seen, for the status line
+    this.resets = 0;                    // resumes the service answered with a new log
+    this.error = null;
     this.ws = null;
     this.stopped = false;
     this.backoff = 100;
@@ -58,21 +61,21 @@ export class EventStream {
   receive(data) {
     let messages = JSON.parse(data);
     if (!Array.isArray(messages)) messages = [messages];
-    const events = [];
+    let events = [];
     for (const m of messages) {
-      if (m && m.epoch !== undefined && m.epoch !== null) this.noteEpoch(m.epoch);
-      if (m && m.type === "reset" && m.seq === undefined) {   // the log said: start again
-        this.model.reset();
-        continue;
+      if (m.type === "epoch") {            // the first message: the log's incarnation
+        if (events.length) this.model.apply(events);
+        events = [];
+        if (m.reset || (this.epoch !== null && m.epoch !== this.epoch)) this.model.reset();
+        this.epoch = m.epoch;
+        this.resets += m.reset ? 1 : 0;
+      } else if (m.type === "error") {     // a refused query, just before close 4422
+        this.error = m.message;
+      } else {
+        events.push(m);
       }
-      events.push(m);
     }
-    if (this.model.apply(events)) this.onChange();
-  }
-
-  noteEpoch(epoch) {
-    if (this.epoch !== null && epoch !== this.epoch) this.model.reset();
-    this.epoch = epoch;
+    if (this.model.apply(events) || messages.length) this.onChange();
   }
 
   status(s) {

@@ -19,9 +19,14 @@ export class TrioView {
     this.lanesBox = h("div", { class: "chart-box" });
     this.procTable = h("table", { class: "procs" });
     this.stall = h("div", { class: "stall-box", "data-role": "stall" });
+    const key = (cls, text) => h("span", { class: `key ${cls}` }, h("i"), text);
+    const legend = h("div", { class: "legend" }, key("mtype", "MTYPE: the move executing"),
+                     key("ntype", "NTYPE: the next move"),
+                     key("pb", "process buffer: loaded by a process, for this axis"),
+                     key("stalled", "axis stalled"), key("blocked", "process blocked on a move line"));
     root.append(
       h("section", { class: "card" }, h("h3", {}, "Axes: MTYPE / NTYPE / process buffer"),
-        this.stall, this.lanesBox),
+        this.stall, this.lanesBox, legend),
       h("section", { class: "card" }, h("h3", {}, "Processes"), this.procTable));
   }
 
