@@ -72,7 +72,8 @@ export function shade(g, intervals, ax, top, bottom, cls) {
     if (end < ax.t0 || a > ax.t1) continue;
     const xa = Math.max(ax.x(a), ax.x0), xb = Math.min(ax.x(end), ax.x1);
     g.appendChild(svg("rect", { x: xa, y: top, width: Math.max(xb - xa, 1),
-                                height: bottom - top, class: cls }));
+                                height: bottom - top, class: cls,
+                                "data-t0": a, "data-t1": b === null ? "" : b }));
   }
 }
 
