@@ -1,5 +1,6 @@
 // A controller's clock (GET|PATCH /controllers/{id}/clock, POST .../clock/advance): time,
-// mode, factor, paused, and the controls that can act on it. `advance` only moves a clock
+// mode (virtual, realtime, host-paced), factor, paused, a realtime clock's lag, and the
+// controls that can act on it. `advance` only moves a clock
 // that is not realtime (the service answers 409 otherwise); `factor` only scales a realtime
 // clock, so each is disabled where it cannot act.
 
@@ -45,7 +46,8 @@ export class ClockPanel {
     const c = this.ctl.snap.clock;
     if (!c) return;
     this.time.textContent = fmt(c.t, 4);
-    this.mode.textContent = `${c.mode}, factor ${fmt(c.factor, 2)}`;
+    const lag = c.lag_s !== undefined && c.lag_s !== null ? `, lag ${fmt(c.lag_s, 3)} s` : "";
+    this.mode.textContent = `${c.mode}, factor ${fmt(c.factor, 2)}${lag}${c.behind ? " (behind)" : ""}`;
     this.paused.textContent = c.paused ? "paused" : "running";
     this.pause.textContent = c.paused ? "resume" : "pause";
     const realtime = c.mode === "realtime";
