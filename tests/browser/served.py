@@ -10,9 +10,11 @@ import shutil
 import socket
 import subprocess
 import sys
+import tempfile
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
+from typing import IO
 
 import httpx
 
@@ -40,31 +42,37 @@ def free_port() -> int:
 
 @contextmanager
 def serve(timeout_s: float = 30.0) -> Iterator[str]:
-    """Serve motionsim (virtual clocks, no protocol listeners) until the block ends; its URL."""
+    """Serve motionsim (virtual clocks, no protocol listeners) until the block ends; its URL.
+    Its output goes to a temporary file (read on failure): an unread pipe could fill up."""
     port = free_port()
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "motionsim", "serve", "--host", "127.0.0.1", "--port", str(port),
-         "--clock", "virtual", "--pmac-port", "0", "--trio-port", "0"],
-        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    url = f"http://127.0.0.1:{port}"
-    try:
-        deadline = time.monotonic() + timeout_s
-        while True:
-            try:
-                if httpx.get(f"{url}/health", timeout=1).status_code == 200:
-                    break
-            except httpx.HTTPError:
-                pass
-            if proc.poll() is not None or time.monotonic() > deadline:
-                proc.kill()
-                out = proc.stdout.read() if proc.stdout else ""
-                raise RuntimeError(f"motionsim serve did not come up on {url}:\n{out}")
-            time.sleep(0.1)
-        yield url
-    finally:
-        proc.terminate()
+    with tempfile.TemporaryFile("w+") as output:
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "motionsim", "serve", "--host", "127.0.0.1", "--port",
+             str(port), "--clock", "virtual", "--pmac-port", "0", "--trio-port", "0"],
+            stdout=output, stderr=subprocess.STDOUT, text=True)
+        url = f"http://127.0.0.1:{port}"
         try:
-            proc.wait(timeout=10)
-        except subprocess.TimeoutExpired:
+            _wait_healthy(proc, url, output, timeout_s)
+            yield url
+        finally:
+            proc.terminate()
+            try:
+                proc.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+                proc.wait()
+
+
+def _wait_healthy(proc: subprocess.Popen, url: str, output: IO[str], timeout_s: float) -> None:
+    deadline = time.monotonic() + timeout_s
+    while True:
+        try:
+            if httpx.get(f"{url}/health", timeout=1).status_code == 200:
+                return
+        except httpx.HTTPError:
+            pass
+        if proc.poll() is not None or time.monotonic() > deadline:
             proc.kill()
-            proc.wait()
+            output.seek(0)
+            raise RuntimeError(f"motionsim serve did not come up on {url}:\n{output.read()}")
+        time.sleep(0.1)
