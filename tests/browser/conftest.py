@@ -62,7 +62,20 @@ def browser(served: str) -> Iterator[Browser]:
         page = context.new_page()
         b = Browser(page=page, url=served)
         page.on("pageerror", lambda exc: b.errors.append(f"pageerror: {exc}"))
-        page.on("console", lambda m: m.type == "error" and b.errors.append(f"console: {m.text}"))
+
+        def console(m: Any) -> None:
+            # a REST call the page makes may meet a controller another client just deleted
+            # (404): the browser logs that as "Failed to load resource"; the page's own files
+            # are checked by status below
+            if m.type == "error" and not m.text.startswith("Failed to load resource"):
+                b.errors.append(f"console: {m.text}")
+
+        def response(r: Any) -> None:
+            if "/dashboard" in r.url and r.status != 200:
+                b.errors.append(f"{r.status} {r.url}")
+
+        page.on("console", console)
+        page.on("response", response)
 
         def forward(ws: Any) -> None:
             b.sockets.append((ws.url, ws, ws.connect_to_server()))
