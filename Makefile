@@ -11,7 +11,7 @@ TEST_STAMP := $(VENV)/.installed-test
 # ("Editable installation ... be careful with folders named like your package"); not a problem.
 PIP_INSTALL := PYTHONWARNINGS="ignore:Editable installation" $(BIN)/python -m pip install -q
 
-.PHONY: run test lint bench cov mutate plots fuzz clean
+.PHONY: run test lint bench cov mutate plots fuzz screenshot clean
 
 $(VENV_STAMP):
 	$(PYTHON) -m venv $(VENV)
@@ -38,7 +38,7 @@ lint: $(TEST_STAMP)
 
 # Bigger fuzz budgets: hypothesis over every parser and codec (>= 10^5 cases, counts in
 # fuzz-counts.json) and schemathesis over every operation, stateful phase included.
-fuzz: $(STAMP)
+fuzz: $(TEST_STAMP)
 	MOTIONSIM_FUZZ=1 $(BIN)/pytest -p no:cacheprovider -s tests/fuzz tests/integration/test_schemathesis.py
 
 # Every benchmark (each prints its table and writes bench/results/<name>.json), then the
@@ -63,6 +63,10 @@ mutate: $(TEST_STAMP)
 # The README's plots, regenerated from the example scenarios (examples/scenarios/readme_plots.py).
 plots: $(RUN_STAMP)
 	$(BIN)/python examples/scenarios/readme_plots.py
+
+# The README's dashboard pictures (docs/dashboard-*.png) from a real run in Debian's chromium.
+screenshot: $(TEST_STAMP)
+	$(BIN)/python -m tests.browser.screenshot docs
 
 clean:
 	rm -rf $(VENV) build *.egg-info .mutation .coverage .coverage.*

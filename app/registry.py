@@ -58,6 +58,13 @@ def _running_on(loop: asyncio.AbstractEventLoop) -> bool:
         return False
 
 
+def _answered(reply: Reply) -> Reply:
+    """Mark a reply the host is about to be told is pending, so its completion is announced."""
+    if not reply.done:
+        reply.answered_pending = True
+    return reply
+
+
 class ControllerHandle:
     """One running controller in the service.
 
@@ -118,10 +125,10 @@ class ControllerHandle:
             if wait_s > 0 and not clock.paused:
                 await self.run_until_reply(reply, wait_s)
             clock.wake()
-            return reply
+            return _answered(reply)
         clock.wake()
         if wait_s <= 0 or clock.paused:
-            return reply
+            return _answered(reply)
         done = asyncio.get_running_loop().create_future()
 
         def _done(_: Reply) -> None:
@@ -132,7 +139,7 @@ class ControllerHandle:
         cap = min(self.realtime_reply_cap_s, wait_s / clock.factor)
         with contextlib.suppress(TimeoutError):
             await asyncio.wait_for(done, timeout=cap)
-        return reply
+        return _answered(reply)
 
     async def run_until_reply(self, reply: Reply, max_s: float) -> None:
         """Virtual or host-paced: step (in slices) until ``reply`` is done, at most ``max_s``

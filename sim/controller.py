@@ -33,7 +33,8 @@ class Reply:
     person (``("not_simulated", "...")``), or ``None``.
     """
 
-    __slots__ = ("command", "reply", "error", "detail", "done", "t_done", "_callbacks")
+    __slots__ = ("command", "reply", "error", "detail", "done", "t_done", "answered_pending",
+                 "_callbacks")
 
     def __init__(self, command: str) -> None:
         self.command = command
@@ -42,6 +43,9 @@ class Reply:
         self.detail: tuple[str, str] | None = None
         self.done = False
         self.t_done: float | None = None
+        #: the host was answered "pending" before this completed: a kind announces the
+        #: completion as a ``terminal_reply`` event (API.md, "The terminal")
+        self.answered_pending = False
         self._callbacks: list[Callable[[Reply], None]] = []
 
     def resolve(self, reply: str = "", error: str | None = None, t: float | None = None) -> None:

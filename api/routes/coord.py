@@ -28,9 +28,16 @@ def _pmac(handle: ControllerHandle) -> PmacController:
     return ctl
 
 
+def _coord(ctl: PmacController, cs: int) -> dict[str, Any]:
+    """``ctl.coord(cs)`` with the CS's actual ``%`` feedrate override (what ``%`` reports)."""
+    out = ctl.coord(cs)
+    out["program"]["feed_override"] = ctl.coord_system(cs).feed_override
+    return out
+
+
 @router.get(BASE, response_model=CoordPublic)
 def get_coord(handle: HandleDep, cs: CS) -> dict[str, Any]:
-    return handle.apply(_pmac(handle).coord, cs)
+    return handle.apply(_coord, _pmac(handle), cs)
 
 
 @router.put(BASE + "/rotary", response_model=RotaryPublic)
@@ -61,7 +68,7 @@ def post_run(handle: HandleDep, cs: CS) -> dict[str, Any]:
     """``B0 R`` (409 ``conflict`` + ERR015 without a rotary buffer)."""
     ctl = _pmac(handle)
     handle.apply(ctl.run, cs)
-    return ctl.coord(cs)
+    return _coord(ctl, cs)
 
 
 @router.post(BASE + "/quit", response_model=CoordPublic)
@@ -69,7 +76,7 @@ def post_quit(handle: HandleDep, cs: CS) -> dict[str, Any]:
     """``Q``: stop after the moves already calculated."""
     ctl = _pmac(handle)
     handle.apply(ctl.quit, cs)
-    return ctl.coord(cs)
+    return _coord(ctl, cs)
 
 
 @router.post(BASE + "/abort", response_model=CoordPublic)
@@ -77,4 +84,4 @@ def post_abort(handle: HandleDep, cs: CS) -> dict[str, Any]:
     """``A``: decelerate now; lookahead and queued synchronous M writes are discarded."""
     ctl = _pmac(handle)
     handle.apply(ctl.abort, cs)
-    return ctl.coord(cs)
+    return _coord(ctl, cs)

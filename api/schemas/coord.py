@@ -31,6 +31,9 @@ class ProgramPublic(BaseModel):
         None, description="why the controller aborted the program itself: `run_time_error` = "
         "move calculation fell behind execution (TUM p339); `watchdog` = the watchdog tripped "
         "and killed the motors; cleared by the next run (or the reset)")
+    feed_override: float | None = Field(
+        None, description="the actual `%` feedrate override of the CS's time base, in percent "
+        "(what `%` reports; slews to a new `%n` at Isx94, TSRM p191)")
 
 
 class CoordPublic(BaseModel):

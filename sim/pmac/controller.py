@@ -188,7 +188,7 @@ class PmacController(Controller):
             text, error = self._terminal.execute(command, port)
             reply.detail = self._terminal.detail if error is not None else None
             reply.resolve(text, error, self.env.now)
-            if self.env.now - t0 >= self.terminal_wait_s:
+            if reply.answered_pending or self.env.now - t0 >= self.terminal_wait_s:
                 self.log.emit("terminal_reply", command=command, reply=text, error=error)
 
         self.background.submit(job)

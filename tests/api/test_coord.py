@@ -14,8 +14,20 @@ BASE = "/controllers/p"
 async def test_coord_of_a_cs_without_rotary(pmac_api):
     r = await pmac_api.get(f"{BASE}/coord/1")
     assert r.status_code == 200
-    assert r.json() == {"cs": 1, "program": {"state": "idle", "line": None, "error": None},
+    assert r.json() == {"cs": 1, "program": {"state": "idle", "line": None, "error": None,
+                                             "feed_override": 100.0},
                         "rotary": None}
+
+
+async def test_coord_shows_the_actual_feedrate_override_that_percent_reports(pmac_api):
+    """``%n`` commands the time base; the actual value slews there at Isx94 (TSRM p191): with
+    the largest rate it is there in one step, and ``coord`` shows what ``%`` reports."""
+    for command in ("I5194=8388607", "&1%50"):
+        await pmac_api.post(f"{BASE}/terminal", json={"command": command})
+    program = (await pmac_api.get(f"{BASE}/coord/1")).json()["program"]
+    reply = (await pmac_api.post(f"{BASE}/terminal", json={"command": "&1%"})).json()["reply"]
+    assert program["feed_override"] == pytest.approx(50.0)
+    assert float(reply) == pytest.approx(program["feed_override"])
 
 
 async def test_unknown_cs_is_404(pmac_api):

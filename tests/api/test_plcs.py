@@ -123,7 +123,8 @@ async def test_a_trip_aborts_the_running_program_with_error_watchdog(pmac_api):
     await pmac_api.post(f"{BASE}/plcs/0/enable")
     await advance(pmac_api, 2.0)
     coord = (await pmac_api.get(f"{BASE}/coord/1")).json()
-    assert coord["program"] == {"state": "aborted", "line": None, "error": "watchdog"}
+    assert coord["program"] == {"state": "aborted", "line": None, "error": "watchdog",
+                                "feed_override": 100.0}
     assert coord["rotary"]["used_words"] == 0
 
 

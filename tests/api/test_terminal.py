@@ -115,3 +115,23 @@ async def test_pmac_control_characters_through_the_rest_terminal(pmac_api):
     """CTRL-P over REST: the positions of motors 1-8 in one line (spec pmac.md §11.9)."""
     r = await pmac_api.post("/controllers/p/terminal", json={"command": "\u0010"})
     assert r.json() == {"reply": "0 0 0 0 0 0 0 0", "error": None, "pending": False}
+
+
+async def test_pmac_command_posted_on_a_paused_clock_is_pending_and_its_reply_an_event(api):
+    """API.md: a reply returned ``pending`` later arrives as a ``terminal_reply`` event — also
+    when the POST returned at once because the clock was paused (the background cycle, which
+    answers host commands, does not run while paused)."""
+    await api.post("/controllers", json={"id": "pm", "kind": "pmac",
+                                         "clock": {"mode": "virtual", "paused": True}})
+    r = await api.post("/controllers/pm/terminal", json={"command": "PR"})
+    assert r.json() == {"reply": "", "error": None, "pending": True}
+    await api.patch("/controllers/pm/clock", json={"paused": False})
+    r = await api.post("/controllers/pm/clock/run-until",
+                       json={"event": {"type": "terminal_reply"}, "timeout_s": 0.1})
+    m = r.json()["matched"]
+    assert (m["command"], m["reply"], m["error"]) == ("PR", "0", None)
+    assert m["t"] < 0.01     # the next background cycle, well before the 1 s terminal wait
+    r = await api.post("/controllers/pm/terminal", json={"command": "PR"})
+    assert r.json() == {"reply": "0", "error": None, "pending": False}
+    ev = (await api.get("/controllers/pm/events", params={"type": "terminal_reply"})).json()
+    assert len(ev["events"]) == 1   # an answer the POST returned is not announced again

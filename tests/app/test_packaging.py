@@ -107,8 +107,14 @@ def _user_project(tmp: Path) -> Path:
 def test_the_wheel_in_a_fresh_venv_beside_a_project_with_its_own_app_api_and_sim(tmp_path):
     wheel = _build_wheel(tmp_path)
     with zipfile.ZipFile(wheel) as archive:
-        tops = {n.split("/")[0] for n in archive.namelist()}
+        names = set(archive.namelist())
+    tops = {n.split("/")[0] for n in names}
     assert {t for t in tops if not t.endswith(".dist-info")} == {"motionsim"}
+    dashboard = ROOT / "api" / "static" / "dashboard"
+    shipped = {f"motionsim/api/{p.relative_to(ROOT / 'api').as_posix()}"
+               for p in dashboard.rglob("*") if p.is_file()}
+    assert "motionsim/api/static/dashboard/index.html" in shipped
+    assert shipped <= names, sorted(shipped - names)   # the dashboard is package data
     venv = tmp_path / "venv"
     subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True)
     vpy = venv / "bin" / "python"
