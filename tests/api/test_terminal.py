@@ -88,8 +88,10 @@ async def test_realtime_terminal_awaits_the_reply(api):
 
 
 async def test_realtime_terminal_gives_up_after_1s_simulated_and_the_reply_comes_as_an_event(api):
+    # factor 2: the terminal gives up 0.5 s wall after the command, SLOW answers 0.5 s later;
+    # at factor 20 (50 ms between the two) a loaded machine's late wake-up saw the reply done
     await api.post("/controllers", json={"id": "rt", "kind": "dummy",
-                                         "clock": {"mode": "realtime", "factor": 20}})
+                                         "clock": {"mode": "realtime", "factor": 2}})
     r = await api.post("/controllers/rt/terminal", json={"command": "SLOW"})
     assert r.json() == {"reply": "", "error": None, "pending": True}
     r = await api.post("/controllers/rt/clock/run-until",
