@@ -5,8 +5,9 @@ session is created in ``.mutation/`` and every mutant is run against the module'
 cosmic-ray mutates the file in place and restores it after each mutant; this script refuses to
 start on a module with uncommitted changes and checks with git that every module is back as it
 was at the end. Prints killed / survived per module and lists the survivors that
-``[[equivalent]]`` does not explain. A report, never a failure: the exit code is 0 unless the
-tooling itself failed.
+``[[equivalent]]`` does not explain (mutants inside type annotations, never evaluated under
+``from __future__ import annotations``, count as equivalent too). A report, never a failure:
+the exit code is 0 unless the tooling itself failed.
 
     python tools/mutate.py                      # every module
     python tools/mutate.py sim/pmac/rotary.py   # one
@@ -15,6 +16,7 @@ tooling itself failed.
 from __future__ import annotations
 
 import argparse
+import ast
 import shlex
 import subprocess
 import sys
@@ -66,11 +68,28 @@ def _session(module: str, tests: list[str], timeout_s: float) -> Path:
     return db
 
 
+def _annotation_spans(module: str) -> list[tuple[tuple[int, int], tuple[int, int]]]:
+    """Source spans of the module's type annotations. With ``from __future__ import
+    annotations`` they are never evaluated, so a mutant inside one (``str | None`` made
+    ``str - None``) is equivalent by construction."""
+    tree = ast.parse((ROOT / module).read_text())
+    spans = []
+    for node in ast.walk(tree):
+        notes = []
+        if isinstance(node, ast.arg | ast.AnnAssign) and node.annotation is not None:
+            notes.append(node.annotation)
+        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef) and node.returns:
+            notes.append(node.returns)
+        spans += [((n.lineno, n.col_offset), (n.end_lineno, n.end_col_offset)) for n in notes]
+    return spans
+
+
 def _tally(module: str, db: Path, equivalent: set[tuple[str, int, str]]) -> Tally:
     from cosmic_ray.work_db import WorkDB, use_db
     from cosmic_ray.work_item import TestOutcome
 
     tally = Tally(module)
+    notes = _annotation_spans(module)
     with use_db(str(db), WorkDB.Mode.open) as work_db:
         for item, result in work_db.completed_work_items:
             (spec,) = item.mutations
@@ -79,7 +98,8 @@ def _tally(module: str, db: Path, equivalent: set[tuple[str, int, str]]) -> Tall
                 tally.killed += 1
             elif result.test_outcome == TestOutcome.INCOMPETENT:
                 tally.incompetent += 1
-            elif (module, line, spec.operator_name) in equivalent:
+            elif (module, line, spec.operator_name) in equivalent or any(
+                    a <= tuple(spec.start_pos) <= b for a, b in notes):
                 tally.equivalent += 1
             else:
                 changed = [d for d in (result.diff or "").splitlines()
