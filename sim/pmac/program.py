@@ -127,8 +127,14 @@ def compile_line(text: str) -> ProgramLine:
     Raises:
         sim.errors.ParseError: positioned (column), ERR003.
     """
+    line = fast_compile(text)
+    if line is not None:
+        return line
     return compile_statements(text, parse_program_line(text))
 
+
+# The plain-line fast path needs ProgramLine and the OP codes above (import cycle).
+from motionsim.sim.pmac.fast_line import fast_compile  # noqa: E402
 
 __all__ = [
     "OP_ASSIGN",

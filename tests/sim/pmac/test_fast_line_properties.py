@@ -1,0 +1,88 @@
+"""The plain-line fast path compiles a rotary line exactly as the general parser does.
+
+``compile_line`` tries :func:`motionsim.sim.pmac.fast_line.fast_compile` first; these properties
+pin that, for any line, the result (statements' expressions, operations, word count, planner
+short cuts) or the ``ParseError`` (message, column, text, ERR003) is the one the general path
+``parse_program_line`` + ``compile_statements`` gives.
+"""
+
+from __future__ import annotations
+
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
+from motionsim.sim.errors import ParseError
+from motionsim.sim.pmac.fast_line import fast_compile
+from motionsim.sim.pmac.parser import parse_program_line
+from motionsim.sim.pmac.program import compile_line, compile_statements
+
+_WORDS = [
+    "X", "Y", "Z", "A", "B", "C", "U", "V", "W", "I", "J", "K", "R", "F", "TA", "TS", "TM",
+    "DWELL", "DWE", "DELAY", "DLY", "x", "ta", "Dwell",
+]  # fmt: skip
+_BARE = ["LINEAR", "LIN", "RAPID", "RPD", "INC", "ABS", "CIRCLE", "CIR", "linear", "inc"]
+_NUMBERS = st.one_of(
+    st.integers(0, 99999).map(str),
+    st.floats(0, 1e4, allow_nan=False).map(lambda v: f"{v:.4f}"),
+    st.sampled_from(["0", ".5", "5.", "007", "1.", "2", "12", "$1F", "1..3", "1.2.3", "-0"]),
+)
+_GAP = st.sampled_from(["", "", " ", "  ", "\t"])
+_ODD = st.sampled_from([
+    "(", ")", ",", ":", "=", "==", ";c", "P1=", "M2==", "-", "E", "N", "INT(", "TAN(",
+    "(X,Y)", "+", "..", "*", "LINE", "DLYX", "ATAN2(", '"s"', "\x01", "Q", "O",
+])  # fmt: skip
+
+
+def _word() -> st.SearchStrategy[str]:
+    valued = st.tuples(st.sampled_from(_WORDS), _GAP, st.sampled_from(["", "", "-", "- "]),
+                       _NUMBERS).map("".join)
+    return st.one_of(valued, st.sampled_from(_BARE), st.sampled_from(["1", "2", "3", ""]).map(
+        lambda n: "CIRCLE" + n), _ODD)
+
+
+_PLAIN_LINES = st.lists(st.tuples(_GAP, _word()).map("".join), max_size=8).map("".join)
+
+
+def _general(text: str):
+    return compile_statements(text, parse_program_line(text))
+
+
+def _outcome(fn, text: str):
+    try:
+        return ("line", fn(text))
+    except ParseError as e:
+        return ("error", str(e), e.details, type(e))
+
+
+def _check_same(text: str) -> None:
+    fast = fast_compile(text)
+    if fast is not None:
+        general = _general(text)  # the fast path only takes lines the general path accepts
+        assert fast == general
+        for a, b in zip(fast.ops, general.ops, strict=True):
+            assert repr(a) == repr(b)  # the same expression texts and constants, op by op
+    assert _outcome(compile_line, text) == _outcome(_general, text)
+
+
+@settings(max_examples=1500, deadline=None)
+@given(_PLAIN_LINES)
+@example("X10 Y-2.5 F5 DWELL10 X1")
+@example("INC LINEAR TA10 TS0 TM50")
+@example("CIRCLE1 X1 Y2 I-1 J.5 K0 R3")
+@example("")
+@example("  x 1 - 2 ")
+def test_plain_line_compiles_exactly_as_the_general_parser(text):
+    _check_same(text)
+
+
+@settings(max_examples=500, deadline=None)
+@given(st.text(alphabet="XYZIJKRFTADWELINCBS-.0123456789 ():=;$", max_size=20))
+def test_any_character_mix_compiles_or_fails_exactly_as_the_general_parser(text):
+    _check_same(text)
+
+
+def test_the_fast_path_takes_the_commonest_streamed_lines():
+    for text in ("X1.5 Y-2", "INC LINEAR TA10 TS0 TM50", "DWELL20", "CIRCLE2 X1 Y1 I0 J1",
+                 "F10 X2", "rapid z3"):
+        assert fast_compile(text) is not None, text
+    for text in ("P1=P2+1", "M1==1", "X(P1)", "X10:5", "INC(X)", "X$10", "X10 ;c", "R"):
+        assert fast_compile(text) is None, text
