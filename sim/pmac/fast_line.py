@@ -8,15 +8,16 @@ A streaming host sends mostly lines such as ``X12.5 Y-3`` / ``INC LINEAR TA10 TS
 * ``DWELL``/``DWE``, ``DELAY``/``DLY`` with such a constant,
 * ``LINEAR``/``LIN``, ``RAPID``/``RPD``, ``INC``/``ABS`` (no axis list), ``CIRCLE1``/``CIRCLE2``,
 
-:func:`fast_compile` builds the :class:`~motionsim.sim.pmac.program.ProgramLine` directly from one
-regular-expression pass, with the same expressions (text, value) and operations, in the same
-order, that :mod:`motionsim.sim.pmac.parser` and
-:func:`~motionsim.sim.pmac.program.compile_statements` build. Any other line (variables,
-expressions, comments, hex constants, PVT ``:v``, errors...) returns ``None`` and takes the
-general parser, which alone reports errors: the fast path never raises. Tokens agree with the
-general tokenizer because every word accepted here is the longest word of the general word list
-at its position (a single letter followed by a number, sign or space cannot begin a longer
-word). The equivalence is pinned by a property test
+or of one whole-line assignment of one or two plain operands (``P1=P2+1.5``, ``M12==1``, see
+``_ASSIGN``), :func:`fast_compile` builds the :class:`~motionsim.sim.pmac.program.ProgramLine`
+directly from one regular-expression pass, with the same expressions (text, value) and
+operations, in the same order, that :mod:`motionsim.sim.pmac.parser` and
+:func:`~motionsim.sim.pmac.program.compile_statements` build. Any other line (variables in
+words, longer expressions, comments, hex constants, PVT ``:v``, errors...) returns ``None`` and
+takes the general parser, which alone reports errors: the fast path never raises. Tokens agree
+with the general tokenizer because every word accepted here is the longest word of the general
+word list at its position (a single letter followed by a number, sign or space cannot begin a
+longer word). The equivalence is pinned by a property test
 (``tests/sim/pmac/test_fast_line_properties.py``).
 """
 
@@ -26,6 +27,7 @@ import re
 
 from motionsim.sim.pmac import expressions as ex
 from motionsim.sim.pmac.program import (
+    OP_ASSIGN,
     OP_AXISMODE,
     OP_DELAY,
     OP_DWELL,
@@ -47,34 +49,55 @@ _ITEM = (
 #: the last group, so the items found are contiguous and no check of positions is needed.
 _ITEMS = re.compile(_ITEM, re.IGNORECASE | re.ASCII)
 
-_AXES = frozenset("XYZABCUVW")
-_VECTORS = frozenset("IJKR")
+_OPERAND = r"(?:([PQMI])\s*(\d+)|(" + _NUM + r"))"
+#: A whole-line assignment ``P1=P2+1.5``, ``M12==1``: a constant variable number, ``=`` (or an M
+#: variable's synchronous ``==``) and a value of one or two operands (variables with constant
+#: numbers, decimal constants), the first optionally negated.
+_ASSIGN = re.compile(
+    r"\s*([PQM])\s*(\d+)\s*(==|=)\s*(-?)\s*" + _OPERAND
+    + r"\s*(?:([-+*/])\s*" + _OPERAND + r")?\s*",
+    re.IGNORECASE | re.ASCII,
+)
+
+_findall = _ITEMS.findall
+#: What a valued word is: 0 axis word, 1 circle vector word, 2 modal word, else its op code.
+_KIND = {
+    **dict.fromkeys("XYZABCUVW", 0), **dict.fromkeys("IJKR", 1),
+    **dict.fromkeys(("F", "TA", "TS", "TM"), 2),
+    "DWELL": OP_DWELL, "DWE": OP_DWELL, "DELAY": OP_DELAY, "DLY": OP_DELAY,
+}  # fmt: skip
 _MODE = {"LINEAR": "LINEAR", "LIN": "LINEAR", "RAPID": "RAPID", "RPD": "RAPID"}
-_TIMED = {"DWELL": OP_DWELL, "DWE": OP_DWELL, "DELAY": OP_DELAY, "DLY": OP_DELAY}
 
 
 def fast_compile(text: str) -> ProgramLine | None:
     """The compiled line when ``text`` has only the plain shapes above, else ``None``."""
+    items = _findall(text)
+    if not items:
+        return ProgramLine(text, 1, (), 0)
+    if items[0][5]:
+        return _assignment(text)
     constant = ex.constant
     ops: list[tuple] = []
     modal: list[tuple] = []
     axes: list[tuple] = []
     vectors: list[tuple] = []
     moves = 0
-    items = _ITEMS.findall(text)
     for word, neg, num, mode, circle, other in items:
-        if other:
-            return None
         if word:
-            w = word.upper()
-            e = constant(float(num), num)
-            if neg:
-                e = ex.negate(e)
-            if w in _AXES:
-                axes.append((w, e))
-            elif w in _VECTORS:
-                vectors.append((w, e))
-            elif w in _TIMED:
+            kind = _KIND.get(word)
+            if kind is None:  # lower or mixed case
+                word = word.upper()
+                kind = _KIND[word]
+            v = float(num)
+            # ``-n`` is what ex.negate(ex.constant(n)) builds: text "-n", value -n.
+            e = constant(-v, "-" + num) if neg else constant(v, num)
+            if kind == 0:
+                axes.append((word, e))
+            elif kind == 1:
+                vectors.append((word, e))
+            elif kind == 2:
+                modal.append((OP_MODAL, word, e))
+            else:
                 ops.extend(modal)
                 modal.clear()
                 if axes or vectors:
@@ -82,10 +105,10 @@ def fast_compile(text: str) -> ProgramLine | None:
                     moves += 1
                     axes.clear()
                     vectors.clear()
-                ops.append((_TIMED[w], e))
+                ops.append((kind, e))
                 moves += 1
-            else:
-                modal.append((OP_MODAL, w, e))
+        elif other:
+            return None
         elif circle:
             modal.append((OP_MODE, "CIRCLE" + circle))
         else:
@@ -94,16 +117,45 @@ def fast_compile(text: str) -> ProgramLine | None:
                 modal.append((OP_MODE, _MODE[m]))
             else:
                 modal.append((OP_AXISMODE, m == "INC", None))
-    ops.extend(modal)
     if axes or vectors:
         move = (OP_MOVE, tuple(axes), tuple(vectors), ())
+        if not ops and not modal and not vectors:  # the planners' short cuts (see ProgramLine)
+            simple = tuple([(a, e.const) for a, e in axes])
+            simple_pvt = tuple([(a, e.const, 0.0) for a, e in axes])
+            return ProgramLine(text, len(items), (move,), moves + 1, simple, simple_pvt)
+        ops.extend(modal)
         ops.append(move)
         moves += 1
-        if len(ops) == 1 and not vectors:  # the planners' short cuts (see ProgramLine)
-            simple = tuple((a, e.const) for a, e in axes)
-            simple_pvt = tuple((a, e.const, 0.0) for a, e in axes)
-            return ProgramLine(text, max(1, len(items)), (move,), moves, simple, simple_pvt)
-    return ProgramLine(text, max(1, len(items)), tuple(ops), moves)
+    else:
+        ops.extend(modal)
+    return ProgramLine(text, len(items), tuple(ops), moves)
+
+
+def _operand(var: str, number: str, num: str) -> ex.Expr:
+    if var:
+        n = int(number)
+        return ex.variable(var.upper(), ex.constant(float(n), number))
+    return ex.constant(float(num), num)
+
+
+def _assignment(text: str) -> ProgramLine | None:
+    m = _ASSIGN.fullmatch(text)
+    if m is None:
+        return None
+    kind, index, op, neg, var1, n1, num1, binop, var2, n2, num2 = m.groups()
+    kind = kind.upper()
+    if op == "==" and kind != "M":
+        return None
+    for n in (index, n1, n2):
+        if n is not None and int(n) > 8191:
+            return None
+    value = _operand(var1, n1, num1)
+    if neg:
+        value = ex.negate(value)
+    if binop:
+        value = ex.binary(binop, value, _operand(var2, n2, num2))
+    target = ex.constant(float(int(index)), index)
+    return ProgramLine(text, 1, ((OP_ASSIGN, kind, target, op, value),), 0)
 
 
 __all__ = ["fast_compile"]

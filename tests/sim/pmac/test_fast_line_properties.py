@@ -1,9 +1,10 @@
 """The plain-line fast path compiles a rotary line exactly as the general parser does.
 
 ``compile_line`` tries :func:`motionsim.sim.pmac.fast_line.fast_compile` first; these properties
-pin that, for any line, the result (statements' expressions, operations, word count, planner
-short cuts) or the ``ParseError`` (message, column, text, ERR003) is the one the general path
-``parse_program_line`` + ``compile_statements`` gives.
+pin that, for any line (plain words, whole-line assignments, anything else), the result
+(statements' expressions, operations, word count, planner short cuts) or the ``ParseError``
+(message, column, text, ERR003) is the one the general path ``parse_program_line`` +
+``compile_statements`` gives.
 """
 
 from __future__ import annotations
@@ -40,6 +41,17 @@ def _word() -> st.SearchStrategy[str]:
 
 
 _PLAIN_LINES = st.lists(st.tuples(_GAP, _word()).map("".join), max_size=8).map("".join)
+_INDEX = st.sampled_from(["1", "0", "12", "8191", "8192", "007", "2.", "1.5", "(1)", ""])
+_OPERAND = st.one_of(
+    _NUMBERS, st.tuples(st.sampled_from(["P", "Q", "M", "I", "p", "X", "SIN("]), _GAP, _INDEX)
+    .map("".join),
+)
+_ASSIGNMENTS = st.tuples(
+    _GAP, st.sampled_from(["P", "Q", "M", "I", "m", "q"]), _GAP, _INDEX, _GAP,
+    st.sampled_from(["=", "==", "&=", "->", "=*"]), _GAP, st.sampled_from(["", "", "-", "+"]),
+    _OPERAND, _GAP, st.sampled_from(["", "", "+", "-", "*", "/", "%", "&"]), _GAP,
+    st.one_of(_OPERAND, st.just("")), _GAP, st.sampled_from(["", "", "", " X1", "+1", ";c"]),
+).map("".join)
 
 
 def _general(text: str):
@@ -74,6 +86,16 @@ def test_plain_line_compiles_exactly_as_the_general_parser(text):
     _check_same(text)
 
 
+@settings(max_examples=1000, deadline=None)
+@given(_ASSIGNMENTS)
+@example("P1=P2+1.5")
+@example("M12==1")
+@example("q3 = -p4 * 2")
+@example("P1=4/0")
+def test_assignment_line_compiles_exactly_as_the_general_parser(text):
+    _check_same(text)
+
+
 @settings(max_examples=500, deadline=None)
 @given(st.text(alphabet="XYZIJKRFTADWELINCBS-.0123456789 ():=;$", max_size=20))
 def test_any_character_mix_compiles_or_fails_exactly_as_the_general_parser(text):
@@ -84,5 +106,8 @@ def test_the_fast_path_takes_the_commonest_streamed_lines():
     for text in ("X1.5 Y-2", "INC LINEAR TA10 TS0 TM50", "DWELL20", "CIRCLE2 X1 Y1 I0 J1",
                  "F10 X2", "rapid z3"):
         assert fast_compile(text) is not None, text
-    for text in ("P1=P2+1", "M1==1", "X(P1)", "X10:5", "INC(X)", "X$10", "X10 ;c", "R"):
+    for text in ("P1=P2+1", "M1==1", "Q5=-2.5", "P9=M3*P2"):
+        assert fast_compile(text) is not None, text
+    for text in ("P1=P2+P3+1", "P1==1", "P8192=1", "P1=SIN(2)", "X(P1)", "X10:5", "INC(X)",
+                 "X$10", "X10 ;c", "R"):
         assert fast_compile(text) is None, text
