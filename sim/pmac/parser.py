@@ -344,10 +344,7 @@ class _Parser:
                 raise self.error("CIRCLE1 or CIRCLE2", self.toks[self.i - 1])
             return st.MoveMode(f"CIRCLE{n}")
         if word == "SPLINE":
-            n = self.integer()
-            if n not in (1, 2):
-                raise self.error("SPLINE1 or SPLINE2", self.toks[self.i - 1])
-            return st.MoveMode(f"SPLINE{n}")
+            raise self.error("SPLINE1 / SPLINE2 move modes are not simulated", tok)
         if word == "PVT":
             return st.PvtMode(self.pvt_time())
         if word in ("INC", "ABS"):
