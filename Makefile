@@ -39,7 +39,7 @@ lint: $(TEST_STAMP)
 # Bigger fuzz budgets: hypothesis over every parser and codec (>= 10^5 cases, counts in
 # fuzz-counts.json) and schemathesis over every operation, stateful phase included.
 fuzz: $(TEST_STAMP)
-	MOTIONSIM_FUZZ=1 $(BIN)/pytest -p no:cacheprovider -s tests/fuzz tests/integration/test_schemathesis.py
+	MOTIONSIM_FUZZ=1 $(BIN)/pytest -p no:cacheprovider -o timeout=3600 -s tests/fuzz tests/integration/test_schemathesis.py
 
 # Every benchmark (each prints its table and writes bench/results/<name>.json), then the
 # summary of every target (PASS / SHORT, a report, never a failure) into README's Performance.
