@@ -51,11 +51,16 @@ def test_motionsim_comes_from_the_wheel_and_its_fixture_serves(motionsim):
 
 
 def _mapped_packages() -> set[str]:
+    """Every folder under the layers that holds a file: code packages (``__init__.py``) and
+    data-only folders (the dashboard's static files), which setuptools sees as namespace
+    packages and wants listed too."""
     found = set()
     for name, folder in LAYERS.items():
-        for init in (ROOT / folder).rglob("__init__.py"):
-            rel = init.parent.relative_to(ROOT / folder)
-            found.add(".".join([name, *rel.parts]) if rel.parts else name)
+        for path in (ROOT / folder).rglob("*"):
+            if not path.is_file() or "__pycache__" in path.parts or path.suffix == ".pyc":
+                continue
+            rel = path.parent.relative_to(ROOT / folder).parts
+            found.update(".".join([name, *rel[:i]]) for i in range(len(rel) + 1))
     return found
 
 
