@@ -4,6 +4,7 @@ requirements (what ``pip install motionsim`` brings) hold no test or cluster too
 
 from __future__ import annotations
 
+import os
 import re
 import shutil
 import subprocess
@@ -19,8 +20,11 @@ def _recipe(target: str) -> list[str]:
     """The commands ``make`` would run for ``target`` from scratch (``-n -B``)."""
     make = shutil.which("make")
     assert make, ".ci/run installs make"
-    out = subprocess.run([make, "-n", "-B", target], cwd=ROOT, capture_output=True, text=True,
-                         check=True, timeout=30)
+    # run under `make test` too: the parent make's MAKEFLAGS / MAKELEVEL would make this one
+    # print "make[1]: Entering directory" lines around the recipe
+    env = {k: v for k, v in os.environ.items() if k not in ("MAKEFLAGS", "MAKELEVEL", "MFLAGS")}
+    out = subprocess.run([make, "--no-print-directory", "-n", "-B", target], cwd=ROOT, env=env,
+                         capture_output=True, text=True, check=True, timeout=30)
     return out.stdout.splitlines()
 
 
