@@ -7,6 +7,8 @@ Budget: ``make test`` runs a few examples per operation within ``SCHEMATHESIS_MA
 ``positive_data_acceptance`` is not checked: a schema-valid request may still name a controller
 or program that does not exist, or an event type the controller never emits (404 / 422 are
 the contract there).
+A ``run-until`` on a realtime or host-paced clock may wait out its documented 30-s wall cap
+(``wall_timeout``), so the request timeout is well above that cap.
 """
 
 from __future__ import annotations
@@ -33,7 +35,7 @@ def test_schemathesis_finds_no_server_error_and_no_schema_violation(tmp_path):
     with motionsim_serve("--pmac-port", "0", "--trio-port", "0") as svc:
         cmd = [exe, "run", svc.http + "/openapi.json", "--checks", CHECKS,
                "--phases", "examples,coverage,fuzzing,stateful", "-n", examples,
-               "--max-time", max_time, "--request-timeout", "30", "--workers", "1",
+               "--max-time", max_time, "--request-timeout", "75", "--workers", "1",
                "--seed", "1", "--generation-deterministic" if not FUZZING else "--no-shrink",
                "--report", "junit", "--report-dir", str(tmp_path)]
         out = subprocess.run(cmd, capture_output=True, text=True, timeout=int(max_time) + 300,
