@@ -303,15 +303,24 @@ class HostPacedClock(Clock):
                 return False
 
     def _deliver(self) -> None:
-        """Every waiting holder due by now becomes acting; its call returns."""
+        """The first waiting holder due by now becomes acting; its call returns.
+
+        Holders due at the same instant act one at a time, in an order that does not depend on
+        thread scheduling: the one due earliest, then the one waiting since the earliest
+        simulated instant, then by name. The next one's call returns once this one waits again
+        (or is released), at the same simulated instant."""
         limit = _limit(self.env.now)
-        for holder in list(self.holders.values()):
+        due = []
+        for holder in self.holders.values():
             if holder.state != "waiting":
                 continue
             if holder.due is not None and holder.due <= limit:
-                self._resolve(holder, holder.matched, "matched")
+                due.append((holder.due, holder.since_t, holder.name, holder, "matched"))
             elif holder.deadline <= limit:
-                self._resolve(holder, None, "timeout")
+                due.append((holder.deadline, holder.since_t, holder.name, holder, "timeout"))
+        if due:
+            *_, holder, outcome = min(due, key=lambda d: d[:3])
+            self._resolve(holder, holder.matched if outcome == "matched" else None, outcome)
 
     async def _drive(self) -> None:
         wakeup = self._wakeup

@@ -87,6 +87,39 @@ def test_releasing_a_holder_ends_its_wait_and_later_waits_return_released():
     assert state == "acting" and t == 0.0   # main acted all along: time never moved
 
 
+def test_holders_due_at_the_same_instant_act_one_at_a_time_in_a_fixed_order():
+    """Two holders due at t = 0.3: "z" by its event (tick 3), waiting since t = 0; "a" by its
+    deadline, waiting since t = 0.1. The one waiting since the earlier instant acts first,
+    whatever order the calls were made in, and the other acts at the same instant only once
+    the first waits again; equal instants would then go by name."""
+    async def main(order):
+        env, log, clock = _clock()
+        clock.start()
+        for name in order:
+            clock.hold(name)
+        turns: list[tuple[str, float, str]] = []
+
+        async def host(name):
+            if name == "a":
+                await clock.wait(name, None, 0.1)
+                event, outcome = await clock.wait(name, None, 0.2)
+            else:
+                event, outcome = await clock.wait(name, {"type": "tick", "k": 3}, 10.0)
+            turns.append((name, round(env.now, 9), outcome))
+            log.emit("acted", by=name)      # what it does lands at that instant
+            await clock.wait(name, None, 0.05)
+            clock.release(name)
+
+        await asyncio.gather(*(host(n) for n in order))
+        await clock.stop()
+        return turns, [e["by"] for e in log.events() if e.type == "acted"]
+
+    one = asyncio.run(main("az"))
+    two = asyncio.run(main("za"))
+    assert one == two
+    assert one == ([("z", 0.3, "matched"), ("a", 0.3, "timeout")], ["z", "a"])
+
+
 def test_bad_reaction_and_holder_names_are_refused():
     env = simpy.Environment()
     log = EventLog(env, "c")
