@@ -16,6 +16,7 @@ from collections.abc import Callable, Iterator, Mapping
 from typing import Any, TypeVar
 
 from motionsim.app.clock import (
+    RUN_UNTIL_WALL_S,
     Clock,
     ClockMode,
     RealtimeClock,
@@ -42,8 +43,8 @@ TERMINAL_WAIT_S = 1.0
 #: Wall seconds a realtime terminal command waits for its reply before answering "pending".
 REALTIME_REPLY_CAP_S = 5.0
 
-#: Wall seconds a realtime or host-paced run-until waits at most.
-RUN_UNTIL_WALL_CAP_S = 30.0
+#: Wall seconds a realtime or host-paced run-until waits at most (the clocks' own cap).
+RUN_UNTIL_WALL_CAP_S = RUN_UNTIL_WALL_S
 
 AnyClock = VirtualClock | RealtimeClock | HostPacedClock
 

@@ -17,13 +17,12 @@ from fastapi import APIRouter, Path, Query
 from motionsim.api.deps import HandleDep
 from motionsim.api.schemas.axes import AxisOut, AxisPatch, MoveIn, MovePlaced
 from motionsim.app.clock import RealtimeClock
-from motionsim.app.registry import ControllerHandle
+from motionsim.app.registry import RUN_UNTIL_WALL_CAP_S, ControllerHandle
 from motionsim.sim.errors import BufferFull, NotFound
 
 router = APIRouter(tags=["trio axes"])
 
 AxisParam = Annotated[int, Path(ge=0, description="axis number, from 0")]
-WALL_CAP_S = 30.0
 
 
 def trio_of(handle: ControllerHandle) -> Any:
@@ -69,7 +68,8 @@ async def post_move(
             done = asyncio.get_running_loop().create_future()
             reply.add_done_callback(lambda _r: done.done() or done.set_result(None))
             with contextlib.suppress(TimeoutError):
-                await asyncio.wait_for(done, timeout=min(WALL_CAP_S, timeout_s / clock.factor))
+                cap = min(RUN_UNTIL_WALL_CAP_S, timeout_s / clock.factor)
+                await asyncio.wait_for(done, timeout=cap)
     if not reply.done:
         handle.apply(ctrl.withdraw_move, reply)
         raise BufferFull(
