@@ -1,10 +1,14 @@
-"""A LINEAR program slowed by the motors' maximum program velocity Ixx16 (TSRM p98).
+"""A LINEAR program slowed by the motors' maximum program velocity Ixx16 (TSRM p98) and
+acceleration Ixx17 (PSRM p74, TUM p276).
 
 Run: ``.venv/bin/python examples/pmac/velocity_limited_linear.py [out.png]``. X is motor 1
-and Y motor 2 at 1000 counts per unit. The same four TM200 moves run twice: with Ixx16 = 32
-counts/ms (the factory value) the moves that ask more than 32 counts/ms of a motor are made
-longer, all motors of the CS slowing in proportion so the path stays the same (Isx13 = 0);
-with Ixx16 = 1000 they keep their 200 ms. Prints each move's duration, plots X(t).
+and Y motor 2 at 1000 counts per unit. The same four TM200 moves run three times: with
+Ixx16 = 32 counts/ms (the factory value) the moves that ask more than 32 counts/ms of a motor
+are made longer, all motors of the CS slowing in proportion so the path stays the same
+(Isx13 = 0); with Ixx16 = 1000 they keep their 200 ms. Both of those runs raise Ixx17 to 1000
+counts/ms² so only Ixx16 acts. The third keeps the factory Ixx17 = 0.015625 counts/ms²: every
+ramp (and every removed stop between the blended moves) must stay under it, so the moves become
+much longer. Prints each move's duration, plots X(t).
 """
 
 from __future__ import annotations
@@ -16,9 +20,17 @@ from motionsim.sim.pmac import PmacController
 PROGRAM = ["LINEAR ABS TA20 TS0 TM200", "X4 Y1", "X12 Y2", "X13 Y10", "X0 Y0"]
 
 
-def run(ixx16: float) -> tuple[PmacController, list[tuple[float, float]]]:
+#: Ixx17 that never limits these moves (counts/ms²).
+NO_ACCEL_LIMIT = 1000.0
+
+
+def run(
+    ixx16: float, ixx17: float = NO_ACCEL_LIMIT
+) -> tuple[PmacController, list[tuple[float, float]]]:
     c = PmacController("pmac", {})
-    for cmd in ("&1 #1->1000X", "&1 #2->1000Y", f"I116={ixx16}", f"I216={ixx16}"):
+    setup = ("&1 #1->1000X", "&1 #2->1000Y", f"I116={ixx16}", f"I216={ixx16}",
+             f"I117={ixx17}", f"I217={ixx17}")  # fmt: skip
+    for cmd in setup:
         reply = c.terminal(cmd)
         while not reply.done:
             c.env.step()
@@ -33,7 +45,7 @@ def run(ixx16: float) -> tuple[PmacController, list[tuple[float, float]]]:
             yield c.env.timeout(0.002)
 
     c.env.process(sampler())
-    c.env.run(until=2.5)
+    c.env.run(until=6.0)
     return c, samples
 
 
@@ -48,11 +60,14 @@ def durations(c: PmacController) -> dict[int, float]:
 
 
 def main(out: str | None = None) -> None:
-    runs = {v: run(v) for v in (32, 1000)}
-    for v, (c, _) in runs.items():
+    runs = {
+        "Ixx16 = 32 cts/ms": run(32),
+        "Ixx16 = 1000 cts/ms": run(1000),
+        "Ixx16 = 32, Ixx17 = 0.015625 (factory)": run(32, 0.015625),
+    }
+    for label, (c, _) in runs.items():
         d = durations(c)
-        print(f"Ixx16 = {v:>4} cts/ms: " + ", ".join(f"line {n} {s * 1000:.1f} ms"
-                                                      for n, s in d.items()))  # fmt: skip
+        print(f"{label}: " + ", ".join(f"line {n} {s * 1000:.1f} ms" for n, s in d.items()))
     if out:
         import matplotlib
 
@@ -60,11 +75,11 @@ def main(out: str | None = None) -> None:
         import matplotlib.pyplot as plt
 
         fig, ax = plt.subplots(figsize=(8, 3.6))
-        for v, (_, s) in runs.items():
-            ax.plot([a for a, _ in s], [b for _, b in s], label=f"Ixx16 = {v} counts/ms")
+        for label, (_, s) in runs.items():
+            ax.plot([a for a, _ in s], [b for _, b in s], label=label)
         ax.set_xlabel("simulated time (s)")
         ax.set_ylabel("X commanded (units)")
-        ax.set_title("TM200 moves, X at 1000 counts/unit: Ixx16 stretches the fast ones")
+        ax.set_title("TM200 moves, X at 1000 counts/unit: Ixx16 and Ixx17 stretch them")
         ax.legend()
         fig.tight_layout()
         fig.savefig(out, dpi=90)

@@ -86,6 +86,11 @@ class CoordSystem(Planning, Execution, TimeBase):
         self._isx13 = 0.0
         self._ta_s = 0.0
         self._ta_prog = 0.0
+        self._ts_prog = 0.0  # TS (Isx88) in whole ms, program seconds
+        #: Axis velocities (units/s, program time) of the last calculated LINEAR move, for
+        #: Ixx17 at the next corner (:mod:`motionsim.sim.pmac.modes.accel_limit`); None after
+        #: any other move.
+        self._lin_w: dict[str, float] | None = None
         self._scale = 1.0
         self._pct_before_hold = 100.0  # the time base of the profile frozen by %0 / H
         #: The commanded ``%`` (the slew's goal; ``R`` after ``H`` returns to it).
@@ -157,6 +162,7 @@ class CoordSystem(Planning, Execution, TimeBase):
         pct = self.feed_override if self.feed_override > 0 else self._pct_before_hold
         self._scale = 100.0 / pct  # time-base stretch: real seconds per program second
         self._ta_prog = motion.accel_time_s(v.I(isx(cs, 87)), v.I(isx(cs, 88)))
+        self._ts_prog = motion.whole_ms(v.I(isx(cs, 88))) / 1000.0
         self._ta_s = self._ta_prog * self._scale
         self._f = v.I(isx(cs, 89))
         self._isx90 = v.I(isx(cs, 90))

@@ -175,7 +175,12 @@ class Execution:
             self.abort("run_time_error")
             return
         m.stopping = True
-        m.ta_out = self._accel_s() if PROFILES[m.kind].stop_ramp else 0.0
+        if PROFILES[m.kind].stop_ramp:
+            # the TA / TS in force now, stretched to the stop ramp Ixx17 allows (accel_limit)
+            ta = self._accel_s()
+            m.ta_out = max(ta, m.ta_stop * self._scale) if m.ta_stop else ta
+        else:
+            m.ta_out = 0.0
         self._after(self.sched.servo_at_or_after(m.b_end + m.ta_out / 2), self._stop_end_cb)
 
     def _fell_behind(self, m: Move) -> bool:

@@ -272,10 +272,12 @@ class Planning:
                     self.incremental.difference_update(axes)
             elif code == OP_DWELL:
                 self.calc_vel = {}
+                self._lin_w = None
                 self._append(dwell.plan_dwell(n, op[1](vars_, cs), self.calc_pos))
                 self.blocked = True
             elif code == OP_DELAY:
                 self.calc_vel = {}
+                self._lin_w = None
                 if self._ver != vars_.version:
                     self._refresh()
                 self._append(dwell.plan_delay(self, n, op[1](vars_, cs), self.calc_pos))
@@ -315,7 +317,15 @@ class Planning:
             if mode == "RAPID":
                 move = rapid.plan(self, n, start, end)
             else:
-                move = linear.plan(self, n, start, end, vectors)
+                # Ixx17 at the corner: from the previous calculated LINEAR move, unless this
+                # one starts from rest (nothing executing or calculated, or Isx92 = 1).
+                from_rest = self.no_blend or (self.current is None and not self.planned)
+                move = linear.plan(self, n, start, end, vectors, None if from_rest else self._lin_w)
+        self._lin_w = (
+            {a: v * self._scale for a, v in move.v.items()}  # program time
+            if move.kind == LINEAR and self.ctl.motors
+            else None
+        )
         self.calc_pos = end
         self._append(move)
         if self.no_blend or PROFILES[move.kind].breaks:
@@ -338,6 +348,10 @@ class Planning:
     @property
     def accel_real_s(self) -> float:
         return self._ta_s
+
+    @property
+    def scurve_prog_s(self) -> float:
+        return self._ts_prog
 
     @property
     def time_scale(self) -> float:

@@ -6,8 +6,9 @@ Isx13 > 0 (without segmentation they run as LINEAR, TSRM p177). With Isx13 = 0 a
 would take any motor past its Ixx16 is made longer so all motors slow in proportion (TSRM p98,
 TUM "the move time is extended so that motor will not exceed its limit"); with Isx13 > 0
 Ixx16 acts only through the special lookahead (Isx20, ``DEFINE LOOKAHEAD``), which is not
-modelled, so no limit applies there. Ixx17 (acceleration limit) is not modelled: the ramps
-keep their TA / TS time. The time is at least the acceleration time ``Ta = max(TA, 2·TS)``
+modelled, so no limit applies there. With Isx13 = 0 the acceleration limit Ixx17 then
+stretches the ramp into the move and the stop ramp, and can make the move longer
+(:mod:`.accel_limit`). The time is at least the acceleration time ``Ta = max(TA, 2·TS)``
 and is stretched by the ``%`` time base. The axes run at constant velocity between blend
 ramps centred on the programmed points (:func:`motionsim.sim.pmac.motion.position_at`);
 along an arc the chord is used ``[INF]``.
@@ -15,16 +16,21 @@ along an arc the chord is used ``[INF]``.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 from motionsim.sim.pmac import motion
+from motionsim.sim.pmac.modes import accel_limit
 from motionsim.sim.pmac.modes.move import LINEAR, Move, PlanContext, Profile
 from motionsim.sim.pmac.variables import ixx
 
 
 def plan(
-    ctx: PlanContext, n: int, start: dict[str, float], end: dict[str, float], vectors: tuple
+    ctx: PlanContext, n: int, start: dict[str, float], end: dict[str, float], vectors: tuple,
+    w: Mapping[str, float] | None = None,
 ) -> Move:
     """The LINEAR / CIRCLE move of line ``n`` from ``start`` to ``end`` (``vectors``: the
-    circle's I, J, K / R words)."""
+    circle's I, J, K / R words; ``w``: the previous calculated LINEAR move's axis velocities
+    in program time, for Ixx17 at the corner, ``None`` from rest)."""
     if ctx.time_mode:
         t = ctx.feedrate / 1000.0
     else:
@@ -42,10 +48,15 @@ def plan(
         else:
             dist = motion.vector_distance({a: end[a] - start[a] for a in end})
         t = motion.feed_time_s(dist, ctx.feedrate, ctx.isx90_ms)
-    if not ctx.segmented:
-        t = velocity_limited(ctx, start, end, t)
-    t = motion.clamp_move_time(t, ctx.accel_prog_s) * ctx.time_scale
-    return Move(n, LINEAR, t, ctx.accel_real_s, start, end, None)
+    if ctx.segmented:
+        t = motion.clamp_move_time(t, ctx.accel_prog_s) * ctx.time_scale
+        return Move(n, LINEAR, t, ctx.accel_real_s, start, end, None)
+    t = velocity_limited(ctx, start, end, t)
+    t, ta, ta_stop = accel_limit.limited(ctx, start, end, t, w or {})
+    scale = ctx.time_scale
+    move = Move(n, LINEAR, motion.clamp_move_time(t, ta) * scale, ta * scale, start, end, None)
+    move.ta_stop = ta_stop
+    return move
 
 
 def velocity_limited(

@@ -30,12 +30,12 @@ class Move:
     the time base); ``b_start`` / ``b_end`` are the instants the move passes its programmed
     start and end points (the centres of its ramps); ``prev`` is the move it blended from
     (kept only while this one executes); the per-axis velocities ``v`` are computed on demand
-    (only position queries need them).
+    (only position queries need them); ``ta_stop`` the shortest stop ramp Ixx17 allows.
     """
 
     __slots__ = (
         "n", "kind", "tm", "ta", "start", "end", "sync", "prev", "_v",
-        "b_start", "b_end", "ta_in", "ta_out", "stopping",
+        "b_start", "b_end", "ta_in", "ta_out", "stopping", "ta_stop",
     )  # fmt: skip
 
     def __init__(
@@ -60,6 +60,9 @@ class Move:
         self._v: dict[str, float] | None = None
         self.ta_out = 0.0
         self.stopping = False
+        #: The shortest decel to a stop from this move's speed that Ixx17 allows (program
+        #: seconds; 0 = no limit), :mod:`.accel_limit`.
+        self.ta_stop = 0.0
 
     @property
     def v(self) -> dict[str, float]:
@@ -104,6 +107,11 @@ class PlanContext(Protocol):
     @property
     def accel_real_s(self) -> float:
         """The same in real seconds (stretched by the ``%`` time base)."""
+        ...
+
+    @property
+    def scurve_prog_s(self) -> float:
+        """TS (Isx88) in whole ms, program seconds."""
         ...
 
     @property

@@ -206,6 +206,7 @@ def test_run_time_error_sets_the_motor_data_block_error_bit(rig):
     rig.ok("&1 #2->1000Y")  # (not moved by the program, still in the CS)
     rig.ok("&2 #3->1000X")
     rig.ok("I116=2000")  # Ixx16 (TSRM p98) above 1000 counts/ms: the 1 ms moves keep their time
+    rig.ok("I117=10000")  # and Ixx17 (PSRM p74) above 1000 counts/ms per ms, for the same reason
     _start(rig, [HEADER] + [f"X{i}" for i in range(1, 30)])
     rig.run_until_idle()
 

@@ -5,6 +5,7 @@ error, and Ixx16 stretching exactly the moves that ask too much of a motor (TSRM
 from __future__ import annotations
 
 import importlib.util
+import math
 from pathlib import Path
 
 import pytest
@@ -47,3 +48,12 @@ def test_velocity_limited_linear_stretches_only_the_moves_over_ixx16():
     assert slow[3] == pytest.approx(0.250, abs=1e-3)  # 8000 cts at 32 cts/ms
     assert fast[3] == pytest.approx(0.200, abs=1e-3)
     assert slow[4] == pytest.approx(0.250, abs=1e-3)  # Y 8 units: Y's motor limits
+
+
+def test_velocity_limited_linear_at_the_factory_ixx17_makes_every_move_a_triangle():
+    """PSRM p74 / TUM p276: at Ixx17 = 0.015625 counts/ms² each TM200 move is calculated as
+    if it were the last; X4 (4000 counts) from rest takes sqrt(4000 / 0.015625) = 506 ms."""
+    ex = _load("velocity_limited_linear")
+    d = ex.durations(ex.run(32, 0.015625)[0])
+    assert d[2] == pytest.approx(math.sqrt(4000 / 0.015625) / 1000, abs=1e-3)
+    assert all(d[n] > 0.4 for n in (2, 3, 4, 5))

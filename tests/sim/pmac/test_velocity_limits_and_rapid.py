@@ -15,9 +15,12 @@ def _by_n(rig, type_):
 
 
 def _setup(rig, *cmds):
+    """X = motor 1, Y = motor 2; Ixx17 raised so only the limit under test acts."""
     rig.rotary_setup()
     rig.ok("&1 #1->1000X")
     rig.ok("&1 #2->1000Y")
+    rig.ok("I117=1000")
+    rig.ok("I217=1000")
     for c in cmds:
         rig.ok(c)
 

@@ -6,7 +6,7 @@ recorded golden is the event log as JSON Lines followed by the commanded positio
 sampled every ``SAMPLE_MS`` (``# pos`` lines), so both the event times and the profile are
 pinned. They cover the lookahead paths the example scenarios do not reach: feed override and
 hold, abort and quit mid-move, single step, segmentation mode with circles, Isx92, I11, DELAY,
-INC, RAPID, synchronous M-variable forms and a run-time error.
+INC, RAPID, synchronous M-variable forms, a run-time error and the Ixx17 limit.
 """
 
 from __future__ import annotations
@@ -67,9 +67,15 @@ CASES: dict[str, tuple[dict[str, Any], list[str], list[Step], float]] = {
         {}, [],
         [(0, ["LINEAR ABS TA20 TS0 TM50", "X1", "X2"]), (1, "R"), (400, ["X3"]),
          (405, ["X4", "X5"]), (700, ["INC", "X1", "X1", "ABS"])], 1.2),
+    # (Ixx17 raised: at the factory 0.015625 counts/ms² the 1 ms moves would be slowed to 8 ms
+    # each, TUM p276, and calculation would keep up)
     "run_time_error_1ms_moves": (
-        {}, [],
+        {}, ["I117=10"],
         [(0, ["LINEAR ABS TA0 TS0 TM1"] + [f"X{i}" for i in range(1, 30)]), (1, "R")], 0.3),
+    "ixx17_factory_slows_short_blended_moves": (
+        {}, ["&1 #1->1000X"],
+        [(0, ["LINEAR INC TA10 TS0 TM20", "X0.1", "X0.1", "X0.2", "X-0.2", "X0.1"]),
+         (1, "R")], 1.0),
     "segmented_run_out_blends_late_line": (
         {}, ["I5113=5"],
         [(0, ["LINEAR ABS TA40 TS0 TM100", "X10"]), (1, "R"), (60, ["X20"]),
