@@ -28,7 +28,6 @@ _COMMANDS: Final[tuple[tuple[str, str], ...]] = (
     (r"UNDEFINE|UNDEF", "UNDEFINE (coordinate-system definitions)"),
     (r"PASSWORD", "PASSWORD"),
     (r"MFLUSH", "MFLUSH"),
-    (r"SPLINE\s*[12]?", "SPLINE1 / SPLINE2 move modes"),
     (r"PSET", "PSET"),
     (r"PMATCH", "PMATCH"),
     (r"ENABLE\s*PLCC|ENA\s*PLCC|DISABLE\s*PLCC|DIS\s*PLCC|PLCC", "compiled PLCs (PLCC)"),

@@ -99,6 +99,8 @@ class _Parser:
         self.toks = tokenize(text)
         self.i = 0
         self.open = open_
+        #: A SPLINE1 / SPLINE2 word came earlier on this line (no PVT-style velocities).
+        self.spline_line = False
 
     # -- token helpers --------------------------------------------------------------------
 
@@ -335,17 +337,25 @@ class _Parser:
         if word == "CLEAR":
             return plc_st.Clear()
         if word in ("LINEAR", "LIN"):
+            self.spline_line = False
             return st.MoveMode("LINEAR")
         if word in ("RAPID", "RPD"):
+            self.spline_line = False
             return st.MoveMode("RAPID")
         if word in ("CIRCLE", "CIR"):
             n = self.integer()
             if n not in (1, 2):
                 raise self.error("CIRCLE1 or CIRCLE2", self.toks[self.i - 1])
+            self.spline_line = False
             return st.MoveMode(f"CIRCLE{n}")
         if word == "SPLINE":
-            raise self.error("SPLINE1 / SPLINE2 move modes are not simulated", tok)
+            n = self.integer()
+            if n not in (1, 2):
+                raise self.error("SPLINE1 or SPLINE2", self.toks[self.i - 1])
+            self.spline_line = True
+            return st.MoveMode(f"SPLINE{n}")
         if word == "PVT":
+            self.spline_line = False
             return st.PvtMode(self.pvt_time())
         if word in ("INC", "ABS"):
             return st.AxisMode(word == "INC", self.axis_list())
@@ -445,6 +455,8 @@ class _Parser:
         if word in st.AXES:
             value = self.value()
             if self.at("op", ":"):
+                if self.spline_line:
+                    raise self.error("SPLINE: an axis word takes no velocity")
                 self.take()
                 if not self.has_value():
                     raise self.error("PVT: expected the end velocity after ':'")

@@ -17,7 +17,7 @@ from motionsim.sim.pmac.lookahead.execution import Execution
 from motionsim.sim.pmac.lookahead.planning import Planning
 from motionsim.sim.pmac.lookahead.states import IDLE, RUNNING, STOPPED, TRANSITIONS, WAITING
 from motionsim.sim.pmac.lookahead.timebase import TimeBase
-from motionsim.sim.pmac.modes import DWELL, Move, RunTimeError, pvt
+from motionsim.sim.pmac.modes import DWELL, Move, RunTimeError, pvt, spline
 from motionsim.sim.pmac.scheduler import Wake
 from motionsim.sim.pmac.variables import isx
 
@@ -82,6 +82,8 @@ class CoordSystem(Planning, Execution, TimeBase):
         #: next segment's start; empty after any other move.
         self.calc_vel: dict[str, float] = {}
         self.rest_pos: dict[str, float] = {}
+        #: The open SPLINE1 / SPLINE2 series: its last point waits for the next one.
+        self.spline: spline.Series | None = None
         self._ver = -1
         self._isx13 = 0.0
         self._ta_s = 0.0
@@ -220,6 +222,7 @@ class CoordSystem(Planning, Execution, TimeBase):
         """Forget every scheduled wake-up (the controller is being reset)."""
         self._plan_due = None
         self._cancel()
+        self.spline = None
         wake = self._slew_wake
         if wake is not None and wake.callbacks:
             wake.callbacks.clear()

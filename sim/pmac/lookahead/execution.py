@@ -5,7 +5,9 @@ Modelled (TUM p339-341, p250; PUM p213; spec §9.1-9.3):
 * **Blending.** Consecutive moves whose profiles blend (LINEAR / CIRCLE / DELAY) are joined
   (:mod:`motionsim.sim.pmac.modes.linear`); the next move starts — ``move_start``, its
   synchronous M writes, the previous ``move_end`` — at the start of the blend ramp, on a
-  servo cycle. A lookahead break (DWELL, RAPID) is preceded by a stop.
+  servo cycle. A lookahead break (DWELL, RAPID) is preceded by a stop. PVT and SPLINE moves
+  abut without a ramp; a spline move ending with only the waiting point after it ends the
+  series there (that point's move to rest), unless calculation fell behind (below).
 * **Running out.** With Isx13 = 0 a move that starts executing with no next move calculated
   (and no calculation deadline missed, below) ends in a stop ``[INF]`` (without segmentation
   the blend must be known when the move starts); with Isx13 > 0 (segmentation mode) a move
@@ -41,7 +43,7 @@ from typing import Any
 
 from motionsim.sim.pmac.expressions import pmac_and, pmac_or, pmac_xor
 from motionsim.sim.pmac.lookahead.states import ABORTED, RUNNING, STOPPED
-from motionsim.sim.pmac.modes import BLENDS, PROFILES, Move
+from motionsim.sim.pmac.modes import BLENDS, PROFILES, SPLINE, Move
 from motionsim.sim.pmac.scheduler import wake_at
 from motionsim.sim.pmac.variables import ixx
 
@@ -161,6 +163,12 @@ class Execution:
         assert m is not None
         self._decided = m
         planned = self.planned
+        if not planned and self.spline is not None and m.kind == SPLINE and not self.single_step:
+            # a spline move's end needs the waiting point's move: fell behind, or the end
+            if self._fell_behind(m):
+                self.abort("run_time_error")
+                return
+            self._spline_close()
         if planned and not self.single_step:
             nxt = planned[0]
             if BLENDS[m.kind][nxt.kind]:
@@ -216,6 +224,16 @@ class Execution:
             if self.feed_override > 0:
                 self._start_next()
             return
+        if (
+            self.spline is not None
+            and self.state == RUNNING
+            and not (self.quitting or self.single_step)
+            and not (rot is not None and rot.pending and not self.blocked)
+        ):
+            self._spline_close()  # the waiting spline point has no next one: the series ends
+            if self.feed_override > 0:
+                self._start_next()
+            return
         if rot is not None:
             rot.free_calculated()
         if self.quitting or self.single_step:
@@ -255,6 +273,7 @@ class Execution:
         self.single_step = False
         self.sync_pending.clear()
         self.planned.clear()
+        self.spline = None
         if error is None:
             self._set_state(ABORTED)
         else:
@@ -310,6 +329,7 @@ class Execution:
         self._starting = self.quitting = self.blocked = self.single_step = False
         self.sync_pending.clear()
         self.planned.clear()
+        self.spline = None
         self._abort = None
         self.calc_vel = {}
         self.calc_pos = dict(self.rest_pos)

@@ -10,7 +10,10 @@ Modelled (TUM p236, p249-250, p339-341; TSRM p177, p190; PSRM I11; PUM p213; spe
 * **Depth.** Calculation keeps this many moves calculated beyond the executing one: 2 for
   LINEAR with Isx13 = 0 (and CIRCLE, which runs as LINEAR without segmentation, TSRM p177),
   else 1 (spec §4.2, §9.3: from rest the scan runs through the 3rd move). DWELL, DELAY and
-  RAPID count as moves. A line is worked through whole.
+  RAPID count as moves. A line is worked through whole. SPLINE1 / SPLINE2 keep 2 as well, but
+  a spline move is calculated only once the next point is read (:mod:`..modes.spline`), so
+  calculation reads one line further; the open series ends at another mode's move, a DWELL /
+  DELAY, or, with nothing more to read, from rest here or at the executing move's end.
 * **Breaks.** ``DWELL`` and ``RAPID`` stop lookahead: nothing after them is calculated until
   they are finished (then at the next RTI). With Isx92 = 1 (read at ``R``/``S``) every move
   is such a break: no blending, each move ends in a stop before the next is calculated (the
@@ -48,6 +51,7 @@ from motionsim.sim.pmac.modes import (
     linear,
     pvt,
     rapid,
+    spline,
 )
 from motionsim.sim.pmac.program import (
     OP_ASSIGN,
@@ -173,6 +177,8 @@ class Planning:
                         return
                     self._fast = self._fast_kind()
                     rot.line_calculated(n)
+        if self.current is None and not planned and self.spline is not None:
+            self._spline_close()  # from rest with no next point: the series is this much
         if self.current is None and not self._starting and self.feed_override > 0:
             if planned:
                 if self.state == WAITING:
@@ -271,11 +277,13 @@ class Planning:
                 else:
                     self.incremental.difference_update(axes)
             elif code == OP_DWELL:
+                self._spline_close()
                 self.calc_vel = {}
                 self._lin_w = None
                 self._append(dwell.plan_dwell(n, op[1](vars_, cs), self.calc_pos))
                 self.blocked = True
             elif code == OP_DELAY:
+                self._spline_close()
                 self.calc_vel = {}
                 self._lin_w = None
                 if self._ver != vars_.version:
@@ -306,6 +314,10 @@ class Planning:
         if self._ver != vars_.version:
             self._refresh()
         mode = self.mode
+        if mode in _SPLINES:
+            self._plan_spline(n, start, end, velocities)
+            return
+        self._spline_close()
         if mode == "PVT":
             v_end = {a: 0.0 for a in end}
             for axis, expr in velocities:
@@ -330,6 +342,32 @@ class Planning:
         self._append(move)
         if self.no_blend or PROFILES[move.kind].breaks:
             self.blocked = True  # Isx92 = 1: every move is a lookahead break
+
+    def _plan_spline(self, n: int, start: dict, end: dict, velocities: tuple) -> None:
+        """A SPLINE1 / SPLINE2 point: the previous point's move is calculated now (it needed
+        this one); this point's move waits for the next point, or for the end of the series
+        (:meth:`_spline_close`). A velocity word in SPLINE mode is a run-time error ``[INF]``.
+        The point's synchronous writes wait with it."""
+        if velocities:
+            raise RunTimeError("SPLINE: an axis word with a velocity")
+        moves, self.spline = spline.plan(self, self.spline, n, start, end, self.sync_pending)
+        self.sync_pending = []
+        self.planned.extend(moves)
+        self.calc_vel = {}
+        self.calc_pos = end
+        if self.no_blend:
+            self._spline_close()  # Isx92 = 1: every point a series of its own [INF]
+            self.blocked = True
+
+    def _spline_close(self) -> None:
+        """End the open spline series (if any): the waiting point's move, with the added
+        zero-distance segment to rest (TUM p290), is calculated."""
+        series = self.spline
+        if series is not None:
+            self.spline = None
+            if self._ver != self.vars.version:
+                self._refresh()
+            self.planned.append(series.close(self._scale))
 
     # -- the planning context of the move modes (modes.move.PlanContext) --------------------
 

@@ -8,7 +8,7 @@ and executor (:mod:`motionsim.sim.pmac.lookahead`) call only this interface.
 
 from __future__ import annotations
 
-from motionsim.sim.pmac.modes import dwell, linear, pvt, rapid
+from motionsim.sim.pmac.modes import dwell, linear, pvt, rapid, spline
 from motionsim.sim.pmac.modes.move import (
     DELAY,
     DWELL,
@@ -24,6 +24,7 @@ from motionsim.sim.pmac.modes.move import (
 #: The profile of each move kind, indexed by ``Move.kind``.
 PROFILES: tuple[Profile, ...] = (
     linear.PROFILE, dwell.DWELL_PROFILE, dwell.DELAY_PROFILE, rapid.PROFILE, pvt.PROFILE,
+    spline.PROFILE,
 )  # fmt: skip
 
 assert all(p.kind == k for k, p in enumerate(PROFILES))

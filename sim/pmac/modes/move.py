@@ -1,9 +1,10 @@
 """A calculated move and the interface every move mode's profile offers the planner.
 
 A coordinate system's planner turns each move line into a :class:`Move` with the mode's
-``plan`` function (one module per mode: :mod:`.linear`, :mod:`.rapid`, :mod:`.dwell`); the
-executor then only asks the mode's :class:`Profile` how the move behaves: whether it blends
-with its neighbours, whether it breaks lookahead, and where the axes are at an instant.
+``plan`` function (one module per mode: :mod:`.linear`, :mod:`.rapid`, :mod:`.dwell`,
+:mod:`.pvt`, :mod:`.spline`); the executor then only asks the mode's :class:`Profile` how the
+move behaves: whether it blends with its neighbours, whether it breaks lookahead, and where
+the axes are at an instant.
 """
 
 from __future__ import annotations

@@ -170,10 +170,3 @@ def test_a_pvt_time_expression_out_of_range_at_calculation_is_a_run_time_error(r
     assert progs[-1] == {"cs": 1, "state": "aborted", "error": "run_time_error"}
     assert _by_n(rig, "move_start") == {}
 
-
-def test_spline_is_refused_as_not_simulated_and_nothing_is_stored(rig):
-    rig.rotary_setup()
-    with pytest.raises(Exception) as exc:
-        rig.c.load_lines(1, ["SPLINE1 X10"])
-    assert getattr(exc.value, "column", None) == 1
-    assert rig.c.rotary(1)["used_words"] == 0
