@@ -57,6 +57,22 @@ class Rig:
     def ms_cycles(self, ms: float) -> float:
         return ms / 1000.0 / self.period
 
+    def assert_refused_err003(self, line: str, column: int) -> None:
+        """``line`` sent to an open rotary buffer is ``ERR003`` and stores nothing (no words,
+        no ``line_loaded``); loaded through the API it fails at 1-based ``column``."""
+        self.rotary_setup()
+        port = self.c.open_port("host")
+        self.ok("OPEN ROT", port)
+        since = self.c.log.last_seq
+        words = self.c.rotary(1)["used_words"]
+        reply = self.cmd(line, port)
+        assert reply.error is not None and "ERR003" in str(reply.error)
+        assert self.c.rotary(1)["used_words"] == words
+        assert self.events("line_loaded", since=since) == []
+        with pytest.raises(Exception) as exc:
+            self.c.load_lines(1, [line])
+        assert getattr(exc.value, "column", None) == column
+
     def rotary_setup(self, words: int = 600, cs: int = 1) -> None:
         self.ok(f"&{cs} DEFINE ROT {words}")
         self.ok(f"&{cs} B0")

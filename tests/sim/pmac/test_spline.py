@@ -265,18 +265,7 @@ def test_spline_segment_time_out_of_range_is_a_run_time_error_nothing_moves(rig,
      ("SPLINE2 X", 9)],
 )  # fmt: skip
 def test_bad_spline_lines_are_err003_with_the_column_and_nothing_is_stored(rig, line, column):
-    rig.rotary_setup()
-    port = rig.c.open_port("host")
-    rig.ok("OPEN ROT", port)
-    since = rig.c.log.last_seq
-    words = rig.c.rotary(1)["used_words"]
-    reply = rig.cmd(line, port)
-    assert reply.error is not None and "ERR003" in str(reply.error)
-    assert rig.c.rotary(1)["used_words"] == words
-    assert rig.events("line_loaded", since=since) == []
-    with pytest.raises(Exception) as exc:
-        rig.c.load_lines(1, [line])
-    assert getattr(exc.value, "column", None) == column
+    rig.assert_refused_err003(line, column)
 
 
 def test_a_velocity_word_calculated_in_spline_mode_is_a_run_time_error(rig):
