@@ -354,6 +354,7 @@ class Planning:
         self.sync_pending = []
         self.planned.extend(moves)
         self.calc_vel = {}
+        self._lin_w = None  # a LINEAR move after the series starts from its rest (no corner)
         self.calc_pos = end
         if self.no_blend:
             self._spline_close()  # Isx92 = 1: every point a series of its own [INF]
