@@ -6,7 +6,7 @@ import { ClockPanel } from "./clock.js";
 import { fill, fmt, h } from "./dom.js";
 import { ControllerModel } from "./model.js";
 import { PmacView } from "./pmac_view.js";
-import { HISTORY_S } from "./series.js";
+import { HISTORY_S, MAX_HELD, MAX_POINTS } from "./series.js";
 import { EventStream } from "./stream.js";
 import { Terminal } from "./terminal.js";
 import { TrioView } from "./trio_view.js";
@@ -21,7 +21,7 @@ const $ = (id) => document.getElementById(id);
 const controllers = new Map();
 let selected = null;
 let span = "fit";
-const stats = { frames: 0, renders: 0 };
+const stats = { frames: 0, renders: 0, renderMs: 0 };   // frames drawn and their cost
 
 async function api(method, path, body) {
   const headers = { "content-type": "application/json" };
@@ -193,7 +193,9 @@ function frame(now) {
   pending = false;
   lastFrame = now;
   stats.frames++;
+  const start = performance.now();
   render();
+  stats.renderMs += performance.now() - start;
 }
 
 function window_(ctl) {
@@ -248,5 +250,9 @@ function start() {
   setInterval(pollNow, POLL_MS);
 }
 
-window.motionsimDashboard = { controllers, stats };
+// For tests and benches: the controllers (model, stream and its cost), frame counts, bounds.
+window.motionsimDashboard = {
+  controllers, stats,
+  bounds: { fps: FPS, historyS: HISTORY_S, maxPoints: MAX_POINTS, maxHeld: MAX_HELD },
+};
 start();

@@ -1,8 +1,19 @@
 // Bounded time series: what the charts draw. The model's *state* (lines ahead, BREQ, ...)
 // is never bounded; only the history kept for drawing is (a time window and a point cap).
 
-export const HISTORY_S = 120;      // simulated seconds of history kept per series
-export const MAX_POINTS = 20000;   // and never more points than this per series
+// The page's `?history=S&points=N` lower (or raise) them, e.g. for a small machine.
+const query = new URLSearchParams(globalThis.location?.search ?? "");
+
+function positive(text, fallback) {
+  const x = Number(text);
+  return text !== null && Number.isFinite(x) && x > 0 ? x : fallback;
+}
+
+export const HISTORY_S = positive(query.get("history"), 120);  // simulated s kept per series
+export const MAX_POINTS = Math.ceil(positive(query.get("points"), 20000));  // points kept
+// A series is trimmed back to MAX_POINTS when it reaches MAX_HELD (one splice per
+// MAX_POINTS / 4 pushes, not one per push): MAX_HELD is the most it ever holds.
+export const MAX_HELD = MAX_POINTS + Math.ceil(MAX_POINTS / 4);
 
 /** A piecewise-constant signal: value v[i] from t[i] until t[i+1]. */
 export class Steps {
@@ -15,7 +26,7 @@ export class Steps {
   push(t, v) {
     this.t.push(t);
     this.v.push(v);
-    if (this.t.length > MAX_POINTS + MAX_POINTS / 4) this.dropBefore(this.t.length - MAX_POINTS);
+    if (this.t.length >= MAX_HELD) this.dropBefore(this.t.length - MAX_POINTS);
   }
 
   /** Drop points before index k, remembering the value they left behind. */
@@ -62,7 +73,7 @@ export class Intervals {
     const open = this.items.length && this.items[this.items.length - 1][1] === null;
     if (on && !open) this.items.push([t, null]);
     else if (!on && open) this.items[this.items.length - 1][1] = t;
-    if (this.items.length > MAX_POINTS) this.items.splice(0, this.items.length - MAX_POINTS);
+    if (this.items.length >= MAX_HELD) this.items.splice(0, this.items.length - MAX_POINTS);
   }
 
   prune(tmin) {
@@ -80,7 +91,7 @@ export class Marks {
 
   push(t, label) {
     this.items.push([t, label]);
-    if (this.items.length > MAX_POINTS) this.items.splice(0, this.items.length - MAX_POINTS);
+    if (this.items.length >= MAX_HELD) this.items.splice(0, this.items.length - MAX_POINTS);
   }
 
   prune(tmin) {

@@ -24,6 +24,9 @@ export class EventStream {
     this.ws = null;
     this.stopped = false;
     this.backoff = 100;
+    // what handling the stream costs the page: messages, events and the milliseconds spent
+    // parsing and applying them (read by tests/browser and bench/bench_dashboard.py)
+    this.cost = { messages: 0, events: 0, ms: 0 };
     this.open();
   }
 
@@ -59,9 +62,19 @@ export class EventStream {
   }
 
   receive(data) {
+    const start = performance.now();
+    const n = this.handle(data);
+    this.cost.messages++;
+    this.cost.events += n;
+    this.cost.ms += performance.now() - start;
+  }
+
+  /** Parse one WebSocket message and apply what it holds; returns how many events. */
+  handle(data) {
     let messages = JSON.parse(data);
     if (!Array.isArray(messages)) messages = [messages];
     let events = [];
+    let count = 0;
     for (const m of messages) {
       if (m.type === "epoch") {            // the first message: the log's incarnation
         if (events.length) this.model.apply(events);
@@ -73,9 +86,11 @@ export class EventStream {
         this.error = m.message;
       } else {
         events.push(m);
+        count++;
       }
     }
     if (this.model.apply(events) || messages.length) this.onChange();
+    return count;
   }
 
   status(s) {
