@@ -14,6 +14,7 @@ import os
 import re
 import sys
 from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -44,8 +45,14 @@ class Browser:
         return [(ws, server) for url, ws, server in self.sockets if path in url]
 
 
-@pytest.fixture(scope="module")
-def browser(served: str) -> Iterator[Browser]:
+@contextmanager
+def dashboard(url: str, path: str = "/dashboard", route_sockets: bool = True) -> Iterator[Browser]:
+    """Chromium with ``url + path`` open; skips (fails under CI) without a Chromium.
+
+    With ``route_sockets`` every events WebSocket goes through a Playwright route (so a test
+    can close its server side); Playwright's sync API forwards routed messages only while
+    the test calls into it, so a test that keeps the service busy between calls opens the
+    page without."""
     exe = chromium_path()
     if exe is None:
         reason = ("no Chromium installed (apt-get install chromium; or set MOTIONSIM_CHROMIUM): "
@@ -60,7 +67,7 @@ def browser(served: str) -> Iterator[Browser]:
         chromium = pw.chromium.launch(executable_path=exe, headless=True, args=CHROMIUM_ARGS)
         context = chromium.new_context(viewport={"width": 1500, "height": 1000})
         page = context.new_page()
-        b = Browser(page=page, url=served)
+        b = Browser(page=page, url=url)
         page.on("pageerror", lambda exc: b.errors.append(f"pageerror: {exc}"))
 
         def console(m: Any) -> None:
@@ -80,14 +87,21 @@ def browser(served: str) -> Iterator[Browser]:
         def forward(ws: Any) -> None:
             b.sockets.append((ws.url, ws, ws.connect_to_server()))
 
-        page.route_web_socket(re.compile(r".*/controllers/.*/events.*"), forward)
+        if route_sockets:
+            page.route_web_socket(re.compile(r".*/controllers/.*/events.*"), forward)
         page.set_default_timeout(15_000)
-        page.goto(f"{served}/dashboard")
+        page.goto(f"{url}{path}")
         try:
             yield b
         finally:
             context.close()
             chromium.close()
+
+
+@pytest.fixture(scope="module")
+def browser(served: str) -> Iterator[Browser]:
+    with dashboard(served) as b:
+        yield b
 
 
 @pytest.fixture(scope="module")

@@ -12,40 +12,12 @@ import re
 
 import pytest
 
+from tests.browser.page import caught_up, select, server_last_seq, shown, status
 from tests.browser.scenario import run_tn20, stream_rotary
 
 pytestmark = pytest.mark.timeout(240)
 
 PMAC, TRIO = "p", "t"
-
-
-def last_seq(ms, cid: str) -> int:
-    return ms.events(cid, since=0, limit=100_000).next
-
-
-def status(page, cid: str) -> dict[str, str]:
-    return page.eval_on_selector(f'[data-controller="{cid}"] [data-role=stream]',
-                                 "el => ({...el.dataset})")
-
-
-def caught_up(b, ms, cid: str) -> dict[str, str]:
-    """Wait until the page shows controller ``cid`` with every logged event applied."""
-    want = last_seq(ms, cid)
-    b.page.wait_for_function(
-        """([cid, want]) => {
-             const el = document.querySelector(`[data-controller="${cid}"] [data-role=stream]`);
-             return el && el.isConnected && Number(el.dataset.lastSeq) >= want; }""",
-        arg=[cid, want])
-    return status(b.page, cid)
-
-
-def select(b, cid: str) -> None:
-    b.page.click(f'[data-tab="{cid}"] button.pick')
-    b.page.wait_for_selector(f'main [data-controller="{cid}"]')
-
-
-def shown(b, cid: str, selector: str) -> str:
-    return b.page.inner_text(f'[data-controller="{cid}"] {selector}')
 
 
 def type_command(b, cid: str, command: str) -> None:
@@ -178,7 +150,7 @@ def test_server_side_close_is_resumed_by_seq_without_gaps(browser, ms):
              return Number(el.dataset.reconnects) > n && el.dataset.state === "live"; }""",
         arg=[PMAC, int(before["reconnects"])])
     after = caught_up(b, ms, PMAC)
-    seq = last_seq(ms, PMAC)
+    seq = server_last_seq(ms, PMAC)
     assert int(after["lastSeq"]) == seq
     assert (after["gaps"], after["duplicates"]) == ("0", "0")
     assert int(after["received"]) == seq    # every event from seq 1 applied exactly once
@@ -329,11 +301,11 @@ def test_a_controller_deleted_and_created_again_is_shown_from_its_new_log(browse
              return el && el.isConnected && el.dataset.state === "live"
                     && Number(el.dataset.received) === Number(el.dataset.lastSeq)
                     && Number(el.dataset.lastSeq) >= want; }""",
-        arg=[last_seq(ms, "again")])
+        arg=[server_last_seq(ms, "again")])
     new = status(b.page, "again")
     assert new["epoch"] != old["epoch"]
     assert (new["gaps"], new["duplicates"]) == ("0", "0")
-    assert int(new["lastSeq"]) == last_seq(ms, "again")
+    assert int(new["lastSeq"]) == server_last_seq(ms, "again")
     ms.set_clock("again", paused=True)
     caught_up(b, ms, "again")
     pr = ms.coord("again", 1)["rotary"]["lines_ahead"]
