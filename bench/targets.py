@@ -45,4 +45,8 @@ TARGETS: tuple[Target, ...] = (
            ">=", 0.5),
     Target("sweep", "speedup_2_workers", "64 scenario runs: 2 local workers vs 1 (speed-up)",
            ">=", 1.8),
+    Target("dashboard", "fps_1000", "dashboard frames/s at 1000 events/s (absolute; ~30)",
+           "<=", 31.0),
+    Target("dashboard", "delivered_1000", "dashboard events applied / logged at 1000 events/s",
+           ">=", 1.0),
 )

@@ -63,23 +63,31 @@ def start_fast(ms: MotionSimClient, cid: str, *, move_ms: int = 250, backlog: in
 
 
 def stream_fast(ms: MotionSimClient, cid: str, *, sent: int, events_per_s: float,
-                seconds: float, move_ms: int = 250, batch: int = 4) -> Drive:
-    """Stream for ``seconds`` of wall time at about ``events_per_s`` logged events a second
-    (never faster: it sleeps when ahead), ``batch`` lines a step, numbered after ``sent``."""
+                seconds: float, move_ms: int = 250, batch: int = 4,
+                max_batch: int = 32) -> Drive:
+    """Stream for ``seconds`` of wall time at about ``events_per_s`` logged events a second,
+    ``batch`` lines a step numbered after ``sent``: it sleeps when ahead of that pace and,
+    when behind (a loaded machine), sends more lines a step, up to ``max_batch``. The log's
+    length is read every 4th step (events a line logs), estimated in between."""
     first_seq = server_last_seq(ms, cid)
     start = time.monotonic()
-    steps, seq = 0, first_seq
+    steps, lines, n, per_line = 0, 0, batch, 5.0
     while time.monotonic() - start < seconds:
-        ms.load_lines(cid, 1, [_line(sent + i, move_ms) for i in range(batch)],
+        ms.load_lines(cid, 1, [_line(sent + i, move_ms) for i in range(n)],
                       first_seq=sent + 1)
-        sent += batch
-        ms.advance(cid, batch * move_ms / 1000)
+        sent += n
+        lines += n
+        ms.advance(cid, n * move_ms / 1000)
         steps += 1
-        seq = server_last_seq(ms, cid)
-        ahead = start + (seq - first_seq) / events_per_s - time.monotonic()
+        if steps % 4 == 0:
+            per_line = (server_last_seq(ms, cid) - first_seq) / lines
+        ahead = start + per_line * lines / events_per_s - time.monotonic()
         if ahead > 0:
             time.sleep(ahead)
-    return Drive(lines=sent, first_seq=first_seq, last_seq=seq,
+            n = batch
+        else:
+            n = min(max_batch, n + batch)
+    return Drive(lines=sent, first_seq=first_seq, last_seq=server_last_seq(ms, cid),
                  wall_s=time.monotonic() - start, steps=steps)
 
 
