@@ -234,7 +234,7 @@ class Execution:
             if self.feed_override > 0:
                 self._start_next()
             return
-        if rot is not None:
+        if rot is not None and self.spline is None:  # (a waiting spline point keeps its words)
             rot.free_calculated()
         if self.quitting or self.single_step:
             self.quitting = False

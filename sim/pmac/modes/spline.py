@@ -96,6 +96,9 @@ class Series:
 
     def _move(self, wp1: Pos, v1: Pos, tail: bool, scale: float) -> SplineMove:
         t = self.t
+        if not (self.lead or tail):  # inside a series: one piece (the streamed case)
+            one = (0.0, 1.0, *_piece(self.wp0, self.v0, wp1, v1, t))
+            return SplineMove(self.n, t * scale, (one,), self.sync or None)  # type: ignore[arg-type]
         parts = []
         if self.lead:
             parts.append(_piece(self.prev, {}, self.wp0, self.v0, t))  # from rest

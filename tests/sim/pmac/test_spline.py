@@ -235,6 +235,7 @@ def test_tum_p339_a_host_streaming_spline_points_under_breq_is_asked_one_line_ea
         ends = {e["n"]: e.t for e in c.log.events("move_end")}
         assert sorted(starts) == sorted(ends) == list(range(2, n + 2))  # line 1: the header
         assert [e["state"] for e in c.log.events("program")] == ["running", "waiting"]
+        assert rot.used_words == 0 and rot.lines_ahead == 0  # every line's words given back
         calc = [(e.t, e["n"]) for e in c.log.events("line_calculated")]
         rti = 3.5 * c.scheduler.period_s  # the next RTI, strictly after the start
         reach[mode] = {
@@ -342,6 +343,11 @@ def test_quit_during_a_series_runs_the_waiting_point_to_rest(rig):
     assert _states(rig)[-1] == "stopped"
     last = max(end)
     assert rig.c.positions(1)["X"] == pytest.approx(10.0 * last)
+    rig.ok("R")  # the rest of the lines run as a new series from there
+    rig.run_until_idle()
+    assert _states(rig)[-1] == "waiting"
+    assert rig.c.positions(1)["X"] == pytest.approx(60.0)
+    assert rig.c.rotary(1)["used_words"] == 0
 
 
 def test_abort_during_a_spline_decelerates_from_its_velocity(rig):
