@@ -85,11 +85,10 @@ class Series:
     """An open spline series of one coordinate system: the last point read (its move waits
     for the next point), the point before it, and the boundary its move starts from."""
 
-    __slots__ = ("n", "point", "prev", "t", "wp0", "v0", "lead", "sync", "uniform")
+    __slots__ = ("n", "point", "prev", "t", "wp0", "v0", "lead", "sync")
 
-    def __init__(self, n: int, rest: Pos, point: Pos, t: float, sync: _SYNC, uniform: bool):
+    def __init__(self, n: int, rest: Pos, point: Pos, t: float, sync: _SYNC) -> None:
         self.n, self.point, self.prev, self.t, self.sync = n, point, rest, t, sync
-        self.uniform = uniform
         # the added zero-distance segment: from rest at ``rest`` to the boundary at its end
         self.wp0, self.v0 = boundary(rest, rest, point, t, t)
         self.lead = True
@@ -98,7 +97,7 @@ class Series:
         t = self.t
         if not (self.lead or tail):  # inside a series: one piece (the streamed case)
             one = (0.0, 1.0, *_piece(self.wp0, self.v0, wp1, v1, t))
-            return SplineMove(self.n, t * scale, (one,), self.sync or None)  # type: ignore[arg-type]
+            return SplineMove(self.n, t * scale, (one,), self.sync or None)
         parts = []
         if self.lead:
             parts.append(_piece(self.prev, {}, self.wp0, self.v0, t))  # from rest
@@ -108,7 +107,7 @@ class Series:
             parts.append(_piece(wp1, v1, end, {}, t))
         k = len(parts)
         pieces = tuple((i / k, (i + 1) / k, *p) for i, p in enumerate(parts))
-        return SplineMove(self.n, k * t * scale, pieces, self.sync or None)  # type: ignore[arg-type]
+        return SplineMove(self.n, k * t * scale, pieces, self.sync or None)
 
     def add(self, n: int, point: Pos, t: float, sync: _SYNC, scale: float) -> SplineMove:
         """The next point arrives: the waiting point's move is calculated; ``point`` waits."""
@@ -138,8 +137,7 @@ def plan(
         out.append(series.close(ctx.time_scale))  # PUM p183: stop, restart with the new time
         series = None
     if series is None:
-        return out, Series(n, start, point, t, sync, uniform)
-    series.uniform = uniform
+        return out, Series(n, start, point, t, sync)
     out.append(series.add(n, point, t, sync, ctx.time_scale))
     return out, series
 
