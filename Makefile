@@ -58,7 +58,7 @@ cov: $(TEST_STAMP)
 # `make mutate MODULES=sim/pmac/rotary.py` for one module.
 mutate: $(TEST_STAMP)
 	$(BIN)/python -m pip install -q -e '.[test,mutation]'
-	$(BIN)/python tools/mutate.py $(MODULES)
+	$(BIN)/python tools/mutate.py $(MUTATE_ARGS) $(MODULES)
 
 # The README's plots, regenerated from the example scenarios (examples/scenarios/readme_plots.py).
 plots: $(RUN_STAMP)

@@ -1,13 +1,22 @@
-"""``make mutate``: mutation testing of the decision modules with cosmic-ray.
+"""``make mutate``: mutation testing of the decision modules, mutants made by cosmic-ray.
 
-For each module of ``tools/mutation.toml`` (or those named on the command line) a cosmic-ray
-session is created in ``.mutation/`` and every mutant is run against the module's test subset.
-cosmic-ray mutates the file in place and restores it after each mutant; this script refuses to
-start on a module with uncommitted changes and checks with git that every module is back as it
-was at the end. Prints killed / survived per module and lists the survivors that
-``[[equivalent]]`` does not explain (mutants inside type annotations, never evaluated under
-``from __future__ import annotations``, count as equivalent too). A report, never a failure:
-the exit code is 0 unless the tooling itself failed.
+For each module of ``tools/mutation.toml`` (or those named on the command line) cosmic-ray
+``init`` writes the mutants to a work DB in ``.mutation/``; this script then tests them itself
+(``tools/mutation_fork.py``: a warm fork server, the mutant served from memory, the file on
+disk never changed) and stores every result in that DB (``cr-report .mutation/<m>.sqlite``
+reads it):
+
+1. mutants inside type annotations or docstrings are equivalent by construction: stored as
+   skipped, never run; so are the ``[[equivalent]]`` entries of ``mutation.toml``;
+2. the module's test subset runs once under coverage with one context per test; a mutant then
+   runs only the tests that execute its statement (``tools/mutation_lines.py``), fastest
+   first, stopping at the first failure; a statement run at import time runs the whole subset;
+   a statement no test executes survives without running;
+3. each child has a time limit (a mutant that loops forever is killed).
+
+A DB whose module source is unchanged is resumed; ``--survivors`` re-tests only the survivors
+(after new tests), ``--fresh`` starts over. Prints killed / survived per module and lists the
+survivors. A report, never a failure: the exit code is 0 unless the tooling itself failed.
 
     python tools/mutate.py                      # every module
     python tools/mutate.py sim/pmac/rotary.py   # one
@@ -16,28 +25,40 @@ the exit code is 0 unless the tooling itself failed.
 from __future__ import annotations
 
 import argparse
-import ast
-import shlex
+import difflib
+import hashlib
+import json
+import os
 import subprocess
 import sys
+import time
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+import mutation_fork  # noqa: E402
+from mutation_lines import StatementIndex, inert_reason, inert_spans, select  # noqa: E402
+
 ROOT = Path(__file__).resolve().parents[1]
 CONFIG = ROOT / "tools" / "mutation.toml"
 WORK = ROOT / ".mutation"
+PACKAGE = "motionsim"  # the repository's top-level folders are this package's subpackages
 TARGET = 0.90
 CR = str(Path(sys.executable).with_name("cosmic-ray"))  # beside this interpreter (the venv)
+UNCOVERED = "no test in the subset executes this statement"
 
 
 @dataclass
 class Tally:
     module: str
     killed: int = 0
-    survived: list[tuple[int, str, str]] = field(default_factory=list)  # line, operator, diff
+    survived: list[tuple[int, str, str, bool]] = field(default_factory=list)  # +uncovered
     equivalent: int = 0
     incompetent: int = 0
+    seconds: float = 0.0
+    ran: int = 0
 
     @property
     def scored(self) -> int:
@@ -48,70 +69,192 @@ class Tally:
         return self.killed / self.scored if self.scored else 1.0
 
 
-def _session(module: str, tests: list[str], timeout_s: float) -> Path:
+def import_name(module: str) -> str:
+    return ".".join([PACKAGE, *Path(module).with_suffix("").parts])
+
+
+def _digest(module: str) -> str:
+    return hashlib.sha256((ROOT / module).read_bytes()).hexdigest()
+
+
+def _init(module: str, stem: str, fresh: bool) -> Path:
+    """The module's work DB: cosmic-ray's mutants of the current source (kept when the source
+    is unchanged and not ``fresh``, so an interrupted run resumes)."""
     WORK.mkdir(exist_ok=True)
-    stem = module.replace("/", "_").removesuffix(".py")
-    cfg, db = WORK / f"{stem}.toml", WORK / f"{stem}.sqlite"
-    command = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider",
-               "-p", "no:randomly", *tests]
+    cfg, db, stamp = WORK / f"{stem}.toml", WORK / f"{stem}.sqlite", WORK / f"{stem}.sha256"
+    if not fresh and db.exists() and stamp.exists() and stamp.read_text() == _digest(module):
+        return db
     cfg.write_text(
         "[cosmic-ray]\n"
         f'module-path = "{module}"\n'
-        f"timeout = {timeout_s}\n"
+        "timeout = 60\n"
         "excluded-modules = []\n"
-        f"test-command = {shlex.join(command)!r}\n"
-        "\n[cosmic-ray.distributor]\nname = \"local\"\n"
+        'test-command = "false"  # never run: tools/mutate.py tests the mutants\n'
+        '\n[cosmic-ray.distributor]\nname = "local"\n'
     )
     db.unlink(missing_ok=True)
     subprocess.run([CR, "init", str(cfg), str(db)], cwd=ROOT, check=True)
-    subprocess.run([CR, "exec", str(cfg), str(db)], cwd=ROOT, check=True)
+    stamp.write_text(_digest(module))
     return db
 
 
-def _annotation_spans(module: str) -> list[tuple[tuple[int, int], tuple[int, int]]]:
-    """Source spans of the module's type annotations. With ``from __future__ import
-    annotations`` they are never evaluated, so a mutant inside one (``str | None`` made
-    ``str - None``) is equivalent by construction."""
-    tree = ast.parse((ROOT / module).read_text())
-    spans = []
-    for node in ast.walk(tree):
-        notes = []
-        if isinstance(node, ast.arg | ast.AnnAssign) and node.annotation is not None:
-            notes.append(node.annotation)
-        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef) and node.returns:
-            notes.append(node.returns)
-        spans += [((n.lineno, n.col_offset), (n.end_lineno, n.end_col_offset)) for n in notes]
-    return spans
+def _equivalents(config: dict, module: str) -> dict[tuple[str, str], str]:
+    """``[[equivalent]]`` entries of ``module``: (operator, stripped source line) -> reason."""
+    return {(e["operator"], e["code"].strip()): e["reason"]
+            for e in config.get("equivalent", []) if e["module"] == module}
 
 
-def _tally(module: str, db: Path, equivalent: set[tuple[str, int, str]]) -> Tally:
+def _diff(original: str, mutated: str, module: str) -> str:
+    return "\n".join(difflib.unified_diff(original.splitlines(), mutated.splitlines(),
+                                          f"a/{module}", f"b/{module}", lineterm=""))
+
+
+def _limit(durations: dict[str, float], tests: list[str], overhead: float, cap: float) -> float:
+    return min(cap, 10.0 + 2.0 * overhead + 3.0 * sum(durations[t] for t in tests))
+
+
+def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
+    """Test every pending mutant of ``module`` (see the module docstring) and tally the DB."""
+    import cosmic_ray.plugins
+    from cosmic_ray.mutating import mutate_code
     from cosmic_ray.work_db import WorkDB, use_db
-    from cosmic_ray.work_item import TestOutcome
+    from cosmic_ray.work_item import TestOutcome, WorkerOutcome, WorkResult
 
-    tally = Tally(module)
-    notes = _annotation_spans(module)
+    stem = _stem(module)
+    started = time.perf_counter()
+    db = _init(module, stem, args.fresh)
+    if args.fresh:
+        (WORK / f"{stem}.spent.json").unlink(missing_ok=True)
+    target = ROOT / module
+    source = target.read_text()
+    cov_file, log = WORK / f"{stem}.coverage.json", WORK / f"{stem}.baseline.log"
+    base = mutation_fork.baseline(tests, target, cov_file, 1800.0, log)
+    if base.code != 0:
+        raise SystemExit(f"{module}: its test subset fails on the unmutated code "
+                         f"(exit {base.code}); see {log}")
+    measured = json.loads(cov_file.read_text())
+    lines = {int(k): v for k, v in measured["lines"].items()}
+    durations: dict[str, float] = measured["durations"]
+    overhead = max(0.0, base.seconds - sum(durations.values()))
+    by_speed = sorted(durations, key=durations.get)
+    spans, statements = inert_spans(source), StatementIndex(source)
+    equivalent = _equivalents(config, module)
+    source_lines = source.splitlines()
+    with use_db(str(db), WorkDB.Mode.open) as work_db:
+        todo = list(work_db.pending_work_items)
+        if args.survivors:
+            todo += [item for item, result in work_db.completed_work_items
+                     if result.test_outcome == TestOutcome.SURVIVED]
+        todo.sort(key=lambda item: item.mutations[0].start_pos)
+        print(f"{module}: {len(todo)} mutants to test, subset {len(durations)} tests "
+              f"{sum(durations.values()):.1f} s + {overhead:.1f} s start", flush=True)
+        ran = 0
+        for n, item in enumerate(todo, 1):
+            (spec,) = item.mutations
+            pos = tuple(spec.start_pos)
+            code_line = source_lines[pos[0] - 1].strip()
+            skip = inert_reason(spans, pos) or equivalent.get((spec.operator_name, code_line))
+            if skip:
+                work_db.set_result(item.job_id, WorkResult(
+                    worker_outcome=WorkerOutcome.SKIPPED, output=f"equivalent: {skip}"))
+                continue
+            operator = cosmic_ray.plugins.get_operator(spec.operator_name)(
+                **(spec.operator_args or {}))
+            mutated = mutate_code(source, operator, spec.occurrence)
+            if mutated is None:
+                work_db.set_result(item.job_id, WorkResult(worker_outcome=WorkerOutcome.NO_TEST))
+                continue
+            diff = _diff(source, mutated, module)
+            chosen = select(lines, statements.lines(pos))
+            if chosen is not None and not chosen:
+                work_db.set_result(item.job_id, WorkResult(
+                    worker_outcome=WorkerOutcome.NORMAL, test_outcome=TestOutcome.SURVIVED,
+                    output=UNCOVERED, diff=diff))
+                continue
+            order = by_speed if chosen is None else [t for t in by_speed if t in chosen]
+            files = sorted({t.split("::")[0] for t in order})
+            verdict = mutation_fork.run_mutant(files, None if chosen is None else order,
+                                               import_name(module), target, mutated,
+                                               _limit(durations, order, overhead, args.timeout))
+            ran += 1
+            if verdict.timed_out:
+                outcome, output = TestOutcome.KILLED, "timeout"
+            elif verdict.code in (0,):
+                outcome, output = TestOutcome.SURVIVED, f"{len(order)} tests passed"
+            elif verdict.code in (4, 5, 70):  # usage error, no tests, the child itself broke
+                outcome, output = TestOutcome.INCOMPETENT, f"pytest exit {verdict.code}"
+            else:
+                outcome, output = TestOutcome.KILLED, f"pytest exit {verdict.code}"
+            work_db.set_result(item.job_id, WorkResult(
+                worker_outcome=WorkerOutcome.NORMAL, test_outcome=outcome, output=output,
+                diff=diff))
+            if n % 50 == 0 or n == len(todo):
+                spent = time.perf_counter() - started
+                print(f"  {n}/{len(todo)} ({ran} run) {spent:.0f} s", flush=True)
+    spent = _spent(stem)
+    spent = {"seconds": spent["seconds"] + time.perf_counter() - started, "ran": spent["ran"] + ran}
+    (WORK / f"{stem}.spent.json").write_text(json.dumps(spent))
+    return tally_db(module, db)
+
+
+def _stem(module: str) -> str:
+    return module.replace("/", "_").removesuffix(".py")
+
+
+def _spent(stem: str) -> dict:
+    """Wall seconds and mutants run, summed over the runs that made the module's DB."""
+    path = WORK / f"{stem}.spent.json"
+    return json.loads(path.read_text()) if path.exists() else {"seconds": 0.0, "ran": 0}
+
+
+def tally_db(module: str, db: Path) -> Tally:
+    from cosmic_ray.work_db import WorkDB, use_db
+    from cosmic_ray.work_item import TestOutcome, WorkerOutcome
+
+    spent = _spent(_stem(module))
+    tally = Tally(module, seconds=spent["seconds"], ran=spent["ran"])
     with use_db(str(db), WorkDB.Mode.open) as work_db:
         for item, result in work_db.completed_work_items:
             (spec,) = item.mutations
-            line = spec.start_pos[0]
-            if result.test_outcome == TestOutcome.KILLED:
-                tally.killed += 1
-            elif result.test_outcome == TestOutcome.INCOMPETENT:
-                tally.incompetent += 1
-            elif (module, line, spec.operator_name) in equivalent or any(
-                    a <= tuple(spec.start_pos) <= b for a, b in notes):
+            if result.worker_outcome == WorkerOutcome.SKIPPED:
                 tally.equivalent += 1
-            else:
+            elif result.test_outcome == TestOutcome.KILLED:
+                tally.killed += 1
+            elif result.test_outcome == TestOutcome.SURVIVED:
                 changed = [d for d in (result.diff or "").splitlines()
                            if d.startswith("+") and not d.startswith("+++")]
-                tally.survived.append((line, spec.operator_name, " ".join(changed)[:90]))
+                tally.survived.append((spec.start_pos[0], spec.operator_name,
+                                       " ".join(changed)[:90], result.output == UNCOVERED))
+            elif result.test_outcome == TestOutcome.INCOMPETENT:
+                tally.incompetent += 1
+    tally.survived.sort()
     return tally
+
+
+def report(tallies: list[Tally]) -> str:
+    rows = [f"{'module':<32}{'killed':>8}{'survived':>10}{'equiv.':>8}{'rate':>8}  target"
+            f"{'run':>7}{'wall s':>8}"]
+    for t in tallies:
+        mark = "PASS" if t.rate >= TARGET else "SHORT"
+        rows.append(f"{t.module:<32}{t.killed:>8}{len(t.survived):>10}{t.equivalent:>8}"
+                    f"{t.rate:>8.1%}  {mark:<6}{t.ran:>7}{t.seconds:>8.0f}")
+    for t in tallies:
+        for line, op, diff, uncovered in t.survived:
+            note = " [not executed by the subset]" if uncovered else ""
+            rows.append(f"survivor {t.module}:{line} {op}: {diff}{note}")
+    return "\n".join(rows) + "\n"
 
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("modules", nargs="*", help="modules to mutate (default: all)")
-    parser.add_argument("--timeout", type=float, default=60.0, help="seconds per mutant")
+    parser.add_argument("--timeout", type=float, default=120.0,
+                        help="upper bound of a mutant's time limit, seconds")
+    parser.add_argument("--fresh", action="store_true", help="discard earlier results")
+    parser.add_argument("--survivors", action="store_true", help="re-test earlier survivors")
+    parser.add_argument("--report", type=Path, help="also write the report to this file")
+    parser.add_argument("--tally", action="store_true",
+                        help="run nothing: report the results already in the work DBs")
     args = parser.parse_args()
     config = tomllib.loads(CONFIG.read_text())
     modules = config["modules"]
@@ -119,27 +262,17 @@ def main() -> int:
     unknown = [m for m in chosen if m not in modules]
     if unknown:
         parser.error(f"not in {CONFIG.name}: {', '.join(unknown)}")
-    dirty = subprocess.run(["git", "status", "--porcelain", "--", *chosen], cwd=ROOT,
-                           capture_output=True, text=True, check=True).stdout.strip()
-    if dirty:
-        parser.error(f"commit or stash these first (they are mutated in place):\n{dirty}")
-    equivalent = {(e["module"], int(e["line"]), e["operator"])
-                  for e in config.get("equivalent", [])}
-    tallies = []
-    try:
-        for module in chosen:
-            db = _session(module, modules[module]["tests"], args.timeout)
-            tallies.append(_tally(module, db, equivalent))
-    finally:
-        subprocess.run(["git", "checkout", "--", *chosen], cwd=ROOT, check=True)
-    print(f"\n{'module':<28}{'killed':>8}{'survived':>10}{'equiv.':>8}{'rate':>8}  target")
-    for t in tallies:
-        mark = "PASS" if t.rate >= TARGET else "SHORT"
-        print(f"{t.module:<28}{t.killed:>8}{len(t.survived):>10}{t.equivalent:>8}"
-              f"{t.rate:>8.1%}  {mark}")
-    for t in tallies:
-        for line, op, diff in t.survived:
-            print(f"survivor {t.module}:{line} {op}: {diff}")
+    os.chdir(ROOT)
+    if args.tally:
+        tallies = [tally_db(m, WORK / f"{_stem(m)}.sqlite") for m in chosen
+                   if (WORK / f"{_stem(m)}.sqlite").exists()]
+    else:
+        mutation_fork.preload(PACKAGE)
+        tallies = [run_module(m, modules[m]["tests"], config, args) for m in chosen]
+    text = report(tallies)
+    print("\n" + text, end="")
+    if args.report:
+        args.report.write_text(text)
     return 0
 
 

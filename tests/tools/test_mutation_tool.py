@@ -1,0 +1,121 @@
+"""``make mutate``'s own machinery (tools/mutation_lines.py, tools/mutation_fork.py): which
+mutants are inert, which tests a mutant needs, and that a forked child serving a mutant from
+memory kills a bad one, lets a no-op live and stops one that never ends."""
+
+from __future__ import annotations
+
+import json
+import textwrap
+
+import pytest
+
+from tools import mutation_fork
+from tools.mutation_lines import IMPORT_CONTEXT, StatementIndex, inert_reason, inert_spans, select
+
+SOURCE = textwrap.dedent('''\
+    """Module docstring."""
+    from __future__ import annotations
+
+    LIMIT = 3
+
+
+    def clamp(value: int | None, top: int = LIMIT) -> int:
+        """Clamp docstring."""
+        if value is not None and (
+                value > top):
+            return top
+        total = (value or 0) + \\
+            1
+        return total - 1
+    ''')
+
+
+def test_annotations_and_docstrings_are_inert_code_is_not():
+    spans = inert_spans(SOURCE)
+    assert inert_reason(spans, (7, 20)) == "annotation"  # the `|` of `int | None`
+    assert inert_reason(spans, (7, 50)) == "annotation"  # the return annotation
+    assert inert_reason(spans, (1, 3)) == "docstring"
+    assert inert_reason(spans, (8, 6)) == "docstring"
+    assert inert_reason(spans, (7, 40)) is None  # the default value LIMIT is evaluated
+    assert inert_reason(spans, (9, 13)) is None
+
+
+def test_annotations_are_code_without_the_future_import():
+    source = SOURCE.replace("from __future__ import annotations\n", "\n")
+    assert inert_reason(inert_spans(source), (7, 20)) is None
+
+
+def test_a_mutant_needs_the_header_of_its_innermost_statement():
+    index = StatementIndex(SOURCE)
+    assert list(index.lines((9, 13))) == [9, 10]  # `if` condition over two lines, not the body
+    assert list(index.lines((10, 22))) == [9, 10]
+    assert list(index.lines((11, 15))) == [11]  # the body's return
+    assert list(index.lines((12, 24))) == [12, 13]  # a statement continued by a backslash
+    assert list(index.lines((7, 40))) == [7]  # a default value: the `def` line (import time)
+    assert list(index.lines((4, 8))) == [4]
+
+
+def test_selection_by_coverage_contexts():
+    by_line = {4: [IMPORT_CONTEXT], 9: ["t::a", "t::b"], 10: ["t::b"], 11: ["t::c"]}
+    assert select(by_line, [9, 10]) == {"t::a", "t::b"}
+    assert select(by_line, [11]) == {"t::c"}
+    assert select(by_line, [4]) is None  # run at import: the whole subset
+    assert select(by_line, [12, 13]) == set()  # no test executes it: survives unrun
+
+
+@pytest.fixture
+def demo(tmp_path, monkeypatch):
+    """A module ``mt_demo`` served from memory and a test file for it."""
+    (tmp_path / "pytest.ini").write_text("[pytest]\n")
+    (tmp_path / "test_demo.py").write_text(textwrap.dedent('''\
+        import mt_demo
+
+        def test_low():
+            assert mt_demo.clamp(1) == 1
+
+        def test_high():
+            assert mt_demo.clamp(9) == 3
+
+        def test_unrelated():
+            assert mt_demo.LIMIT == 3
+        '''))
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
+
+
+def _run(demo, source, order=None, limit_s=60.0):
+    return mutation_fork.run_mutant([str(demo / "test_demo.py")], order, "mt_demo",
+                                    demo / "mt_demo.py", source, limit_s)
+
+
+def test_a_known_bad_mutant_is_killed_and_a_no_op_is_not(demo):
+    assert _run(demo, SOURCE).code == 0
+    assert _run(demo, SOURCE.replace("value > top", "value >= top")).code == 0  # no-op here
+    assert _run(demo, SOURCE.replace("return top", "return value")).code == 1
+
+
+def test_only_the_chosen_tests_run(demo):
+    bad = SOURCE.replace("return top", "return value")
+    assert _run(demo, bad, order=["test_demo.py::test_low"]).code == 0
+    assert _run(demo, bad, order=["test_demo.py::test_low", "test_demo.py::test_high"]).code == 1
+
+
+def test_a_mutant_that_never_ends_is_stopped_at_its_limit(demo):
+    verdict = _run(demo, SOURCE.replace("return total - 1", "while True:\n        pass"),
+                   limit_s=3.0)
+    assert verdict.timed_out and verdict.seconds < 10
+
+
+def test_the_baseline_maps_lines_to_the_tests_that_run_them(demo):
+    (demo / "mt_demo.py").write_text(SOURCE)
+    out = demo / "cov.json"
+    verdict = mutation_fork.baseline([str(demo / "test_demo.py")], demo / "mt_demo.py", out,
+                                     60.0, demo / "baseline.log")
+    assert verdict.code == 0, (demo / "baseline.log").read_text()
+    measured = json.loads(out.read_text())
+    lines = {int(k): set(v) for k, v in measured["lines"].items()}
+    assert lines[4] == {IMPORT_CONTEXT}
+    assert lines[11] == {"test_demo.py::test_high"}
+    assert lines[12] == {"test_demo.py::test_low"}
+    assert set(measured["durations"]) == {f"test_demo.py::test_{n}"
+                                          for n in ("low", "high", "unrelated")}
