@@ -25,10 +25,12 @@ survivors. A report, never a failure: the exit code is 0 unless the tooling itse
 from __future__ import annotations
 
 import argparse
+import contextlib
 import difflib
 import hashlib
 import json
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -40,6 +42,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import mutation_fork  # noqa: E402
 from mutation_lines import StatementIndex, inert_reason, inert_spans, select  # noqa: E402
+from mutation_patch import changed_functions  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIG = ROOT / "tools" / "mutation.toml"
@@ -140,7 +143,9 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
     spans, statements = inert_spans(source), StatementIndex(source)
     equivalent = _equivalents(config, module)
     source_lines = source.splitlines()
-    with use_db(str(db), WorkDB.Mode.open) as work_db:
+    zygote = mutation_fork.Zygote(tests, import_name(module), WORK / f"{stem}.zygote.log")
+    patched = 0
+    with contextlib.closing(zygote), use_db(str(db), WorkDB.Mode.open) as work_db:
         todo = list(work_db.pending_work_items)
         if args.survivors:
             todo += [item for item, result in work_db.completed_work_items
@@ -172,10 +177,16 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
                     output=UNCOVERED, diff=diff))
                 continue
             order = by_speed if chosen is None else [t for t in by_speed if t in chosen]
-            files = sorted({t.split("::")[0] for t in order})
-            verdict = mutation_fork.run_mutant(files, None if chosen is None else order,
-                                               import_name(module), target, mutated,
-                                               _limit(durations, order, overhead, args.timeout))
+            limit = _limit(durations, order, overhead, args.timeout)
+            patch = None if chosen is None else changed_functions(source, mutated, str(target))
+            verdict = None
+            if patch is not None:
+                verdict = zygote.run(mutated, patch, order, limit)
+                patched += verdict.code != mutation_fork.PATCH_FAILED
+            if verdict is None or verdict.code == mutation_fork.PATCH_FAILED:
+                files = sorted({t.split("::")[0] for t in order})
+                verdict = mutation_fork.run_mutant(files, None if chosen is None else order,
+                                                   import_name(module), target, mutated, limit)
             ran += 1
             if verdict.timed_out:
                 outcome, output = TestOutcome.KILLED, "timeout"
@@ -190,7 +201,8 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
                 diff=diff))
             if n % 50 == 0 or n == len(todo):
                 spent = time.perf_counter() - started
-                print(f"  {n}/{len(todo)} ({ran} run) {spent:.0f} s", flush=True)
+                print(f"  {n}/{len(todo)} ({ran} run, {patched} patched in) {spent:.0f} s",
+                      flush=True)
     spent = _spent(stem)
     spent = {"seconds": spent["seconds"] + time.perf_counter() - started, "ran": spent["ran"] + ran}
     (WORK / f"{stem}.spent.json").write_text(json.dumps(spent))
@@ -263,6 +275,7 @@ def main() -> int:
     if unknown:
         parser.error(f"not in {CONFIG.name}: {', '.join(unknown)}")
     os.chdir(ROOT)
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))  # the child's group is ended too
     if args.tally:
         tallies = [tally_db(m, WORK / f"{_stem(m)}.sqlite") for m in chosen
                    if (WORK / f"{_stem(m)}.sqlite").exists()]

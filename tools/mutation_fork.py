@@ -27,6 +27,11 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+try:  # imported as tools.mutation_fork (the tool's tests) or beside tools/mutate.py
+    from tools import mutation_patch
+except ImportError:
+    import mutation_patch
+
 PRELOAD = ("pytest", "_pytest.pytester", "pytest_timeout", "anyio", "anyio.pytest_plugin",
            "hypothesis", "hypothesis.extra.pytestplugin", "fastapi", "fastapi.testclient",
            "starlette", "pydantic", "pydantic_settings", "httpx", "simpy", "uvicorn",
@@ -117,6 +122,14 @@ class Verdict:
         return self.code is None
 
 
+def _die_with_parent() -> None:
+    """Linux: SIGKILL this child when its parent dies (no orphan keeps running a mutant)."""
+    import ctypes
+
+    with contextlib.suppress(OSError, AttributeError):
+        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+
+
 def _fork(body: Callable[[], int], limit_s: float, log: Path | None) -> Verdict:
     start = time.perf_counter()
     sys.stdout.flush()
@@ -125,6 +138,7 @@ def _fork(body: Callable[[], int], limit_s: float, log: Path | None) -> Verdict:
     if pid == 0:  # the child: its own process group, output to the log, never returns
         code = 70
         try:
+            _die_with_parent()
             os.setpgid(0, 0)
             out = os.open(log or os.devnull, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
             os.dup2(out, 1)
@@ -140,13 +154,14 @@ def _fork(body: Callable[[], int], limit_s: float, log: Path | None) -> Verdict:
             sys.stderr.flush()
             os._exit(code)
     fd = os.pidfd_open(pid)
+    ready = []
     try:
         ready, _, _ = select.select([fd], [], [], limit_s)
+    finally:  # over the limit, or this process interrupted: the child's group goes too
         if not ready:
             with contextlib.suppress(ProcessLookupError):
                 os.killpg(pid, signal.SIGKILL)
         _, status = os.waitpid(pid, 0)
-    finally:
         os.close(fd)
     code = os.waitstatus_to_exitcode(status) if ready else None
     return Verdict(code, time.perf_counter() - start)
@@ -193,3 +208,100 @@ def run_mutant(files: Sequence[str], order: Sequence[str] | None, module: str, t
         return _pytest(files, [_Choose(order)])
 
     return _fork(body, limit_s, None)
+
+
+class _Serve:
+    """pytest plugin of a zygote: instead of running the collected tests, answer requests —
+    one JSON line each: patch the mutant's functions in a fork and run the chosen tests."""
+
+    def __init__(self, requests: int, replies: int, module: str):
+        self.requests, self.replies, self.module = requests, replies, module
+
+    def pytest_runtestloop(self, session):
+        items = {item.nodeid: item for item in session.items}
+        module = sys.modules[self.module]
+        requests, replies = os.fdopen(self.requests), os.fdopen(self.replies, "w")
+
+        def answer(reply: dict) -> None:
+            replies.write(json.dumps(reply) + "\n")
+            replies.flush()
+
+        answer({"ready": len(items)})
+        gc.collect()
+        gc.freeze()
+        for line in requests:
+            req = json.loads(line)
+
+            def body(req=req) -> int:
+                if not mutation_patch.apply(module, req["source"], req["patch"]):
+                    return PATCH_FAILED
+                chosen = [items[nodeid] for nodeid in req["order"] if nodeid in items]
+                for i, item in enumerate(chosen):
+                    after = chosen[i + 1] if i + 1 < len(chosen) else None
+                    item.config.hook.pytest_runtest_protocol(item=item, nextitem=after)
+                    if session.shouldfail or session.shouldstop:
+                        break
+                return 1 if session.testsfailed else 0
+
+            verdict = _fork(body, req["limit"], None)
+            answer({"code": verdict.code, "seconds": verdict.seconds})
+        os._exit(0)
+
+    pytest_runtestloop.tryfirst = True  # type: ignore[attr-defined]
+
+
+PATCH_FAILED = 99  # a zygote's child could not patch the mutant in: test it the slow way
+
+
+class Zygote:
+    """A child that imported the unmutated package and collected the subset once; each mutant
+    whose change is function code only is tested in a fork of it, the functions patched
+    (``tools/mutation_patch.py``): no pytest start-up, import or collection per mutant."""
+
+    def __init__(self, files: Sequence[str], module: str, log: Path):
+        req_r, req_w = os.pipe()
+        rep_r, rep_w = os.pipe()
+        sys.stdout.flush()
+        sys.stderr.flush()
+        pid = os.fork()
+        if pid == 0:
+            code = 70
+            try:
+                os.close(req_w)
+                os.close(rep_r)
+                _die_with_parent()
+                os.setpgid(0, 0)
+                out = os.open(log, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
+                os.dup2(out, 1)
+                os.dup2(out, 2)
+                sys.dont_write_bytecode = False
+                code = _pytest(files, [_Serve(req_r, rep_w, module)])
+            finally:
+                os._exit(code)
+        os.close(req_r)
+        os.close(rep_w)
+        self.pid = pid
+        self._requests, self._replies = os.fdopen(req_w, "w"), os.fdopen(rep_r)
+        ready = self._replies.readline()
+        if not ready:
+            self.close()
+            raise RuntimeError(f"the zygote for {module} did not start; see {log}")
+
+    def run(self, source: str, patch: list[str], order: Sequence[str],
+            limit_s: float) -> Verdict:
+        self._requests.write(json.dumps({"source": source, "patch": patch,
+                                         "order": list(order), "limit": limit_s}) + "\n")
+        self._requests.flush()
+        reply = self._replies.readline()
+        if not reply:
+            raise RuntimeError("the zygote died")
+        data = json.loads(reply)
+        return Verdict(data["code"], data["seconds"])
+
+    def close(self) -> None:
+        with contextlib.suppress(OSError):
+            self._requests.close()
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(self.pid, signal.SIGKILL)
+        with contextlib.suppress(ChildProcessError):
+            os.waitpid(self.pid, 0)

@@ -84,3 +84,33 @@ def test_many_slow_cursors_hold_no_memory_of_their_own():
 def test_negative_since_is_rejected():
     with pytest.raises(ValueError):
         Cursor(_log(), since=-1)
+
+
+def test_a_cursor_without_since_delivers_the_log_from_its_first_event():
+    """API.md: events with ``seq > since``; no ``since`` means from the start (seq 1)."""
+    log = _log()
+    for i in range(3):
+        log.emit("tick", n=i)
+    assert [m["seq"] for m in Cursor(log).read()] == [1, 2, 3]
+
+
+def test_a_cursor_that_read_everything_is_not_behind_past_seq_256():
+    """A caught-up cursor waits for the next event even with seqs beyond the small-int range
+    (seq compared by value, not identity)."""
+
+    async def main():
+        log = _log()
+        for i in range(300):
+            log.emit("tick", n=i)
+        cur = Cursor(log, since=250)
+        while cur.read():
+            pass
+        assert cur.since == log.last_seq == 300 and not cur.behind
+        waiter = asyncio.create_task(cur.wait())
+        await asyncio.sleep(0.01)
+        assert not waiter.done()
+        log.emit("tick", n=300)
+        await asyncio.wait_for(waiter, 1)
+        return cur.read()
+
+    assert [m["seq"] for m in asyncio.run(main())] == [301]

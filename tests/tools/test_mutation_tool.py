@@ -119,3 +119,72 @@ def test_the_baseline_maps_lines_to_the_tests_that_run_them(demo):
     assert lines[12] == {"test_demo.py::test_low"}
     assert set(measured["durations"]) == {f"test_demo.py::test_{n}"
                                           for n in ("low", "high", "unrelated")}
+
+
+PATCHABLE = textwrap.dedent('''\
+    LIMIT = 3
+
+
+    def clamp(value, top=LIMIT):
+        def inner(v):
+            return min(v, top)
+        return inner(value)
+
+
+    class Box:
+        size = 2
+
+        def grow(self, by):
+            return self.size + by
+
+        @property
+        def double(self):
+            return self.size * 2
+    ''')
+
+
+@pytest.mark.parametrize(("old", "new", "names"), [
+    ("return self.size + by", "return self.size - by", ["Box.grow"]),
+    ("return min(v, top)", "return max(v, top)", ["clamp"]),  # a nested function: its outer
+    ("return self.size * 2", "return self.size * 3", ["Box.double"]),
+    ("top=LIMIT", "top=LIMIT + 1", None),  # a default: evaluated at import
+    ("size = 2", "size = 3", None),  # a class attribute
+    ("LIMIT = 3", "LIMIT = 4", None),  # module level
+])
+def test_only_mutants_of_function_bodies_are_patched_in(old, new, names):
+    from tools.mutation_patch import changed_functions
+
+    assert changed_functions(PATCHABLE, PATCHABLE.replace(old, new), "m.py") == names
+
+
+def test_patching_swaps_the_code_of_the_live_functions():
+    import types
+
+    from tools.mutation_patch import apply
+
+    module = types.ModuleType("mt_patch")
+    module.__file__ = "mt_patch.py"
+    exec(compile(PATCHABLE, "mt_patch.py", "exec"), module.__dict__)
+    box = module.Box()
+    mutated = PATCHABLE.replace("self.size + by", "self.size - by").replace(
+        "self.size * 2", "self.size * 3")
+    assert apply(module, mutated, ["Box.double", "Box.grow"])
+    assert box.grow(1) == 1 and box.double == 6
+    assert not apply(module, mutated, ["Box.missing"])
+
+
+def test_a_zygote_tests_patched_mutants_without_a_fresh_import(demo):
+    (demo / "mt_demo.py").write_text(SOURCE)
+    zygote = mutation_fork.Zygote([str(demo / "test_demo.py")], "mt_demo", demo / "z.log")
+    try:
+        order = ["test_demo.py::test_low", "test_demo.py::test_high"]
+        assert zygote.run(SOURCE, [], order, 60.0).code == 0
+        bad = SOURCE.replace("return top", "return value")
+        assert zygote.run(bad, ["clamp"], order, 60.0).code == 1
+        assert zygote.run(bad, ["clamp"], order[:1], 60.0).code == 0  # only test_low runs
+        assert zygote.run(bad, ["nothing"], order, 60.0).code == mutation_fork.PATCH_FAILED
+        forever = SOURCE.replace("return total - 1", "while True:\n        pass")
+        assert zygote.run(forever, ["clamp"], order, 3.0).timed_out
+        assert zygote.run(SOURCE, [], order, 60.0).code == 0  # each mutant in a fresh fork
+    finally:
+        zygote.close()

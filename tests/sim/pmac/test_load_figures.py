@@ -45,3 +45,10 @@ def test_a_starving_plc0_runs_the_margin_down_to_the_trip(make_rig):
     wd = rig.c.status()["watchdog"]
     assert wd["tripped"] is True and wd["cycles_left"] == 0
     assert rig.cyc(wd["t"]) == k_enable + 1 + 300
+
+
+@pytest.mark.parametrize(("i40", "cycles"), [(0, 4096), (1, 1), (2, 2), (300, 300)])
+def test_the_watchdog_limit_is_i40_servo_cycles_and_0_selects_4096(make_rig, i40, cycles):
+    """TSRM p57: I40 is the watchdog time in servo cycles; 0 means the default 4096."""
+    wd = make_rig(i40=i40).c.status()["watchdog"]
+    assert wd["limit_cycles"] == cycles and wd["cycles_left"] == cycles

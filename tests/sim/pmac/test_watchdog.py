@@ -134,3 +134,18 @@ def test_a_tripped_card_refuses_resource_commands_but_can_be_read(rig):
     assert rig.c.log.last_seq == n  # nothing moved
     assert rig.c.coord(1)["program"]["state"] == "aborted"
     assert rig.c.get_variable("I40") == 0
+
+
+def test_the_trip_turns_off_every_output_that_is_on_and_leaves_the_off_ones(rig):
+    """TSRM p57: outputs go off at the trip — negative values too; an M-variable already 0
+    gets no write (no ``mvar`` event)."""
+    for text in ("M7=-3", "M8=0", "M9=2"):
+        rig.ok(text)
+    oversized_plc0(rig)
+    rig.run_for(2.5)
+    trip_seq = rig.c.log.events("watchdog")[0].seq
+    writes = [(e.fields["name"], e.fields["value"]) for e in rig.c.log.read(trip_seq).events
+              if e.type == "mvar"]
+    assert ("M7", 0) in writes and ("M9", 0) in writes
+    assert not [w for w in writes if w[0] == "M8"]
+    assert rig.c.get_variable("M7") == 0
