@@ -101,10 +101,21 @@ def _init(module: str, stem: str, fresh: bool) -> Path:
     return db
 
 
-def _equivalents(config: dict, module: str) -> dict[tuple[str, str], str]:
-    """``[[equivalent]]`` entries of ``module``: (operator, stripped source line) -> reason."""
-    return {(e["operator"], e["code"].strip()): e["reason"]
+def _squash(text: str) -> str:
+    return "".join(text.split())
+
+
+def _equivalents(config: dict, module: str) -> dict[tuple[str, str, str | None], str]:
+    """``[[equivalent]]`` entries of ``module``: (operator, source line, mutated line or None
+    for any mutant of that operator there), whitespace removed -> reason."""
+    return {(e["operator"], _squash(e["code"]),
+             _squash(e["mutant"]) if "mutant" in e else None): e["reason"]
             for e in config.get("equivalent", []) if e["module"] == module}
+
+
+def _listed(equivalent: dict, operator: str, line: str, mutated_line: str) -> str | None:
+    key = (operator, _squash(line))
+    return equivalent.get((*key, _squash(mutated_line))) or equivalent.get((*key, None))
 
 
 def _diff(original: str, mutated: str, module: str) -> str:
@@ -157,8 +168,7 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
         for n, item in enumerate(todo, 1):
             (spec,) = item.mutations
             pos = tuple(spec.start_pos)
-            code_line = source_lines[pos[0] - 1].strip()
-            skip = inert_reason(spans, pos) or equivalent.get((spec.operator_name, code_line))
+            skip = inert_reason(spans, pos)
             if skip:
                 work_db.set_result(item.job_id, WorkResult(
                     worker_outcome=WorkerOutcome.SKIPPED, output=f"equivalent: {skip}"))
@@ -168,6 +178,13 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
             mutated = mutate_code(source, operator, spec.occurrence)
             if mutated is None:
                 work_db.set_result(item.job_id, WorkResult(worker_outcome=WorkerOutcome.NO_TEST))
+                continue
+            mutated_lines = mutated.splitlines()
+            skip = _listed(equivalent, spec.operator_name, source_lines[pos[0] - 1],
+                           mutated_lines[pos[0] - 1] if pos[0] <= len(mutated_lines) else "")
+            if skip:
+                work_db.set_result(item.job_id, WorkResult(
+                    worker_outcome=WorkerOutcome.SKIPPED, output=f"equivalent: {skip}"))
                 continue
             diff = _diff(source, mutated, module)
             chosen = select(lines, statements.lines(pos))

@@ -71,3 +71,112 @@ def test_match_pattern_and_jsonl_are_deterministic() -> None:
         return log.to_jsonl()
 
     assert run() == run()
+
+
+def test_a_pattern_from_json_matches_by_value_type_and_fields() -> None:
+    """A run-until pattern arrives as JSON (API.md): its strings and numbers are equal to the
+    event's, not the same objects; every key must match, ``type`` against the event type."""
+    import json
+
+    _, log = make_log()
+    log.emit("mvar", name="M1", value=100_000, words=3)
+    (event,) = log.events()
+    assert event.matches(json.loads('{"type": "mvar", "name": "M1", "value": 100000}'))
+    assert event.matches(json.loads('{"words": 3, "value": 100000}'))
+    assert event.matches({})
+    for other in ("breq", "zzz", "mvaz", "a"):
+        assert not event.matches({"type": other})
+    assert not event.matches({"value": 99_999}) and not event.matches({"value": 100_001})
+    assert not event.matches({"name": "M0"}) and not event.matches({"cs": 1})
+
+
+def test_the_log_holds_the_newest_100000_events_by_default() -> None:
+    """API.md: the log keeps at least the last 100 000 events."""
+    env = simpy.Environment()
+    log = EventLog(env, "c")
+    for _ in range(100_001):
+        log.emit("tick")
+    assert log.first_seq == 2 and len(log) == 100_000
+
+
+def test_capacity_is_at_least_one_event() -> None:
+    import pytest
+
+    with pytest.raises(ValueError):
+        EventLog(simpy.Environment(), "c", 0)
+    _, log = make_log(capacity=1)
+    log.emit("a")
+    log.emit("b")
+    assert [e.type for e in log.events()] == ["b"] and len(log) == 1
+
+
+def test_the_epoch_is_the_given_one_or_a_fresh_one_per_log() -> None:
+    env = simpy.Environment()
+    assert EventLog(env, "c", epoch="e-17").epoch == "e-17"
+    a, b = EventLog(env, "c").epoch, EventLog(env, "c").epoch
+    assert a and b and a != b and isinstance(a, str)
+
+
+def test_seq_range_of_a_short_log_starts_at_one() -> None:
+    _, log = make_log()
+    assert log.first_seq == 1 and log.last_seq == 0 and len(log) == 0
+    for _ in range(3):
+        log.emit("tick")
+    assert log.first_seq == 1 and len(log) == 3
+
+
+def test_resume_keeps_a_position_of_this_log_and_resets_any_other() -> None:
+    """API.md: a stale epoch or a since beyond the newest seq reads again from the start."""
+    import json
+
+    _, log = make_log()
+    for _ in range(300):
+        log.emit("tick")
+    same = json.loads(json.dumps(log.epoch))  # equal, another object (as from a query)
+    assert log.resume(0) == (0, None)
+    assert log.resume(300, same) == (300, None)
+    assert log.resume(299) == (299, None)
+    since, reset = log.resume(301)
+    assert since == 0 and (reset.reason, reset.since, reset.last_seq) == ("since_beyond_end",
+                                                                           301, 300)
+    for other in ("", "0", "~", log.epoch + "x"):
+        since, reset = log.resume(5, other)
+        assert since == 0 and reset.reason == "stale_epoch" and reset.epoch == log.epoch
+
+
+def test_read_without_since_starts_at_seq_1_and_a_gap_is_exact() -> None:
+    _, log = make_log(capacity=10)
+    for i in range(25):
+        log.emit("tick", n=i)
+    assert [e.seq for e in log.read().events] == list(range(16, 26))
+    one = log.read(14)
+    assert (one.gap.from_seq, one.gap.to_seq) == (15, 15)
+    assert log.read(15).gap is None and [e.seq for e in log.read(15).events][0] == 16
+    assert len(log) == 10
+
+
+def test_a_read_limit_beyond_256_is_honoured() -> None:
+    _, log = make_log()
+    for _ in range(400):
+        log.emit("tick")
+    res = log.read(0, None, 300)
+    assert len(res.events) == 300 and res.next == 300
+
+
+def test_events_of_the_given_types_only() -> None:
+    _, log = make_log()
+    for t in ("a", "b", "a", "c"):
+        log.emit(t)
+    assert [e.seq for e in log.events("a")] == [1, 3]
+    assert [e.seq for e in log.events("b", "c")] == [2, 4]
+
+
+def test_jsonl_lines_are_the_wire_form_in_its_key_order() -> None:
+    """API.md's event shape ``{"seq", "t", "type", "controller", ...fields}``, keys in that
+    order (fields in emit order), one compact JSON object per line; the controller id is the
+    log's unless another is given."""
+    _, log = make_log()
+    log.emit("mvar", value=1, name="M1")
+    line = '{"seq":1,"t":0,"type":"mvar","controller":"c","value":1,"name":"M1"}\n'
+    assert log.to_jsonl() == line
+    assert '"controller":"x"' in log.to_jsonl("x")
