@@ -62,6 +62,7 @@ class Tally:
     incompetent: int = 0
     seconds: float = 0.0
     ran: int = 0
+    timing: dict = field(default_factory=dict)  # "patched" / "fresh": [mutants, seconds]
 
     @property
     def scored(self) -> int:
@@ -156,6 +157,7 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
     source_lines = source.splitlines()
     zygote = mutation_fork.Zygote(tests, import_name(module), WORK / f"{stem}.zygote.log")
     patched = 0
+    timing = {"patched": [0, 0.0], "fresh": [0, 0.0]}  # mutants run each way, their seconds
     with contextlib.closing(zygote), use_db(str(db), WorkDB.Mode.open) as work_db:
         todo = list(work_db.pending_work_items)
         if args.survivors:
@@ -199,11 +201,15 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
             verdict = None
             if patch is not None:
                 verdict = zygote.run(mutated, patch, order, limit)
-                patched += verdict.code != mutation_fork.PATCH_FAILED
+                way = "patched"
             if verdict is None or verdict.code == mutation_fork.PATCH_FAILED:
                 files = sorted({t.split("::")[0] for t in order})
                 verdict = mutation_fork.run_mutant(files, None if chosen is None else order,
                                                    import_name(module), target, mutated, limit)
+                way = "fresh"
+            patched += way == "patched"
+            timing[way][0] += 1
+            timing[way][1] += verdict.seconds
             ran += 1
             if verdict.timed_out:
                 outcome, output = TestOutcome.KILLED, "timeout"
@@ -221,7 +227,11 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
                 print(f"  {n}/{len(todo)} ({ran} run, {patched} patched in) {spent:.0f} s",
                       flush=True)
     spent = _spent(stem)
-    spent = {"seconds": spent["seconds"] + time.perf_counter() - started, "ran": spent["ran"] + ran}
+    spent["seconds"] += time.perf_counter() - started
+    spent["ran"] += ran
+    for way, (count, seconds) in timing.items():
+        spent[way] = [a + b for a, b in zip(spent.get(way, [0, 0.0]),
+                                                   (count, seconds), strict=True)]
     (WORK / f"{stem}.spent.json").write_text(json.dumps(spent))
     return tally_db(module, db)
 
@@ -241,7 +251,8 @@ def tally_db(module: str, db: Path) -> Tally:
     from cosmic_ray.work_item import TestOutcome, WorkerOutcome
 
     spent = _spent(_stem(module))
-    tally = Tally(module, seconds=spent["seconds"], ran=spent["ran"])
+    tally = Tally(module, seconds=spent["seconds"], ran=spent["ran"],
+                  timing={w: spent[w] for w in ("patched", "fresh") if w in spent})
     with use_db(str(db), WorkDB.Mode.open) as work_db:
         for item, result in work_db.completed_work_items:
             (spec,) = item.mutations
@@ -267,6 +278,10 @@ def report(tallies: list[Tally]) -> str:
         mark = "PASS" if t.rate >= TARGET else "SHORT"
         rows.append(f"{t.module:<32}{t.killed:>8}{len(t.survived):>10}{t.equivalent:>8}"
                     f"{t.rate:>8.1%}  {mark:<6}{t.ran:>7}{t.seconds:>8.0f}")
+    for t in tallies:
+        ways = [f"{n} {way} {sec / n:.2f} s each" for way, (n, sec) in t.timing.items() if n]
+        if ways:
+            rows.append(f"timing {t.module}: " + ", ".join(ways))
     for t in tallies:
         for line, op, diff, uncovered in t.survived:
             note = " [not executed by the subset]" if uncovered else ""
