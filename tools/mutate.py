@@ -106,17 +106,26 @@ def _squash(text: str) -> str:
     return "".join(text.split())
 
 
-def _equivalents(config: dict, module: str) -> dict[tuple[str, str, str | None], str]:
-    """``[[equivalent]]`` entries of ``module``: (operator, source line, mutated line or None
-    for any mutant of that operator there), whitespace removed -> reason."""
-    return {(e["operator"], _squash(e["code"]),
-             _squash(e["mutant"]) if "mutant" in e else None): e["reason"]
-            for e in config.get("equivalent", []) if e["module"] == module}
+def _equivalents(config: dict, module: str) -> dict[tuple[str, str], list[dict]]:
+    """``[[equivalent]]`` entries of ``module`` by (operator, source line without spaces)."""
+    out: dict[tuple[str, str], list[dict]] = {}
+    for e in config.get("equivalent", []):
+        if e["module"] == module:
+            out.setdefault((e["operator"], _squash(e["code"])), []).append(e)
+    return out
 
 
-def _listed(equivalent: dict, operator: str, line: str, mutated_line: str) -> str | None:
-    key = (operator, _squash(line))
-    return equivalent.get((*key, _squash(mutated_line))) or equivalent.get((*key, None))
+def _listed(equivalent: dict, operator: str, line: str, mutated_line: str,
+            line_no: int) -> str | None:
+    """The reason of the entry naming this mutant: its operator and source line, and, when
+    the entry gives them, the mutated line (``mutant``) and the line number (``line``)."""
+    for e in equivalent.get((operator, _squash(line)), []):
+        if "mutant" in e and _squash(e["mutant"]) != _squash(mutated_line):
+            continue
+        if "line" in e and int(e["line"]) != line_no:
+            continue
+        return e["reason"]
+    return None
 
 
 def _diff(original: str, mutated: str, module: str) -> str:
@@ -183,7 +192,8 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
                 continue
             mutated_lines = mutated.splitlines()
             skip = _listed(equivalent, spec.operator_name, source_lines[pos[0] - 1],
-                           mutated_lines[pos[0] - 1] if pos[0] <= len(mutated_lines) else "")
+                           mutated_lines[pos[0] - 1] if pos[0] <= len(mutated_lines) else "",
+                           pos[0])
             if skip:
                 work_db.set_result(item.job_id, WorkResult(
                     worker_outcome=WorkerOutcome.SKIPPED, output=f"equivalent: {skip}"))

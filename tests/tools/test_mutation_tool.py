@@ -188,3 +188,24 @@ def test_a_zygote_tests_patched_mutants_without_a_fresh_import(demo):
         assert zygote.run(SOURCE, [], order, 60.0).code == 0  # each mutant in a fresh fork
     finally:
         zygote.close()
+
+
+def test_equivalent_entries_match_by_operator_line_and_optionally_mutant_and_number():
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tools"))
+    from tools.mutate import _equivalents, _listed
+
+    config = {"equivalent": [
+        {"module": "m.py", "operator": "core/N", "code": "x = max(0, y)",
+         "mutant": "x = max( -1, y)", "reason": "clamped later"},
+        {"module": "m.py", "operator": "core/N", "code": "pc += 1", "line": 7, "reason": "dead"},
+        {"module": "other.py", "operator": "core/N", "code": "pc += 1", "reason": "elsewhere"},
+    ]}
+    eq = _equivalents(config, "m.py")
+    assert _listed(eq, "core/N", "    x = max(0, y)", "x = max(-1, y)", 3) == "clamped later"
+    assert _listed(eq, "core/N", "x = max(0, y)", "x = max(1, y)", 3) is None
+    assert _listed(eq, "core/N", "pc += 1", "pc += 2", 7) == "dead"
+    assert _listed(eq, "core/N", "pc += 1", "pc += 2", 8) is None
+    assert _listed(eq, "core/M", "pc += 1", "pc += 2", 7) is None
