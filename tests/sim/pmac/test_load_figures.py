@@ -52,3 +52,17 @@ def test_the_watchdog_limit_is_i40_servo_cycles_and_0_selects_4096(make_rig, i40
     """TSRM p57: I40 is the watchdog time in servo cycles; 0 means the default 4096."""
     wd = make_rig(i40=i40).c.status()["watchdog"]
     assert wd["limit_cycles"] == cycles and wd["cycles_left"] == cycles
+
+
+def test_the_margin_counts_from_the_last_reload_late_in_a_run(make_rig):
+    """The same margin after 2 s of idle running (servo cycle numbers past 4096)."""
+    rig = make_rig(i40=300)
+    rig.run_for(2.0)
+    rig.c.plcs.load(0, "\n".join(["M1=M1+1"] + ["P10=P10+1"] * 499))
+    k_enable = rig.cyc(rig.cmd("ENABLE PLC 0").t_done)
+    assert k_enable > 4096
+    rig.run_for(100 * rig.period)
+    wd = rig.c.status()["watchdog"]
+    assert rig.cyc(wd["reload_s"]) == k_enable + 1
+    k_now = rig.c.scheduler.clock.index(rig.c.env.now)
+    assert wd["cycles_left"] == k_enable + 1 + 300 - k_now
