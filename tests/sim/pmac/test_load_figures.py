@@ -66,3 +66,15 @@ def test_the_margin_counts_from_the_last_reload_late_in_a_run(make_rig):
     assert rig.cyc(wd["reload_s"]) == k_enable + 1
     k_now = rig.c.scheduler.clock.index(rig.c.env.now)
     assert wd["cycles_left"] == k_enable + 1 + 300 - k_now
+
+
+def test_each_defined_motor_takes_about_one_percent_of_the_processor(rig):
+    """Seed 003: at the default 2.25 kHz servo clock the servo update of each motor takes
+    about 1 % of the processor; a motor counts once it is assigned to an axis."""
+    assert rig.c.status()["cpu"]["servo"] == 0.0
+    for motor, axis in enumerate("XYZABCUV", start=1):
+        rig.ok(f"&1 #{motor}->{axis}")
+    rig.run_for(0.05)
+    cpu = rig.c.status()["cpu"]
+    assert cpu["servo"] == pytest.approx(0.08, abs=0.004)
+    assert cpu["background"] == pytest.approx(1.0 - cpu["servo"] - cpu["rti"], abs=1e-9)
