@@ -153,6 +153,10 @@ def test_read_without_since_starts_at_seq_1_and_a_gap_is_exact() -> None:
     assert (one.gap.from_seq, one.gap.to_seq) == (15, 15)
     assert log.read(15).gap is None and [e.seq for e in log.read(15).events][0] == 16
     assert len(log) == 10
+    _, short = make_log()
+    short.emit("a")
+    short.emit("b")
+    assert [e.seq for e in short.read().events] == [1, 2] and short.read().gap is None
 
 
 def test_a_read_limit_beyond_256_is_honoured() -> None:
