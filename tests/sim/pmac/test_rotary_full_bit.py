@@ -36,11 +36,14 @@ def test_open_rot_sets_full_at_i17_ahead_and_clears_it_only_below_i16(rig):
     assert rig.c.coord(1)["rotary"]["full"] is True
     assert _reopen(rig, 1, 2) == (True, False, [])  # 3 > I17: full, BREQ stays low
     assert _reopen(rig, 1, 3) == (True, False, [])  # 3 = I17: still full, no request
-    assert _reopen(rig, 3, 5) == (True, True, [True])  # I16 <= 3 < I17: full kept, BREQ high
+    assert _reopen(rig, 2, 5) == (True, True, [True])  # I16 < 3 < I17: full kept, BREQ high
+    assert _reopen(rig, 3, 5) == (True, True, [False, True])  # I16 = 3 < I17: kept, a pulse
     assert _reopen(rig, 4, 5) == (False, True, [False, True])  # 3 < I16: cleared, a pulse
     assert _reopen(rig, 2, 5) == (False, True, [False, True])  # I16 < 3 < I17: stays clear
     assert _reopen(rig, 3, 5) == (False, True, [False, True])  # 3 = I16: not below, clear
     assert _reopen(rig, 1, 3) == (True, False, [False])  # 3 = I17 again: set, BREQ low
+    assert _reopen(rig, 4, 5) == (False, True, [True])  # cleared again below I16 (was low)
+    assert _reopen(rig, 1, 2) == (True, False, [False])  # 3 > I17: set from clear
 
 
 def test_a_buffer_defined_at_the_terminal_starts_empty_and_not_full(rig):
@@ -84,3 +87,28 @@ def test_executed_lines_give_their_words_back_as_execution_moves_past_them(rig):
     rig.ok("&1 R")
     rig.run_for(1.0)
     assert used == {1: sum(words.values()), 3: words[3]}
+
+
+def test_a_host_waiting_for_breq_is_woken_by_a_rise_never_by_a_fall(rig):
+    """Each line loaded below I17 is a low→high pulse: an interrupt to the host (seed 000).
+    A host waiting for it is woken once by the rise; a falling edge wakes nobody."""
+    rig.rotary_setup()
+    rot = rig.c.coord_system(1).rotary
+    woken: list[str] = []
+    rot.on_rise(lambda: woken.append("pulse"))
+    rig.c.load_lines(1, ["X1"])
+    assert woken == ["pulse"] and rot.breq is True
+    rot.on_rise(lambda: woken.append("later"))
+    rig.ok("I16=1")
+    rig.ok("I17=1")
+    rig.ok("OPEN ROT")  # 1 ahead = I17: BREQ falls and stays low
+    rig.ok("CLOSE")
+    assert rot.breq is False and woken == ["pulse"]
+
+
+def test_i16_i17_of_the_configuration_hold_from_the_first_line(make_rig):
+    rig = make_rig(i16=1, i17=2)
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["X1", "X2"])
+    rot = rig.c.coord(1)["rotary"]
+    assert rot["full"] is True and rot["breq"] is False
