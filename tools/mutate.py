@@ -63,6 +63,7 @@ class Tally:
     seconds: float = 0.0
     ran: int = 0
     timing: dict = field(default_factory=dict)  # "patched" / "fresh": [mutants, seconds]
+    untested: int | None = 0  # mutants not tested yet (None: no work DB at all)
 
     @property
     def scored(self) -> int:
@@ -277,17 +278,23 @@ def tally_db(module: str, db: Path) -> Tally:
                                        " ".join(changed)[:90], result.output == UNCOVERED))
             elif result.test_outcome == TestOutcome.INCOMPETENT:
                 tally.incompetent += 1
+        tally.untested = work_db.num_work_items - work_db.num_results
     tally.survived.sort()
     return tally
 
 
 def report(tallies: list[Tally]) -> str:
     rows = [f"{'module':<32}{'killed':>8}{'survived':>10}{'equiv.':>8}{'rate':>8}  target"
-            f"{'run':>7}{'wall s':>8}"]
+            f"{'run':>7}{'wall s':>8}  untested"]
     for t in tallies:
+        if t.untested is None:
+            rows.append(f"{t.module:<32}{'-':>8}{'-':>10}{'-':>8}{'-':>8}  NOT RUN")
+            continue
         mark = "PASS" if t.rate >= TARGET else "SHORT"
+        if t.untested:
+            mark = "PART"  # some mutants not tested: the rate is of those tested
         rows.append(f"{t.module:<32}{t.killed:>8}{len(t.survived):>10}{t.equivalent:>8}"
-                    f"{t.rate:>8.1%}  {mark:<6}{t.ran:>7}{t.seconds:>8.0f}")
+                    f"{t.rate:>8.1%}  {mark:<6}{t.ran:>7}{t.seconds:>8.0f}  {t.untested}")
     for t in tallies:
         ways = [f"{n} {way} {sec / n:.2f} s each" for way, (n, sec) in t.timing.items() if n]
         if ways:
@@ -319,8 +326,9 @@ def main() -> int:
     os.chdir(ROOT)
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))  # the child's group is ended too
     if args.tally:
-        tallies = [tally_db(m, WORK / f"{_stem(m)}.sqlite") for m in chosen
-                   if (WORK / f"{_stem(m)}.sqlite").exists()]
+        tallies = [tally_db(m, WORK / f"{_stem(m)}.sqlite")
+                   if (WORK / f"{_stem(m)}.sqlite").exists() else Tally(m, untested=None)
+                   for m in chosen]
     else:
         mutation_fork.preload(PACKAGE)
         tallies = [run_module(m, modules[m]["tests"], config, args) for m in chosen]
