@@ -78,7 +78,9 @@ def workdir() -> Iterator[Path]:
 
 
 def _env(workdir: Path, **overrides: str) -> dict[str, str]:
-    env = {k: v for k, v in os.environ.items() if not k.startswith("MOTIONSIM_")}
+    # Not COVERAGE_* either: under `make cov` a child running as the image's user cannot
+    # write the checkout's coverage data, and coverage's own traceback would be its stderr.
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("MOTIONSIM_", "COVERAGE_"))}
     env.update(image_env())
     env.update({"HOME": str(workdir), "MPLCONFIGDIR": str(workdir / ".mpl")})
     env.update(overrides)
