@@ -180,6 +180,10 @@ async def read_chunk(reader: asyncio.StreamReader, limits: Any) -> bytes:
         return b""
 
 
+#: Replies a connection sends in a row before the event loop serves everyone else once.
+FAIR_SHARE = 4
+
+
 async def serve_connection(
     session: WireSession,
     reader: asyncio.StreamReader,
@@ -227,7 +231,13 @@ async def serve_connection(
         while True:
             await wake.wait()
             wake.clear()
+            answered = 0
             async for out in session.replies():
+                answered += 1
+                if answered % FAIR_SHARE == 0:
+                    # A host pipelining many requests whose answers need no simulated time would
+                    # otherwise keep the loop to itself: everyone else gets a turn in between.
+                    await asyncio.sleep(0)
                 action, session.fault_action = session.fault_action, None
                 if action is not None:
                     await _faulty_reply(action, out, writer)
