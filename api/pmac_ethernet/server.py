@@ -63,6 +63,8 @@ class PmacSession(WireSession):
 
     def __init__(self, handle: Any, name: str, recorder: Any = None, peer: str = "") -> None:
         self.codec = PmacEthernetCodec()
+        self._handshake_key: tuple[Any, int] | None = None
+        self._handshake_io: dict[str, int] = {}
         super().__init__(handle, name, recorder, peer)
 
     async def replies(self) -> AsyncIterator[bytes]:
@@ -103,12 +105,24 @@ class PmacSession(WireSession):
         return self.codec.reply(request)
 
     def _handshake(self) -> dict[str, int]:
-        """The controller's current I3 and I6 (2 and 1 if it has no such variables)."""
+        """The controller's current I3 and I6 (2 and 1 if it has no such variables).
+
+        Read once per change: a PMAC's ``vars.version`` moves on every I-variable write, so
+        the pair is kept until it moves (the round trip's hot path reads no variable)."""
+        controller = self.handle.controller
+        variables = getattr(controller, "vars", None)
+        version = getattr(variables, "version", None)
+        key = (variables, version)
+        if version is not None and self._handshake_key is not None \
+                and self._handshake_key[0] is variables and self._handshake_key[1] == version:
+            return self._handshake_io
         out = {"i3": 2, "i6": 1}
         for name in ("i3", "i6"):
             # kinds without I-variables keep the defaults
             with contextlib.suppress(Exception):
-                out[name] = int(self.handle.controller.get_variable(name.upper()))
+                out[name] = int(controller.get_variable(name.upper()))
+        if version is not None:
+            self._handshake_key, self._handshake_io = key, out
         return out
 
     async def execute(self, line: str) -> Answer:

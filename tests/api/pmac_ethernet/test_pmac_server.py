@@ -67,6 +67,24 @@ def test_dls_pmaclib_connect_handshake_switches_framing_to_i3_2() -> None:
     assert cid == b"603382\r\x06"
 
 
+def test_each_reply_is_framed_by_the_i3_i6_in_force_after_its_line_ran() -> None:
+    """Spec §2.1 / §2.2 on the real PMAC: I3 / I6 written over the wire, over REST or by a
+    later line in the same request change the framing of the very next reply (the session
+    keeps the pair only while no I-variable changes)."""
+
+    async def scenario(handle, port):
+        c = await Client.connect(port)
+        out = [await c.ask("I3=2 I6=1"), await c.ask("I16"), await c.ask("I3=0 I16")]
+        await handle.command("I3=3")  # another port (REST) changes it
+        out += [await c.ask("I16"), await c.ask("I6=3 I3=2"), await c.ask("XYZ"),
+                await c.ask("I6=0"), await c.ask("XYZ")]
+        await c.close()
+        return out
+
+    assert run(scenario, kind="pmac") == [
+        b"\x06", b"5\r\x06", b"5\r", b"\n5\r\x06", b"\x06", b"\x07\rERR003\r", b"\x06", b"\x07"]
+
+
 def test_a_line_over_tcp_goes_through_the_controller_in_virtual_time() -> None:
     """The virtual clock runs forward to the reply instant (0.5 ms background), and the line is
     in the controller's event log like a REST terminal line."""
