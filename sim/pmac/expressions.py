@@ -146,8 +146,21 @@ class Expr:
     fn: Fn = field(compare=False, repr=False)
     const: float | None = None
 
+    def __init__(self, text: str, fn: Fn, const: float | None = None) -> None:
+        # Every streamed word builds one: the slots' own setters instead of the generated
+        # frozen ``__init__``'s ``object.__setattr__`` per field (a third cheaper; the object
+        # is the same and stays frozen).
+        _set_text(self, text)
+        _set_fn(self, fn)
+        _set_const(self, const)
+
     def __call__(self, vars_: Any, cs: int) -> float:
         return self.const if self.const is not None else self.fn(vars_, cs)
+
+
+_set_text = Expr.text.__set__  # type: ignore[attr-defined]
+_set_fn = Expr.fn.__set__  # type: ignore[attr-defined]
+_set_const = Expr.const.__set__  # type: ignore[attr-defined]
 
 
 def constant(value: float, text: str | None = None) -> Expr:

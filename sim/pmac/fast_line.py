@@ -66,11 +66,20 @@ _KIND = {
     **dict.fromkeys(("F", "TA", "TS", "TM"), 2),
     "DWELL": OP_DWELL, "DWE": OP_DWELL, "DELAY": OP_DELAY, "DLY": OP_DELAY,
 }  # fmt: skip
-_MODE = {"LINEAR": "LINEAR", "LIN": "LINEAR", "RAPID": "RAPID", "RPD": "RAPID"}
-
+#: First characters of a whole-line assignment (``_ASSIGN``).
+_ASSIGNS = frozenset("PQMpqm")
+#: The op of each mode word (upper case; ops are tuples, shared by every line using them).
+_MODE = {
+    "LINEAR": (OP_MODE, "LINEAR"), "LIN": (OP_MODE, "LINEAR"),
+    "RAPID": (OP_MODE, "RAPID"), "RPD": (OP_MODE, "RAPID"),
+    "INC": (OP_AXISMODE, True, None), "ABS": (OP_AXISMODE, False, None),
+}  # fmt: skip
+_CIRCLE = {"1": (OP_MODE, "CIRCLE1"), "2": (OP_MODE, "CIRCLE2")}
 
 def fast_compile(text: str) -> ProgramLine | None:
     """The compiled line when ``text`` has only the plain shapes above, else ``None``."""
+    if text[:1] in _ASSIGNS:  # no plain word begins with P, Q or M: the line's first item
+        return _assignment(text)  # would be "anything else", so go straight to the assignment
     items = _findall(text)
     if not items:
         return ProgramLine(text, 1, (), 0)
@@ -110,13 +119,10 @@ def fast_compile(text: str) -> ProgramLine | None:
         elif other:
             return None
         elif circle:
-            modal.append((OP_MODE, "CIRCLE" + circle))
+            modal.append(_CIRCLE[circle])
         else:
-            m = mode.upper()
-            if m in _MODE:
-                modal.append((OP_MODE, _MODE[m]))
-            else:
-                modal.append((OP_AXISMODE, m == "INC", None))
+            op = _MODE.get(mode)
+            modal.append(op if op is not None else _MODE[mode.upper()])
     if axes or vectors:
         move = (OP_MOVE, tuple(axes), tuple(vectors), ())
         if not ops and not modal and not vectors:  # the planners' short cuts (see ProgramLine)

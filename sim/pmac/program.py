@@ -48,6 +48,24 @@ class ProgramLine:
     #: values and constant (or no) PVT velocities: the PVT planning short cut.
     simple_pvt: tuple[tuple[str, float, float], ...] | None = None
 
+    def __init__(
+        self, text: str, words: int, ops: tuple[tuple[Any, ...], ...], moves: int,
+        simple: tuple[tuple[str, float], ...] | None = None,
+        simple_pvt: tuple[tuple[str, float, float], ...] | None = None,
+    ) -> None:
+        # One per streamed line: the slots' own setters, not the generated frozen
+        # ``__init__``'s ``object.__setattr__`` per field (same object, still frozen).
+        _set_text(self, text)
+        _set_words(self, words)
+        _set_ops(self, ops)
+        _set_moves(self, moves)
+        _set_simple(self, simple)
+        _set_simple_pvt(self, simple_pvt)
+
+
+_set_text, _set_words, _set_ops, _set_moves, _set_simple, _set_simple_pvt = (
+    getattr(ProgramLine, name).__set__ for name in ProgramLine.__slots__)
+
 
 def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:
     """Compile program statements (already parsed) into a :class:`ProgramLine`."""
