@@ -13,6 +13,7 @@ offered meanwhile (about 60 a second), so it is the cap that limits the drawing.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterator
 
 import pytest
@@ -144,3 +145,69 @@ def test_at_1000_events_per_s_it_draws_at_most_30_fps_bounded_and_drops_nothing(
     assert int(final["received"]) == int(final["lastSeq"]) == server_last_seq(ms, FAST)
     assert (final["gaps"], final["duplicates"]) == ("0", "0")
     assert b.errors == []
+
+
+DRAW = """async () => {
+  const { Steps, Intervals } = await import("/dashboard/static/js/series.js");
+  const { stepPath, shade, svg, TimeAxis } = await import("/dashboard/static/js/chart.js");
+  const ax = new TimeAxis(0, 10, 40, 1440);          // 1 400 px for 10 s
+  const s = new Steps(0);
+  let x = 12345;                                     // a fixed pseudo-random walk over 0..9
+  for (let i = 0; i < 20000; i++) {
+    x = (x * 1103515245 + 12345) % 2147483648;
+    s.t.push(i * 0.0005);                            // bypass the point cap: 20 000 held
+    s.v.push(x % 10);
+  }
+  const y = (v) => 100 - 10 * v;
+  const d = stepPath(s, ax, y);
+  // expected: per half-pixel column, the lowest and highest value the trace passes through
+  const cols = new Map();
+  let v = s.initial;
+  for (let i = 0; i < s.t.length; i++) {
+    if (s.v[i] === v) continue;
+    const px = Math.round(ax.x(s.t[i]) * 2) / 2;
+    const c = cols.get(px) ?? { lo: v, hi: v };
+    v = s.v[i];
+    c.lo = Math.min(c.lo, v); c.hi = Math.max(c.hi, v);
+    cols.set(px, c);
+  }
+  const spans = new Intervals();
+  for (let i = 0; i < 5000; i++) {
+    spans.set(i * 0.002, true);
+    spans.set(i * 0.002 + 0.001, false);
+  }
+  const g = svg("svg");
+  shade(g, spans, ax, 0, 10, "starved");
+  const rects = [...g.children].map((r) => [Number(r.getAttribute("x")),
+                                            Number(r.getAttribute("width"))]);
+  return { d, cols: [...cols.entries()].map(([px, c]) => [px, y(c.hi), y(c.lo)]),
+           last: y(v), rects };
+}"""
+
+
+def test_a_trace_of_20000_points_draws_a_few_vertices_a_pixel_through_every_level(fast_page):
+    """A chart's cost follows its width, not the points its window holds: a step trace
+    passes through each half-pixel column's lowest and highest value in at most three
+    vertices; 5 000 intervals in 1 400 px shade as rects that never overlap."""
+    got = fast_page.page.evaluate(DRAW)
+    d = got["d"]
+    commands = re.findall(r"([MHV])(-?[\d.]+)", d)
+    assert len(got["cols"]) <= 2 * 1400 + 1                # half-pixel columns
+    assert len(commands) <= 2 + 4 * len(got["cols"]), len(commands)  # H + at most 3 V each
+    # rebuild each column's vertical extent from the path
+    extent: dict[float, list[float]] = {}
+    start = re.match(r"M(-?[\d.]+) (-?[\d.]+)", d)
+    x, yv = float(start[1]), float(start[2])
+    for cmd, val in commands[1:]:
+        if cmd == "H":
+            x = float(val)
+        else:
+            ext = extent.setdefault(x, [yv, yv])
+            ext[0], ext[1] = min(ext[0], float(val)), max(ext[1], float(val))
+        yv = float(val) if cmd == "V" else yv
+    want = {px: [top, bottom] for px, top, bottom in got["cols"]}
+    assert extent == want                   # y values are exact tenths
+    assert float(re.findall(r"V(-?[\d.]+)", d)[-1]) == got["last"]
+    xs = got["rects"]
+    assert len(xs) <= 1400
+    assert all(x0 + w <= x1 + 1e-9 for (x0, w), (x1, _) in zip(xs, xs[1:], strict=False))

@@ -1,6 +1,7 @@
 // Plain SVG time charts: step traces, level lines, shaded intervals, marks and lanes. Each
-// chart is redrawn whole from the model's bounded series; a trace never has more vertices
-// than about two per pixel column, however many events fell in the window.
+// chart is redrawn whole from the model's bounded series; what it draws is bounded by its
+// width in pixels (a few vertices, one rect or mark a column), however many events fell in
+// the window.
 
 const NS = "http://www.w3.org/2000/svg";
 
@@ -23,11 +24,26 @@ export class TimeAxis {
   }
 }
 
-/** SVG path `d` of a step series over the axis window, value -> y by `y(v)`. */
+/**
+ * SVG path `d` of a step series over the axis window, value -> y by `y(v)`. The changes that
+ * fall in one half-pixel column are drawn as one vertical stroke over the values they pass
+ * through (at most three vertices: low, high, last), so a trace has at most about six
+ * vertices a pixel however many points the window holds.
+ */
 export function stepPath(series, ax, y) {
   let v = series.valueBefore(ax.t0);
   let d = `M${ax.x0.toFixed(1)} ${y(v).toFixed(1)}`;
-  let lastPx = ax.x0;
+  let at = v;                         // the value the path has reached
+  let col = null, lo = v, hi = v;     // the column gathering changes and the values they span
+  const flush = () => {
+    if (col === null) return;
+    d += `H${col}`;
+    const through = v === hi ? [lo, hi] : v === lo ? [hi, lo] : [lo, hi, v];
+    for (const w of through) {
+      if (w !== at) { d += `V${y(w).toFixed(1)}`; at = w; }
+    }
+    col = null;
+  };
   const n = series.t.length;
   for (let i = series.indexAt(ax.t0); i < n; i++) {
     const t = series.t[i];
@@ -35,11 +51,16 @@ export function stepPath(series, ax, y) {
     const nv = series.v[i];
     if (nv === v) continue;
     const px = Math.round(ax.x(t) * 2) / 2;
-    if (px !== lastPx) d += `H${px}`;
-    d += `V${y(nv).toFixed(1)}`;
-    lastPx = px;
+    if (px !== col) {
+      flush();
+      col = px;
+      lo = hi = v;
+    }
     v = nv;
+    if (v < lo) lo = v;
+    if (v > hi) hi = v;
   }
+  flush();
   d += `H${ax.x1.toFixed(1)}`;
   return d;
 }
@@ -66,14 +87,24 @@ export function drawTimeGrid(g, ax, top, bottom, labels = true) {
   }
 }
 
+/** Shaded intervals; one that starts inside the last one drawn (a pixel wide at least)
+ *  widens it instead of adding a rect, so there are never more rects than pixel columns. */
 export function shade(g, intervals, ax, top, bottom, cls) {
+  let last = null, drawnTo = -Infinity;
   for (const [a, b] of intervals.items) {
     const end = b === null ? ax.t1 : b;
     if (end < ax.t0 || a > ax.t1) continue;
     const xa = Math.max(ax.x(a), ax.x0), xb = Math.min(ax.x(end), ax.x1);
-    g.appendChild(svg("rect", { x: xa, y: top, width: Math.max(xb - xa, 1),
-                                height: bottom - top, class: cls,
-                                "data-t0": a, "data-t1": b === null ? "" : b }));
+    if (last && xa <= drawnTo) {
+      drawnTo = Math.max(drawnTo, xb);
+      last.setAttribute("width", drawnTo - Number(last.getAttribute("x")));
+      last.setAttribute("data-t1", b === null ? "" : b);
+      continue;
+    }
+    last = svg("rect", { x: xa, y: top, width: Math.max(xb - xa, 1), height: bottom - top,
+                         class: cls, "data-t0": a, "data-t1": b === null ? "" : b });
+    drawnTo = xa + Math.max(xb - xa, 1);
+    g.appendChild(last);
   }
 }
 

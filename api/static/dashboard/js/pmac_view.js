@@ -116,9 +116,12 @@ export class PmacView {
     }
     g.appendChild(svg("path", { d: stepPath(s, ax, y), class: "trace ahead",
                                 "data-role": "lines-ahead-trace" }));
+    let markedAt = -Infinity;            // one mark a pixel column: the first write in it
     for (const [t, label, cs] of model.syncM.items) {
       if (t < win.t0 || t > win.t1 || (cs !== undefined && cs !== c.cs)) continue;
       const x = ax.x(t);
+      if (x - markedAt < 1) continue;
+      markedAt = x;
       const mark = svg("line", { x1: x, x2: x, y1: TOP, y2: TOP + 8, class: "sync-m" });
       mark.appendChild(svg("title", {}, `t = ${fmt(t)} s: ${label}`));
       g.appendChild(mark);
