@@ -183,7 +183,7 @@ def main() -> None:
         page = browser.new_context(viewport={"width": 1500, "height": 1000}).new_page()
         page.goto(f"{url}/dashboard")
         page.wait_for_function("() => !!window.motionsimDashboard")
-        install_probe(page)
+        install_probe(page, animation_frames=False)   # long tasks only
         p = Page(page)
         reference = idle(p, 5.0)
         figures = {name: phase(p, ms, name, move_ms, seconds[name]) for name, move_ms in PHASES}

@@ -92,13 +92,15 @@ def stream_fast(ms: MotionSimClient, cid: str, *, sent: int, events_per_s: float
 
 
 #: In-page counters; ``window.__probe`` after :func:`install_probe`.
-PROBE = """() => {
+PROBE = """(animationFrames) => {
   const probe = { redraws: [], rafs: 0, longTasks: [] };
   new MutationObserver(() => probe.redraws.push(performance.now()))
     .observe(document.getElementById("main"), { childList: true, subtree: true,
                                                 characterData: true, attributes: true });
-  const tick = () => { probe.rafs++; requestAnimationFrame(tick); };
-  requestAnimationFrame(tick);
+  if (animationFrames) {
+    const tick = () => { probe.rafs++; requestAnimationFrame(tick); };
+    requestAnimationFrame(tick);
+  }
   new PerformanceObserver((list) => {
     for (const e of list.getEntries()) probe.longTasks.push([e.startTime, e.duration]);
   }).observe({ type: "longtask" });
@@ -106,5 +108,8 @@ PROBE = """() => {
 }"""
 
 
-def install_probe(page: Any) -> None:
-    page.evaluate(PROBE)
+def install_probe(page: Any, animation_frames: bool = True) -> None:
+    """Install :data:`PROBE`; ``animation_frames`` counts them too — a requestAnimationFrame
+    loop, which keeps the browser producing frames at 60 Hz (a bench measuring the page's own
+    cost goes without)."""
+    page.evaluate(PROBE, animation_frames)
