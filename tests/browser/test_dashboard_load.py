@@ -3,12 +3,13 @@
 
 A virtual-clock PMAC streams 250-ms moves through REST in small steps, paced to 1 200 logged
 events a wall second, so the page gets a WebSocket message every ~20 ms (more often than it
-may draw) and simulated time crosses the 120-s history window within seconds. The page's
-point cap is lowered (``?points=600``) so the lines-ahead trace (two points a line) crosses it
-too, while BREQ (about one edge a line) is bounded by the time window: each bound is the one
-that binds on some series. Frames are counted twice — the dashboard's own counter and, from
-outside it, every change of the page's ``<main>`` — against the animation frames the browser
-offered meanwhile (about 60 a second), so it is the cap that limits the drawing.
+may draw). The page's point cap is lowered (``?points=600``) so the lines-ahead trace (two
+points a line) crosses it within the drive; the 120-s window is checked after the host stops
+feeding for 130 simulated seconds (all held before must have aged out). Frames are counted
+twice — the dashboard's own counter and, from outside it, every change of the page's
+``<main>`` — against the animation frames the browser offered meanwhile (about 60 a second),
+so it is the cap that limits the drawing. What a chart draws is bounded by its width in
+pixels, not by the points its window holds (the second test).
 """
 
 from __future__ import annotations
