@@ -493,6 +493,11 @@ class PmacController(Controller):
         self._alive()
         self.coord_system(cs).quit()
 
+    def mflush(self, cs: int) -> None:
+        """``MFLUSH``: empty the synchronous M-variable queue of ``cs`` (TUM p250)."""
+        self._alive()
+        self.coord_system(cs).mflush()
+
     def abort(self, cs: int) -> None:
         """``A``; the host's ``first_seq`` numbering of the CS's rotary lines starts again."""
         self._alive()

@@ -40,7 +40,7 @@ _WORDS = [
     "INC", "PR", "TA", "TS", "TM", "PVT", "SPLINE",
     "ENABLE", "DISABLE", "ENA", "DIS", "PLCC", "PLC", "CLEAR",
     "HOMEZ", "HOME", "HMZ", "HM",
-    "LIST", "PROGRAM", "PROG", "FORWARD", "INVERSE", "SAVE",
+    "LIST", "PROGRAM", "PROG", "FORWARD", "INVERSE", "SAVE", "MFLUSH",
 ]  # fmt: skip
 _WORDS.sort(key=len, reverse=True)
 
@@ -328,6 +328,8 @@ class _Parser:
             raise self.error("only OPEN ROT, OPEN PROG and OPEN PLC are supported", what)
         if word == "CLOSE":
             return st.Close()
+        if word == "MFLUSH":
+            return st.MFlush()
         if word == "LIST":
             return list_commands.parse(self)
         if word == "SAVE":

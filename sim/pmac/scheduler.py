@@ -91,6 +91,12 @@ class Scheduler:
         k = self.clock.after(t)
         return self.clock.t(-(-k // m) * m)
 
+    def rti_at_or_after(self, t: float) -> float:
+        """The first RTI at or after ``t`` (on a servo cycle divisible by I8+1)."""
+        m = self._rti_cycles()
+        k = self.clock.at_or_after(t)
+        return self.clock.t(-(-k // m) * m)
+
     def servo_at_or_after(self, t: float) -> float:
         """``t`` rounded up to a servo cycle."""
         clock = self.clock

@@ -111,6 +111,11 @@ class Abort:
 
 
 @dataclass(frozen=True, slots=True)
+class MFlush:
+    """``MFLUSH``: empty the addressed CS's synchronous M-variable queue (TUM p250)."""
+
+
+@dataclass(frozen=True, slots=True)
 class Hold:
     """``H``: feed hold."""
 

@@ -52,7 +52,7 @@ TYPE = "TURBO2"
 #: On-line commands that still act on-line while the port holds a PLC buffer open.
 _ONLINE_IN_PLC = (
     st.AddressCS, st.AddressMotor, st.Query, st.VarQuery, st.MDefinitionQuery, st.FeedOverride,
-    st.Run, st.Step, st.Quit, st.Hold, st.Abort, list_commands.ListBuffer,
+    st.Run, st.Step, st.Quit, st.Hold, st.Abort, st.MFlush, list_commands.ListBuffer,
 )  # fmt: skip
 
 
@@ -300,6 +300,8 @@ class Terminal:
             ctl.run(state["cs"], pointer=None, single_step=True)
         elif t is st.Quit:
             ctl.quit(state["cs"])
+        elif t is st.MFlush:
+            ctl.mflush(state["cs"])
         elif t is st.Hold:
             ctl.coord_system(state["cs"]).hold()
         elif t is st.Abort:

@@ -16,6 +16,7 @@ from motionsim.sim.pmac import motion
 from motionsim.sim.pmac.lookahead.execution import Execution
 from motionsim.sim.pmac.lookahead.planning import Planning
 from motionsim.sim.pmac.lookahead.states import IDLE, RUNNING, STOPPED, TRANSITIONS, WAITING
+from motionsim.sim.pmac.lookahead.sync_queue import SyncQueue
 from motionsim.sim.pmac.lookahead.timebase import TimeBase
 from motionsim.sim.pmac.modes import DWELL, Move, RunTimeError, pvt, spline
 from motionsim.sim.pmac.scheduler import Wake
@@ -53,7 +54,12 @@ class CoordSystem(Planning, Execution, TimeBase):
         self.state = IDLE
         self.planned: deque[Move] = deque()
         self.current: Move | None = None
+        #: Synchronous writes calculated after the last calculated move: they go with the
+        #: next move calculated (:mod:`.sync_queue`).
         self.sync_pending: list[tuple[int, str, float]] = []
+        #: Writes whose move has started, waiting for their RTI (TUM p250).
+        self.sync_queue = SyncQueue(ctl.env, ctl.scheduler, self._sync_write)
+        self._seg_t0 = 0.0  # Isx13 > 0: where the segments of the present sequence start
         self.blocked = False
         self.quitting = False
         self.single_step = False
@@ -211,18 +217,29 @@ class CoordSystem(Planning, Execution, TimeBase):
         """``Q``: finish the calculated moves, calculate nothing more, then ``stopped``."""
         if not self.running:
             return
-        self.sync_pending.clear()
+        # Synchronous writes left after the last calculated move stay queued (TUM p250:
+        # removed only by MFLUSH).
         if self.current is None and not self.planned:
             self._plan_due = None
             self._set_state(STOPPED)
             return
         self.quitting = True  # (an I11-delayed start still runs the calculated moves)
 
+    def mflush(self) -> None:
+        """``MFLUSH``: empty the synchronous M-variable queue (TUM p250) — the writes left
+        after the last move, those calculated with moves not yet started, and those waiting
+        for their RTI ``[INF]``. Nothing else changes; a running program goes on."""
+        self.sync_pending.clear()
+        for m in self.planned:
+            m.sync = None
+        self.sync_queue.discard()
+
     def detach(self) -> None:
         """Forget every scheduled wake-up (the controller is being reset)."""
         self._plan_due = None
         self._cancel()
         self.spline = None
+        self.sync_queue.discard()
         wake = self._slew_wake
         if wake is not None and wake.callbacks:
             wake.callbacks.clear()

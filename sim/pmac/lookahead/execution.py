@@ -3,9 +3,10 @@
 Modelled (TUM p339-341, p250; PUM p213; spec §9.1-9.3):
 
 * **Blending.** Consecutive moves whose profiles blend (LINEAR / CIRCLE / DELAY) are joined
-  (:mod:`motionsim.sim.pmac.modes.linear`); the next move starts — ``move_start``, its
-  synchronous M writes, the previous ``move_end`` — at the start of the blend ramp, on a
-  servo cycle. A lookahead break (DWELL, RAPID) is preceded by a stop. PVT and SPLINE moves
+  (:mod:`motionsim.sim.pmac.modes.linear`); the next move starts — ``move_start``, the
+  previous ``move_end`` — at the start of the blend ramp, on a servo cycle; its synchronous
+  M writes go to :mod:`.sync_queue` (performed at the first RTI at or after then, TUM p250).
+  A lookahead break (DWELL, RAPID) is preceded by a stop. PVT and SPLINE moves
   abut without a ramp; a spline move ending with only the waiting point after it ends the
   series there (that point's move to rest), unless calculation fell behind (below).
 * **Running out.** With Isx13 = 0 a move that starts executing with no next move calculated
@@ -43,12 +44,17 @@ from typing import Any
 
 from motionsim.sim.pmac.expressions import pmac_and, pmac_or, pmac_xor
 from motionsim.sim.pmac.lookahead.states import ABORTED, RUNNING, STOPPED
-from motionsim.sim.pmac.modes import BLENDS, PROFILES, SPLINE, Move
+from motionsim.sim.pmac.lookahead.sync_queue import segment_start
+from motionsim.sim.pmac.modes import BLENDS, DELAY, LINEAR, PROFILES, SPLINE, Move
 from motionsim.sim.pmac.scheduler import wake_at
 from motionsim.sim.pmac.variables import ixx
 
 #: Synchronous read-modify-write forms.
 _BITWISE = {"&=": pmac_and, "|=": pmac_or, "^=": pmac_xor}
+
+#: Move kinds cut into Isx13 segments in segmentation mode (LINEAR and CIRCLE, DELAY as a
+#: zero-distance LINEAR move ``[INF]``; TSRM p177).
+_SEGMENTED = frozenset({LINEAR, DELAY})
 
 _ceil = math.ceil
 _floor = math.floor
@@ -64,8 +70,9 @@ class Execution:
         """The next calculated move starts executing now: blended from the executing move
         (the hand-off wake-up), or from rest.
 
-        The previous move ends (``move_end``) and this one starts (``move_start``, after its
-        synchronous M writes) at the same instant; the words of lines executed are freed; the
+        The previous move ends (``move_end``) and this one starts (``move_start``; its
+        synchronous M writes are handed to the queue, performed first if this is their RTI) at
+        the same instant; the words of lines executed are freed; the
         "plan the next move" flag is served at the next RTI; then what ends this move is
         scheduled — the hand-off into the next calculated move, the segmented-mode decision
         point, or the stop. This is also the per-line hot path of a stream.
@@ -89,9 +96,10 @@ class Execution:
             calc = rot.calculated
             if calc and calc[0][0] < n:
                 rot.free_through(n - 1)
+        if prev is None:
+            self._seg_t0 = t  # a sequence from rest: its segments start now
         if m.sync:
-            for k, aop, value in m.sync:
-                self._sync_write(k, aop, value)
+            self.sync_queue.started(m.sync, self._sync_ready(m, t))
         emit("move_start", cs=cs, n=n)
         m.b_end = b + m.tm
         self.current = m
@@ -239,14 +247,22 @@ class Execution:
         if self.quitting or self.single_step:
             self.quitting = False
             self.single_step = False
-            self.sync_pending.clear()
-            self._set_state(STOPPED)
+            self._set_state(STOPPED)  # leftover synchronous writes stay queued (TUM p250)
         elif self.state == RUNNING:
             if rot is not None and rot.pending and not self.blocked:
                 self._request_plan()
                 self._arm_i11()
             else:
                 self._ran_out()
+
+    def _sync_ready(self, m: Move, t: float) -> float:
+        """When ``m``'s synchronous writes may be performed, ``m`` starting at ``t`` (the
+        start of its blend): then, or with Isx13 > 0 for a segmented move (LINEAR / CIRCLE /
+        DELAY) the first Isx13 segment at or after then (TUM p250; :mod:`.sync_queue`)."""
+        if m.kind in _SEGMENTED and self._segmented():
+            seg = segment_start(t, self._seg_t0, self._isx13 / 1000.0)
+            return self.sched.servo_at_or_after(seg)
+        return t
 
     def _sync_write(self, k: int, aop: str, value: float) -> None:
         vars_ = self.vars
@@ -262,6 +278,8 @@ class Execution:
         ``error`` names why the controller aborted by itself (``"run_time_error"``); it goes
         into the ``program`` event.
         """
+        self.sync_pending.clear()
+        self.sync_queue.discard()
         if not self.running:
             return
         now = self.sched.env.now
@@ -271,7 +289,6 @@ class Execution:
         self.quitting = False
         self.blocked = False
         self.single_step = False
-        self.sync_pending.clear()
         self.planned.clear()
         self.spline = None
         if error is None:
@@ -328,6 +345,7 @@ class Execution:
         self._i11_wake = self._go_t = None
         self._starting = self.quitting = self.blocked = self.single_step = False
         self.sync_pending.clear()
+        self.sync_queue.discard()
         self.planned.clear()
         self.spline = None
         self._abort = None

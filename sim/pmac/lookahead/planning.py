@@ -30,8 +30,10 @@ Modelled (TUM p236, p249-250, p339-341; TSRM p177, p190; PSRM I11; PUM p213; spe
   (the abort of :mod:`.execution`, no motion). With nothing to calculate it is a run-out.
 * **Assignments.** Plain ``=`` assignments act at calculation (1-2 moves early, so ``M1=1``
   between ``X10`` and ``X20`` fires when the move to X10 starts). Synchronous ones (``==``,
-  ``&=``, ``|=``, ``^=``) are evaluated at calculation and written at the start of the next
-  move or dwell that actually executes; ones left after the last move are never written.
+  ``&=``, ``|=``, ``^=``) are evaluated at calculation and go with the next move or dwell
+  calculated; they are written at the first RTI at or after it starts executing
+  (:mod:`.sync_queue`). Ones left after the last move wait for the next move calculated
+  (after more lines, or a new ``R``) unless ``MFLUSH`` or ``A`` removes them (TUM p250).
 
 Each move's time and profile come from its mode's module (:mod:`motionsim.sim.pmac.modes`);
 this part only decides *when* lines are worked through and keeps the modal state.

@@ -217,11 +217,26 @@ def test_a_queued_synchronous_write_fires_at_the_start_of_the_next_move(rig):
     assert [(k, f["name"]) for k, _, f in rig.events("mvar")] == [(start, "M1")]
 
 
-def test_q_discards_queued_synchronous_writes_they_do_not_fire_after_the_next_r(rig):
-    """TUM p319 / spec §1.1: Q stops the program; a synchronous write still queued is dropped
-    with the lookahead, so the next R's moves run without it."""
+def test_q_leaves_queued_synchronous_writes_in_the_queue_they_fire_at_the_next_r(rig):
+    """TUM p250: synchronous assignments "left in the queue because the program ended or was
+    stopped" stay there (MFLUSH removes them): after Q and a new R the write fires at the
+    first RTI at or after the start of the next move. (A discards them, below.)"""
     _m1_queued_behind_the_last_move(rig)
     rig.ok("Q")
+    assert rig.c.coord(1)["program"] == {"state": "stopped"}
+    rig.c.load_lines(1, ["X2"])
+    rig.ok("R")
+    rig.run_until_idle()
+    assert [f["n"] for _, _, f in rig.events("move_start")] == [1, 3]
+    (start,) = [k for k, _, f in rig.events("move_start") if f["n"] == 3]
+    assert [(k, f["name"]) for k, _, f in rig.events("mvar")] == [(-(-start // 3) * 3, "M1")]
+
+
+def test_mflush_after_q_removes_the_queued_write_it_never_fires(rig):
+    """TUM p250: "they can be removed from the queue with the on-line MFLUSH command"."""
+    _m1_queued_behind_the_last_move(rig)
+    rig.ok("Q")
+    assert rig.ok("MFLUSH") == ""
     rig.c.load_lines(1, ["X2"])
     rig.ok("R")
     rig.run_until_idle()
