@@ -86,8 +86,11 @@ def test_m1_plain_assignment_is_early_and_synchronous_one_is_on_time():
     assert plain["sync"] is False and sync["sync"] is True
     # M1=1 runs when calculated, about a whole 200 ms move before X20 starts
     assert plain["lead_s"] > 0.15
-    # M1==1 is done at the start of (blending into) X20
-    assert sync["lead_s"] == 0
+    # M1==1 is done at the first RTI (I8 = 2: every 3 servo cycles) at or after the start of
+    # blending into X20 (TUM p250): here one servo cycle after it
+    period = 3_713_707 / 8_388_608 / 1000
+    assert -3 * period < sync["lead_s"] <= 0
+    assert sync["lead_s"] == pytest.approx(-period, abs=1e-9)
 
 
 def test_tn20_program_stalls_axis_0_and_the_ntype_fix_does_not():
