@@ -27,7 +27,6 @@ _COMMANDS: Final[tuple[tuple[str, str], ...]] = (
      "DELETE of that buffer"),
     (r"UNDEFINE|UNDEF", "UNDEFINE (coordinate-system definitions)"),
     (r"PASSWORD", "PASSWORD"),
-    (r"PSET", "PSET"),
     (r"PMATCH", "PMATCH"),
     (r"ENABLE\s*PLCC|ENA\s*PLCC|DISABLE\s*PLCC|DIS\s*PLCC|PLCC", "compiled PLCs (PLCC)"),
     (r"(LIST)\s*(LDS|LINK|PE|PC|TCOMP|COMP|BLCOMP|CCBUF|LOOKAHEAD)", "that LIST"),

@@ -40,7 +40,7 @@ _WORDS = [
     "INC", "PR", "TA", "TS", "TM", "PVT", "SPLINE",
     "ENABLE", "DISABLE", "ENA", "DIS", "PLCC", "PLC", "CLEAR",
     "HOMEZ", "HOME", "HMZ", "HM",
-    "LIST", "PROGRAM", "PROG", "FORWARD", "INVERSE", "SAVE", "MFLUSH",
+    "LIST", "PROGRAM", "PROG", "FORWARD", "INVERSE", "SAVE", "MFLUSH", "PSET",
 ]  # fmt: skip
 _WORDS.sort(key=len, reverse=True)
 
@@ -359,6 +359,8 @@ class _Parser:
         if word == "PVT":
             self.spline_line = False
             return st.PvtMode(self.pvt_time())
+        if word == "PSET":
+            return st.PSet(self.pset_axes())
         if word in ("INC", "ABS"):
             return st.AxisMode(word == "INC", self.axis_list())
         if word in ("TA", "TS", "TM"):
@@ -471,6 +473,20 @@ class _Parser:
         if word in ("N", "O"):
             return st.Label(word, self.integer())
         raise self.error(f"unrecognised command {word!r}", tok)
+
+    def pset_axes(self) -> tuple[tuple[str, ex.Expr], ...]:
+        """``PSET``'s ``{axis}{data}`` pairs, at least one (TSRM p31)."""
+        axes: list[tuple[str, ex.Expr]] = []
+        while True:
+            tok = self.peek()
+            if tok is None or tok[0] != "word" or len(tok[1]) != 1 or tok[1] not in st.AXES:
+                if axes:
+                    return tuple(axes)
+                raise self.error("PSET needs {axis}{data}, e.g. PSET X0", tok)
+            self.i += 1
+            if not self.has_value():
+                raise self.error(f"PSET: expected a value after {tok[1]}")
+            axes.append((tok[1], self.value()))
 
     def pvt_time(self) -> ex.Expr:
         """``PVT{t}``'s time; a constant must lie in the move-time register's range

@@ -31,6 +31,7 @@ OP_AXISMODE = 3  # (OP_AXISMODE, incremental, axes|None)
 OP_MOVE = 4  # (OP_MOVE, ((axis, expr), ...), ((vector, expr), ...), ((axis, vel_expr), ...))
 OP_DWELL = 5  # (OP_DWELL, expr)
 OP_DELAY = 6  # (OP_DELAY, expr)
+OP_PSET = 7  # (OP_PSET, ((axis, expr), ...))
 
 
 @dataclass(frozen=True, slots=True)
@@ -115,6 +116,10 @@ def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:
             flush()
             ops.append((OP_DELAY, s.ms))
             moves += 1
+        elif isinstance(s, st.PSet):
+            flush()
+            ops.append((OP_PSET, s.axes))
+            words += len(s.axes) - 1  # one word per value, like axis words [INF]
         # Label, Message: stored, no action.
     flush()
     simple = None
@@ -162,6 +167,7 @@ __all__ = [
     "OP_MODAL",
     "OP_MODE",
     "OP_MOVE",
+    "OP_PSET",
     "ProgramLine",
     "compile_line",
     "compile_statements",

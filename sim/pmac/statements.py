@@ -212,6 +212,14 @@ class PvtMode:
 
 
 @dataclass(frozen=True, slots=True)
+class PSet:
+    """``PSET{axis}{data}[{axis}{data}...]``: make the present positions of these axes the
+    given values, without motion (TSRM p31, TUM p341, PSRM p340); a lookahead break."""
+
+    axes: tuple[tuple[str, Expr], ...]
+
+
+@dataclass(frozen=True, slots=True)
 class AxisMode:
     """``INC`` / ``ABS`` [``(X,Y)``]; ``axes`` None = all axes."""
 
@@ -307,6 +315,7 @@ ProgramStatement = (
     | VectorWord
     | Dwell
     | Delay
+    | PSet
     | Label
     | Message
 )
@@ -322,6 +331,7 @@ PROGRAM_TYPES = (
     VectorWord,
     Dwell,
     Delay,
+    PSet,
     Label,
     Message,
 )

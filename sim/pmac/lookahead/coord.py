@@ -232,6 +232,8 @@ class CoordSystem(Planning, Execution, TimeBase):
         self.sync_pending.clear()
         for m in self.planned:
             m.sync = None
+        if self.spline is not None:
+            self.spline.sync = []  # the waiting spline point's writes
         self.sync_queue.discard()
 
     def detach(self) -> None:

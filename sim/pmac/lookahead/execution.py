@@ -6,7 +6,7 @@ Modelled (TUM p339-341, p250; PUM p213; spec §9.1-9.3):
   (:mod:`motionsim.sim.pmac.modes.linear`); the next move starts — ``move_start``, the
   previous ``move_end`` — at the start of the blend ramp, on a servo cycle; its synchronous
   M writes go to :mod:`.sync_queue` (performed at the first RTI at or after then, TUM p250).
-  A lookahead break (DWELL, RAPID) is preceded by a stop. PVT and SPLINE moves
+  A lookahead break (DWELL, RAPID, PSET) is preceded by a stop. PVT and SPLINE moves
   abut without a ramp; a spline move ending with only the waiting point after it ends the
   series there (that point's move to rest), unless calculation fell behind (below).
 * **Running out.** With Isx13 = 0 a move that starts executing with no next move calculated
@@ -45,7 +45,8 @@ from typing import Any
 from motionsim.sim.pmac.expressions import pmac_and, pmac_or, pmac_xor
 from motionsim.sim.pmac.lookahead.states import ABORTED, RUNNING, STOPPED
 from motionsim.sim.pmac.lookahead.sync_queue import segment_start
-from motionsim.sim.pmac.modes import BLENDS, DELAY, LINEAR, PROFILES, SPLINE, Move
+from motionsim.sim.pmac.modes import BLENDS, DELAY, DWELL, LINEAR, PROFILES, SPLINE, Move
+from motionsim.sim.pmac.modes.pset import PsetMove
 from motionsim.sim.pmac.scheduler import wake_at
 from motionsim.sim.pmac.variables import ixx
 
@@ -78,6 +79,9 @@ class Execution:
         point, or the stop. This is also the per-line hot path of a stream.
         """
         m = self.planned.popleft()
+        if m.kind == DWELL and type(m) is PsetMove:
+            self._pset(m)
+            return
         prev = self.current
         t = self._env._now
         emit = self._emit
@@ -140,6 +144,23 @@ class Execution:
             self._after(self.sched.servo_at_or_after(m.b_end - m.ta / 2), self._decide_cb)
             return
         self._decide(None)
+
+    def _pset(self, m: PsetMove) -> None:
+        """A PSET's turn (motion is at rest): the axes it names take their new values now,
+        the motors stay where they are (their axis offsets move), lookahead resumes — the next
+        move is calculated at the next RTI, then the I11 delay (TUM p341; :mod:`..modes.pset`).
+        """
+        old = self.rest_pos
+        for axis, value in m.values.items():
+            d = value - old.get(axis, 0.0)
+            if d:
+                for motor, scale in self.motors_of(axis):
+                    mo = self.ctl.motor(motor)
+                    mo.profile = mo.profile.shifted(-d * scale)
+        self.rest_pos = {**old, **m.values}
+        self._emit("pset", cs=self.cs, n=m.n, positions=dict(m.values))
+        self.blocked = False
+        self._motion_stopped()
 
     def _blend_into(self, m: Move, nxt: Move) -> None:
         """``m`` blends into ``nxt``: ``nxt``'s ramp is clipped to ``2·(TM − Ta/2)`` of ``m``

@@ -14,7 +14,8 @@ Modelled (TUM p236, p249-250, p339-341; TSRM p177, p190; PSRM I11; PUM p213; spe
   a spline move is calculated only once the next point is read (:mod:`..modes.spline`), so
   calculation reads one line further; the open series ends at another mode's move, a DWELL /
   DELAY, or, with nothing more to read, from rest here or at the executing move's end.
-* **Breaks.** ``DWELL`` and ``RAPID`` stop lookahead: nothing after them is calculated until
+* **Breaks.** ``DWELL``, ``RAPID`` and ``PSET`` (:mod:`motionsim.sim.pmac.modes.pset`) stop
+  lookahead: nothing after them is calculated until
   they are finished (then at the next RTI). With Isx92 = 1 (read at ``R``/``S``) every move
   is such a break: no blending, each move ends in a stop before the next is calculated (the
   Isx81/Isx82 in-position wait and dwell are not modelled). ``DELAY`` is a zero-distance
@@ -51,6 +52,7 @@ from motionsim.sim.pmac.modes import (
     RunTimeError,
     dwell,
     linear,
+    pset,
     pvt,
     rapid,
     spline,
@@ -63,6 +65,7 @@ from motionsim.sim.pmac.program import (
     OP_MODAL,
     OP_MODE,
     OP_MOVE,
+    OP_PSET,
     ProgramLine,
 )
 from motionsim.sim.pmac.scheduler import Wake, wake_at
@@ -284,6 +287,17 @@ class Planning:
                 self._lin_w = None
                 self._append(dwell.plan_dwell(n, op[1](vars_, cs), self.calc_pos))
                 self.blocked = True
+            elif code == OP_PSET:
+                self._spline_close()
+                self._lin_w = None  # the move after PSET starts from rest (no corner)
+                values = {
+                    a: e.const if e.const is not None else e.fn(vars_, cs) for a, e in op[1]
+                }
+                self.calc_vel = {}
+                move = pset.plan(n, self.calc_pos, values)
+                self.calc_pos = move.end.copy()
+                self.planned.append(move)  # no synchronous writes: they go with a move
+                self.blocked = True  # nothing after PSET is calculated until it has run
             elif code == OP_DELAY:
                 self._spline_close()
                 self.calc_vel = {}
