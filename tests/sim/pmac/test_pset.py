@@ -130,3 +130,18 @@ def test_pset_with_no_buffer_open_is_err005(rig):
     """A program statement sent on-line with no buffer open answers ERR005 (TUM p46)."""
     assert rig.cmd("PSET X0").error == "ERR005"
     assert rig.events("pset") == []
+
+
+def test_pset_in_a_fixed_program_runs_to_its_end_and_is_listed(rig):
+    """A fixed program (``OPEN PROG``, ``B1 R``) with PSET between two moves: the program
+    ends ``stopped`` at X = -5 (10 → PSET 0 → INC X-5), two moves, one ``pset``."""
+    rig.ok("OPEN PROG 1 CLEAR")
+    for line in ("TM50 TA10 TS0 X10", "PSET X0", "INC X-5"):
+        rig.ok(line)
+    rig.ok("CLOSE")
+    assert rig.ok("LIST PROG 1").split("\r")[1] == "PSETX0"  # the card's compact listing
+    rig.ok("&1 B1 R")
+    rig.run_until_idle()
+    assert rig.c.positions(1)["X"] == -5.0
+    assert len(rig.events("move_start")) == 2 and len(rig.events("pset")) == 1
+    assert rig.c.coord(1)["program"]["state"] == "stopped"
