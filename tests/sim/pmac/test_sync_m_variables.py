@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import math
 
+import pytest
+
 
 def _load(rig, lines, setup=()):
     rig.rotary_setup()
@@ -192,9 +194,10 @@ def test_mflush_acts_on_the_addressed_cs_only(rig):
     assert [f["name"] for _, _, f in rig.events("mvar")] == ["M7"]
 
 
-def test_a_between_the_blend_start_and_its_rti_discards_the_write(make_rig):
-    """TUM p319: ``A`` discards queued synchronous writes — also one whose move has begun but
-    whose RTI has not come yet (I8 = 29: an RTI every 30 cycles, ≈ 13 ms)."""
+@pytest.mark.parametrize("command", ["A", "\x0b"])
+def test_a_or_ctrl_k_between_the_blend_start_and_its_rti_discards_the_write(make_rig, command):
+    """TUM p319: ``A`` and CTRL-K discard queued synchronous writes — also one whose move has
+    begun but whose RTI has not come yet (I8 = 29: an RTI every 30 cycles, ≈ 13 ms)."""
     rig = make_rig()
     rig.rotary_setup()
     rig.ok("I8=29")
@@ -205,7 +208,8 @@ def test_a_between_the_blend_start_and_its_rti_discards_the_write(make_rig):
         env.step()
     k_start3, _ = _first(rig, "move_start", n=3)
     assert k_start3 % 30 < 20  # the write waits at least 10 cycles for its RTI
-    a = rig.cmd("A")
+    a = rig.cmd(command)
+    assert a.error is None
     assert rig.cyc(a.t_done) < _rti_at_or_after(k_start3, 30)
     rig.run_until_idle()
     assert rig.events("mvar") == []
