@@ -213,3 +213,31 @@ def test_a_or_ctrl_k_between_the_blend_start_and_its_rti_discards_the_write(make
     assert rig.cyc(a.t_done) < _rti_at_or_after(k_start3, 30)
     rig.run_until_idle()
     assert rig.events("mvar") == []
+
+
+def test_mflush_while_running_removes_writes_calculated_with_moves_not_yet_started(rig):
+    """``[INF]`` MFLUSH empties the whole queue: ``M1==1`` calculated (two moves ahead) with
+    the move to X20 is removed before that move starts, and the program runs on."""
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["X10 TM500 TA100 TS0", "M1==1", "X20"])
+    rig.ok("R")
+    rig.run_for(0.2)
+    assert [f["n"] for _, _, f in rig.events("line_calculated")] == [1, 2, 3]
+    rig.ok("MFLUSH")
+    rig.run_until_idle()
+    assert rig.events("mvar") == []
+    assert [f["n"] for _, _, f in rig.events("move_start")] == [1, 3]
+    assert rig.c.positions(1)["X"] == 20.0
+
+
+def test_mflush_removes_the_write_waiting_with_an_open_spline_point(rig):
+    """``[INF]`` a synchronous write before the last SPLINE1 point waits with that point
+    until the series is ended; MFLUSH removes it there too."""
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["ABS SPLINE1 TM100 X10", "X20", "M1==1 X30"])
+    rig.ok("R")
+    rig.run_for(0.05)
+    rig.ok("MFLUSH")
+    rig.run_until_idle()
+    assert rig.events("mvar") == []
+    assert rig.c.positions(1)["X"] == 30.0
