@@ -25,6 +25,9 @@ segment part of the last line's.
 * The series ends at the next move of another mode, a DWELL / DELAY, or when the coordinate
   system runs out of points at a move's end (rotary run-out, end of program, ``Q``); with
   Isx92 = 1 every point is a series of its own.
+* ``S`` (single step) runs one line's move and stops at its end boundary, a velocity step as
+  with PVT (the manuals warn against stepping such sequences); the next ``S`` / ``R`` goes on
+  from there.
 * The segment time lies in the move-time register's range (0, 4095.9998] ms in steps of
   1/4096 ms (as PVT, TUM p292); outside it when a line is calculated is a run-time error.
 * Ixx16 / Ixx17 do not limit a spline (PSRM p73-74 for PMAC(1); TSRM p98 names only LINEAR,

@@ -375,3 +375,34 @@ def test_tum_p339_spline_segments_shorter_than_the_rti_can_follow_abort_with_a_r
         rig.run_until_idle()
         assert [f for _, _, f in rig.events("program")][-1] == last
     assert len(_by_n(rig, "move_end")) == 39
+
+
+def test_tsrm_p381_a_fixed_programs_spline_series_ends_with_the_program(rig):
+    """B{n} R: the last point of the program ends the series (its end segment to rest), then
+    the program is stopped (TSRM p381)."""
+    for cmd in ("OPEN PROG 5", "CLEAR", "ABS SPLINE1 TM50", "X10", "X20", "X30", "CLOSE",
+                "&1 B5 R"):  # fmt: skip
+        rig.ok(cmd)
+    rig.run_until_idle()
+    start, end = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    assert sorted(end) == [2, 3, 4]
+    assert end[4] == _cyc(rig, start[2] * rig.period + 0.25)  # (3 + 2) x 50 ms
+    assert _states(rig) == ["running", "stopped"]
+    assert rig.c.positions(1)["X"] == pytest.approx(30.0)
+
+
+def test_single_step_runs_one_spline_move_and_stops_at_its_boundary(rig):
+    """[INF] S: one line's move (here the first: added segment + its own), stopped at its end
+    way-point; R then runs the rest of the series to the last point."""
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["ABS SPLINE1 TM50", "X10", "X20", "X30"])
+    rig.ok("S")
+    rig.run_until_idle()
+    start, end = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    assert sorted(end) == [2] and end[2] == _cyc(rig, start[2] * rig.period + 0.1)
+    assert rig.c.positions(1)["X"] == pytest.approx((0 + 4 * 10 + 20) / 6)
+    assert _states(rig) == ["running", "stopped"]
+    rig.ok("R")
+    rig.run_until_idle()
+    assert rig.c.positions(1)["X"] == pytest.approx(30.0)
+    assert _states(rig)[-1] == "waiting"
