@@ -188,8 +188,9 @@ class Planning:
             if planned:
                 if self.state == WAITING:
                     self._set_state(RUNNING)
-                if self._i11_s > 0:
-                    # I11: the calculation delay before a sequence starts from rest.
+                if self._i11_s > 0 and type(planned[0]) is not pset.PsetMove:
+                    # I11: the calculation delay before a sequence starts from rest (a PSET
+                    # is no move: it runs now, and the I11 delay follows it).
                     self._starting = True
                     now = self._env._now
                     t = self._go_t

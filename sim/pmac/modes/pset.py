@@ -16,8 +16,10 @@ end is the new positions. ``[INF]``:
 * a synchronous M-variable assignment before PSET goes with the next *move* (PSET is neither a
   move nor a DWELL, TUM p250), not with PSET;
 * a PSET executes when motion has stopped, at that servo cycle (a PSET calculated with the CS
-  at rest: at the RTI that calculated it); the log shows it as a ``pset`` event (``cs``, ``n``,
-  ``positions``: the axes set and their new values), with no ``move_start`` / ``move_end``;
+  at rest: at the RTI that calculated it, without waiting for I11, which is the delay before a
+  *move*; the I11 delay then comes before the move after it); the log shows it as a ``pset``
+  event (``cs``, ``n``, ``positions``: the axes set and their new values), with no
+  ``move_start`` / ``move_end``;
 * ``A`` / CTRL-K before it executes discard it with the rest of the lookahead.
 """
 

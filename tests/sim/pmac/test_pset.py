@@ -145,3 +145,14 @@ def test_pset_in_a_fixed_program_runs_to_its_end_and_is_listed(rig):
     assert rig.c.positions(1)["X"] == -5.0
     assert len(rig.events("move_start")) == 2 and len(rig.events("pset")) == 1
     assert rig.c.coord(1)["program"]["state"] == "stopped"
+
+
+def test_pset_first_after_r_runs_at_the_calculating_rti_and_i11_comes_once_after_it(rig):
+    """``[INF]`` a PSET calculated with the CS at rest runs at that RTI (I11 is the delay
+    before a *move*); the move after it starts I11 ms after the PSET."""
+    _run(rig, ["PSET X100", "TM50 TA10 TS0 X105"], setup=["I11=20"])
+    k_pset = _at(rig, "pset", n=1)
+    assert k_pset == _at(rig, "line_calculated", n=1) and k_pset % 3 == 0
+    k_start2 = _at(rig, "move_start", n=2)
+    assert k_start2 == math.ceil((k_pset * rig.period + 0.020) / rig.period - 1e-6)
+    assert rig.c.positions(1)["X"] == 105.0
