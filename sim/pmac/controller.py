@@ -27,7 +27,7 @@ from motionsim.sim.bounds import FINITE, PMAC_CONFIG, PMAC_CPU_COST
 from motionsim.sim.controller import Controller, Port, Reply
 from motionsim.sim.errors import BufferFull, Conflict, Halted, InvalidValue, NotFound, ParseError
 from motionsim.sim.faults import CardFaults
-from motionsim.sim.pmac import card_commands, registers
+from motionsim.sim.pmac import card_commands, lookahead_buffer, registers
 from motionsim.sim.pmac import motor_statements as motor_st
 from motionsim.sim.pmac.cpu import CONFIG_KEYS as CPU_CONFIG_KEYS
 from motionsim.sim.pmac.cpu import Processor
@@ -292,6 +292,20 @@ class PmacController(Controller):
     def delete_gather(self) -> None:
         """``DELETE GATHER``."""
         self.gather_words = None
+
+    def define_lookahead(self, cs: int, segments: int, outputs: int) -> None:
+        """``&cs DEFINE LOOKAHEAD segments,outputs`` (ordering: :mod:`.lookahead_buffer`)."""
+        self._alive()
+        self.coord_system(cs)
+        lookahead_buffer.define(
+            self.coord_systems, cs, segments, outputs, self.gather_words is not None
+        )
+
+    def delete_lookahead(self, cs: int) -> None:
+        """``&cs DELETE LOOKAHEAD``."""
+        self._alive()
+        self.coord_system(cs)
+        lookahead_buffer.delete(self.coord_systems, cs, self.gather_words is not None)
 
     def open_rotary(self, port: Port) -> None:
         """``OPEN ROT`` on ``port``: ERR007 if another port holds a buffer open."""

@@ -40,7 +40,8 @@ _WORDS = [
     "INC", "PR", "TA", "TS", "TM", "PVT", "SPLINE",
     "ENABLE", "DISABLE", "ENA", "DIS", "PLCC", "PLC", "CLEAR",
     "HOMEZ", "HOME", "HMZ", "HM",
-    "LIST", "PROGRAM", "PROG", "FORWARD", "INVERSE", "SAVE", "MFLUSH", "PSET",
+    "LIST", "PROGRAM", "PROG", "FORWARD", "INVERSE", "SAVE", "MFLUSH", "PSET", "LOOKAHEAD",
+    "LOOK",
 ]  # fmt: skip
 _WORDS.sort(key=len, reverse=True)
 
@@ -305,14 +306,22 @@ class _Parser:
                 return st.DefineRotary(self.integer())
             if what[1] in ("GATHER", "GAT"):
                 return st.DefineGather(self.integer() if self.at("num") else None)
-            raise self.error("DEFINE what? (ROT, GATHER)", what)
+            if what[1] in ("LOOKAHEAD", "LOOK"):
+                segments = self.integer()
+                if not self.at("op", ","):
+                    raise self.error("DEFINE LOOKAHEAD needs {segments},{outputs}")
+                self.take()
+                return st.DefineLookahead(segments, self.integer())
+            raise self.error("DEFINE what? (ROT, GATHER, LOOKAHEAD)", what)
         if word in ("DELETE", "DEL"):
             what = self.take()
             if what[1] in ("ROTARY", "ROT"):
                 return st.DeleteRotary()
             if what[1] in ("GATHER", "GAT"):
                 return st.DeleteGather()
-            raise self.error("DELETE what? (ROT, GATHER)", what)
+            if what[1] in ("LOOKAHEAD", "LOOK"):
+                return st.DeleteLookahead()
+            raise self.error("DELETE what? (ROT, GATHER, LOOKAHEAD)", what)
         if word == "OPEN":
             what = self.take()
             if what[1] in ("ROTARY", "ROT"):

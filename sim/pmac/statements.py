@@ -67,6 +67,19 @@ class DeleteGather:
 
 
 @dataclass(frozen=True, slots=True)
+class DefineLookahead:
+    """``DEFINE LOOKAHEAD segs,outputs``: the addressed CS's special lookahead buffer."""
+
+    segments: int
+    outputs: int
+
+
+@dataclass(frozen=True, slots=True)
+class DeleteLookahead:
+    """``DELETE LOOKAHEAD``: erase the addressed CS's lookahead buffer."""
+
+
+@dataclass(frozen=True, slots=True)
 class OpenRotary:
     """``OPEN ROT``: open every defined rotary buffer for entry."""
 

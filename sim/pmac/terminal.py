@@ -286,6 +286,10 @@ class Terminal:
             ctl.define_gather(stmt.words)
         elif t is st.DeleteGather:
             ctl.delete_gather()
+        elif t is st.DefineLookahead:
+            ctl.define_lookahead(state["cs"], stmt.segments, stmt.outputs)
+        elif t is st.DeleteLookahead:
+            ctl.delete_lookahead(state["cs"])
         elif t is st.OpenRotary:
             ctl.open_rotary(port)
         elif t is st.OpenProgram:

@@ -24,6 +24,7 @@ from motionsim.sim.pmac.variables import isx
 
 if TYPE_CHECKING:
     from motionsim.sim.pmac.controller import PmacController
+    from motionsim.sim.pmac.lookahead_buffer import LookaheadBuffer
     from motionsim.sim.pmac.programs import ProgramRun
     from motionsim.sim.pmac.rotary import RotaryBuffer
 
@@ -48,6 +49,10 @@ class CoordSystem(Planning, Execution, TimeBase):
         self._period = ctl.scheduler.period_s
         self._emit = ctl.log.emit
         self.rotary: RotaryBuffer | None = None
+        #: ``DEFINE LOOKAHEAD`` (:mod:`motionsim.sim.pmac.lookahead_buffer`); gone at reset.
+        self._lookahead: LookaheadBuffer | None = None
+        #: The special lookahead's horizon, min(Isx20, segments) × Isx13 (s); 0 = not active.
+        self._la_s = 0.0
         self.program: float | None = None  # B{n}; 0 = rotary
         #: The fixed program being run (B{n}, n > 0), :mod:`motionsim.sim.pmac.programs`.
         self.fixed: ProgramRun | None = None
@@ -167,6 +172,9 @@ class CoordSystem(Planning, Execution, TimeBase):
         v, cs = self.vars, self.cs
         self._ver = v.version
         self._isx13 = v.I(isx(cs, 13))
+        la, isx20 = self._lookahead, int(v.I(isx(cs, 20)))
+        segs = min(isx20, la.segments) if la is not None else 0
+        self._la_s = segs * self._isx13 / 1000.0 if self._isx13 > 0 and segs > 0 else 0.0
         pct = self.feed_override if self.feed_override > 0 else self._pct_before_hold
         self._scale = 100.0 / pct  # time-base stretch: real seconds per program second
         self._ta_prog = motion.accel_time_s(v.I(isx(cs, 87)), v.I(isx(cs, 88)))
@@ -183,6 +191,16 @@ class CoordSystem(Planning, Execution, TimeBase):
         except RunTimeError:
             self._pvt_t = 0.0
         self._pvt_to_s = self._pvt_t * 1000.0 / self._isx90 if self._isx90 else 0.0
+
+    @property
+    def lookahead(self) -> LookaheadBuffer | None:
+        """The special lookahead buffer (``DEFINE LOOKAHEAD``), or None."""
+        return self._lookahead
+
+    @lookahead.setter
+    def lookahead(self, buf: LookaheadBuffer | None) -> None:
+        self._lookahead = buf
+        self._ver = -1  # the lookahead horizon is re-derived with the I-variables
 
     def _accel_s(self) -> float:
         if self._ver != self.vars.version:

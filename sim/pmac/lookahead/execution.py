@@ -124,7 +124,7 @@ class Execution:
             self._after(self.sched.servo_at_or_after(m.b_end), self._stop_end_cb)
             return
         if self._isx13 > 0:
-            self._after(self.sched.servo_at_or_after(m.b_end - m.ta / 2), self._decide_cb)
+            self._after(self.sched.servo_at_or_after(self._decision_at(m)), self._decide_cb)
             return
         planned = self.planned
         if planned and not self.single_step:
@@ -161,6 +161,15 @@ class Execution:
         self._emit("pset", cs=self.cs, n=m.n, positions=dict(m.values))
         self.blocked = False
         self._motion_stopped()
+
+    def _decision_at(self, m: Move) -> float:
+        """Segmentation mode: where ``m``'s blend or stop is decided, the start of its
+        deceleration, Ta/2 before its end -- earlier when the stop Ixx17 allows is longer
+        (the special lookahead plans the deceleration ahead, TSRM p98, p181)."""
+        ta = m.ta
+        if m.ta_stop:
+            ta = max(ta, m.ta_stop * self._scale)
+        return m.b_end - ta / 2
 
     def _blend_into(self, m: Move, nxt: Move) -> None:
         """``m`` blends into ``nxt``: ``nxt``'s ramp is clipped to ``2·(TM − Ta/2)`` of ``m``

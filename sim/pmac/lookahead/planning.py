@@ -93,7 +93,7 @@ class Planning:
             return
         if self._ver != self.vars.version:
             self._refresh()
-        if len(self.planned) < self._depth():
+        if len(self.planned) < self._depth() or self._short_of_horizon():
             self._request_plan()
             if self.current is None and not self.planned and self._i11_s > 0:
                 self._arm_i11()
@@ -105,6 +105,15 @@ class Planning:
         mode = self.mode
         depth = 2 if (self._isx13 == 0 and mode in _TWO_AHEAD) or mode in _SPLINES else 1
         return depth + 1 if self.current is None else depth
+
+    def _short_of_horizon(self) -> bool:
+        """The special lookahead is active (Isx13 > 0, ``DEFINE LOOKAHEAD``, Isx20 > 0) and
+        the calculated moves cover less than its horizon, Isx20 segments of Isx13 ms (TSRM
+        p181, p308: the CS looks Isx20 segments ahead) ``[INF]``: counted in move time."""
+        la = self._la_s
+        if la <= 0 or self.single_step:
+            return False
+        return sum(m.tm for m in self.planned) < la * self._scale
 
     def _request_plan(self) -> None:
         """Ask for move planning at the next RTI (the first cycle divisible by I8+1 after now)."""
@@ -142,7 +151,10 @@ class Planning:
         if rot is not None:
             self._seen_n = rot.n_loaded
             pending = rot.pending
-            while pending and len(planned) < target and not self.blocked:
+            while (
+                pending and (len(planned) < target or self._short_of_horizon())
+                and not self.blocked
+            ):
                 line = pending[0][1]
                 simple = line.simple
                 fast = self._fast
@@ -404,6 +416,10 @@ class Planning:
     @property
     def accel_real_s(self) -> float:
         return self._ta_s
+
+    @property
+    def special_lookahead(self) -> bool:
+        return self._la_s > 0
 
     @property
     def scurve_prog_s(self) -> float:

@@ -148,7 +148,9 @@ class TimeBase:
             self._after(self.sched.servo_at_or_after(m.b_end), self._stop_end_cb)
         elif m.stopping:
             self._after(self.sched.servo_at_or_after(m.b_end + m.ta_out / 2), self._stop_end_cb)
-        elif (self._segmented() or PROFILES[m.kind].decide_at_end) and self._decided is not m:
+        elif self._segmented() and self._decided is not m:
+            self._after(self.sched.servo_at_or_after(self._decision_at(m)), self._decide_cb)
+        elif PROFILES[m.kind].decide_at_end and self._decided is not m:
             self._after(self.sched.servo_at_or_after(m.b_end - m.ta / 2), self._decide_cb)
         elif self.planned:
             nxt = self.planned[0]

@@ -38,6 +38,15 @@ Modelled here, each ``[INF]`` where the manuals leave it open:
   admits ``[INF]``. An axis with no motor, or a motor with Ixx17 ≤ 0, has no limit ``[INF]``.
 * The final stop uses the TA/TS in force then (as without the limit), stretched to at least
   the stop ramp this move needs (``Move.ta_stop``) ``[INF]``.
+
+Segmentation mode with the special lookahead active ("Mode 3": Isx13 > 0, ``DEFINE
+LOOKAHEAD``, Isx20 > 0; TSRM p98 regime 2; PSRM p74 "robust acceleration control by looking
+ahead far enough"): the lookahead knows the moves ahead, so no intermediate stop is assumed.
+A move from rest has its ramp stretched as above; every move carries the stop ramp Ixx17
+allows, and the executor decides its deceleration to a stop that much earlier (planned
+ahead). ``[INF]`` not modelled: the lookahead's slowing ahead of a corner whose blend would
+exceed Ixx17 (blends between segmented moves keep their TA), and any limit on CIRCLE moves
+(the motor speeds along an arc vary from segment to segment).
 """
 
 from __future__ import annotations
@@ -100,21 +109,25 @@ def _roots(p: float, q: float, r: float) -> list[float]:
 
 def limited(
     ctx: PlanContext, start: Mapping[str, float], end: Mapping[str, float], t: float,
-    w: Mapping[str, float],
+    w: Mapping[str, float] | None, lookahead: bool = False,
 ) -> tuple[float, float, float]:  # fmt: skip
     """The move time and ramps after Ixx17, all in program seconds: ``(T, Ta, Ta_stop)``.
 
     ``t`` is the move time so far (programmed, Ixx16-limited), ``w`` the previous calculated
-    LINEAR move's axis velocities (units/s, program time; empty from rest). ``Ta`` is the
+    LINEAR move's axis velocities (units/s, program time; None from rest). ``Ta`` is the
     ramp into the move (at least TA), ``Ta_stop`` the shortest stop ramp (0 = no limit).
+    ``lookahead``: segmentation mode with the special lookahead (Mode 3), which knows the
+    moves ahead: only a start from rest and the final stop are limited (see the module).
     """
     ta = ctx.accel_prog_s
-    terms = _motor_terms(ctx, start, end, w)
+    terms = _motor_terms(ctx, start, end, w or {})
     if not terms:
         return t, ta, 0.0
     c = shape_factor(ta, ctx.scurve_prog_s)
     t0 = max(t, 1e-9)
     into, stop = _need(terms, c, t0)
+    if lookahead and w is not None:
+        return t, ta, stop  # blended within the lookahead: the corner is not limited here
     if into > t0:
         # The smallest T >= t0 with (A/c)·T² >= |D| and >= |D − W·T| for every motor: T0 or a
         # root of one of those quadratics (the feasible set is a union of closed intervals).

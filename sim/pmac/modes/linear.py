@@ -48,11 +48,13 @@ def plan(
         else:
             dist = motion.vector_distance({a: end[a] - start[a] for a in end})
         t = motion.feed_time_s(dist, ctx.feedrate, ctx.isx90_ms)
-    if ctx.segmented:
+    lookahead = ctx.segmented and ctx.special_lookahead
+    arc = ctx.segmented and ctx.mode != "LINEAR" and bool(vectors)
+    if (ctx.segmented and not lookahead) or arc:
         t = motion.clamp_move_time(t, ctx.accel_prog_s) * ctx.time_scale
         return Move(n, LINEAR, t, ctx.accel_real_s, start, end, None)
     t = velocity_limited(ctx, start, end, t)
-    t, ta, ta_stop = accel_limit.limited(ctx, start, end, t, w or {})
+    t, ta, ta_stop = accel_limit.limited(ctx, start, end, t, w, lookahead=lookahead)
     scale = ctx.time_scale
     move = Move(n, LINEAR, motion.clamp_move_time(t, ta) * scale, ta * scale, start, end, None)
     move.ta_stop = ta_stop

@@ -111,6 +111,11 @@ class PlanContext(Protocol):
         ...
 
     @property
+    def special_lookahead(self) -> bool:
+        """Isx13 > 0 with a lookahead buffer and Isx20 > 0 (TSRM p98 regime 2)."""
+        ...
+
+    @property
     def scurve_prog_s(self) -> float:
         """TS (Isx88) in whole ms, program seconds."""
         ...
