@@ -58,6 +58,15 @@ def _refuse_with_buffers(coords: Mapping[int, _Coord], gather: bool, what: str) 
         )
 
 
+def _refuse_if_lower(coords: Mapping[int, _Coord], cs: int, why: str) -> None:
+    """ERR003 if a CS numbered below ``cs`` has a lookahead buffer (``why``: the rule)."""
+    lower = [n for n, c in coords.items() if n < cs and c.lookahead is not None]
+    if lower:
+        raise Conflict(
+            f"CS {lower[0]} (lower-numbered) has a lookahead buffer: {why}", pmac_error="ERR003"
+        )
+
+
 def define(
     coords: Mapping[int, _Coord], cs: int, segments: int, outputs: int, gather: bool
 ) -> None:
@@ -66,13 +75,7 @@ def define(
         if isinstance(value, bool) or not isinstance(value, int) or value < 1:
             raise InvalidValue(f"{name} must be a positive whole number", field=name)
     _refuse_with_buffers(coords, gather, "DEFINE LOOKAHEAD")
-    lower = [n for n, c in coords.items() if n < cs and c.lookahead is not None]
-    if lower:
-        raise Conflict(
-            f"CS {lower[0]} (lower-numbered) already has a lookahead buffer: define lookahead "
-            "buffers from the highest-numbered CS down",
-            pmac_error="ERR003",
-        )
+    _refuse_if_lower(coords, cs, "define lookahead buffers from the highest-numbered CS down")
     if coords[cs].lookahead is not None:
         raise Conflict(f"CS {cs} already has a lookahead buffer", pmac_error="ERR003")
     coords[cs].lookahead = LookaheadBuffer(segments, outputs)
@@ -84,13 +87,7 @@ def delete(coords: Mapping[int, _Coord], cs: int, gather: bool) -> None:
     if c.lookahead is None:
         return
     _refuse_with_buffers(coords, gather, "DELETE LOOKAHEAD")
-    lower = [n for n, o in coords.items() if n < cs and o.lookahead is not None]
-    if lower:
-        raise Conflict(
-            f"CS {lower[0]} (lower-numbered) still has a lookahead buffer: delete lookahead "
-            "buffers from the lowest-numbered CS up",
-            pmac_error="ERR003",
-        )
+    _refuse_if_lower(coords, cs, "delete lookahead buffers from the lowest-numbered CS up")
     if c.running:
         raise Conflict(f"CS {cs} is running its program", pmac_error="ERR001")
     c.lookahead = None

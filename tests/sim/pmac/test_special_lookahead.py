@@ -93,6 +93,12 @@ def _lookahead_setup(rig, isx20=10, *cmds, lookahead=True):
         rig.ok(c)
 
 
+def _run(rig, lines):
+    rig.c.load_lines(1, lines)
+    rig.ok("R")
+    rig.run_until_idle()
+
+
 def _span(rig, n=1):
     start = {f["n"]: k for k, _, f in rig.events("move_start")}
     end = {f["n"]: k for k, _, f in rig.events("move_end")}
@@ -102,27 +108,21 @@ def _span(rig, n=1):
 def test_tsrm_p98_segmented_linear_with_the_special_lookahead_obeys_ixx16(rig):
     """TM100 X10 asks 100 counts/ms; Ixx16 = 20 makes it 500 ms (+ Ta 10 ms)."""
     _lookahead_setup(rig, 10, "I116=20", "I117=1000")
-    rig.c.load_lines(1, ["LINEAR ABS TA10 TS0 TM100 X10"])
-    rig.ok("R")
-    rig.run_until_idle()
+    _run(rig, ["LINEAR ABS TA10 TS0 TM100 X10"])
     assert _span(rig) == math.ceil(0.510 / rig.period - 1e-6)
 
 
 def test_tsrm_p98_with_isx20_0_the_lookahead_buffer_alone_does_not_limit(rig):
     _lookahead_setup(rig, 0, "I116=20", "I117=1000")
-    rig.c.load_lines(1, ["LINEAR ABS TA10 TS0 TM100 X10"])
-    rig.ok("R")
-    rig.run_until_idle()
+    _run(rig, ["LINEAR ABS TA10 TS0 TM100 X10"])
     assert _span(rig) == pytest.approx(rig.ms_cycles(110), abs=1)
 
 
-def test_mode_3_the_final_stop_obeys_ixx17_and_starts_earlier(rig):
+def test_mode_3_a_start_from_rest_and_the_final_stop_obey_ixx17(rig):
     """TM1000 TA100 X10 (10 counts/ms) at Ixx17 = 0.05: ramp up and stop each 200 ms, the
     move 1200 ms from start to stop (1100 ms without the lookahead)."""
     _lookahead_setup(rig, 10, "I116=1000", "I117=0.05")
-    rig.c.load_lines(1, ["LINEAR ABS TA100 TS0 TM1000 X10"])
-    rig.ok("R")
-    rig.run_until_idle()
+    _run(rig, ["LINEAR ABS TA100 TS0 TM1000 X10"])
     assert _span(rig) == math.ceil(1.200 / rig.period - 1e-6)
 
 
@@ -131,9 +131,7 @@ def test_mode_3_blended_segments_are_not_slowed_by_an_assumed_stop(rig):
     segments of 1000 counts (50 counts/ms; a stop at Ixx17 = 0.2 would take 250 ms) keep their
     20 ms after the first (whose ramp from rest is limited)."""
     _lookahead_setup(rig, 40, "I116=1000", "I117=0.2")
-    rig.c.load_lines(1, ["LINEAR INC TA10 TS0 TM20"] + ["X1"] * 6)
-    rig.ok("R")
-    rig.run_until_idle()
+    _run(rig, ["LINEAR INC TA10 TS0 TM20"] + ["X1"] * 6)
     starts = sorted(k for k, _, _ in rig.events("move_start"))
     for a, b in zip(starts[1:], starts[2:], strict=False):
         assert abs((b - a) - rig.ms_cycles(20)) <= 1
@@ -161,3 +159,20 @@ def test_segmented_without_the_lookahead_calculates_one_move_ahead(rig):
     rig.ok("R")
     rig.run_for(0.01)
     assert _calculated_at_first_rti(rig) == 3
+
+
+def test_mode_3_the_stop_is_decided_its_ixx17_ramp_ahead_so_a_late_line_no_longer_blends(rig):
+    """TM1000 TA100 X10 then X20 (10 counts/ms) at Ixx17 = 0.05: move 2 blends in with TA 100
+    but its stop needs 200 ms, so its deceleration is decided 100 ms before its end (t0+2000
+    ms, t0 = line 1's start) instead of 50 ms (t0+2050). X30 arriving at t0+2025 ms is too
+    late: move 2 stops, its end 100 ms after its programmed end, t0+2200 ms."""
+    _lookahead_setup(rig, 10, "I116=1000", "I117=0.05")
+    rig.c.load_lines(1, ["LINEAR ABS TA100 TS0 TM1000 X10", "X20"])
+    rig.ok("R")
+    rig.run_for(0.01)
+    k0 = {f["n"]: k for k, _, f in rig.events("move_start")}[1]
+    rig.c.env.run(until=k0 * rig.period + 2.025)
+    rig.c.load_lines(1, ["X30"])
+    rig.run_until_idle()
+    end = {f["n"]: k for k, _, f in rig.events("move_end")}
+    assert abs(end[2] - k0 - rig.ms_cycles(2200)) <= 1
