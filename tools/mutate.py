@@ -335,7 +335,13 @@ def main() -> int:
     text = report(tallies)
     print("\n" + text, end="")
     if args.report:
-        args.report.write_text(text)
+        head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT,
+                              capture_output=True, text=True).stdout.strip()
+        args.report.write_text(
+            f"# make mutate report, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
+            f"sources of commit {head}.\n# rate = killed / (killed + survived); 'run' = mutants "
+            "run and 'wall s' = seconds, summed over the runs that filled each work DB; "
+            "'untested' = mutants not run yet.\n" + text)
     return 0
 
 
