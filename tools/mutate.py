@@ -165,6 +165,7 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
     spans, statements = inert_spans(source), StatementIndex(source)
     equivalent = _equivalents(config, module)
     source_lines = source.splitlines()
+    before = _spent(stem)
     zygote = mutation_fork.Zygote(tests, import_name(module), WORK / f"{stem}.zygote.log")
     patched = 0
     timing = {"patched": [0, 0.0], "fresh": [0, 0.0]}  # mutants run each way, their seconds
@@ -237,14 +238,18 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
                 spent = time.perf_counter() - started
                 print(f"  {n}/{len(todo)} ({ran} run, {patched} patched in) {spent:.0f} s",
                       flush=True)
-    spent = _spent(stem)
-    spent["seconds"] += time.perf_counter() - started
-    spent["ran"] += ran
-    for way, (count, seconds) in timing.items():
-        spent[way] = [a + b for a, b in zip(spent.get(way, [0, 0.0]),
-                                                   (count, seconds), strict=True)]
-    (WORK / f"{stem}.spent.json").write_text(json.dumps(spent))
+                _save_spent(stem, before, time.perf_counter() - started, ran, timing)
+    _save_spent(stem, before, time.perf_counter() - started, ran, timing)
     return tally_db(module, db)
+
+
+def _save_spent(stem: str, before: dict, seconds: float, ran: int, timing: dict) -> None:
+    """The module's totals: the earlier runs' (``before``) plus this run's so far."""
+    spent = {"seconds": before["seconds"] + seconds, "ran": before["ran"] + ran}
+    for way, (count, secs) in timing.items():
+        old_count, old_secs = before.get(way, [0, 0.0])
+        spent[way] = [old_count + count, old_secs + secs]
+    (WORK / f"{stem}.spent.json").write_text(json.dumps(spent))
 
 
 def _stem(module: str) -> str:
