@@ -240,7 +240,7 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
                       flush=True)
                 _save_spent(stem, before, time.perf_counter() - started, ran, timing)
     _save_spent(stem, before, time.perf_counter() - started, ran, timing)
-    return tally_db(module, db)
+    return tally_db(module, db, config)
 
 
 def _save_spent(stem: str, before: dict, seconds: float, ran: int, timing: dict) -> None:
@@ -262,9 +262,14 @@ def _spent(stem: str) -> dict:
     return json.loads(path.read_text()) if path.exists() else {"seconds": 0.0, "ran": 0}
 
 
-def tally_db(module: str, db: Path) -> Tally:
+def tally_db(module: str, db: Path, config: dict | None = None) -> Tally:
+    """Count the module's DB; a survivor that an ``[[equivalent]]`` entry (of ``config``)
+    names — an entry added after it was run — counts as equivalent."""
     from cosmic_ray.work_db import WorkDB, use_db
     from cosmic_ray.work_item import TestOutcome, WorkerOutcome
+
+    equivalent = _equivalents(config or {}, module)
+    source_lines = (ROOT / module).read_text().splitlines()
 
     spent = _spent(_stem(module))
     tally = Tally(module, seconds=spent["seconds"], ran=spent["ran"],
@@ -279,6 +284,12 @@ def tally_db(module: str, db: Path) -> Tally:
             elif result.test_outcome == TestOutcome.SURVIVED:
                 changed = [d for d in (result.diff or "").splitlines()
                            if d.startswith("+") and not d.startswith("+++")]
+                line_no = spec.start_pos[0]
+                source = source_lines[line_no - 1] if line_no <= len(source_lines) else ""
+                if changed and _listed(equivalent, spec.operator_name, source, changed[0][1:],
+                                       line_no):
+                    tally.equivalent += 1
+                    continue
                 tally.survived.append((spec.start_pos[0], spec.operator_name,
                                        " ".join(changed)[:90], result.output == UNCOVERED))
             elif result.test_outcome == TestOutcome.INCOMPETENT:
@@ -331,7 +342,7 @@ def main() -> int:
     os.chdir(ROOT)
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))  # the child's group is ended too
     if args.tally:
-        tallies = [tally_db(m, WORK / f"{_stem(m)}.sqlite")
+        tallies = [tally_db(m, WORK / f"{_stem(m)}.sqlite", config)
                    if (WORK / f"{_stem(m)}.sqlite").exists() else Tally(m, untested=None)
                    for m in chosen]
     else:
