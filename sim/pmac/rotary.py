@@ -205,9 +205,17 @@ class RotaryBuffer:
     def take_simple(self) -> int:
         """Take the next line when its calculation emits nothing (a plain move line) and
         return its number: the ``line_calculated`` event and the I16 rule follow at once."""
-        n, line = self.pending.popleft()
+        pending = self.pending
+        n, line = pending.popleft()
         self.calculated.append((n, line.words))
-        self.line_calculated(n)
+        # = self.line_calculated(n), written out (the per-line path)
+        self._emit("line_calculated", cs=self.cs, n=n)
+        if self._ver != self._vars.version:
+            self._limits()
+        if len(pending) < self._i16:
+            self.full = False
+            if not self.breq:
+                self._set(True)
         return n
 
     def line_calculated(self, n: int) -> None:

@@ -40,6 +40,7 @@ Modelled (TUM p339-341, p250; PUM p213; spec §9.1-9.3):
 from __future__ import annotations
 
 import math
+from heapq import heappush
 from typing import Any
 
 from motionsim.sim.pmac.expressions import pmac_and, pmac_or, pmac_xor
@@ -47,8 +48,9 @@ from motionsim.sim.pmac.lookahead.states import ABORTED, RUNNING, STOPPED
 from motionsim.sim.pmac.lookahead.sync_queue import segment_start
 from motionsim.sim.pmac.modes import BLENDS, DELAY, DWELL, LINEAR, PROFILES, SPLINE, Move
 from motionsim.sim.pmac.modes.pset import PsetMove
-from motionsim.sim.pmac.scheduler import wake_at
+from motionsim.sim.pmac.scheduler import Wake, wake_at
 from motionsim.sim.pmac.variables import ixx
+from simpy.events import NORMAL
 
 #: Synchronous read-modify-write forms.
 _BITWISE = {"&=": pmac_and, "|=": pmac_or, "^=": pmac_xor}
@@ -83,7 +85,8 @@ class Execution:
             self._pset(m)
             return
         prev = self.current
-        t = self._env._now
+        env: Any = self._env
+        t = env._now
         emit = self._emit
         cs = self.cs
         n = m.n
@@ -95,11 +98,13 @@ class Execution:
         else:
             b = t + m.ta / 2
         m.b_start = b
-        rot = self.lines()
+        rot = self.rotary if self.program == 0 else self.fixed  # = self.lines() (hot path)
         if rot is not None:
             calc = rot.calculated
             if calc and calc[0][0] < n:
-                rot.free_through(n - 1)
+                # = rot.free_through(n - 1), written out (the per-line path)
+                while calc and calc[0][0] < n:
+                    rot.used_words -= calc.popleft()[1]
         if prev is None:
             self._seg_t0 = t  # a sequence from rest: its segments start now
         if m.sync:
@@ -115,7 +120,12 @@ class Execution:
             r = self._rti
             k = _floor(t / p + 1e-6) + 1
             tp = self._plan_due = -(-k // r) * r * p
-            self._plan_wake = wake_at(self._env, tp, self._plan_cb_bound, self._plan_wake)
+            w = self._plan_wake
+            if w is not None and w.callbacks is None:  # = wake_at(..., w), written out
+                w.callbacks = [self._plan_cb_bound]
+                heappush(env._queue, (tp, NORMAL, next(env._eid), w))
+            else:
+                self._plan_wake = Wake(env, tp, self._plan_cb_bound)
         prof = PROFILES[m.kind]
         if prof.breaks:
             m.b_start = t
@@ -134,11 +144,18 @@ class Execution:
                 lim = 2 * (m.tm - m.ta_in / 2)
                 ta_n = nxt.ta if nxt.ta <= lim else max(0.0, lim)
                 nxt.ta_in = ta_n
-                pend = self._pending
-                if pend is not None and pend.callbacks:
-                    pend.callbacks.clear()
                 th = _ceil((m.b_end - ta_n / 2) / p - 1e-6) * p
-                self._pending = wake_at(self._env, th if th > t else t, self._handoff_cb, pend)
+                if th < t:
+                    th = t
+                pend = self._pending
+                if pend is not None:
+                    cbs = pend.callbacks
+                    if cbs is None:  # processed: re-used (= wake_at(..., pend), written out)
+                        pend.callbacks = [self._handoff_cb]
+                        heappush(env._queue, (th, NORMAL, next(env._eid), pend))
+                        return
+                    cbs.clear()  # still queued: cancelled
+                self._pending = Wake(env, th, self._handoff_cb)
                 return
         if prof.decide_at_end:  # the next move is needed only at this one's end (PVT)
             self._after(self.sched.servo_at_or_after(m.b_end - m.ta / 2), self._decide_cb)

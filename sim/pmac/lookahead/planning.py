@@ -139,20 +139,25 @@ class Planning:
         state = self.state
         if self.blocked or self.quitting or (state != RUNNING and state != WAITING):
             return
-        rot = self.lines()
+        rot = self.rotary if self.program == 0 else self.fixed  # = self.lines() (hot path)
         planned = self.planned
         vars_ = self.vars
         if self._ver != vars_.version:
             self._refresh()
         if self.single_step:
             target = 0 if (self.current is not None or planned) else 1
-        else:
-            target = self._depth()
+        else:  # = self._depth(), written out (the per-line path)
+            mode = self.mode
+            target = 2 if (self._isx13 == 0 and mode in _TWO_AHEAD) or mode in _SPLINES else 1
+            if self.current is None:
+                target += 1
         if rot is not None:
             self._seen_n = rot.n_loaded
             pending = rot.pending
+            # (_short_of_horizon is False unless the special lookahead is active: _la_s > 0)
             while (
-                pending and (len(planned) < target or self._short_of_horizon())
+                pending
+                and (len(planned) < target or (self._la_s > 0 and self._short_of_horizon()))
                 and not self.blocked
             ):
                 line = pending[0][1]
