@@ -93,7 +93,12 @@ class Planning:
             return
         if self._ver != self.vars.version:
             self._refresh()
-        if len(self.planned) < self._depth() or self._short_of_horizon():
+        # _depth() and _short_of_horizon() written out (the per-line path)
+        mode = self.mode
+        depth = 2 if (self._isx13 == 0 and mode in _TWO_AHEAD) or mode in _SPLINES else 1
+        if self.current is None:
+            depth += 1
+        if len(self.planned) < depth or (self._la_s > 0 and self._short_of_horizon()):
             self._request_plan()
             if self.current is None and not self.planned and self._i11_s > 0:
                 self._arm_i11()
