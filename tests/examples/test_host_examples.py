@@ -75,10 +75,30 @@ def test_host_paced_reaction_time_is_where_the_host_acts():
         assert load["t"] == pytest.approx(before[-1]["t"] + 0.004, abs=1e-9)
 
 
+#: Wall seconds the realtime host's I16 = 20 lines cover at factor 10 (20 × 100 ms / 10).
+REALTIME_COVER_WALL_S = realtime.I16 * streamer.MOVE_MS / 1000 / realtime.FACTOR
+REALTIME_TRIES = 3
+
+
 def test_realtime_unmodified_host_keeps_the_buffer_fed_and_a_slow_one_fails():
     """Realtime × 10: the polling host keeps up; one sleeping 5 simulated seconds (0.5 s wall)
-    per BREQ, beyond the ~2 s its I16 = 20 lines cover, starves the program."""
-    events, wall = _play(realtime)
+    per BREQ, beyond the ~2 s its I16 = 20 lines cover, starves the program.
+
+    A wall-clock host starves, however correct, when the machine keeps it from polling for
+    longer than its lines cover (a loaded CI runner; a full collection of the test process's
+    heap). A run in which the host lapsed for half that long or more says nothing about
+    motionsim and is rerun, up to three times; every run in which the host kept polling must
+    keep the buffer fed."""
+    lapses = []
+    for _ in range(REALTIME_TRIES):
+        report: dict[str, float] = {}
+        events, wall = _play(realtime, host_report=report)
+        if report["worst_gap_s"] < REALTIME_COVER_WALL_S / 2:
+            break
+        lapses.append(report["worst_gap_s"])
+    else:
+        pytest.fail(f"the machine stalled the polling host in every run: lapses {lapses} s "
+                    f"against the {REALTIME_COVER_WALL_S} s its lines cover")
     readme_assertion(events)
     assert wall < SIM_S
     slow, _ = _play(realtime, delay_s=5.0)
