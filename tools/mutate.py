@@ -46,6 +46,7 @@ from mutation_patch import changed_functions  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIG = ROOT / "tools" / "mutation.toml"
+EQUIVALENTS = ROOT / "tools" / "mutation-equivalent"  # one <module stem>.toml a module
 WORK = ROOT / ".mutation"
 PACKAGE = "motionsim"  # the repository's top-level folders are this package's subpackages
 TARGET = 0.90
@@ -322,6 +323,16 @@ def report(tallies: list[Tally]) -> str:
     return "\n".join(rows) + "\n"
 
 
+def load_config() -> dict:
+    """``mutation.toml`` with the ``[[equivalent]]`` entries of every file in
+    ``mutation-equivalent/`` appended to its own."""
+    config = tomllib.loads(CONFIG.read_text())
+    for path in sorted(EQUIVALENTS.glob("*.toml")):
+        config.setdefault("equivalent", []).extend(
+            tomllib.loads(path.read_text()).get("equivalent", []))
+    return config
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("modules", nargs="*", help="modules to mutate (default: all)")
@@ -333,7 +344,7 @@ def main() -> int:
     parser.add_argument("--tally", action="store_true",
                         help="run nothing: report the results already in the work DBs")
     args = parser.parse_args()
-    config = tomllib.loads(CONFIG.read_text())
+    config = load_config()
     modules = config["modules"]
     chosen = args.modules or list(modules)
     unknown = [m for m in chosen if m not in modules]
