@@ -149,3 +149,58 @@ def test_files_are_inlined_for_remote_workers(tmp_path):
     assert raw["hosts"][0]["program"] == {"lines": ["X1", "X2"]}
     scn = parse_scenario(raw)  # no base_dir: nothing to read
     assert scn.hosts[0].program.to_lines() == ["X1", "X2"]
+
+
+
+_FORK_CHECK = """
+import json, sys
+from motionsim.app.scenarios import sweep as sw
+from motionsim.app.scenarios.model import loads_scenario
+from tests.app.scenarios.test_sweep import SMALL
+raw = loads_scenario(SMALL).raw
+params = sw.make_params(raw, ["i16=3,6"])
+runs = sw.points(params)
+methods = []
+real = sw._context
+sw._context = lambda mp: methods.append(real(mp).get_start_method()) or real(mp)
+pooled = sw.rows_csv(sw.sweep(raw, params, runs, workers=2))
+serial = sw.rows_csv(sw.sweep(raw, params, runs, workers=1))
+print(json.dumps({"methods": methods, "same": pooled == serial}))
+"""
+
+
+def test_a_single_threaded_process_forks_its_pool_and_gets_the_serial_rows():
+    """A forked worker starts with every module warm (a fresh, single-threaded process, as the
+    ``motionsim sweep`` command line is)."""
+    import json
+    import subprocess
+    import sys
+
+    root = Path(__file__).resolve().parents[3]
+    out = subprocess.run([sys.executable, "-c", _FORK_CHECK], cwd=root, capture_output=True,
+                         text=True, timeout=120, check=True).stdout
+    assert json.loads(out.splitlines()[-1]) == {"methods": ["fork"], "same": True}
+
+
+def test_beside_another_thread_the_pool_spawns_and_gets_the_serial_rows(small, monkeypatch):
+    """Beside another thread (a server, a Dask client) a fork could inherit a lock that thread
+    holds: the pool spawns instead."""
+    import threading
+
+    params = sw.make_params(small.raw, ["i16=3,6"])
+    runs = sw.points(params)
+    serial = sw.sweep(small.raw, params, runs, workers=1)
+    methods = []
+    real = sw._context
+    monkeypatch.setattr(sw, "_context", lambda mp: methods.append(
+        real(mp).get_start_method()) or real(mp))
+    stop = threading.Event()
+    other = threading.Thread(target=stop.wait, daemon=True)
+    other.start()
+    try:
+        spawned = sw.sweep(small.raw, params, runs, workers=2)
+    finally:
+        stop.set()
+        other.join(5)
+    assert methods == ["spawn"]
+    assert sw.rows_csv(serial) == sw.rows_csv(spawned)
