@@ -175,7 +175,9 @@ async def read_chunk(reader: asyncio.StreamReader, limits: Any) -> bytes:
     """The next bytes from the host; ``b""`` when it closed or stayed silent past
     ``limits.idle_timeout_s`` (then the connection is closed as if the host had gone)."""
     try:
-        return await asyncio.wait_for(reader.read(65536), limits.idle_timeout_s)
+        # asyncio.timeout, not wait_for: no task is created per read (a round trip's cost)
+        async with asyncio.timeout(limits.idle_timeout_s):
+            return await reader.read(65536)
     except TimeoutError:
         return b""
 
