@@ -14,7 +14,10 @@ reads the log's ring from there, in batches; between batches it sleeps on
   incarnation: ``{"type": "epoch", "epoch", "first_seq",
   "last_seq", "reset"}``; ``reset`` is ``null``, or — when the subscriber resumed with a stale
   epoch or a ``since`` beyond the log's end — ``{"epoch", "reason", "since", "last_seq"}`` and the
-  stream starts again from the beginning of the log.
+  stream starts again from the beginning of the log;
+- an event's JSON text is encoded once for every cursor of its log and controller id
+  (:meth:`Cursor.read_text`): a hundred subscribers cost one ``json.dumps`` an event, not a
+  hundred.
 
 Used by the WebSocket route; usable by any asyncio consumer::
 
@@ -29,10 +32,45 @@ Used by the WebSocket route; usable by any asyncio consumer::
 from __future__ import annotations
 
 import asyncio
+import json
+import weakref
 from collections.abc import Iterable
 from typing import Any
 
-from motionsim.sim.events import EventLog, Reset
+from motionsim.sim.events import Event, EventLog, Reset
+
+#: Texts kept per log and controller id: the newest events, which every subscriber that keeps
+#: up reads; one further behind encodes its own (the same text, only not shared).
+TEXTS_KEPT = 4096
+
+
+class _Texts:
+    """The JSON text of recent events of one log, in the wire form for one controller id."""
+
+    def __init__(self, controller: str | None) -> None:
+        self.controller = controller
+        self.by_seq: dict[int, str] = {}
+
+    def text(self, event: Event) -> str:
+        text = self.by_seq.get(event.seq)
+        if text is None:
+            if len(self.by_seq) >= 2 * TEXTS_KEPT:
+                oldest = event.seq - TEXTS_KEPT
+                self.by_seq = {k: v for k, v in self.by_seq.items() if k > oldest}
+            text = self.by_seq[event.seq] = json.dumps(event.to_dict(self.controller))
+        return text
+
+
+_shared: weakref.WeakKeyDictionary[EventLog, dict[str | None, _Texts]] = (
+    weakref.WeakKeyDictionary())
+
+
+def _texts(log: EventLog, controller: str | None) -> _Texts:
+    by_id = _shared.setdefault(log, {})
+    texts = by_id.get(controller)
+    if texts is None:
+        texts = by_id[controller] = _Texts(controller)
+    return texts
 
 
 class Cursor:
@@ -59,6 +97,7 @@ class Cursor:
         self.types = frozenset(types) if types else None
         self.controller = log.controller if controller is None else controller
         self.batch = batch
+        self._texts = _texts(log, self.controller)
 
     @property
     def behind(self) -> bool:
@@ -76,15 +115,34 @@ class Cursor:
         self.since = res.next
         return out
 
+    def read_text(self) -> list[str]:
+        """:meth:`read`, each message as its JSON text (``json.dumps`` of it), an event's
+        text shared with every other cursor of this log and controller id."""
+        res = self.log.read(self.since, self.types, self.batch)
+        out = [json.dumps(res.gap.to_dict())] if res.gap is not None else []
+        text = self._texts.text
+        out.extend(text(e) for e in res.events)
+        self.since = res.next
+        return out
+
     async def wait(self, *others: asyncio.Future[Any]) -> None:
         """Sleep until the next event is emitted (or one of ``others`` completes)."""
         if self.behind:
             return
         woken: asyncio.Future[None] = asyncio.get_running_loop().create_future()
-        self.log.wake_on_next(lambda: woken.done() or woken.set_result(None))
-        await asyncio.wait({woken, *others}, return_when=asyncio.FIRST_COMPLETED)
-        if not woken.done():
-            woken.cancel()
+
+        def wake(_: Any = None) -> None:
+            if not woken.done():
+                woken.set_result(None)
+
+        self.log.wake_on_next(wake)
+        for other in others:  # one future, no asyncio.wait: this runs per subscriber per event
+            other.add_done_callback(wake)
+        try:
+            await woken
+        finally:
+            for other in others:
+                other.remove_done_callback(wake)
 
 
 def epoch_message(log: EventLog, reset: Reset | None = None) -> dict[str, Any]:

@@ -110,17 +110,17 @@ async def stream_events(
     disconnected = loop.create_task(_until_disconnect(websocket))
     deleted: asyncio.Future[None] = loop.create_future()
     cancel = handle.on_close(lambda: deleted.done() or deleted.set_result(None))
-    hello: list[dict] = [epoch_message(cursor.log, cursor.reset)]
+    hello = [json.dumps(epoch_message(cursor.log, cursor.reset))]
     try:
         while not disconnected.done():
-            messages = hello + cursor.read()
+            texts = hello + cursor.read_text()
             hello = []
             if batch:
-                if messages:
-                    await websocket.send_text(json.dumps(messages))
+                if texts:  # byte for byte json.dumps of the list of messages
+                    await websocket.send_text("[" + ", ".join(texts) + "]")
             else:
-                for message in messages:
-                    await websocket.send_text(json.dumps(message))
+                for text in texts:
+                    await websocket.send_text(text)
             if deleted.done():
                 await websocket.close(code=CLOSE_DELETED, reason="controller deleted")
                 break

@@ -114,3 +114,65 @@ def test_a_cursor_that_read_everything_is_not_behind_past_seq_256():
         return cur.read()
 
     assert [m["seq"] for m in asyncio.run(main())] == [301]
+
+
+def test_read_text_is_json_of_read_and_shares_each_events_text_between_cursors():
+    """Every subscriber of a log gets the same bytes as ``json.dumps`` of its messages (a gap
+    included), and an event is encoded once for all of them (one string object)."""
+    import json
+
+    log = _log(capacity=10)
+    for i in range(25):
+        log.emit("tick", n=i, label=f"é{i}")
+    a, b, plain = Cursor(log, since=3), Cursor(log, since=3), Cursor(log, since=3)
+    texts_a, texts_b = a.read_text(), b.read_text()
+    assert texts_a == [json.dumps(m) for m in plain.read()]
+    assert texts_a[0] == json.dumps({"type": "gap", "from": 4, "to": 15})
+    assert all(x is y for x, y in zip(texts_a[1:], texts_b[1:], strict=True))
+    assert a.since == plain.since == 25
+    other_id = Cursor(log, since=20, controller="renamed").read_text()
+    assert [json.loads(t)["controller"] for t in other_id] == ["renamed"] * 5
+
+
+def test_shared_texts_stay_right_far_beyond_what_is_kept():
+    """A cursor far behind the newest events (their texts long pruned) still reads exactly
+    the wire form of each event it is given."""
+    import json
+
+    from motionsim.app import bus
+
+    log = _log(capacity=100_000)
+    ahead, behind = Cursor(log), Cursor(log)
+    for i in range(3 * bus.TEXTS_KEPT):
+        log.emit("tick", n=i)
+        if i % 500 == 0:
+            while ahead.behind:
+                ahead.read_text()
+    got = []
+    while behind.behind:
+        got += behind.read_text()
+    assert [json.loads(t)["n"] for t in got] == list(range(3 * bus.TEXTS_KEPT))
+    assert len(bus._texts(log, "c").by_seq) <= 2 * bus.TEXTS_KEPT
+
+
+def test_wait_leaves_no_callback_on_the_other_futures():
+    """Waiting once per event on a long-lived future (the route's disconnect watch) must not
+    pile callbacks onto it."""
+    async def main():
+        log = _log()
+        cur = Cursor(log)
+        other = asyncio.get_running_loop().create_future()
+        for i in range(50):
+            task = asyncio.create_task(cur.wait(other))
+            await asyncio.sleep(0)
+            log.emit("tick", n=i)
+            await asyncio.wait_for(task, 1)
+            cur.read()
+        left = len(other._callbacks or [])  # asyncio.Future's pending done-callbacks
+        task = asyncio.create_task(cur.wait(other))
+        await asyncio.sleep(0)
+        other.set_result(None)  # the long-lived future completing still wakes a waiter
+        await asyncio.wait_for(task, 1)
+        return left
+
+    assert asyncio.run(main()) == 0
