@@ -18,6 +18,7 @@ error of the coordinate system (a constant one is refused when the line is sent,
 
 from __future__ import annotations
 
+from motionsim.sim.pmac.modes.hermite import rate_weights, weights
 from motionsim.sim.pmac.modes.move import PVT, Move, PlanContext, Profile, RunTimeError
 
 #: The largest segment time of the move-time register with I42 = 0 (ms).
@@ -100,8 +101,7 @@ class PvtProfile(Profile):
     def positions(self, m: Move, t: float) -> dict[str, float]:
         assert isinstance(m, PvtMove)
         s, _ = _basis(m, t)
-        s2, s3 = s * s, s * s * s
-        h00, h10, h01, h11 = 2 * s3 - 3 * s2 + 1, s3 - 2 * s2 + s, 3 * s2 - 2 * s3, s3 - s2
+        h00, h10, h01, h11 = weights(s)
         st, v0, v1, k = m.start, m.v0, m.v1, m.k
         return {
             a: h00 * st.get(a, 0.0) + k * (h10 * v0.get(a, 0.0) + h11 * v1.get(a, 0.0)) + h01 * p1
@@ -113,8 +113,7 @@ class PvtProfile(Profile):
         s, span = _basis(m, t)
         if span <= 0 or (m.stopping and t >= m.b_end):
             return dict.fromkeys(m.end, 0.0)
-        s2 = s * s
-        g00, g10, g01, g11 = 6 * s2 - 6 * s, 3 * s2 - 4 * s + 1, 6 * s - 6 * s2, 3 * s2 - 2 * s
+        g00, g10, g01, g11 = rate_weights(s)
         st, v0, v1, k = m.start, m.v0, m.v1, m.k
         return {
             a: (g00 * st.get(a, 0.0) + k * (g10 * v0.get(a, 0.0) + g11 * v1.get(a, 0.0))

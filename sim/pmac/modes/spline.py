@@ -37,6 +37,7 @@ segment part of the last line's.
 from __future__ import annotations
 
 from motionsim.sim.pmac.modes import pvt
+from motionsim.sim.pmac.modes.hermite import rate_weights, weights
 from motionsim.sim.pmac.modes.move import SPLINE, Move, PlanContext, Profile, RunTimeError
 
 #: One piece of a spline move: its share ``(f0, f1)`` of the move's time, its start position
@@ -170,8 +171,7 @@ class SplineProfile(Profile):
     def positions(self, m: Move, t: float) -> dict[str, float]:
         assert isinstance(m, SplineMove)
         (_, _, p0, m0, p1, m1), s, _ = _where(m, t)
-        s2, s3 = s * s, s * s * s
-        h00, h10, h01, h11 = 2 * s3 - 3 * s2 + 1, s3 - 2 * s2 + s, 3 * s2 - 2 * s3, s3 - s2
+        h00, h10, h01, h11 = weights(s)
         return {
             a: h00 * p0.get(a, 0.0) + h10 * m0.get(a, 0.0) + h01 * x + h11 * m1.get(a, 0.0)
             for a, x in p1.items()
@@ -182,8 +182,7 @@ class SplineProfile(Profile):
         (_, _, p0, m0, p1, m1), s, dur = _where(m, t)
         if dur <= 0 or (m.stopping and t >= m.b_end):
             return dict.fromkeys(m.end, 0.0)
-        s2 = s * s
-        g00, g10, g01, g11 = 6 * s2 - 6 * s, 3 * s2 - 4 * s + 1, 6 * s - 6 * s2, 3 * s2 - 2 * s
+        g00, g10, g01, g11 = rate_weights(s)
         return {
             a: (g00 * p0.get(a, 0.0) + g10 * m0.get(a, 0.0) + g01 * x + g11 * m1.get(a, 0.0)) / dur
             for a, x in p1.items()
