@@ -6,7 +6,9 @@ FastAPI app.
    lines, ``advance`` the 2.5 s they take, repeat. Lines per wall second against
    :func:`bench.reference_loop.reference_rate` (target ≥ 0.15).
 2. **One line per request, one connection**: p99 of ``POST .../rotary/lines`` with one line
-   against the same POST on ``bench/bare_fastapi.py`` (target ≤ 2x).
+   against the same POST on ``bench/bare_fastapi.py`` (target ≤ 2x): three rounds of each,
+   alternately, both servers up throughout; the best round's p99 of each (a p99 of 1 800
+   requests is decided by a few of them, so by whatever else the machine did meanwhile).
 
 The client (this process) is the load generator; the servers run in their own processes.
 Run: ``.venv/bin/python bench/bench_rest_stream.py [lines] [one_line_posts]``; writes
@@ -28,6 +30,8 @@ from bench.reference_loop import reference_rate  # noqa: E402
 from bench.results import p, write  # noqa: E402
 
 LINES = [f"X{i % 1000}" for i in range(1000)]
+#: One-line rounds, motionsim and bare FastAPI alternately; each side's best p99 is kept.
+ROUNDS = 3
 
 
 def _controller(http: httpx.Client, cid: str, words: int) -> str:
@@ -75,14 +79,19 @@ def main() -> None:
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 100_000
     posts = int(sys.argv[2]) if len(sys.argv) > 2 else 2_000
     ref = reference_rate(min(n, 200_000))
-    with served.motionsim() as url:
+    with served.motionsim() as url, served.bare_fastapi() as bare_url:
         stream = batches(url, n)
         with httpx.Client(base_url=url, trust_env=False) as http:
             base = _controller(http, "rest1", 65536)
-        ours = one_line_latencies(url, f"{base}/coord/1/rotary/lines", posts,
-                                  f"{base}/clock/advance")
-    with served.bare_fastapi() as url:
-        bare = one_line_latencies(url, "/controllers/x/coord/1/rotary/lines", posts, None)
+        rounds: list[tuple[list[float], list[float]]] = []
+        for _ in range(ROUNDS):  # interleaved, best p99 of each: the machine is shared
+            rounds.append((
+                one_line_latencies(url, f"{base}/coord/1/rotary/lines", posts,
+                                   f"{base}/clock/advance"),
+                one_line_latencies(bare_url, "/controllers/x/coord/1/rotary/lines", posts,
+                                   None)))
+    ours = min((r[0] for r in rounds), key=lambda lat: p(lat, 0.99))
+    bare = min((r[1] for r in rounds), key=lambda lat: p(lat, 0.99))
     ratio = stream["lines_per_s"] / ref
     p99, bare_p99 = p(ours, 0.99), p(bare, 0.99)
     print(f"REST stream : {stream['lines_per_s']:>10,.0f} lines/s  ({n:,} lines in batches of "
