@@ -11,7 +11,7 @@ TEST_STAMP := $(VENV)/.installed-test
 # ("Editable installation ... be careful with folders named like your package"); not a problem.
 PIP_INSTALL := PYTHONWARNINGS="ignore:Editable installation" $(BIN)/python -m pip install -q
 
-.PHONY: run test lint bench cov mutate plots fuzz screenshot clean
+.PHONY: run test lint bench profile cov mutate plots fuzz screenshot clean
 
 $(VENV_STAMP):
 	$(PYTHON) -m venv $(VENV)
@@ -46,6 +46,10 @@ fuzz: $(TEST_STAMP)
 bench: $(TEST_STAMP)
 	@for f in bench/bench_*.py; do echo "== $$f"; $(BIN)/python $$f || echo "== $$f FAILED"; done
 	$(BIN)/python bench/summary.py --readme
+
+# Where the time of each benchmarked path goes (cProfile; `make profile PROFILES=core trio`).
+profile: $(TEST_STAMP)
+	$(BIN)/python bench/profiles.py $(PROFILES)
 
 # Branch coverage of the whole suite, subprocesses included (pyproject [tool.coverage]).
 cov: $(TEST_STAMP)
