@@ -80,7 +80,12 @@ def _wire() -> None:
         proc.join()
         server.close()
 
-    asyncio.run(main())
+    try:
+        import uvloop  # the loop the service runs on, as bench_wire uses
+
+        uvloop.run(main())
+    except ImportError:
+        asyncio.run(main())
 
 
 def _fanout(profile: cProfile.Profile) -> None:
