@@ -1,0 +1,213 @@
+"""The processor-time model (sim/pmac/cpu.py) under the loads the manual names: move planning
+in the RTI (TUM p236, p376), a servo task that leaves nothing (TUM p238: an overloaded card
+stops communicating and trips its watchdog), and a host command answered at the end of the
+background cycle in progress (TUM p237). Costs are set in the config so the figures follow
+from them; the card has no motors (the servo task takes no time) unless a test defines some.
+"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+#: Every cost but move planning zero: an RTI's work is then exactly its planning.
+PLANNING_ONLY = {
+    "cpu_plan_line_us": 2000,
+    "cpu_rti_base_us": 0,
+    "cpu_plc_scan_us": 0,
+    "cpu_plc_statement_us": 0,
+}
+PLAN_S = 2000e-6
+
+
+def _planning_rig(make_rig):
+    """PLC 0 enabled (it costs nothing here; it keeps the processor model accounting) and a
+    rotary buffer holding a LINEAR program of two set-up lines and four long moves."""
+    rig = make_rig(**PLANNING_ONLY)
+    rig.c.plcs.load(0, "P1=P1+1")
+    rig.ok("ENABLE PLC 0")
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["LINEAR", "TM200", "X1", "X2", "X3", "X4"])
+    return rig
+
+
+def test_lines_stored_but_not_yet_calculated_cost_the_rti_nothing(make_rig):
+    """Planning is done in the RTI for lines being calculated (TUM p236); lines waiting in
+    the rotary buffer before ``R`` cost nothing, so no RTI overruns however long they are."""
+    rig = _planning_rig(make_rig)
+    rig.run_for(0.05)
+    assert rig.events("line_calculated") == []
+    assert rig.events("rti_overrun") == []
+
+
+def test_planning_several_lines_in_one_rti_overruns_until_the_work_is_done(make_rig):
+    """``R`` calculates the set-up lines and the first moves in one go (two moves ahead for
+    LINEAR, TUM p339): 5 lines at 2 ms each are 10 ms of RTI work. Every following RTI finds
+    it unfinished and overruns (``over_s`` = what is left), until it is done."""
+    rig = _planning_rig(make_rig)
+    rig.run_for(0.01)
+    since = rig.c.log.last_seq
+    rig.ok("R")
+    rig.run_for(0.1)
+    calculated = rig.events("line_calculated", since=since)
+    assert [f["n"] for _, _, f in calculated] == [1, 2, 3, 4, 5]
+    k_plan = calculated[0][0]
+    assert {k for k, _, _ in calculated} == {k_plan}
+    rti_cycles = rig.c.scheduler.rti_period_s() / rig.period
+    rti_s = rig.c.scheduler.rti_period_s()
+    overruns = rig.events("rti_overrun", since=since)
+    expected = [5 * PLAN_S - n * rti_s for n in range(1, 8)]
+    assert all(x > 0 for x in expected) and 5 * PLAN_S - 8 * rti_s < 0
+    assert [f["over_s"] for _, _, f in overruns] == pytest.approx(expected, abs=1e-9)
+    assert [k for k, _, _ in overruns] == [k_plan + n * rti_cycles for n in range(1, 8)]
+
+
+def test_a_line_calculated_later_costs_one_line_of_planning(make_rig):
+    """When move 4 starts, the next line is calculated; its 2 ms of planning outlast one RTI
+    period, so exactly one RTI overruns, by what is left of that one line. It is charged at
+    the RTI at which the processor next looks at the line counters, at most two RTIs after
+    the calculation ``[INF]``."""
+    rig = _planning_rig(make_rig)
+    rig.ok("R")
+    rig.run_for(0.1)
+    since = rig.c.log.last_seq
+    rig.run_for(0.5)
+    ((k_calc, _, line),) = rig.events("line_calculated", since=since)
+    assert line["n"] == 6
+    rti_s = rig.c.scheduler.rti_period_s()
+    ((k_over, _, over),) = rig.events("rti_overrun", since=since)
+    assert over["over_s"] == pytest.approx(PLAN_S - rti_s, abs=1e-9)
+    rti_cycles = round(rti_s / rig.period)
+    assert k_calc < k_over <= k_calc + 2 * rti_cycles
+
+
+def test_a_streamed_program_with_plc0_fits_the_rti_at_the_default_costs(rig):
+    """At the default costs (module docstring: tens of µs a line) planning a LINEAR program
+    while a short PLC 0 runs takes a small share of the RTI: no RTI overruns, and the load
+    figures are shares of the processor, none negative, adding up to one."""
+    rig.c.plcs.load(0, "P1=P1+1")
+    rig.ok("ENABLE PLC 0")
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["LINEAR", "TM20"] + [f"X{n}" for n in range(1, 21)])
+    rig.ok("R")
+    rig.run_for(1.5)
+    assert len(rig.events("line_calculated")) > 12
+    assert rig.events("rti_overrun") == []
+    cpu = rig.c.status()["cpu"]
+    assert 0.0 < cpu["rti"] < 0.05
+    assert cpu["background"] >= 0.0 and cpu["servo"] >= 0.0
+    assert cpu["servo"] + cpu["rti"] + cpu["background"] == pytest.approx(1.0, abs=1e-12)
+
+
+@pytest.mark.parametrize("servo_us", [500, 600])
+def test_a_servo_task_using_the_whole_processor_starves_rti_and_background(make_rig, servo_us):
+    """Servo updates at 2 kHz (500 µs) costing ``servo_us`` each leave the lower-priority
+    tasks nothing: no host command is answered, every RTI finds the last one's work still
+    to do (it never ends: ``over_s`` infinite), the load shows the servo task alone, and the
+    watchdog trips I40 servo cycles after the model woke (TUM p238, TSRM p57)."""
+    rig = make_rig(servo_hz=2000, cpu_servo_base_us=servo_us, i40=300)
+    reply = rig.c.terminal("I10")
+    rig.run_for(0.1)
+    cpu = rig.c.status()["cpu"]
+    assert (cpu["servo"], cpu["rti"], cpu["background"]) == (1.0, 0.0, 0.0)
+    overruns = rig.events("rti_overrun")
+    assert len(overruns) > 50
+    assert all(math.isinf(f["over_s"]) and f["over_s"] > 0 for _, _, f in overruns)
+    rig.run_for(0.3)
+    assert not reply.done
+    ((k_trip, _, _),) = rig.events("watchdog")
+    assert k_trip == 300
+
+
+def test_a_command_sent_mid_cycle_is_answered_when_the_cycle_in_progress_ends(make_rig):
+    """A background cycle is one PLC 1-31 scan, then a host command (TUM p237). PLC 1 of 20
+    statements at 100 µs is a 2 ms cycle; a command arriving 1 ms into a cycle is answered
+    at its end, 2 ms after it began (the RTI, every 256 servo cycles with I8=255, does not
+    come in between), not 2 ms after the command arrived."""
+    rig = make_rig(i8=255, i5=2, cpu_housekeeping_us=0, cpu_host_command_us=0,
+                   cpu_plc_scan_us=0, cpu_rti_base_us=0, cpu_plc_statement_us=100)
+    rig.c.plcs.load(1, "\n".join(["P1=P1+1"] * 20))
+    rig.ok("ENABLE PLC 1")
+    rig.run_for(0.05)
+    first = rig.cmd("P1")
+    start = first.t_done  # one cycle ends and the next begins with a scan
+    assert rig.c.scheduler.next_rti_after(start) > start + 0.004
+    rig.run_for(0.001)
+    second = rig.cmd("P1")
+    assert rig.cyc(second.t_done) == rig.cyc(rig.c.scheduler.servo_at_or_after(start + 0.002))
+    assert int(second.reply) == int(first.reply) + 20  # exactly one more scan of PLC 1
+
+
+@pytest.mark.parametrize("motors", [0, 8])
+def test_a_plc0_longer_than_the_rti_reruns_the_moment_its_last_scan_ends(make_rig, motors):
+    """A PLC 0 scan longer than the RTI period: the RTI that finds it running is latched and
+    PLC 0 runs again as soon as the scan ends ``[INF]`` (one-deep latch), so the processor
+    stays in foreground and scan n begins on the first servo cycle at or after n scans' work
+    (2 ms each here) at the share of the processor the servo updates of the motors leave
+    (TUM p236-237) — mostly between RTIs, not on them."""
+    rig = make_rig(i40=100000, cpu_rti_base_us=0, cpu_plc_scan_us=0, cpu_plc_statement_us=10,
+                   cpu_servo_motor_us=20)
+    for motor, axis in zip(range(1, motors + 1), "XYZABCUV", strict=False):
+        rig.ok(f"&1 #{motor}->{axis}")
+    rig.c.plcs.load(0, "\n".join(["M1=M1+1"] + ["P10=P10+1"] * 199))  # 200 statements, 2 ms
+    since = rig.c.log.last_seq
+    rig.ok("ENABLE PLC 0")
+    rig.run_for(0.03)
+    share = 1.0 - rig.c.status()["cpu"]["servo"]
+    assert share == pytest.approx(1.0 - motors * 20e-6 / rig.period)
+    starts = [e.t for e in rig.c.log.read(since, ["mvar"]).events if e.fields["name"] == "M1"]
+    assert len(starts) >= 8
+    at = rig.c.scheduler.servo_at_or_after
+    assert [rig.cyc(t) for t in starts] == [
+        rig.cyc(at(starts[0] + n * 2e-3 / share)) for n in range(len(starts))]
+    rti_cycles = round(rig.c.scheduler.rti_period_s() / rig.period)
+    assert any(rig.cyc(t) % rti_cycles for t in starts)
+
+
+def test_a_plc0_scan_that_disables_plc0_still_holds_the_processor_for_its_length(make_rig):
+    """The RTI's tasks have priority over the background (TUM p237): a 4 ms scan of PLC 0
+    whose last statement is ``DISABLE PLC 0`` still takes 4 ms of processor time. The RTIs
+    in those 4 ms find it running (overruns) and a host command sent meanwhile is answered
+    only after it, within the two servo cycles the background cycle then needs."""
+    rig = make_rig(cpu_rti_base_us=0, cpu_plc_scan_us=0, cpu_plc_statement_us=10)
+    rig.c.plcs.load(0, "\n".join(["M1=M1+1"] + ["P10=P10+1"] * 398 + ["DISABLE PLC 0"]))
+    since = rig.c.log.last_seq
+    rig.ok("ENABLE PLC 0")
+    while not rig.events("mvar", since=since):
+        rig.c.env.step()
+    ((k_scan, _, _),) = rig.events("mvar", since=since)
+    t_scan = k_scan * rig.period
+    rig.run_for(1.5 * rig.period)
+    reply = rig.cmd("P10")
+    assert reply.reply == "398"
+    assert t_scan + 4e-3 < reply.t_done <= t_scan + 4e-3 + 2 * rig.period
+    rti_cycles = round(rig.c.scheduler.rti_period_s() / rig.period)
+    overruns = [k for k, _, _ in rig.events("rti_overrun", since=since)]
+    assert overruns == [k for k in range(k_scan + 1, k_scan + 10) if k % rti_cycles == 0]
+    assert len(rig.events("mvar", since=since)) == 1  # disabled: PLC 0 scanned once
+
+
+def test_an_idle_card_reloads_its_watchdog_every_cycle_after_answering_a_command(rig):
+    """With nothing to run, the background is free-running housekeeping that reloads the
+    watchdog every servo cycle (TUM p237, TSRM p57): a second after answering a command the
+    last reload is the current servo cycle and the whole I40 margin is left."""
+    rig.ok("I10")
+    rig.run_for(1.0)
+    wd = rig.c.status()["watchdog"]
+    assert rig.cyc(wd["reload_s"]) == rig.c.scheduler.clock.index(rig.c.now)
+    assert wd["cycles_left"] == wd["limit_cycles"] == 4096
+
+
+def test_plc0_enabled_between_rtis_first_scans_at_the_next_rti(make_rig):
+    """PLC 0 runs in the RTI (TUM p376): enabled half-way through servo cycle 10 (as the
+    REST resource does, no background cycle involved), it first scans at cycle 12, the next
+    RTI (every I8+1 = 3 cycles), then once per RTI."""
+    rig = make_rig(i5=3)
+    rig.c.plcs.load(0, "M1=M1+1")
+    rig.run_for(10.5 * rig.period)
+    since = rig.c.log.last_seq
+    rig.c.plcs.set_enabled((0,), True)
+    rig.run_for(0.01)
+    scans = [k for k, _, f in rig.events("mvar", since=since)]
+    assert scans[:5] == [12, 15, 18, 21, 24]
