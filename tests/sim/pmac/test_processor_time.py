@@ -120,23 +120,43 @@ def test_a_servo_task_using_the_whole_processor_starves_rti_and_background(make_
     assert k_trip == 300
 
 
-def test_a_command_sent_mid_cycle_is_answered_when_the_cycle_in_progress_ends(make_rig):
+@pytest.mark.parametrize("motors", [0, 8])
+def test_a_command_sent_mid_cycle_is_answered_when_the_cycle_in_progress_ends(make_rig, motors):
     """A background cycle is one PLC 1-31 scan, then a host command (TUM p237). PLC 1 of 20
-    statements at 100 µs is a 2 ms cycle; a command arriving 1 ms into a cycle is answered
-    at its end, 2 ms after it began (the RTI, every 256 servo cycles with I8=255, does not
-    come in between), not 2 ms after the command arrived."""
+    statements at 100 µs is 2 ms of processor time, spread over 2 ms / (the share the servo
+    updates of the motors leave); a command arriving 1 ms into a cycle is answered at its
+    end (the RTI, every 256 servo cycles with I8=255, does not come in between), not one
+    cycle's length after the command arrived."""
     rig = make_rig(i8=255, i5=2, cpu_housekeeping_us=0, cpu_host_command_us=0,
-                   cpu_plc_scan_us=0, cpu_rti_base_us=0, cpu_plc_statement_us=100)
+                   cpu_plc_scan_us=0, cpu_rti_base_us=0, cpu_plc_statement_us=100,
+                   cpu_servo_motor_us=20)
+    for motor, axis in zip(range(1, motors + 1), "XYZABCUV", strict=False):
+        rig.ok(f"&1 #{motor}->{axis}")
     rig.c.plcs.load(1, "\n".join(["P1=P1+1"] * 20))
     rig.ok("ENABLE PLC 1")
     rig.run_for(0.05)
     first = rig.cmd("P1")
     start = first.t_done  # one cycle ends and the next begins with a scan
-    assert rig.c.scheduler.next_rti_after(start) > start + 0.004
+    length = 0.002 / (1.0 - rig.c.status()["cpu"]["servo"])
+    assert rig.c.scheduler.next_rti_after(start) > start + 2 * length
     rig.run_for(0.001)
     second = rig.cmd("P1")
-    assert rig.cyc(second.t_done) == rig.cyc(rig.c.scheduler.servo_at_or_after(start + 0.002))
+    assert rig.cyc(second.t_done) == rig.cyc(rig.c.scheduler.servo_at_or_after(start + length))
     assert int(second.reply) == int(first.reply) + 20  # exactly one more scan of PLC 1
+
+
+def test_a_stall_due_later_does_not_hold_back_a_command_answered_before_it(make_rig):
+    """An injected stall starves the background only inside its window: a command sent
+    before a stall that starts 0.1 s later is answered on the same servo cycle as on a card
+    with no stall coming (the next one: the idle card answers at once)."""
+    replies = []
+    for stall in (False, True):
+        rig = make_rig()
+        rig.run_for(10.5 * rig.period)
+        if stall:
+            rig.c.background.stall(rig.c.now + 0.1, rig.c.now + 0.2)
+        replies.append(rig.cyc(rig.cmd("I10").t_done))
+    assert replies[1] == replies[0] == 11
 
 
 @pytest.mark.parametrize("motors", [0, 8])
@@ -211,3 +231,56 @@ def test_plc0_enabled_between_rtis_first_scans_at_the_next_rti(make_rig):
     rig.run_for(0.01)
     scans = [k for k, _, f in rig.events("mvar", since=since)]
     assert scans[:5] == [12, 15, 18, 21, 24]
+
+
+def test_a_latched_plc0_reruns_on_a_servo_cycle_when_commands_arrive_between_cycles(make_rig):
+    """Every task runs on the servo interrupt's time grid: a latched PLC 0 (scans longer
+    than the RTI period) whose work ends between two servo cycles reruns on the next cycle,
+    even when a host command arrives in that gap (as over REST, at any instant)."""
+    rig = make_rig(i40=100000, cpu_rti_base_us=0, cpu_plc_scan_us=0, cpu_plc_statement_us=10)
+    rig.c.plcs.load(0, "\n".join(["M1=M1+1"] + ["P10=P10+1"] * 199))  # 2 ms a scan
+    since = rig.c.log.last_seq
+    rig.ok("ENABLE PLC 0")
+    for _ in range(120):  # a command every 0.3 servo cycles, off the cycle grid
+        rig.run_for(0.3 * rig.period)
+        rig.c.terminal("P10")
+    rig.run_for(0.01)
+    starts = [e.t for e in rig.c.log.read(since, ["mvar"]).events]
+    assert len(starts) >= 8
+    for t in starts:  # rig.cyc asserts each instant is a whole servo cycle
+        rig.cyc(t)
+
+
+def test_a_command_sent_in_a_stall_is_answered_on_the_first_cycle_after_it_ends(make_rig):
+    """A stall (sim/faults.py) holds the background back for its length only: a command sent
+    in the middle of a 50 ms stall, a second into the run, is answered on the first servo
+    cycle after the stall ends (the background cycle's 40 µs of work fit in one), not at a
+    later RTI (every 256 servo cycles with I8=255)."""
+    rig = make_rig(i8=255, cpu_housekeeping_us=20, cpu_host_command_us=20)
+    rig.run_for(1.0)
+    t0 = rig.c.now
+    rig.c.background.stall(t0, t0 + 0.05)
+    rig.run_for(0.01)
+    reply = rig.cmd("I10")
+    k_end = rig.cyc(rig.c.scheduler.servo_at_or_after(t0 + 0.05))
+    assert k_end <= rig.cyc(reply.t_done) <= k_end + 1
+
+
+def test_a_stall_starting_inside_a_background_cycle_delays_its_end_by_its_length(make_rig):
+    """A background cycle of 10 ms of work (PLC 1, 100 statements at 100 µs) that a 20 ms
+    stall interrupts 3 ms after it began ends 30 ms after it began: the stall adds exactly
+    its length, and the command waiting for the cycle is answered then (no RTI comes in
+    between: every 256 servo cycles with I8=255)."""
+    rig = make_rig(i8=255, i5=2, cpu_housekeeping_us=0, cpu_host_command_us=0,
+                   cpu_plc_scan_us=0, cpu_rti_base_us=0, cpu_plc_statement_us=100)
+    rig.c.plcs.load(1, "\n".join(["P1=P1+1"] * 100))
+    rig.ok("ENABLE PLC 1")
+    rig.run_for(1.0)
+    first = rig.cmd("P1")
+    while rig.c.scheduler.next_rti_after(first.t_done) < first.t_done + 0.06:
+        first = rig.cmd("P1")  # wait for a cycle well before the next RTI
+    start = first.t_done  # one cycle ends and the next begins with a scan
+    rig.c.background.stall(start + 0.003, start + 0.023)
+    second = rig.cmd("P1")
+    assert rig.cyc(second.t_done) == rig.cyc(rig.c.scheduler.servo_at_or_after(start + 0.03))
+    assert int(second.reply) == int(first.reply) + 100
