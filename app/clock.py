@@ -224,6 +224,33 @@ class Clock:
         return {"mode": self.mode, "factor": self.factor, "paused": self.paused, "t": self.t}
 
 
+class DrivenClock(Clock):
+    """A clock that moves time by itself, in one asyncio task of its own (``_drive``)."""
+
+    _task: asyncio.Task[None] | None = None
+
+    async def _drive(self) -> None:
+        raise NotImplementedError
+
+    @property
+    def running(self) -> bool:
+        return self._task is not None and not self._task.done()
+
+    def _start_task(self, name: str) -> None:
+        """Start ``_drive`` as the task ``name`` (this environment's), unless it runs."""
+        if not self.running:
+            self._task = asyncio.get_running_loop().create_task(
+                self._drive(), name=f"{name}-{id(self.env):x}")
+
+    async def stop(self) -> None:
+        task, self._task = self._task, None
+        if task is None:
+            return
+        task.cancel()
+        with contextlib.suppress(asyncio.CancelledError):
+            await task
+
+
 class VirtualClock(Clock):
     """Simulated time moves only when asked, as fast as the CPU allows.
 
@@ -388,7 +415,7 @@ class VirtualClock(Clock):
         await drain_async(self.run_until_reply_steps(reply, max_s))
 
 
-class RealtimeClock(Clock):
+class RealtimeClock(DrivenClock):
     """Simulated time = wall time × ``factor``, driven by one asyncio task.
 
     The *schedule* (:meth:`target`) is computed from the wall clock whenever it is asked, so it
@@ -438,7 +465,6 @@ class RealtimeClock(Clock):
         self.slipped_s = 0.0
         self._anchor_wall = time.monotonic()
         self._anchor_sim = env.now
-        self._task: asyncio.Task[None] | None = None
         self._waiter: asyncio.Future[None] | None = None
         self.lateness_s: deque[float] = deque(maxlen=lateness_window)
         self.last_error: BaseException | None = None
@@ -516,24 +542,8 @@ class RealtimeClock(Clock):
 
     # -- the driving task ------------------------------------------------------------------
 
-    @property
-    def running(self) -> bool:
-        return self._task is not None and not self._task.done()
-
     def start(self) -> None:
-        if self.running:
-            return
-        self._task = asyncio.get_running_loop().create_task(
-            self._drive(), name=f"realtime-clock-{id(self.env):x}"
-        )
-
-    async def stop(self) -> None:
-        task, self._task = self._task, None
-        if task is None:
-            return
-        task.cancel()
-        with contextlib.suppress(asyncio.CancelledError):
-            await task
+        self._start_task("realtime-clock")
 
     def wake(self) -> None:
         waiter = self._waiter
@@ -597,5 +607,5 @@ def make_clock(
         f"clock mode must be 'virtual', 'realtime' or 'host-paced', got {mode!r}", field="mode")
 
 
-__all__ = ["RUN_UNTIL_WALL_S", "SLICE_S", "Clock", "ClockMode", "RealtimeClock", "VirtualClock",
-           "drain", "drain_async", "make_clock", "reply_steps", "run_env_to"]
+__all__ = ["RUN_UNTIL_WALL_S", "SLICE_S", "Clock", "ClockMode", "DrivenClock", "RealtimeClock",
+           "VirtualClock", "drain", "drain_async", "make_clock", "reply_steps", "run_env_to"]

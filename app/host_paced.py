@@ -27,7 +27,6 @@ returns unmatched with the names of the holders time is held by.
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import logging
 import re
 import time
@@ -41,8 +40,8 @@ from motionsim.app.clock import (
     _WALL_CHECK_STEPS,
     RUN_UNTIL_WALL_S,
     SLICE_S,
-    Clock,
     ClockMode,
+    DrivenClock,
     _check_seconds,
     _limit,
     loop_turns,
@@ -104,7 +103,7 @@ class Holder:
         return out
 
 
-class HostPacedClock(Clock):
+class HostPacedClock(DrivenClock):
     """Time moves while every holder waits; it holds where one is due (module docstring).
 
     Args:
@@ -131,7 +130,6 @@ class HostPacedClock(Clock):
         self.released: set[str] = set()
         self._target: float | None = None  # cached earliest due instant; None = recompute
         self._wakeup: asyncio.Event | None = None
-        self._task: asyncio.Task[None] | None = None
         self._unlisten = log.listen(self._on_event)
         self.last_error: BaseException | None = None
 
@@ -254,24 +252,15 @@ class HostPacedClock(Clock):
         if self._wakeup is not None:
             self._wakeup.set()
 
-    @property
-    def running(self) -> bool:
-        return self._task is not None and not self._task.done()
-
     def start(self) -> None:
         if self.running:
             return
         self._wakeup = asyncio.Event()
-        self._task = asyncio.get_running_loop().create_task(
-            self._drive(), name=f"host-paced-clock-{id(self.env):x}")
+        self._start_task("host-paced-clock")
 
     async def stop(self) -> None:
         self.release_all()
-        task, self._task = self._task, None
-        if task is not None:
-            task.cancel()
-            with contextlib.suppress(asyncio.CancelledError):
-                await task
+        await super().stop()
 
     def close(self) -> None:
         """Stop listening to the log (the clock is replaced or the controller deleted)."""

@@ -19,6 +19,7 @@ from motionsim.app.clock import (
     RUN_UNTIL_WALL_S,
     Clock,
     ClockMode,
+    DrivenClock,
     RealtimeClock,
     VirtualClock,
     drain_async,
@@ -266,7 +267,7 @@ class ControllerHandle:
         if self.loop is None or self.loop.is_closed():
             self.loop = loop
         clock = self.clock
-        if isinstance(clock, RealtimeClock | HostPacedClock) and not clock.running:
+        if isinstance(clock, DrivenClock) and not clock.running:
             clock.start()
 
     async def set_clock(self, mode: ClockMode | None = None, *, factor: float | None = None,
