@@ -39,8 +39,9 @@ from typing import Any
 
 from motionsim.sim.events import Event, EventLog, Reset
 
-#: Texts kept per log and controller id: the newest events, which every subscriber that keeps
-#: up reads; one further behind encodes its own (the same text, only not shared).
+#: The shared texts cover the newest this many events of a log (up to twice as many are held
+#: between two prunes): what every subscriber that keeps up reads. One further behind encodes
+#: its own (the same text, only not shared), without churning the shared ones.
 TEXTS_KEPT = 4096
 
 
@@ -51,13 +52,16 @@ class _Texts:
         self.controller = controller
         self.by_seq: dict[int, str] = {}
 
-    def text(self, event: Event) -> str:
+    def text(self, event: Event, newest: int) -> str:
+        """``event``'s text; shared if it is among the ``TEXTS_KEPT`` before ``newest``."""
         text = self.by_seq.get(event.seq)
         if text is None:
-            if len(self.by_seq) >= 2 * TEXTS_KEPT:
-                oldest = event.seq - TEXTS_KEPT
-                self.by_seq = {k: v for k, v in self.by_seq.items() if k > oldest}
-            text = self.by_seq[event.seq] = json.dumps(event.to_dict(self.controller))
+            text = json.dumps(event.to_dict(self.controller))
+            oldest = newest - TEXTS_KEPT  # the newest shared text is newer than this
+            if event.seq > oldest:
+                if len(self.by_seq) >= 2 * TEXTS_KEPT:
+                    self.by_seq = {k: v for k, v in self.by_seq.items() if k > oldest}
+                self.by_seq[event.seq] = text
         return text
 
 
@@ -120,8 +124,8 @@ class Cursor:
         text shared with every other cursor of this log and controller id."""
         res = self.log.read(self.since, self.types, self.batch)
         out = [json.dumps(res.gap.to_dict())] if res.gap is not None else []
-        text = self._texts.text
-        out.extend(text(e) for e in res.events)
+        text, newest = self._texts.text, self.log.last_seq
+        out.extend(text(e, newest) for e in res.events)
         self.since = res.next
         return out
 

@@ -152,7 +152,36 @@ def test_shared_texts_stay_right_far_beyond_what_is_kept():
     while behind.behind:
         got += behind.read_text()
     assert [json.loads(t)["n"] for t in got] == list(range(3 * bus.TEXTS_KEPT))
-    assert len(bus._texts(log, "c").by_seq) <= 2 * bus.TEXTS_KEPT
+
+
+def test_shared_texts_are_the_newest_events_and_a_late_reader_leaves_them_alone(monkeypatch):
+    """Memory stays bounded: the shared texts are those of the newest ``TEXTS_KEPT`` events
+    (at most twice as many between prunes); a reader far behind encodes its own."""
+    from motionsim.app import bus
+
+    monkeypatch.setattr(bus, "TEXTS_KEPT", 8)
+    log = _log()
+    ahead = Cursor(log, batch=1)
+    shared = bus._texts(log, "c")
+    held = []
+    for i in range(40):
+        log.emit("tick", n=i)
+        ahead.read_text()
+        held.append(sorted(shared.by_seq))
+    # 16 texts; the 17th prunes to the 8 newest (10..17); every 8 events again (19.., 28..)
+    assert held[15] == list(range(1, 17))
+    assert held[16] == list(range(10, 18))
+    assert held[24] == list(range(10, 26))
+    assert held[25] == list(range(19, 27))
+    assert held[39] == list(range(28, 41))
+    late = Cursor(log, since=3)  # 37 events behind
+    before = dict(shared.by_seq)
+    texts = []
+    while late.behind:
+        texts += late.read_text()
+    assert len(texts) == 37
+    assert shared.by_seq == before  # nothing of the late reader's was added, nothing pruned
+    assert all(texts[k - 4] is before[k] for k in before)  # but it shared the newest ones
 
 
 def test_wait_leaves_no_callback_on_the_other_futures():
