@@ -18,6 +18,8 @@ from pathlib import Path
 
 import pytest
 
+from tests.processes import stop
+
 ROOT = Path(__file__).resolve().parents[2]
 MOTIONSIM = Path(sys.executable).parent / "motionsim"
 ENV = {**os.environ, "PYTHONPATH": str(ROOT), "PYTHONUNBUFFERED": "1"}
@@ -85,12 +87,7 @@ def _serve(*args, deadline_s=30):
 
 
 def _stop(served):
-    served.proc.terminate()
-    try:
-        served.proc.wait(10)
-    except subprocess.TimeoutExpired:
-        served.proc.kill()
-        served.proc.wait()
+    stop(served.proc)
 
 
 CLIENT = textwrap.dedent("""

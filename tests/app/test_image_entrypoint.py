@@ -26,6 +26,8 @@ from pathlib import Path
 
 import pytest
 
+from tests.processes import stop
+
 ROOT = Path(__file__).resolve().parents[2]
 BIN = Path(sys.executable).parent
 DOCKERFILE = (ROOT / "Dockerfile").read_text()
@@ -131,12 +133,7 @@ def test_the_image_command_serves_as_an_unprivileged_user_and_can_record(workdir
         assert wrong.returncode == 1  # the check follows MOTIONSIM_PORT, not a fixed 8000
         assert _pmac_command(ports["pmac"], "I10").endswith(b"\x06")
     finally:
-        proc.terminate()
-        try:
-            proc.wait(15)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait()
+        stop(proc, 15)
     record = workdir / "sessions.jsonl"
     assert record.is_file() and record.stat().st_size > 0
     if os.geteuid() == 0:

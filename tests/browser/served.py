@@ -18,6 +18,8 @@ from typing import IO
 
 import httpx
 
+from tests.processes import stop
+
 #: Flags Chromium needs as root in a container (CI runs as root) and without a GPU.
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-dev-shm-usage", "--disable-gpu"]
 
@@ -55,12 +57,7 @@ def serve(timeout_s: float = 30.0) -> Iterator[str]:
             _wait_healthy(proc, url, output, timeout_s)
             yield url
         finally:
-            proc.terminate()
-            try:
-                proc.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                proc.kill()
-                proc.wait()
+            stop(proc)
 
 
 def _wait_healthy(proc: subprocess.Popen, url: str, output: IO[str], timeout_s: float) -> None:
