@@ -205,3 +205,35 @@ def test_wait_leaves_no_callback_on_the_other_futures():
         return left
 
     assert asyncio.run(main()) == 0
+
+
+def test_only_events_newer_than_the_window_are_shared(monkeypatch):
+    """A first reader of 20 held events with a window of 8 shares the texts of seq 13..20:
+    the 8 newest, not the one at the window's edge."""
+    from motionsim.app import bus
+
+    monkeypatch.setattr(bus, "TEXTS_KEPT", 8)
+    log = _log()
+    for i in range(20):
+        log.emit("tick", n=i)
+    cur = Cursor(log)
+    while cur.behind:
+        cur.read_text()
+    assert sorted(bus._texts(log, "c").by_seq) == list(range(13, 21))
+
+
+def test_the_shared_window_stays_bounded_at_its_real_scale(monkeypatch):
+    """With a window past the small integers Python keeps once (here 300: pruned at 600
+    texts), the texts held never exceed twice the window."""
+    from motionsim.app import bus
+
+    monkeypatch.setattr(bus, "TEXTS_KEPT", 300)
+    log = _log()
+    cur = Cursor(log, batch=1)
+    sizes = []
+    for i in range(2000):
+        log.emit("tick", n=i)
+        cur.read_text()
+        sizes.append(len(bus._texts(log, "c").by_seq))
+    assert max(sizes) == 600 and sizes[-1] < 600
+    assert min(bus._texts(log, "c").by_seq) > 2000 - 600
