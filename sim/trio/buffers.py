@@ -325,6 +325,7 @@ class MotionBuffers:
         p = mm.args[0]
         if target.start_tick is None:  # in NTYPE: it will run to p from wherever it starts
             target.geom, target.args = "MOVEABS", (p,)
+            self.log.emit("move_modify", axis=ax.n, mtype=target.mtype, end=p)
             return True
         t = self.clock.t(k)
         tau = t - target.t_start

@@ -67,13 +67,18 @@ def test_movesp_after_a_move_is_a_move_of_its_own(trio):
 
 def test_movemodify_of_the_ntype_move_leaves_the_process_buffer_at_once(trio):
     """MOVEMODIFY rewriting the move waiting in NTYPE is consumed at the servo interrupt that
-    takes it from the process buffer: PMOVE is 0 again one period later (M206-320)."""
+    takes it from the process buffer: PMOVE is 0 again one period later (M206-320), and the
+    change is reported like that of an executing move (API.md ``move_modify``: the end of a
+    buffered or executing move)."""
     moves(trio, 0, 2, [10])
     trio.move(0, "MOVEMODIFY", [50])  # at 2.5 ms
     assert trio.pmove(0) == 1
     next_period(trio)
     assert (trio.pmove(0), trio.axis(0)["ntype"]) == (0, 1)
     assert [cycle(trio, t) for t, _ in fields(trio, "process_buffer", mtype=0)] == [1, 2, 3]
+    assert [(cycle(trio, t), f) for t, f in fields(trio, "move_modify")] == [
+        (3, {"axis": 0, "mtype": 1, "end": 50.0})
+    ]
 
 
 # -- MOVEMODIFY: ahead or behind -------------------------------------------------------------
