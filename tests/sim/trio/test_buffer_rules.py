@@ -18,10 +18,6 @@ def _cycles(c, type_: str, **match) -> list[int]:
     return [cycle(c, t) for t, _ in fields(c, type_, **match)]
 
 
-def _mtypes(c, type_: str, axis: int) -> list[int]:
-    return [f["mtype"] for _, f in fields(c, type_, axis=axis)]
-
-
 # -- waiting for the process buffer --------------------------------------------------------------
 
 
@@ -186,8 +182,9 @@ def test_cancel_of_a_linked_move_ends_it_at_the_next_servo_period(trio):
 
 
 def test_a_power_cycle_drops_the_moves_in_flight(trio):
-    """Reset is a power cycle: a move still in the process buffer never starts, and the log
-    after the ``reset`` event has nothing from the buffers of before."""
+    """Reset is a power cycle: moves running, buffered in NTYPE or a process buffer, or waiting
+    for one, are gone; the log after the ``reset`` event has nothing from the buffers of
+    before."""
     trio.move(0, "MOVE", [10])
     moves(trio, 1, 3, [10], process=1)
     trio.move(1, "MOVE", [10], process=1, wait=True)
