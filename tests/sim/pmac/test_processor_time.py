@@ -100,13 +100,17 @@ def test_a_streamed_program_with_plc0_fits_the_rti_at_the_default_costs(rig):
     assert cpu["servo"] + cpu["rti"] + cpu["background"] == pytest.approx(1.0, abs=1e-12)
 
 
+@pytest.mark.parametrize("housekeeping_us", [20, 0])
 @pytest.mark.parametrize("servo_us", [500, 600])
-def test_a_servo_task_using_the_whole_processor_starves_rti_and_background(make_rig, servo_us):
+def test_a_servo_task_using_the_whole_processor_starves_rti_and_background(make_rig, servo_us,
+                                                                          housekeeping_us):
     """Servo updates at 2 kHz (500 µs) costing ``servo_us`` each leave the lower-priority
     tasks nothing: no host command is answered, every RTI finds the last one's work still
     to do (it never ends: ``over_s`` infinite), the load shows the servo task alone, and the
-    watchdog trips I40 servo cycles after the model woke (TUM p238, TSRM p57)."""
-    rig = make_rig(servo_hz=2000, cpu_servo_base_us=servo_us, i40=300)
+    watchdog trips I40 servo cycles after the model woke (TUM p238, TSRM p57), whatever the
+    housekeeping costs."""
+    rig = make_rig(servo_hz=2000, cpu_servo_base_us=servo_us, i40=300,
+                   cpu_housekeeping_us=housekeeping_us)
     reply = rig.c.terminal("I10")
     rig.run_for(0.1)
     cpu = rig.c.status()["cpu"]
@@ -266,21 +270,120 @@ def test_a_command_sent_in_a_stall_is_answered_on_the_first_cycle_after_it_ends(
     assert k_end <= rig.cyc(reply.t_done) <= k_end + 1
 
 
-def test_a_stall_starting_inside_a_background_cycle_delays_its_end_by_its_length(make_rig):
-    """A background cycle of 10 ms of work (PLC 1, 100 statements at 100 µs) that a 20 ms
-    stall interrupts 3 ms after it began ends 30 ms after it began: the stall adds exactly
-    its length, and the command waiting for the cycle is answered then (no RTI comes in
-    between: every 256 servo cycles with I8=255)."""
+@pytest.mark.parametrize("sent", [0.0, 0.025])
+@pytest.mark.parametrize("motors", [0, 8])
+def test_a_stall_starting_inside_a_background_cycle_delays_its_end_by_its_length(make_rig,
+                                                                              motors, sent):
+    """A background cycle of 10 ms of work (PLC 1, 100 statements at 100 µs) at the share of
+    the processor the servo updates of the motors leave, interrupted 3 ms after it began by a
+    20 ms stall, ends 20 ms later than it would have: the stall adds exactly its length, and
+    a command sent as the cycle begins or after the stall, while the cycle goes on, is
+    answered then (no RTI comes in between: every 256 servo cycles with I8=255)."""
     rig = make_rig(i8=255, i5=2, cpu_housekeeping_us=0, cpu_host_command_us=0,
-                   cpu_plc_scan_us=0, cpu_rti_base_us=0, cpu_plc_statement_us=100)
+                   cpu_plc_scan_us=0, cpu_rti_base_us=0, cpu_plc_statement_us=100,
+                   cpu_servo_motor_us=20)
+    for motor, axis in zip(range(1, motors + 1), "XYZABCUV", strict=False):
+        rig.ok(f"&1 #{motor}->{axis}")
     rig.c.plcs.load(1, "\n".join(["P1=P1+1"] * 100))
     rig.ok("ENABLE PLC 1")
     rig.run_for(1.0)
+    length = 0.01 / (1.0 - rig.c.status()["cpu"]["servo"])
     first = rig.cmd("P1")
-    while rig.c.scheduler.next_rti_after(first.t_done) < first.t_done + 0.06:
+    while rig.c.scheduler.next_rti_after(first.t_done) < first.t_done + 0.02 + 2 * length:
         first = rig.cmd("P1")  # wait for a cycle well before the next RTI
     start = first.t_done  # one cycle ends and the next begins with a scan
     rig.c.background.stall(start + 0.003, start + 0.023)
+    if sent:
+        rig.run_for(sent)  # at 25 ms the stall is over, the cycle not yet
     second = rig.cmd("P1")
-    assert rig.cyc(second.t_done) == rig.cyc(rig.c.scheduler.servo_at_or_after(start + 0.03))
+    end = rig.c.scheduler.servo_at_or_after(start + 0.02 + length)
+    assert rig.cyc(second.t_done) == rig.cyc(end)
     assert int(second.reply) == int(first.reply) + 100
+
+
+@pytest.mark.parametrize("delay", [0.0, 0.01])
+def test_no_watchdog_reload_falls_inside_a_stall(make_rig, delay):
+    """No background cycle completes in a stall, so nothing reloads the watchdog there
+    (TSRM p57): read 20 ms after a 40 ms stall (starting now or 10 ms from now) on an idle
+    card whose RTI comes only every 256 servo cycles (I8=255), the last reload is the first
+    servo cycle after the stall, when the free-running housekeeping resumes, or later."""
+    rig = make_rig(i8=255)
+    rig.run_for(rig.c.scheduler.next_rti_after(1.0) + 0.5 * rig.period)  # just after an RTI
+    t0 = rig.c.now + delay
+    rig.c.background.stall(t0, t0 + 0.04)
+    rig.run_for(delay + 0.06)
+    assert rig.c.scheduler.next_rti_after(t0) > t0 + 0.06
+    wd = rig.c.status()["watchdog"]
+    k_end = rig.cyc(rig.c.scheduler.servo_at_or_after(t0 + 0.04))
+    assert k_end <= rig.cyc(wd["reload_s"]) <= rig.c.scheduler.clock.index(rig.c.now)
+
+
+def test_the_rti_load_is_the_share_of_the_last_full_second(make_rig):
+    """The ``rti`` load figure is the RTI tasks' share of the processor over the last full
+    second (``status()``). PLC 0 runs about 1 ms of its 1.33 ms RTI until P1 is set, then a
+    few statements: the figure shows the old share until a whole second has passed under the
+    new load (seconds counted from when the processor model woke), then only the new one;
+    it is still that second's figure just after an RTI, when the current RTI's work is under
+    way."""
+    rig = make_rig(i40=100000, cpu_rti_base_us=0, cpu_plc_scan_us=0, cpu_plc_statement_us=10)
+    rti_s = rig.c.scheduler.rti_period_s()
+    rig.c.plcs.load(0, "\n".join(["M1=M1+1", "IF (P1=0)"] + ["P10=P10+1"] * 97 + ["ENDIF"]))
+    rig.ok("ENABLE PLC 0")
+
+    def share() -> float:
+        return rig.c.status()["plcs"]["0"]["statements_last_scan"] * 10e-6 / rti_s
+
+    rig.run_for(2.5)
+    heavy = share()
+    assert heavy > 0.7
+    assert rig.c.status()["cpu"]["rti"] == pytest.approx(heavy, rel=0.01)
+    rig.c.set_variable("P1", 1)  # at 2.5 s: the second from 2 s to 3 s is mixed
+    rig.run_for(0.4)
+    light = share()
+    assert light < 0.05
+    assert rig.c.status()["cpu"]["rti"] == pytest.approx(heavy, rel=0.01)  # 1 s to 2 s
+    rig.run_for(1.2)  # past 4 s: the second from 3 s to 4 s
+    rig.run_for(rig.c.scheduler.next_rti_after(rig.c.now) - rig.c.now + 0.2 * rig.period)
+    rig.c.terminal("P10")  # the processor accounts the time so far, 0.2 cycles after an RTI
+    assert rig.c.status()["cpu"]["rti"] == pytest.approx(light, rel=0.01)
+    cpu = rig.c.status()["cpu"]
+    assert cpu["background"] == pytest.approx(1.0 - cpu["rti"])
+
+
+@pytest.mark.parametrize("housekeeping_us", [20, 0])
+def test_with_no_processor_left_plc0_enabled_over_rest_never_runs_and_the_card_trips(
+        make_rig, housekeeping_us):
+    """The servo updates take the whole processor (500 µs at 2 kHz): PLC 0, enabled as the
+    REST resource does (no host command), never gets to run — its first RTI's work never
+    ends, so every later RTI overruns — and no background cycle reloads the watchdog, which
+    trips I40 servo cycles later, whatever the housekeeping costs."""
+    rig = make_rig(servo_hz=2000, cpu_servo_base_us=500, i40=300,
+                   cpu_housekeeping_us=housekeeping_us)
+    rig.c.plcs.load(0, "M1=M1+1")
+    rig.c.plcs.set_enabled((0,), True)
+    rig.run_for(0.4)
+    ((k_trip, _, _),) = rig.events("watchdog")
+    assert k_trip == 300
+    scans = [k for k, _, f in rig.events("mvar") if k < k_trip]
+    assert scans == [3]  # the first RTI's scan, whose work never ends
+    assert len(rig.events("rti_overrun")) > 50
+
+
+def test_while_plc0_runs_the_watchdog_is_reloaded_by_the_housekeeping_pass_after_it(make_rig):
+    """With PLC 0 running and no background PLC, the background is free-running housekeeping
+    (TUM p237) and the watchdog is reloaded when the first pass after an RTI's tasks ends:
+    0.33 ms of PLC 0 plus a 20 µs pass at the 64 % of the processor that the servo updates of
+    8 motors (20 µs each) leave is 0.55 ms, so on the second servo cycle after the RTI."""
+    rig = make_rig(cpu_rti_base_us=0, cpu_plc_scan_us=0, cpu_plc_statement_us=10,
+                   cpu_servo_motor_us=20, cpu_housekeeping_us=20)
+    rig.ok(" ".join(f"#{m}->{axis}" for m, axis in zip(range(1, 9), "XYZABCUV", strict=True)))
+    rig.c.plcs.load(0, "\n".join(["M1=M1+1"] + ["P10=P10+1"] * 32))  # 0.33 ms
+    rig.ok("ENABLE PLC 0")
+    rig.run_for(0.1)
+    share = 1.0 - rig.c.status()["cpu"]["servo"]
+    assert share == pytest.approx(1.0 - 8 * 20e-6 / rig.period)
+    t_rti = rig.c.scheduler.next_rti_after(rig.c.now)
+    rti_s = rig.c.scheduler.rti_period_s()
+    rig.run_for(t_rti + rti_s + 0.5 * rig.period - rig.c.now)  # past the next RTI's wake-up
+    reload = rig.c.scheduler.servo_at_or_after(t_rti + (0.33e-3 + 20e-6) / share)
+    assert rig.cyc(rig.c.status()["watchdog"]["reload_s"]) == rig.cyc(reload)
