@@ -124,6 +124,25 @@ def test_a_servo_task_using_the_whole_processor_starves_rti_and_background(make_
     assert k_trip == 300
 
 
+def _define_motors(rig, motors: int) -> None:
+    """Assign motors 1..``motors`` to axes of CS 1 (each then takes servo time)."""
+    for motor, axis in zip(range(1, motors + 1), "XYZABCUV", strict=False):
+        rig.ok(f"&1 #{motor}->{axis}")
+
+
+def _plc1_card(make_rig, motors: int, statements: int):
+    """A card whose background cycle is one scan of PLC 1, ``statements`` × 100 µs, all other
+    background and RTI costs zero, an RTI only every 256 servo cycles (I8=255), and
+    ``motors`` motors at 20 µs of servo time each."""
+    rig = make_rig(i8=255, i5=2, cpu_housekeeping_us=0, cpu_host_command_us=0,
+                   cpu_plc_scan_us=0, cpu_rti_base_us=0, cpu_plc_statement_us=100,
+                   cpu_servo_motor_us=20)
+    _define_motors(rig, motors)
+    rig.c.plcs.load(1, "\n".join(["P1=P1+1"] * statements))
+    rig.ok("ENABLE PLC 1")
+    return rig
+
+
 @pytest.mark.parametrize("motors", [0, 8])
 def test_a_command_sent_mid_cycle_is_answered_when_the_cycle_in_progress_ends(make_rig, motors):
     """A background cycle is one PLC 1-31 scan, then a host command (TUM p237). PLC 1 of 20
@@ -131,13 +150,7 @@ def test_a_command_sent_mid_cycle_is_answered_when_the_cycle_in_progress_ends(ma
     updates of the motors leave); a command arriving 1 ms into a cycle is answered at its
     end (the RTI, every 256 servo cycles with I8=255, does not come in between), not one
     cycle's length after the command arrived."""
-    rig = make_rig(i8=255, i5=2, cpu_housekeeping_us=0, cpu_host_command_us=0,
-                   cpu_plc_scan_us=0, cpu_rti_base_us=0, cpu_plc_statement_us=100,
-                   cpu_servo_motor_us=20)
-    for motor, axis in zip(range(1, motors + 1), "XYZABCUV", strict=False):
-        rig.ok(f"&1 #{motor}->{axis}")
-    rig.c.plcs.load(1, "\n".join(["P1=P1+1"] * 20))
-    rig.ok("ENABLE PLC 1")
+    rig = _plc1_card(make_rig, motors, 20)
     rig.run_for(0.05)
     first = rig.cmd("P1")
     start = first.t_done  # one cycle ends and the next begins with a scan
@@ -172,8 +185,7 @@ def test_a_plc0_longer_than_the_rti_reruns_the_moment_its_last_scan_ends(make_ri
     (TUM p236-237) — mostly between RTIs, not on them."""
     rig = make_rig(i40=100000, cpu_rti_base_us=0, cpu_plc_scan_us=0, cpu_plc_statement_us=10,
                    cpu_servo_motor_us=20)
-    for motor, axis in zip(range(1, motors + 1), "XYZABCUV", strict=False):
-        rig.ok(f"&1 #{motor}->{axis}")
+    _define_motors(rig, motors)
     rig.c.plcs.load(0, "\n".join(["M1=M1+1"] + ["P10=P10+1"] * 199))  # 200 statements, 2 ms
     since = rig.c.log.last_seq
     rig.ok("ENABLE PLC 0")
@@ -279,13 +291,7 @@ def test_a_stall_starting_inside_a_background_cycle_delays_its_end_by_its_length
     20 ms stall, ends 20 ms later than it would have: the stall adds exactly its length, and
     a command sent as the cycle begins or after the stall, while the cycle goes on, is
     answered then (no RTI comes in between: every 256 servo cycles with I8=255)."""
-    rig = make_rig(i8=255, i5=2, cpu_housekeeping_us=0, cpu_host_command_us=0,
-                   cpu_plc_scan_us=0, cpu_rti_base_us=0, cpu_plc_statement_us=100,
-                   cpu_servo_motor_us=20)
-    for motor, axis in zip(range(1, motors + 1), "XYZABCUV", strict=False):
-        rig.ok(f"&1 #{motor}->{axis}")
-    rig.c.plcs.load(1, "\n".join(["P1=P1+1"] * 100))
-    rig.ok("ENABLE PLC 1")
+    rig = _plc1_card(make_rig, motors, 100)
     rig.run_for(1.0)
     length = 0.01 / (1.0 - rig.c.status()["cpu"]["servo"])
     first = rig.cmd("P1")
