@@ -1,7 +1,10 @@
 """Turbo PMAC variables: I (setup), P (global), Q (per coordinate system), M (I/O pointers).
 
 * I0..8191 start at the card's factory defaults (:mod:`motionsim.sim.pmac.factory`);
-  ``I{n}=*`` restores one.
+  ``I{n}=*`` restores one. Every I-variable assignment (on-line, PLC, motion program, REST,
+  config) follows the card's value rules (:mod:`motionsim.sim.pmac.ivar_ranges`): a value
+  outside a limited range rolls over into it (``I3=5`` -> 1, TUM p243), and a write to a
+  set that I41 locks is ignored, no error (TSRM p57).
   Coordinate-system I-variables are ``Isx`` = I(5000 + 100·x + nn), e.g. I5113 = Isx13 of
   CS 1; motor I-variables ``Ixx`` = I(100·xx + nn), e.g. I115 = Ixx15 of motor 1.
 * P0..8191 are global, Q0..8191 have one bank per coordinate system, M0..8191 are the
@@ -20,6 +23,7 @@ from collections.abc import Callable
 
 from motionsim.sim.errors import NotFound
 from motionsim.sim.pmac.factory import HEX_IVARS, default_i
+from motionsim.sim.pmac.ivar_ranges import locked, roll_over
 from motionsim.sim.pmac.mvars import MVariables
 
 N_VARS = 8192
@@ -130,12 +134,14 @@ class Variables:
             else:
                 value = self.mvars.write(d, value)
             self._on_m_write(n, value, sync)
-        else:
-            self.i[n] = value
+        elif not locked(n, self.I(41)):
+            self.i[n] = roll_over(n, value)
             self.version += 1
 
     def set_default(self, n: int) -> None:
-        """``I{n}=*``."""
+        """``I{n}=*`` (ignored, like an assignment, while I41 locks I{n} ``[INF]``)."""
+        if locked(n, self.I(41)):
+            return
         self.i.pop(n, None)
         self.version += 1
 
