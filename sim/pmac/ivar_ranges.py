@@ -94,6 +94,8 @@ def roll_over(n: int, value: float) -> float:
 def locked(n: int, i41: float) -> bool:
     """Whether I41 = ``i41`` locks I{n} against assignment."""
     bits = int(i41)
+    if not bits:  # the factory I41 = 0: nothing locked (the common case, kept cheap)
+        return False
     return any(bits >> b & 1 and n in s for b, s in enumerate(LOCKOUT_SETS))
 
 

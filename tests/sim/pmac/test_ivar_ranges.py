@@ -12,9 +12,43 @@ from motionsim.sim.pmac.ivar_ranges import RANGES, roll_over
 
 
 def query(rig, name: str) -> str:
-    """The reply to a query; address-type variables answer ``$hex`` (I9=2), made decimal."""
-    text = rig.ok(name).strip()
+    """The reply to a query as a decimal text: address-type variables answer ``$hex`` (I9=2),
+    and with I9 bit 0 set the whole statement ``I9=3``."""
+    text = rig.ok(name).strip().split("=")[-1]
     return str(int(text[1:], 16)) if text.startswith("$") else text
+
+
+#: The SRM's ``Range:`` of each limited-range integer I-variable (name, lo, hi, page).
+MANUAL_RANGES = [
+    ("I3", 0, 3, "TSRM p37"), ("I4", 0, 3, "TSRM p38"), ("I5", 0, 3, "TSRM p39"),
+    ("I6", 0, 3, "PSRM p25"), ("I9", 0, 3, "TSRM p42"), ("I40", 0, 65_535, "TSRM p57"),
+    ("I41", 0, 15, "TSRM p57"), ("I42", 0, 1, "TSRM p58"), ("I43", 0, 3, "TSRM p58"),
+    ("I59", 0, 3, "TSRM p65"), ("I60", 0, 15, "TSRM p65"), ("I63", 0, 1, "TSRM p67"),
+    ("I64", 0, 1, "TSRM p67"), ("I67", 0, 0x3FFFF, "TSRM p68"), ("I5000", 0, 3, "TSRM p170"),
+    ("I180", 0, 7, "TSRM p136"), ("I3280", 0, 7, "TSRM p136"),  # Ixx80, motors 1 and 32
+    ("I5113", 0, 255, "TSRM p177"), ("I6613", 0, 255, "TSRM p177"),  # Isx13, CS 1 and 16
+    ("I5121", 0, 15, "TSRM p181"), ("I6621", 0, 15, "TSRM p181"),  # Isx21
+    ("I5150", 0, 1, "TSRM p181"), ("I6650", 0, 1, "TSRM p181"),  # Isx50
+    ("I5192", 0, 1, "TSRM p184-190"), ("I6692", 0, 1, "TSRM p184-190"),  # Isx92
+]
+
+
+@pytest.mark.parametrize(("name", "lo", "hi", "page"), MANUAL_RANGES)
+def test_one_past_each_end_of_a_manual_range_wraps_to_the_other_end(rig, name, lo, hi, page):
+    rig.ok(f"{name}={hi + 1}")
+    assert query(rig, name) == str(lo)
+    rig.ok(f"{name}={lo - 1}")
+    assert query(rig, name) == str(hi)
+    rig.ok(f"{name}={hi}")
+    assert query(rig, name) == str(hi)
+
+
+@pytest.mark.parametrize("name", ["I80", "I3380", "I5013", "I6713"])
+def test_neighbours_of_the_ranged_blocks_have_no_range(rig, name):
+    """Motor 0 / 33 and CS 0 / 17 do not exist: I80, I3380, I5013 (a gather address), I6713
+    keep what they are given."""
+    rig.ok(f"{name}=300")
+    assert query(rig, name) == "300"
 
 
 def test_i3_5_assigns_5_modulo_4_which_is_1_the_manual_example(rig):
@@ -138,6 +172,10 @@ def test_i41_bit_0_locks_motor_variables_the_write_is_ignored_without_error(rig)
         (8, "I8000", "I7999"),  # bit 3: I8000..I8191
         (8, "I8191", "I4899"),
         (1, "I4899", "I5100"),  # bit 0 ends at I4899; I4900.. and I5000.. are global
+        (1, "I100", "I4900"),
+        (2, "I5100", "I5099"),
+        (2, "I6699", "I6700"),  # I6700..I6799 belong to no set
+        (4, "I6800", "I6799"),
         (15, "I100", "I99"),
     ],
 )
