@@ -4,7 +4,8 @@ Limited range (TUM p243; PMAC(1) PUM p148): assigning an out-of-range value to a
 I-variable with a limited range is no error; the value is rolled into the range by modulo
 arithmetic (truncation). The manual's example: I3 has the range 0..3 (4 values), so
 ``I3=5`` assigns 5 mod 4 = 1. For a range lo..hi of span hi - lo + 1 the stored value is
-``lo + (v - lo) mod span``, so a negative value comes in from the top (``I3=-1`` -> 3).
+``lo + (v - lo) mod span``; every range kept here starts at 0 (below), so it is
+``v mod (hi + 1)``, and a negative value comes in from the top (``I3=-1`` -> 3).
 
 ``[INF]`` the manual says nothing of fractions: "modulo arithmetic (truncation)" is read as
 truncation toward zero first (``I3=2.7`` -> 2, ``I3=-1.5`` -> -1 -> 3).
@@ -28,40 +29,40 @@ from __future__ import annotations
 import math
 from typing import Final
 
-#: ``I{n}: (lo, hi, source)`` — the limited ranges applied on assignment.
-_GLOBAL: Final[dict[int, tuple[int, int, str]]] = {
-    3: (0, 3, "TSRM p37"),
-    4: (0, 3, "TSRM p38"),
-    5: (0, 3, "TSRM p39"),
-    6: (0, 3, "PSRM p25 [INF] Turbo page not retrieved"),
-    9: (0, 3, "TSRM p42"),
-    40: (0, 65_535, "TSRM p57"),
-    41: (0, 15, "TSRM p57"),
-    42: (0, 1, "TSRM p58"),
-    43: (0, 3, "TSRM p58"),
-    59: (0, 3, "TSRM p65"),
-    60: (0, 15, "TSRM p65"),
-    63: (0, 1, "TSRM p67"),
-    64: (0, 1, "TSRM p67"),
-    67: (0, 0x3FFFF, "TSRM p68"),
-    5000: (0, 3, "TSRM p170"),
+#: ``I{n}: (hi, source)`` — the limited ranges 0..hi applied on assignment.
+_GLOBAL: Final[dict[int, tuple[int, str]]] = {
+    3: (3, "TSRM p37"),
+    4: (3, "TSRM p38"),
+    5: (3, "TSRM p39"),
+    6: (3, "PSRM p25 [INF] Turbo page not retrieved"),
+    9: (3, "TSRM p42"),
+    40: (65_535, "TSRM p57"),
+    41: (15, "TSRM p57"),
+    42: (1, "TSRM p58"),
+    43: (3, "TSRM p58"),
+    59: (3, "TSRM p65"),
+    60: (15, "TSRM p65"),
+    63: (1, "TSRM p67"),
+    64: (1, "TSRM p67"),
+    67: (0x3FFFF, "TSRM p68"),
+    5000: (3, "TSRM p170"),
 }
 
 #: Motor ``Ixx{nn}`` (all 32 motors).
-_MOTOR: Final[dict[int, tuple[int, int, str]]] = {
-    80: (0, 7, "TSRM p136"),
+_MOTOR: Final[dict[int, tuple[int, str]]] = {
+    80: (7, "TSRM p136"),
 }
 
 #: Coordinate-system ``Isx{nn}`` (all 16 systems).
-_CS: Final[dict[int, tuple[int, int, str]]] = {
-    13: (0, 255, "TSRM p177 (spec pmac.md §9.2)"),
-    21: (0, 15, "TSRM p181"),
-    50: (0, 1, "TSRM p181"),
-    92: (0, 1, "TSRM p184-190 (spec pmac.md §9.3)"),
+_CS: Final[dict[int, tuple[int, str]]] = {
+    13: (255, "TSRM p177 (spec pmac.md §9.2)"),
+    21: (15, "TSRM p181"),
+    50: (1, "TSRM p181"),
+    92: (1, "TSRM p184-190 (spec pmac.md §9.3)"),
 }
 
 
-def _build() -> dict[int, tuple[int, int, str]]:
+def _build() -> dict[int, tuple[int, str]]:
     out = dict(_GLOBAL)
     for xx in range(1, 33):
         out.update({100 * xx + nn: r for nn, r in _MOTOR.items()})
@@ -70,8 +71,8 @@ def _build() -> dict[int, tuple[int, int, str]]:
     return out
 
 
-#: Every limited-range I-variable: number -> (lo, hi, source).
-RANGES: Final[dict[int, tuple[int, int, str]]] = _build()
+#: Every limited-range I-variable: number -> (hi, source); the range is 0..hi.
+RANGES: Final[dict[int, tuple[int, str]]] = _build()
 
 #: I41 bit -> the I-variables it locks (TSRM p57).
 LOCKOUT_SETS: Final[tuple[range, ...]] = (
@@ -87,8 +88,8 @@ def roll_over(n: int, value: float) -> float:
     r = RANGES.get(n)
     if r is None:
         return value
-    lo, hi, _source = r
-    return float(lo + (math.trunc(value) - lo) % (hi - lo + 1))
+    hi, _source = r
+    return float(math.trunc(value) % (hi + 1))
 
 
 def locked(n: int, i41: float) -> bool:

@@ -182,9 +182,10 @@ def test_i41_bit_0_locks_motor_variables_the_write_is_ignored_without_error(rig)
 def test_each_i41_bit_locks_its_own_set_only(rig, i41, locked, free):
     rig.ok(f"I41={i41}")
     old = query(rig, locked)
-    rig.ok(f"{locked}=1 {free}=1")
+    assert old != "3"
+    rig.ok(f"{locked}=3 {free}=3")
     assert query(rig, locked) == old
-    assert query(rig, free) == "1"
+    assert query(rig, free) == "3"
 
 
 def test_a_locked_write_from_a_running_plc_is_ignored(rig):
