@@ -21,10 +21,10 @@ PLANNING_ONLY = {
 PLAN_S = 2000e-6
 
 
-def _planning_rig(make_rig):
+def _planning_rig(make_rig, rti_base_us: float = 0):
     """PLC 0 enabled (it costs nothing here; it keeps the processor model accounting) and a
     rotary buffer holding a LINEAR program of two set-up lines and four long moves."""
-    rig = make_rig(**PLANNING_ONLY)
+    rig = make_rig(**{**PLANNING_ONLY, "cpu_rti_base_us": rti_base_us})
     rig.c.plcs.load(0, "P1=P1+1")
     rig.ok("ENABLE PLC 0")
     rig.rotary_setup()
@@ -41,11 +41,14 @@ def test_lines_stored_but_not_yet_calculated_cost_the_rti_nothing(make_rig):
     assert rig.events("rti_overrun") == []
 
 
-def test_planning_several_lines_in_one_rti_overruns_until_the_work_is_done(make_rig):
+@pytest.mark.parametrize("rti_base_us", [0, 100])
+def test_planning_several_lines_in_one_rti_overruns_until_the_work_is_done(make_rig,
+                                                                          rti_base_us):
     """``R`` calculates the set-up lines and the first moves in one go (two moves ahead for
     LINEAR, TUM p339): 5 lines at 2 ms each are 10 ms of RTI work. Every following RTI finds
-    it unfinished and overruns (``over_s`` = what is left), until it is done."""
-    rig = _planning_rig(make_rig)
+    it unfinished and overruns (``over_s`` = what is left), its own fixed cost (``rti_base``)
+    adding to the work, until it is done."""
+    rig = _planning_rig(make_rig, rti_base_us)
     rig.run_for(0.01)
     since = rig.c.log.last_seq
     rig.ok("R")
@@ -56,11 +59,14 @@ def test_planning_several_lines_in_one_rti_overruns_until_the_work_is_done(make_
     assert {k for k, _, _ in calculated} == {k_plan}
     rti_cycles = rig.c.scheduler.rti_period_s() / rig.period
     rti_s = rig.c.scheduler.rti_period_s()
+    base = rti_base_us * 1e-6
     overruns = rig.events("rti_overrun", since=since)
-    expected = [5 * PLAN_S - n * rti_s for n in range(1, 8)]
-    assert all(x > 0 for x in expected) and 5 * PLAN_S - 8 * rti_s < 0
+    left = [5 * PLAN_S + n * (base - rti_s) for n in range(1, 12)]
+    expected = [x for x in left if x > 0]
+    assert len(expected) >= 7
     assert [f["over_s"] for _, _, f in overruns] == pytest.approx(expected, abs=1e-9)
-    assert [k for k, _, _ in overruns] == [k_plan + n * rti_cycles for n in range(1, 8)]
+    assert [k for k, _, _ in overruns] == [
+        k_plan + n * rti_cycles for n in range(1, len(expected) + 1)]
 
 
 def test_a_line_calculated_later_costs_one_line_of_planning(make_rig):
@@ -130,11 +136,11 @@ def _define_motors(rig, motors: int) -> None:
         rig.ok(f"&1 #{motor}->{axis}")
 
 
-def _plc1_card(make_rig, motors: int, statements: int):
+def _plc1_card(make_rig, motors: int, statements: int, host_us: float = 0):
     """A card whose background cycle is one scan of PLC 1, ``statements`` × 100 µs, all other
-    background and RTI costs zero, an RTI only every 256 servo cycles (I8=255), and
-    ``motors`` motors at 20 µs of servo time each."""
-    rig = make_rig(i8=255, i5=2, cpu_housekeeping_us=0, cpu_host_command_us=0,
+    background and RTI costs zero but ``host_us`` a host command, an RTI only every 256
+    servo cycles (I8=255), and ``motors`` motors at 20 µs of servo time each."""
+    rig = make_rig(i8=255, i5=2, cpu_housekeeping_us=0, cpu_host_command_us=host_us,
                    cpu_plc_scan_us=0, cpu_rti_base_us=0, cpu_plc_statement_us=100,
                    cpu_servo_motor_us=20)
     _define_motors(rig, motors)
@@ -160,6 +166,31 @@ def test_a_command_sent_mid_cycle_is_answered_when_the_cycle_in_progress_ends(ma
     second = rig.cmd("P1")
     assert rig.cyc(second.t_done) == rig.cyc(rig.c.scheduler.servo_at_or_after(start + length))
     assert int(second.reply) == int(first.reply) + 20  # exactly one more scan of PLC 1
+    assert rig.c.status()["cpu"]["background_cycle_s"] == pytest.approx(second.t_done - start)
+
+
+def test_a_second_queued_command_waits_a_whole_cycle_that_also_pays_for_it(make_rig):
+    """Two commands sent together in a 2 ms background cycle (PLC 1): the first is answered
+    at that cycle's end, the second at the end of the next cycle, which begins with it
+    queued and so takes its 0.5 ms of command processing on top of the scan (TUM p237: one
+    host command a background cycle). With PLC 1 disabled the card is idle again and its
+    background cycle is the free-running housekeeping's, one servo cycle."""
+    rig = _plc1_card(make_rig, 0, 20, host_us=500)
+    rig.run_for(0.05)
+    start = rig.cmd("P1").t_done
+    while rig.c.scheduler.next_rti_after(start) < start + 0.01:
+        start = rig.cmd("P1").t_done  # a cycle well before the next RTI
+    first, second = rig.c.terminal("P1"), rig.c.terminal("P2")
+    while not second.done:
+        rig.c.env.step()
+    at = rig.c.scheduler.servo_at_or_after
+    assert rig.cyc(first.t_done) == rig.cyc(at(start + 0.002))
+    assert rig.cyc(second.t_done) == rig.cyc(at(first.t_done + 0.0025))
+    assert rig.c.status()["cpu"]["background_cycle_s"] == pytest.approx(
+        second.t_done - first.t_done)
+    rig.ok("DISABLE PLC 1")  # nothing left to run: free-running housekeeping, one a cycle
+    rig.run_for(0.1)
+    assert rig.c.status()["cpu"]["background_cycle_s"] == pytest.approx(rig.period)
 
 
 def test_a_stall_due_later_does_not_hold_back_a_command_answered_before_it(make_rig):
@@ -339,8 +370,10 @@ def test_the_rti_load_is_the_share_of_the_last_full_second(make_rig):
     def share() -> float:
         return rig.c.status()["plcs"]["0"]["statements_last_scan"] * 10e-6 / rti_s
 
-    rig.run_for(2.5)
+    rig.run_for(0.5)  # the first second awake is not over: the share so far
     heavy = share()
+    assert rig.c.status()["cpu"]["rti"] == pytest.approx(heavy, rel=0.01)
+    rig.run_for(2.0)
     assert heavy > 0.7
     assert rig.c.status()["cpu"]["rti"] == pytest.approx(heavy, rel=0.01)
     rig.c.set_variable("P1", 1)  # at 2.5 s: the second from 2 s to 3 s is mixed
