@@ -414,3 +414,25 @@ def test_a_lines_words_are_freed_when_the_next_move_starts_executing(rig):
         seen.append(rig.c.rotary(1)["used_words"])
     assert seen == [total - sum(words[i] for i in range(1, n)) for n in (1, 2, 3, 4)]
     assert words[1] > 2  # (line 1's words outnumber the line numbers here)
+
+
+def test_s_given_while_running_stops_blending_the_calculated_moves_run_each_to_a_stop(rig):
+    """TSRM p285: under ``S`` the continuous-motion request is 0: no blended sequence.
+    ``[INF]`` ``S`` while a blended program runs: the hand-off into the next move was already
+    decided (it starts blended); from then on each move ends in a stop, nothing more is
+    calculated, and the moves already calculated run from rest, then ``stopped``."""
+    _start(rig, ["TM100 TA10 TS0 X1", "X2", "X3", "X4", "X5", "X6"])
+    rig.run_for(0.05)
+    k0 = _by_n(rig, "move_start")[1]
+    calculated = sorted(_by_n(rig, "line_calculated"))
+    assert calculated == [1, 2, 3]
+    rig.ok("S")
+    assert not int(rig.ok("??")[:6], 16) & (1 << 4)  # continuous motion request off
+    rig.run_until_idle()
+    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    assert sorted(starts) == calculated
+    assert starts[2] == k0 + ceil_cycles(rig, 100)  # blended out of move 1
+    assert ends[2] == k0 + ceil_cycles(rig, 210)  # then TM, and Ta/2 to a stop
+    assert starts[3] == ends[2] and ends[3] - starts[3] == ceil_cycles(rig, 110)  # from rest
+    assert _states(rig)[-1] == (ends[3], "stopped")
+    assert rig.c.positions(1) == {"X": 3.0}
