@@ -1,7 +1,8 @@
 """Valid Turbo PMAC commands that motionsim does not simulate.
 
 When a command line fails to parse, the terminal asks :func:`which` whether the text at the
-failing column is the start of one of these. The wire answer stays the card's ``ERR003``
+failing column, or at the start of the failing statement, is the start of one of these. The
+wire answer stays the card's ``ERR003``
 (the host must get an answer it can handle), but the REST terminal reports ``not_simulated``
 naming the command, so a user does not mistake it for a typo. ``docs/pmac.md`` lists what is
 simulated. Command names from the Turbo SRM on-line command list (TSRM p260–p420) ``[BK]``
@@ -29,11 +30,12 @@ _COMMANDS: Final[tuple[tuple[str, str], ...]] = (
     (r"PMATCH", "PMATCH"),
     (r"ENABLE\s*PLCC|ENA\s*PLCC|DISABLE\s*PLCC|DIS\s*PLCC|PLCC", "compiled PLCs (PLCC)"),
     (r"(LIST)\s*(LDS|LINK|PE|PC|TCOMP|COMP|BLCOMP|CCBUF|LOOKAHEAD)", "that LIST"),
-    (r"CHECKSUM|CLEAR\s*ALL|EAVERSION|DATE|TIME|IDNUMBER|IDC|SID|UPDATE|RESET",
+    (r"CHECKSUM|CLEAR\s*ALL(?!\s*PLCS)|EAVERSION|DATE|TIME|IDNUMBER|IDC|SID|UPDATE|RESET",
      "that on-line command"),
     (r"(MOVETIME|HOLD|STOP|BLKSTART|BLOCKSTART)", "that on-line command"),
     (r"GATHER|ENDGATHER|ENDG\b", "data gathering (GATHER / ENDGATHER)"),
 )
+_ADDRESSING: Final = re.compile(r"(?:\s*[&#]\s*\d+)*\s*")
 _COMPILED: Final = tuple((re.compile(p, re.IGNORECASE), name) for p, name in _COMMANDS)
 
 
@@ -55,12 +57,19 @@ def command_start(text: str, column: int) -> int:
     return start
 
 
-def which(text: str, column: int) -> str | None:
-    """The not-simulated command starting at the word holding 1-based ``column``, or None."""
-    rest = text[word_start(text, column) :].lstrip()
-    for pattern, name in _COMPILED:
-        if pattern.match(rest):
-            return name
+def which(text: str, column: int, statement_start: int | None = None) -> str | None:
+    """The not-simulated command starting at the word holding 1-based ``column`` or, failing
+    that, at the failing statement's 0-based ``statement_start`` past any ``&n`` / ``#n``
+    addressing (``LIST LOOKAHEAD`` fails at ``LOOKAHEAD``, a valid command all the same), or
+    None."""
+    starts = [word_start(text, column)]
+    if statement_start is not None:
+        starts.append(_ADDRESSING.match(text, max(0, statement_start)).end())  # type: ignore[union-attr]
+    for start in starts:
+        rest = text[start:].lstrip()
+        for pattern, name in _COMPILED:
+            if pattern.match(rest):
+                return name
     return None
 
 

@@ -26,11 +26,12 @@ import re
 from typing import Any
 
 from motionsim.sim.errors import ParseError
-from motionsim.sim.pmac import card_commands, list_commands, mvar_defs
+from motionsim.sim.pmac import card_commands, list_commands, memory_commands, mvar_defs
 from motionsim.sim.pmac import expressions as ex
 from motionsim.sim.pmac import motor_statements as motor_st
 from motionsim.sim.pmac import plc_statements as plc_st
 from motionsim.sim.pmac import statements as st
+from motionsim.sim.pmac.program_counter import ProgramCounter
 
 _WORDS = [
     "DEFINE", "DELETE", "DEF", "DEL", "ROTARY", "ROT", "GATHER", "GAT", "OPEN", "CLOSE",
@@ -58,6 +59,9 @@ _TOKEN = re.compile(
 )
 
 _FUNCS = frozenset(ex.FUNCTIONS)
+_PC_PE = re.compile(r"([CE])(?![A-Za-z0-9(])", re.IGNORECASE)
+_CLEAR_ALL_PLCS = re.compile(r"\s*ALL\s*PLCS(?![A-Za-z])", re.IGNORECASE)
+_CLEAR_ALL = re.compile(r"\s*ALL(?![A-Za-z])", re.IGNORECASE)
 _VARS = frozenset("IPQM")
 _ASSIGN_OPS = frozenset(["=", "==", "&=", "|=", "^="])
 _ERR = "ERR003"
@@ -125,6 +129,16 @@ class _Parser:
     def at(self, kind: str, text: str | None = None) -> bool:
         tok = self.peek()
         return tok is not None and tok[0] == kind and (text is None or tok[1] == text)
+
+    def match_text(self, pattern: re.Pattern[str]) -> re.Match[str] | None:
+        """Match ``pattern`` on the text right after the last token taken; on a match, the
+        tokens it covers are taken (for words the tokenizer splits into letters:
+        ``RHX:`` is ``R`` ``H`` ``X`` ``:``)."""
+        m = pattern.match(self.text, self.toks[self.i - 1][3])
+        if m is not None:
+            while self.i < len(self.toks) and self.toks[self.i][2] < m.end():
+                self.i += 1
+        return m
 
     def expect_op(self, text: str) -> Token:
         if not self.at("op", text):
@@ -237,7 +251,12 @@ class _Parser:
         out: list[tuple[Any, int, int]] = []
         while self.peek() is not None:
             start = self.peek()[2]  # type: ignore[index]
-            stmt = self.statement()
+            try:
+                stmt = self.statement()
+            except ParseError as e:
+                # where the failing statement began (0-based), for not_simulated.which
+                e.statement_start = start  # type: ignore[attr-defined]
+                raise
             end = self.toks[self.i - 1][3]
             if isinstance(stmt, (st.OpenRotary, st.OpenProgram)):
                 self.open = True
@@ -346,7 +365,7 @@ class _Parser:
         if word in ("ENABLE", "ENA", "DISABLE", "DIS"):
             return plc_st.EnablePlc(self.plc_list(), word in ("ENABLE", "ENA"))
         if word == "CLEAR":
-            return plc_st.Clear()
+            return self.clear()
         if word in ("LINEAR", "LIN"):
             self.spline_line = False
             return st.MoveMode("LINEAR")
@@ -394,6 +413,14 @@ class _Parser:
             raise self.error(f"{word} is a function, not a command", tok)
         return self.letter_statement(tok)
 
+    def clear(self) -> Any:
+        """``CLEAR`` (the open buffer) or ``CLEAR ALL PLCS``; ``CLEAR ALL`` is not simulated."""
+        if self.match_text(_CLEAR_ALL_PLCS) is not None:
+            return plc_st.ClearAllPlcs()
+        if _CLEAR_ALL.match(self.text, self.toks[self.i - 1][3]):
+            raise self.error("CLEAR ALL (every program buffer) is not simulated")
+        return plc_st.Clear()
+
     def plc_number(self) -> int:
         tok = self.peek()
         n = self.integer()
@@ -440,6 +467,9 @@ class _Parser:
 
     def letter_statement(self, tok: Token) -> Any:
         word = tok[1]
+        online = self.online_letter(word)
+        if online is not None:
+            return online
         if word == "J" and motor_st.is_jog(self):
             return motor_st.parse_jog(self)
         has_value = self.has_value()
@@ -482,6 +512,24 @@ class _Parser:
         if word in ("N", "O"):
             return st.Label(word, self.integer())
         raise self.error(f"unrecognised command {word!r}", tok)
+
+    def online_letter(self, word: str) -> Any:
+        """On-line commands whose word the tokenizer splits into letters: ``PC`` / ``PE``
+        (:mod:`.program_counter`), ``R[H]{space}:`` and ``W{space}:``
+        (:mod:`.memory_commands`); None when the letter starts none of them."""
+        if word == "P":
+            m = self.match_text(_PC_PE)
+            if m is not None:
+                return ProgramCounter(executing=m.group(1).upper() == "E")
+        elif word == "R":
+            m = self.match_text(memory_commands.READ_HEAD)
+            if m is not None:
+                return memory_commands.parse_read(self, m)
+        elif word == "W":
+            m = self.match_text(memory_commands.WRITE_HEAD)
+            if m is not None:
+                return memory_commands.parse_write(self, m)
+        return None
 
     def pset_axes(self) -> tuple[tuple[str, ex.Expr], ...]:
         """``PSET``'s ``{axis}{data}`` pairs, at least one (TSRM p31)."""

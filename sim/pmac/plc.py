@@ -347,6 +347,20 @@ class PlcTable:
         plc.program = program if program.ops else None
         plc.pc = 0
 
+    def clear_all(self) -> None:
+        """``CLEAR ALL PLCS``: every PLC program buffer erased; an enabled PLC stops (its
+        ``plc`` event says ``disabled``) as there is nothing left to scan ``[INF]``.
+
+        Raises:
+            Conflict: a PLC is open for entry (ERR007) ``[INF]``; nothing changed.
+        """
+        if self.editing() is not None:
+            raise Conflict(f"PLC {self.editing()} is open for entry", pmac_error="ERR007")
+        self.set_enabled([p.n for p in self.plcs], False)
+        for plc in self.plcs:
+            plc.program = None
+            plc.pc = 0
+
     def plc(self, n: int) -> Plc:
         if isinstance(n, bool) or not isinstance(n, int) or not 0 <= n < plc_st.N_PLCS:
             raise NotFound(f"no PLC {n!r} (0..{plc_st.N_PLCS - 1})")

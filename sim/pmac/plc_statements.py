@@ -31,6 +31,11 @@ class Clear:
     """``CLEAR``: erase the contents of the open PLC buffer."""
 
 
+@dataclass(frozen=True, slots=True)
+class ClearAllPlcs:
+    """``CLEAR ALL PLCS``: erase every PLC program buffer (TSRM on-line commands ``[BK]``)."""
+
+
 N_PLCS = 32
 
-__all__ = ["N_PLCS", "Clear", "EnablePlc", "OpenPlc"]
+__all__ = ["N_PLCS", "Clear", "ClearAllPlcs", "EnablePlc", "OpenPlc"]

@@ -29,7 +29,14 @@ from typing import TYPE_CHECKING, Any
 
 from motionsim.sim.controller import Port
 from motionsim.sim.errors import MotionSimError, ParseError
-from motionsim.sim.pmac import card_commands, list_commands, mvar_defs, not_simulated
+from motionsim.sim.pmac import (
+    card_commands,
+    list_commands,
+    memory_commands,
+    mvar_defs,
+    not_simulated,
+    program_counter,
+)
 from motionsim.sim.pmac import motor_statements as motor_st
 from motionsim.sim.pmac import plc_statements as plc_st
 from motionsim.sim.pmac import statements as st
@@ -53,6 +60,7 @@ TYPE = "TURBO2"
 _ONLINE_IN_PLC = (
     st.AddressCS, st.AddressMotor, st.Query, st.VarQuery, st.MDefinitionQuery, st.FeedOverride,
     st.Run, st.Step, st.Quit, st.Hold, st.Abort, st.MFlush, list_commands.ListBuffer,
+    program_counter.ProgramCounter, memory_commands.MemoryRead,
 )  # fmt: skip
 
 
@@ -66,7 +74,8 @@ class CommandError(Exception):
 
 #: What may run before a malformed command on the same line: it changes no controller state.
 _REPORTS = (st.Query, st.VarQuery, st.MDefinitionQuery, st.AddressCS, st.AddressMotor,
-            list_commands.ListBuffer)
+            list_commands.ListBuffer, program_counter.ProgramCounter,
+            memory_commands.MemoryRead)
 
 
 def _is_report(stmt: Any) -> bool:
@@ -168,7 +177,8 @@ class Terminal:
         reply, error = self._execute(text, stmts, port)
         if error is None and failed is not None:
             error = failed.pmac_error or "ERR003"
-            name = not_simulated.which(text, failed.details.get("column", 1))
+            name = not_simulated.which(text, failed.details.get("column", 1),
+                                       getattr(failed, "statement_start", None))
             if name is not None:
                 self.detail = ("not_simulated", not_simulated.message(name))
             else:
@@ -342,6 +352,14 @@ class Terminal:
             for n in stmt.numbers():
                 text = mvar_defs.report(ctl.vars.mvars.definition(n))
                 out.append(f"M{n}->{text}" if full else text)
+        elif t is program_counter.ProgramCounter:
+            out.append(program_counter.report(stmt, ctl, state["cs"]))
+        elif t is memory_commands.MemoryRead:
+            out.append(memory_commands.read(stmt, ctl.vars.mvars))
+        elif t is memory_commands.MemoryWrite:
+            memory_commands.write(stmt, ctl.vars.mvars)
+        elif t is plc_st.ClearAllPlcs:
+            ctl.plcs.clear_all()
         elif t is plc_st.OpenPlc:
             ctl.plcs.open(stmt.n, port)
             return

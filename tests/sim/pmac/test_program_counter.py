@@ -1,0 +1,89 @@
+"""``PC`` / ``PE``: the program and line offset the addressed CS's program counter points to
+(the line calculated next) and of the move executing, for fixed PROGs and the rotary buffer
+(sim/pmac/program_counter.py; reply ``P{prog}:{offset}`` [BK])."""
+
+from __future__ import annotations
+
+from motionsim.sim.pmac.listing import entries
+
+# word offsets as LIST PROG 3,0 numbers them: TM100 (1 word) at 0, X10 at 1, X20 at 2, ...
+PROG = ["TM100", "X10", "X20", "X30"]
+
+
+def load(rig, n: int = 3, lines=PROG) -> None:
+    rig.ok(f"OPEN PROG {n} CLEAR")
+    for line in lines:
+        rig.ok(line)
+    rig.ok("CLOSE")
+
+
+def offsets(lines=PROG) -> list[int]:
+    return [off for off, _ in entries(lines)]  # the listing's offsets, the closing RET last
+
+
+def test_pc_after_b_points_at_the_top_of_the_program(rig):
+    load(rig)
+    rig.ok("&1 B3")
+    assert rig.ok("&1 PC") == "P3:0"
+    assert rig.ok("&1PE") == "P3:0"  # nothing executing: where the counter points [INF]
+
+
+def test_pc_uses_the_word_offsets_of_list_prog(rig):
+    load(rig)
+    listing = rig.ok("LIST PROG 3,0")
+    assert listing.split("\r") == ["0:TM100", "1:X10", "2:X20", "3:X30", "4:RET"]
+    assert offsets() == [0, 1, 2, 3, 4]
+
+
+def test_pe_reports_the_executing_move_and_pc_the_line_calculated_next(rig):
+    load(rig)
+    rig.ok("&1 B3 R")
+    # run until the first move (line 2, X10) executes
+    while not rig.events("move_start"):
+        rig.c.env.step()
+    n = rig.events("move_start")[-1][2]["n"]
+    assert n == 2
+    assert rig.ok("&1PE") == "P3:1"  # X10 is at word offset 1
+    pc = rig.ok("&1PC")
+    calculated = [e["n"] for _, _, e in rig.events("line_calculated")]
+    nxt = max(calculated) + 1  # the line not yet calculated
+    assert pc == f"P3:{offsets()[nxt - 1]}"
+    assert pc != "P3:1"  # the program counter runs ahead of the executing move
+
+
+def test_pc_at_the_end_of_a_fixed_program_points_at_its_ret(rig):
+    load(rig)
+    rig.ok("&1 B3 R")
+    rig.run_until_idle()
+    assert rig.c.coord(1)["program"]["state"] == "stopped"
+    assert rig.ok("&1PC") == "P3:4"  # the RET the card adds after X30
+    assert rig.ok("&1PE") == "P3:4"
+    rig.ok("&1B3")
+    assert rig.ok("&1PC") == "P3:0"  # B points it at the top again
+
+
+def test_pc_of_the_rotary_buffer_is_program_0(rig):
+    rig.rotary_setup()
+    port = rig.c.open_port("host")
+    rig.ok("OPEN ROT", port)
+    for line in ["TM100", "X10", "X20"]:
+        rig.ok(line, port)
+    assert rig.ok("&1PC", port) == "P0:0"  # buffers open: PC still acts on-line
+    rig.ok("CLOSE", port)
+    rig.ok("&1R")
+    rig.run_until_idle()
+    assert rig.c.coord(1)["program"]["state"] == "waiting"
+    # all three lines calculated: the counter waits at the next line to be stored
+    assert rig.ok("&1PC") == "P0:3"
+
+
+def test_pc_and_pe_follow_the_addressed_coordinate_system(rig):
+    load(rig)
+    load(rig, 9, ["TM50", "X1"])
+    rig.ok("&1B3&2B9")
+    assert rig.ok("&1PC&2PC") == "P3:0\rP9:0"
+
+
+def test_pc_of_a_cs_pointing_at_no_program_is_err003(rig):
+    reply = rig.cmd("&1PC")
+    assert reply.error is not None and "ERR003" in str(reply.error)
