@@ -31,6 +31,7 @@ from motionsim.sim.pmac import listing
 
 if TYPE_CHECKING:
     from motionsim.sim.pmac.controller import PmacController
+    from motionsim.sim.pmac.lookahead.coord import CoordSystem
 
 
 @dataclass(frozen=True, slots=True)
@@ -70,14 +71,14 @@ def report(cmd: ProgramCounter, ctl: PmacController, cs_n: int) -> str:
     return f"P{int(program)}:{line_offset(texts, n)}"
 
 
-def _executing_line(cs: object) -> int | None:
-    current = getattr(cs, "current", None)
-    return None if current is None else int(current.n)
+def _executing_line(cs: CoordSystem) -> int | None:
+    """1-based number of the line whose move executes, or None."""
+    return None if cs.current is None else int(cs.current.n)
 
 
-def _next_line(cs: object) -> int:
+def _next_line(cs: CoordSystem) -> int:
     """1-based number of the line the CS calculates next."""
-    src = cs.lines()  # type: ignore[attr-defined]
+    src = cs.lines()
     if src is None:
         return 1  # pointed at a PROG, not yet run: the top
     if src.pending:

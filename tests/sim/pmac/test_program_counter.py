@@ -6,15 +6,14 @@ from __future__ import annotations
 
 from motionsim.sim.pmac.listing import entries
 
+from tests.sim.pmac.test_fixed_programs import load as load_prog
+
 # word offsets as LIST PROG 3,0 numbers them: TM100 (1 word) at 0, X10 at 1, X20 at 2, ...
 PROG = ["TM100", "X10", "X20", "X30"]
 
 
 def load(rig, n: int = 3, lines=PROG) -> None:
-    rig.ok(f"OPEN PROG {n} CLEAR")
-    for line in lines:
-        rig.ok(line)
-    rig.ok("CLOSE")
+    load_prog(rig, n, lines)
 
 
 def offsets(lines=PROG) -> list[int]:
@@ -87,3 +86,17 @@ def test_pc_and_pe_follow_the_addressed_coordinate_system(rig):
 def test_pc_of_a_cs_pointing_at_no_program_is_err003(rig):
     reply = rig.cmd("&1PC")
     assert reply.error is not None and "ERR003" in str(reply.error)
+
+
+def test_pe_of_the_rotary_buffer_is_the_executing_moves_line(rig):
+    rig.rotary_setup()
+    port = rig.c.open_port("host")
+    rig.ok("OPEN ROT", port)
+    for line in ["TM100", "X10", "X20", "X30"]:
+        rig.ok(line, port)
+    rig.ok("CLOSE", port)
+    rig.ok("&1R")
+    while not rig.events("move_start"):
+        rig.c.env.step()
+    assert rig.events("move_start")[-1][2]["n"] == 2
+    assert rig.ok("&1PE") == "P0:1"  # line 2, the buffer's second line
