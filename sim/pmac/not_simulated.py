@@ -2,9 +2,9 @@
 
 When a command line fails to parse, the terminal asks :func:`which` whether the text at the
 failing column, or at the start of the failing statement, is the start of one of these. The
-wire answer stays the card's ``ERR003``
-(the host must get an answer it can handle), but the REST terminal reports ``not_simulated``
-naming the command, so a user does not mistake it for a typo. ``docs/pmac.md`` lists what is
+wire answer stays the card's ``ERR003`` (the host must get an answer it can handle), but the
+REST terminal reports ``not_simulated`` naming the command, so a user does not mistake it for
+a typo. ``docs/pmac.md`` lists what is
 simulated. Command names from the Turbo SRM on-line command list (TSRM p260–p420) ``[BK]``
 for the spelling of a few abbreviations.
 
