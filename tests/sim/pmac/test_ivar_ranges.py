@@ -154,7 +154,11 @@ def test_i41_bit_0_locks_motor_variables_the_write_is_ignored_without_error(rig)
     assert query(rig, "I130") == before
     rig.ok("I3230=77")  # motor 32's block is locked too
     assert query(rig, "I3230") == before
+    rig.ok("I41=0 I130=5 I41=1")
     rig.ok("I130=*")  # [INF] restoring a default is a write as well
+    assert query(rig, "I130") == "5"
+    rig.ok("I41=0 I130=*")
+    assert query(rig, "I130") == before
     rig.ok("I5113=7 I59=1")  # other sets and the global variables stay writable
     assert (query(rig, "I5113"), query(rig, "I59")) == ("7", "1")
     rig.ok("I41=0")

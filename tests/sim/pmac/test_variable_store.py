@@ -54,6 +54,10 @@ def test_names_outside_the_sets_are_not_found(rig, name):
     assert "no such variable" in str(exc.value)
 
 
+def test_variables_start_at_0_and_plain_m_variables_too(rig):
+    assert [rig.ok(v).strip() for v in ("P7", "&3Q7", "M100")] == ["0", "0", "0"]
+
+
 def test_number_0_is_a_variable_like_the_others(rig):
     rig.ok("P0=5 I0=3")
     rig.ok("&1 Q0=4")
@@ -92,3 +96,12 @@ def test_i_n_star_restores_a_default_that_the_next_run_uses(rig):
     ends = [k for k, _, _ in rig.events("move_end")]
     slow, fast = (e - s for s, e in zip(starts, ends, strict=True))
     assert slow > rig.ms_cycles(900) and fast < rig.ms_cycles(300)
+
+
+def test_i15_chooses_degrees_or_radians_for_the_trig_functions(rig):
+    """TUM p248: I15 = 0 degrees (factory), 1 radians."""
+    rig.ok("P1=SIN(90)")
+    rig.ok("I15=1")
+    rig.ok("P2=SIN(90)")
+    assert rig.ok("P1").strip() == "1"
+    assert float(rig.ok("P2")) == pytest.approx(0.8939966636)
