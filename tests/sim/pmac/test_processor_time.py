@@ -21,10 +21,13 @@ PLANNING_ONLY = {
 PLAN_S = 2000e-6
 
 
-def _planning_rig(make_rig, rti_base_us: float = 0):
-    """PLC 0 enabled (it costs nothing here; it keeps the processor model accounting) and a
-    rotary buffer holding a LINEAR program of two set-up lines and four long moves."""
-    rig = make_rig(**{**PLANNING_ONLY, "cpu_rti_base_us": rti_base_us})
+def _planning_rig(make_rig, rti_base_us: float = 0, motors: int = 0):
+    """PLC 0 enabled (it costs nothing here; it keeps the processor model accounting), a
+    rotary buffer holding a LINEAR program of two set-up lines and four long moves, and
+    ``motors`` motors at 20 µs of servo time each."""
+    rig = make_rig(**{**PLANNING_ONLY, "cpu_rti_base_us": rti_base_us},
+                   cpu_servo_motor_us=20)
+    _define_motors(rig, motors)
     rig.c.plcs.load(0, "P1=P1+1")
     rig.ok("ENABLE PLC 0")
     rig.rotary_setup()
@@ -41,14 +44,16 @@ def test_lines_stored_but_not_yet_calculated_cost_the_rti_nothing(make_rig):
     assert rig.events("rti_overrun") == []
 
 
-@pytest.mark.parametrize("rti_base_us", [0, 100])
+@pytest.mark.parametrize(("rti_base_us", "motors"), [(0, 0), (100, 0), (100, 8)])
 def test_planning_several_lines_in_one_rti_overruns_until_the_work_is_done(make_rig,
-                                                                          rti_base_us):
+                                                                          rti_base_us, motors):
     """``R`` calculates the set-up lines and the first moves in one go (two moves ahead for
     LINEAR, TUM p339): 5 lines at 2 ms each are 10 ms of RTI work. Every following RTI finds
-    it unfinished and overruns (``over_s`` = what is left), its own fixed cost (``rti_base``)
-    adding to the work, until it is done."""
-    rig = _planning_rig(make_rig, rti_base_us)
+    it unfinished and overruns (``over_s`` = what is left, in wall time at the share of the
+    processor the motors' servo updates leave), its own fixed cost (``rti_base``) adding to
+    the work, until it is done."""
+    rig = _planning_rig(make_rig, rti_base_us, motors)
+    share = 1.0 - rig.c.status()["cpu"]["servo"]
     rig.run_for(0.01)
     since = rig.c.log.last_seq
     rig.ok("R")
@@ -61,7 +66,7 @@ def test_planning_several_lines_in_one_rti_overruns_until_the_work_is_done(make_
     rti_s = rig.c.scheduler.rti_period_s()
     base = rti_base_us * 1e-6
     overruns = rig.events("rti_overrun", since=since)
-    left = [5 * PLAN_S + n * (base - rti_s) for n in range(1, 12)]
+    left = [(5 * PLAN_S + n * (base - rti_s * share)) / share for n in range(1, 14)]
     expected = [x for x in left if x > 0]
     assert len(expected) >= 7
     assert [f["over_s"] for _, _, f in overruns] == pytest.approx(expected, abs=1e-9)
@@ -191,6 +196,8 @@ def test_a_second_queued_command_waits_a_whole_cycle_that_also_pays_for_it(make_
     rig.ok("DISABLE PLC 1")  # nothing left to run: free-running housekeeping, one a cycle
     rig.run_for(0.1)
     assert rig.c.status()["cpu"]["background_cycle_s"] == pytest.approx(rig.period)
+    t_sent = rig.c.now  # answered once its 0.5 ms of processing is done
+    assert rig.cyc(rig.cmd("P1").t_done) == rig.cyc(at(t_sent + 0.0005))
 
 
 def test_a_stall_due_later_does_not_hold_back_a_command_answered_before_it(make_rig):
@@ -264,6 +271,8 @@ def test_an_idle_card_reloads_its_watchdog_every_cycle_after_answering_a_command
     wd = rig.c.status()["watchdog"]
     assert rig.cyc(wd["reload_s"]) == rig.c.scheduler.clock.index(rig.c.now)
     assert wd["cycles_left"] == wd["limit_cycles"] == 4096
+    cpu = rig.c.status()["cpu"]
+    assert (cpu["servo"], cpu["rti"], cpu["background"]) == (0.0, 0.0, 1.0)
 
 
 def test_plc0_enabled_between_rtis_first_scans_at_the_next_rti(make_rig):
@@ -426,3 +435,52 @@ def test_while_plc0_runs_the_watchdog_is_reloaded_by_the_housekeeping_pass_after
     rig.run_for(t_rti + rti_s + 0.5 * rig.period - rig.c.now)  # past the next RTI's wake-up
     reload = rig.c.scheduler.servo_at_or_after(t_rti + (0.33e-3 + 20e-6) / share)
     assert rig.cyc(rig.c.status()["watchdog"]["reload_s"]) == rig.cyc(reload)
+
+
+@pytest.mark.parametrize("cycles", [1, 2, 3])
+def test_a_background_cycle_lasts_at_least_background_cycles_servo_cycles(make_rig, cycles):
+    """However little work it has, a background cycle ends on a servo cycle at least
+    ``background_cycles`` servo cycles after it began (module docstring): with every cost
+    zero, PLC 1 scans (one a cycle) exactly that many servo cycles apart."""
+    rig = make_rig(i5=2, background_cycles=cycles, cpu_housekeeping_us=0, cpu_host_command_us=0,
+                   cpu_plc_scan_us=0, cpu_plc_statement_us=0, cpu_rti_base_us=0)
+    rig.c.plcs.load(1, "M1=M1+1")
+    rig.ok("ENABLE PLC 1")
+    rig.run_for(0.02)
+    scans = [k for k, _, _ in rig.events("mvar")]
+    assert len(scans) > 10
+    assert {b - a for a, b in zip(scans, scans[1:], strict=False)} == {cycles}
+
+
+def test_a_tripped_card_runs_no_rti_tasks(make_rig):
+    """Once the watchdog trips the CPU stops (TSRM p57): the load figures show no RTI share
+    and the free-running background cycle of one servo cycle, though PLC 0 had taken the
+    processor until then."""
+    rig = make_rig(i40=300, cpu_plc_statement_us=10)
+    rig.c.plcs.load(0, "\n".join(["M1=M1+1"] + ["P10=P10+1"] * 199))  # 2 ms a scan
+    rig.ok("ENABLE PLC 0")
+    rig.run_for(0.3)
+    assert rig.events("watchdog")
+    cpu = rig.c.status()["cpu"]
+    assert (cpu["rti"], cpu["background_cycle_s"]) == (0.0, pytest.approx(rig.period))
+
+
+def test_the_rti_share_is_zero_at_the_instant_the_model_wakes(make_rig):
+    """Read at the very instant a host command wakes the processor model (no time accounted
+    yet), the RTI share is 0, not undefined."""
+    rig = make_rig()
+    rig.run_for(0.5)
+    rig.c.terminal("I10")
+    assert rig.c.status()["cpu"]["rti"] == 0.0
+
+
+def test_in_the_first_second_awake_the_rti_share_is_that_of_the_time_so_far(make_rig):
+    """PLC 0 enabled a second into the run: half a second later the RTI share is PLC 0's
+    share of those 0.5 s (the first full second awake is not over)."""
+    rig = make_rig(i40=100000, cpu_rti_base_us=0, cpu_plc_scan_us=0, cpu_plc_statement_us=10)
+    rig.run_for(1.0)
+    rig.c.plcs.load(0, "\n".join(["M1=M1+1"] + ["P10=P10+1"] * 99))  # 1 ms a scan
+    rig.ok("ENABLE PLC 0")
+    rig.run_for(0.5)
+    expected = 1e-3 / rig.c.scheduler.rti_period_s()
+    assert rig.c.status()["cpu"]["rti"] == pytest.approx(expected, rel=0.01)
