@@ -70,3 +70,38 @@ def test_malformed_memory_commands_are_err003_and_write_nothing(rig, line):
     assert reply.error is not None and "ERR003" in str(reply.error)
     assert rig.ok("RX:$1000") == "0"
     assert rig.events(since=since) == []
+
+
+def test_the_last_address_is_ffffff_and_a_count_may_reach_it_not_pass_it(rig):
+    assert rig.ok("RX:$FFFFFF") == "0"
+    assert rig.ok("RX:$10,1") == "0"
+    assert rig.ok("RX:$FFFFFE,2") == "0 0"
+    reply = rig.cmd("RX:$FFFFFF,2")
+    assert reply.error is not None and "ERR003" in str(reply.error)
+
+
+def test_w_may_fill_up_to_ffffff_not_past_it(rig):
+    rig.ok("WX:$FFFFFE,1,2")
+    assert rig.ok("RX:$FFFFFE,2") == "1 2"
+    reply = rig.cmd("WX:$FFFFFF,3,4")
+    assert reply.error is not None and "ERR003" in str(reply.error)
+    assert rig.ok("RX:$FFFFFF") == "2"  # nothing written
+
+
+def test_w_from_an_odd_address_fills_the_next_words(rig):
+    rig.ok("WY:$78801,1,2,3")
+    assert rig.ok("RHY:$78801,3") == "000001 000002 000003"
+
+
+def test_a_negative_fraction_is_refused_for_x_words(rig):
+    reply = rig.cmd("WX:$1000,-1.5")
+    assert reply.error is not None and "ERR003" in str(reply.error)
+    assert rig.ok("RX:$1000") == "0"
+
+
+def test_d_words_are_48_bit_twos_complement(rig):
+    rig.ok("WD:$3000,-1")
+    assert rig.ok("RD:$3000") == "-1"
+    assert rig.ok("RHD:$3000") == "FFFFFFFFFFFF"
+    rig.ok("WD:$3001,$123456789AB")
+    assert rig.ok("RHD:$3001") == "0123456789AB"
