@@ -76,3 +76,20 @@ def test_a_variable_write_must_be_a_finite_number_and_changes_nothing(rig, value
     assert refused.value.details["field"] == "value"
     assert rig.c.get_variable("P1") == 5.0
     assert rig.c.log.last_seq == seq
+
+
+def test_every_config_key_is_checked_also_after_a_processor_cost_key():
+    """Processor-time costs (``cpu_<name>_us``) are checked against their bound and the keys
+    after them are still checked: a bad cost, or an I8192 after a good cost, is refused
+    naming the key."""
+    with pytest.raises(InvalidValue) as refused:
+        PmacController("pmac", {"cpu_plc_statement_us": -1})
+    assert refused.value.details["field"] == "cpu_plc_statement_us"
+    with pytest.raises(InvalidValue) as refused:
+        PmacController("pmac", {"cpu_plc_statement_us": 5, "i8192": 1})
+    assert refused.value.details["field"] == "i8192"
+
+
+def test_a_controller_log_holds_at_least_100000_events_by_default():
+    """API.md: the event log keeps at least the last 100 000 events."""
+    assert PmacController("pmac").log.capacity >= 100_000
