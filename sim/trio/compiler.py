@@ -204,6 +204,10 @@ class _Compiler:
 
         self.emit(op, st)
 
+    def st_OpWrite(self, st: s.OpWrite) -> None:
+        args = [compile_expr(a) for a in st.args]
+        self.emit(lambda c: c.op_write([a(c) for a in args]), st)
+
     def st_Cancel(self, st: s.Cancel) -> None:
         mode = compile_expr(st.mode) if st.mode is not None else None
         axis = compile_expr(st.axis) if st.axis is not None else None

@@ -15,13 +15,19 @@ from typing import TYPE_CHECKING, Any
 
 from motionsim.sim.errors import InvalidValue
 from motionsim.sim.trio import basic_errors as msg
+from motionsim.sim.trio.axis_status import axisstatus
 from motionsim.sim.trio.basic_errors import BasicError
 from motionsim.sim.trio.compiler import HALT, Block, WaitFor
 from motionsim.sim.trio.linked import LINKED, LinkedMove, check_linked, link_axis_of
 from motionsim.sim.trio.models import format_number, hex_text
 from motionsim.sim.trio.moves import Move
 from motionsim.sim.trio.mtypes import SP_GEOMETRY, axes_driven
-from motionsim.sim.trio.parameters import AXIS_PARAMS
+from motionsim.sim.trio.parameters import (
+    AXIS_COMPUTED,
+    AXIS_PARAMS,
+    AXIS_STORED,
+    SYSTEM_PARAMS,
+)
 
 if TYPE_CHECKING:
     from motionsim.sim.trio.controller import TrioController
@@ -100,7 +106,13 @@ class Context:
     def param(self, name: str, axis: float | None, proc: float | None) -> float:
         if name in AXIS_PARAMS:
             n = self.base_axis(axis)
+            if name in AXIS_STORED:
+                return self.ctrl.stored[n].read(name)
+            if name in AXIS_COMPUTED:
+                return self._computed(name, n)
             return self.ctrl.axes[n].read(name)
+        if name in SYSTEM_PARAMS:
+            return self.ctrl.system.read(name)
         if name == "PMOVE":
             return float(self.ctrl.buffers.pmove(self.proc_number(proc)))
         if name == "PROCNUMBER":
@@ -109,9 +121,43 @@ class Context:
             return float(self.ctrl.proc_status(self.proc_number(proc)))
         if name == "OUTDEVICE":
             return float(self.ctrl.context_of(self.proc_number(proc)).outdevice)
-        if name == "SERVO_PERIOD":
-            return self.ctrl.clock.period_s * 1e6
+        if name in ("RUN_ERROR", "ERROR_LINE"):
+            return self._last_error(name, self.proc_number(proc))
         raise BasicError(f"Unknown parameter {name}")
+
+    def _computed(self, name: str, n: int) -> float:
+        ax = self.ctrl.axes[n]
+        if name == "AXISSTATUS":
+            return float(axisstatus(ax, self.ctrl.stored[n]))
+        return ax.vp_speed()  # MSPEED (MPOS = DPOS) and VPSPEED (VP_SPEED's other name)
+
+    def _last_error(self, name: str, p: int) -> float:
+        """RUN_ERROR / ERROR_LINE PROC(p): 0 until the process stops on a run-time error; then
+        RUN_ERROR is non-zero (1: the controller's numbered error table was not found, spec
+        §9.10, ``[INF]``) and ERROR_LINE the program line. A new RUN of the process clears
+        both ``[INF]``. The command line (process 0) keeps no error."""
+        proc = self.ctrl.basic.get(p)
+        if proc is None or proc.error is None:
+            return 0.0
+        return 1.0 if name == "RUN_ERROR" else float(proc.line)
+
+    # -- digital I/O -----------------------------------------------------------------------
+
+    def io_read(self, name: str, args: list[float]) -> float:
+        """IN / READ_OP / OP / AIN as values (:mod:`motionsim.sim.trio.io`); ``IN`` with no
+        argument reads inputs 0..23 as one number ``[BK]``."""
+        io = self.ctrl.io
+        if name == "IN":
+            return io.read_in(*args) if args else io.read_in(0, 23)
+        if name == "AIN":
+            return io.ain(args[0])
+        return io.read_op(args[0])
+
+    def op_write(self, args: list[float]) -> None:
+        if len(args) == 2:
+            self.ctrl.io.op(args[0], args[1])
+        else:
+            self.ctrl.io.op_pattern(args[0])
 
     def proc_number(self, proc: float | None) -> int:
         """``PROC(n)``: process n, 0 (the command line) included; none = this process."""
@@ -126,7 +172,13 @@ class Context:
         if name == "OUTDEVICE":
             self.outdevice = self.ctrl.channels.check(value)
             return
+        if name == "WDOG":
+            self.ctrl.system.set_wdog(value)
+            return
         n = self.base_axis(axis)
+        if name in AXIS_STORED:
+            self.ctrl.stored[n].write(name, value)
+            return
         if name == "OFFPOS":
             self.ctrl.axes[n].offset = value
             self.ctrl.buffers.offset(n)

@@ -29,9 +29,11 @@ from motionsim.sim.controller import Controller, Port, Reply
 from motionsim.sim.errors import BufferFull, Conflict, InvalidValue, NotFound
 from motionsim.sim.timing import ServoClock
 from motionsim.sim.trio.axis import DEFAULTS, Axis
+from motionsim.sim.trio.axis_status import StoredParams
 from motionsim.sim.trio.buffers import MotionBuffers, Waiter
 from motionsim.sim.trio.compiler import Code, compile_program
 from motionsim.sim.trio.context import Context
+from motionsim.sim.trio.io import CHANNELS, IoImage
 from motionsim.sim.trio.linked import LINKED
 from motionsim.sim.trio.models import DEFAULT_MODEL
 from motionsim.sim.trio.models import model as model_named
@@ -40,6 +42,7 @@ from motionsim.sim.trio.mtypes import MTYPE, SP_GEOMETRY, axes_driven
 from motionsim.sim.trio.output import Channels
 from motionsim.sim.trio.parser import MOVE_ARGS, parse_program
 from motionsim.sim.trio.process import BasicProcess
+from motionsim.sim.trio.system import SystemParams
 from motionsim.sim.trio.terminal import CommandLine
 
 _CONFIG_DEFAULTS: dict[str, float] = {
@@ -50,7 +53,7 @@ _CONFIG_DEFAULTS: dict[str, float] = {
     "vr_count": 1024,
     "table_size": 16384,
 }
-_VARIABLE = re.compile(r"^\s*(VR|TABLE)\s*\(\s*(\d+)\s*\)\s*$", re.I)
+_VARIABLE = re.compile(r"^\s*(VR|TABLE|IN|OP)\s*\(\s*(\d+)\s*\)\s*$", re.I)
 _PROGRAM_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]{0,31}$")
 
 
@@ -58,7 +61,7 @@ class TrioController(Controller):
     """A simulated Trio Motion Coordinator (MC2xx series buffering)."""
 
     kind = "trio"
-    event_types = ("offpos", "move_modify")
+    event_types = ("offpos", "move_modify", "output", "wdog")
 
     #: The command line answers at the current instant and never moves a virtual clock
     #: (API.md): ``ControllerHandle.command`` returns a locked line pending at once.
@@ -102,6 +105,9 @@ class TrioController(Controller):
         self.table: dict[int, float] = {}
         self.programs: dict[str, tuple[str, Code]] = {}
         self.basic: dict[int, BasicProcess] = {}
+        self.io = IoImage(self.log)
+        self.system = SystemParams(self)
+        self.stored = [StoredParams() for _ in range(self.n_axes)]
         self.command_line = CommandLine(self)
         self._move_waits: dict[int, Waiter] = {}
 
@@ -351,15 +357,22 @@ class TrioController(Controller):
     def _variable(self, name: str) -> tuple[str, int]:
         m = _VARIABLE.match(name)
         if not m:
-            raise NotFound(f"no Trio variable {name!r} (VR(n) or TABLE(n))", field="name")
+            raise NotFound(
+                f"no Trio variable {name!r} (VR(n), TABLE(n), IN(n) or OP(n))", field="name"
+            )
         kind, index = m.group(1).upper(), int(m.group(2))
-        size = self.vr_count if kind == "VR" else self.table_size
+        size = {"VR": self.vr_count, "TABLE": self.table_size}.get(kind, CHANNELS)
         if index >= size:
             raise NotFound(f"{kind}({index}) is out of range 0..{size - 1}", field="name")
         return kind, index
 
     def get_variable(self, name: str) -> float:
+        """VR(n), TABLE(n); IN(n) / OP(n): digital input / output n (1 = ON, 0 = OFF)."""
         kind, index = self._variable(name)
+        if kind == "IN":
+            return float(self.io.inputs[index])
+        if kind == "OP":
+            return float(self.io.outputs[index])
         return self.vr[index] if kind == "VR" else self.table.get(index, 0.0)
 
     def set_variable(self, name: str, value: float) -> None:
@@ -370,8 +383,12 @@ class TrioController(Controller):
             raise InvalidValue(f"{name} needs a number, got {value!r}", field="value") from None
         if kind == "VR":
             self.vr[index] = v
-        else:
+        elif kind == "TABLE":
             self.table[index] = v
+        elif kind == "IN":  # an input driven by the outside world: ON when non-zero
+            self.io.set_input(index, v)
+        else:  # OP(n) as the BASIC OP(n, v) does it (an ``output`` event when it changes)
+            self.io.op(index, v)
 
 
 __all__ = ["TrioController"]

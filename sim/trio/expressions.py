@@ -151,6 +151,10 @@ def compile_expr(node: s.Expr) -> Eval:
             (a,) = args
             return lambda c: float(impl(a(c)))
         return lambda c: float(impl(*(a(c) for a in args)))
+    if isinstance(node, s.IoRead):
+        io_name = node.name
+        io_args = [compile_expr(a) for a in node.args]
+        return lambda c: c.io_read(io_name, [a(c) for a in io_args])
     if isinstance(node, s.Str):
         raise TypeError("a string is not a number")
     raise TypeError(f"not an expression: {node!r}")

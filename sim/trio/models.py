@@ -37,12 +37,21 @@ class Model:
     word_bits: int  # 32: single precision, 64: double
     hex_bits: int  # width of HEX()'s two's complement
     processes: int  # user processes of the model's typical board
+    control: int  # CONTROL: the controller type number
+    version: float  # VERSION: the system software version
+    free: float  # FREE: program memory free, in the model's units
 
 
+#: CONTROL / VERSION / FREE per model. VERSION: TN20-16 is for series-2 cards with system
+#: software >= 1.40; the TRM 6th edition (rev 6.4) covers MC206 / MC224 from 1.62; the MC4xx
+#: help pages copied on GitHub (spec §10.13 CAMBOX-MD) name firmware 2.0253. CONTROL: the board
+#: number (MC216 -> 216, MC206 -> 206, MC464 -> 464) ``[BK]``; FREE: ``>>PRINT FREE`` answers
+#: ``47104.0000`` on the MC224 of M224-291, used for every model and constant (storing programs
+#: does not lower it here, ``[INF]``).
 MODELS: dict[str, Model] = {
-    "series2": Model("series2", 32, 24, 14),
-    "mc2xx": Model("mc2xx", 32, 24, 7),
-    "mc4xx": Model("mc4xx", 64, 53, 22),
+    "series2": Model("series2", 32, 24, 14, 216, 1.40, 47104.0),
+    "mc2xx": Model("mc2xx", 32, 24, 7, 206, 1.62, 47104.0),
+    "mc4xx": Model("mc4xx", 64, 53, 22, 464, 2.0253, 47104.0),
 }
 DEFAULT_MODEL = "mc2xx"
 

@@ -19,7 +19,7 @@ from motionsim.sim.trio.expressions import FUNCTIONS
 from motionsim.sim.trio.keywords import NOT_SIMULATED
 from motionsim.sim.trio.lexer import Token, tokenize
 from motionsim.sim.trio.linked import LINKED
-from motionsim.sim.trio.parameters import ALL_PARAMS, AXIS_WRITABLE, CONSTANTS, PROCESS_WRITABLE
+from motionsim.sim.trio.parameters import ALL_PARAMS, CONSTANTS, WRITABLE
 
 #: Motion commands that enter the buffers, with the argument counts they accept.
 MOVE_ARGS: dict[str, tuple[int, int]] = {
@@ -38,6 +38,12 @@ MOVE_ARGS: dict[str, tuple[int, int]] = {
     **{kind: (lo, hi) for kind, (lo, hi, _link) in LINKED.items()},
 }
 
+#: I/O functions read as values, with the argument counts they accept
+#: (:mod:`motionsim.sim.trio.io`).
+IO_ARGS: dict[str, tuple[int, int]] = {
+    "IN": (0, 2), "READ_OP": (1, 1), "OP": (1, 1), "AIN": (1, 1),
+}
+
 #: Short forms of commands (TJ2P-71: CO; MOVELINK help: ML; TRM MC216 p. 220 listing: DP).
 ALIASES = {"CO": "CONNECT", "ML": "MOVELINK", "DP": "DEFPOS"}
 
@@ -46,7 +52,7 @@ _KEYWORDS = frozenset(
         "PRINT", "FOR", "TO", "STEP", "NEXT", "IF", "THEN", "ELSE", "ELSEIF", "ENDIF",
         "WHILE", "WEND", "REPEAT", "UNTIL", "WAIT", "IDLE", "LOADED", "WA", "GOTO", "GOSUB",
         "RETURN", "STOP", "RUN", "BASE", "AXIS", "PROC", "CANCEL", "RAPIDSTOP", "VR", "TABLE",
-        "AND", "OR", "XOR", "NOT", "MOD", "DEFPOS", "HALT", "PROCESS", "HEX",
+        "AND", "OR", "XOR", "NOT", "MOD", "DEFPOS", "HALT", "PROCESS", "HEX", "OP",
     }
 ) | frozenset(MOVE_ARGS) | frozenset(ALIASES)
 
@@ -169,7 +175,7 @@ class _Line:
         if word in ALL_PARAMS:
             self.i += 1
             target = self.param_ref(word, col)
-            if word not in AXIS_WRITABLE and word not in PROCESS_WRITABLE:
+            if word not in WRITABLE:
                 raise self.error(f"{word} cannot be written", col)
             self.expect("=")
             return s.Assign(ln, col, target, self.expr())
@@ -224,6 +230,26 @@ class _Line:
     def st_DEFPOS(self, ln: int, col: int) -> s.Stmt:
         values = self.args()
         return s.DefPos(ln, col, values, self.axis_modifier())
+
+    def st_OP(self, ln: int, col: int) -> s.Stmt:
+        c = self.col()
+        args = self.args()
+        if len(args) > 2:
+            raise self.error(f"OP takes 1 or 2 arguments, got {len(args)}", c)
+        return s.OpWrite(ln, col, args)
+
+    def io_read(self, word: str, col: int) -> s.IoRead:
+        lo, hi = IO_ARGS[word]
+        args: tuple[s.Expr, ...] = ()
+        if self.at("("):
+            c = self.col()
+            args = self.args()
+            if not lo <= len(args) <= hi:
+                want = str(lo) if lo == hi else f"{lo} to {hi}"
+                raise self.error(f"{word} takes {want} arguments, got {len(args)}", c)
+        elif lo:
+            raise self.error(f"{word} needs ({'n' if hi == 1 else 'a, b'})")
+        return s.IoRead(word, args)
 
     def st_HALT(self, ln: int, col: int) -> s.Stmt:
         return s.Halt(ln, col)
@@ -472,6 +498,8 @@ class _Line:
             return s.Call(word, self.args_exact(arity, word))
         if word in ALL_PARAMS:
             return self.param_ref(word, tok.col)
+        if word in IO_ARGS:
+            return self.io_read(word, tok.col)
         if word in NOT_SIMULATED:
             raise self.not_simulated(word, tok.col)
         if word == "HEX":

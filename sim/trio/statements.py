@@ -81,7 +81,16 @@ class Call:
     args: tuple[Expr, ...]
 
 
-Expr = Num | Str | Local | VrRef | TableRef | Param | Unary | Binary | Call
+@dataclass(frozen=True, slots=True)
+class IoRead:
+    """``IN``, ``IN(n)``, ``IN(a, b)``, ``READ_OP(n)``, ``OP(n)``, ``AIN(n)``: the I/O image
+    (:mod:`motionsim.sim.trio.io`)."""
+
+    name: str
+    args: tuple[Expr, ...]
+
+
+Expr = Num | Str | Local | VrRef | TableRef | Param | Unary | Binary | Call | IoRead
 
 # -- statements --------------------------------------------------------------------------
 
@@ -125,6 +134,13 @@ class MoveCmd(Stmt):
     kind: str
     args: tuple[Expr, ...]
     axis: Expr | None
+
+
+@dataclass(frozen=True, slots=True)
+class OpWrite(Stmt):
+    """``OP(n, state)`` (one output) or ``OP(pattern)`` (outputs 8.. from the bits)."""
+
+    args: tuple[Expr, ...]
 
 
 @dataclass(frozen=True, slots=True)

@@ -26,12 +26,12 @@ async def test_terminal_reply_carries_channel_0_lines_printed_since_the_last_com
 
 
 async def test_program_with_a_command_not_simulated_is_501_not_simulated(trio_api):
-    r = await trio_api.put(f"{BASE}/programs/io", content="MOVE(1)\n  OP(8,ON)\n",
+    r = await trio_api.put(f"{BASE}/programs/io", content="MOVE(1)\n  PSWITCH(1,ON)\n",
                            headers={"content-type": "text/plain"})
     assert r.status_code == 501  # the service's status for "valid, not simulated"
     body = r.json()
     assert (body["code"], body["line"], body["column"], body["keyword"]) == (
-        "not_simulated", 2, 3, "OP")
+        "not_simulated", 2, 3, "PSWITCH")
     assert "not simulated" in body["message"]
     assert (await trio_api.get(f"{BASE}/programs/io")).status_code == 404
 

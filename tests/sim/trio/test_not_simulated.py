@@ -15,8 +15,8 @@ from motionsim.sim.trio.keywords import INDEX, NOT_SIMULATED, SIMULATED, index_r
     ("text", "line", "column", "keyword"),
     [
         ("MOVE(10)\nADDAX(1)\n", 2, 1, "ADDAX"),
-        ("IF IN(3)=ON THEN\n MOVE(1)\nENDIF\n", 1, 4, "IN"),
-        ("x=1\n  OP(8,ON)\n", 2, 3, "OP"),
+        ("IF TICKS<0 THEN\n MOVE(1)\nENDIF\n", 1, 4, "TICKS"),
+        ("x=1\n  PSWITCH(1,ON)\n", 2, 3, "PSWITCH"),
         ("ON x GOSUB a,b\n", 1, 1, "ON"),
         ("REGIST(3) AXIS(1)\n", 1, 1, "REGIST"),
     ],
@@ -59,6 +59,7 @@ def test_empty_program_refused_not_stored(trio, text):
 def test_index_split_into_simulated_and_not():
     rows = index_rows()
     assert len(rows) == sum(len(v) for v in INDEX.values())
-    assert {"MOVEMODIFY", "CONNECT", "CAM", "CAMBOX", "DEFPOS", "PRINT#", "HEX"} <= SIMULATED
-    assert {"ADDAX", "REGIST", "OP", "IN"} <= NOT_SIMULATED
+    assert {"MOVEMODIFY", "CONNECT", "CAM", "CAMBOX", "DEFPOS", "PRINT#", "HEX", "OP", "IN",
+            "READ_OP", "AIN"} <= SIMULATED
+    assert {"ADDAX", "REGIST", "PSWITCH", "TICKS"} <= NOT_SIMULATED
     assert not SIMULATED & NOT_SIMULATED
