@@ -33,6 +33,10 @@ def test_reverse_software_limit_bit_set_below_rs_limit():
     run_to(c, 0.5)
     assert status(c, 1) == 1024
     assert status(c, 0) == 0  # the limit is axis 1's
+    c.terminal("RS_LIMIT AXIS(1)=-30")
+    assert status(c, 1) == 1024  # DPOS = RS_LIMIT counts as in the limit [INF]
+    c.terminal("RS_LIMIT AXIS(1)=-30.5")
+    assert status(c, 1) == 0
 
 
 def test_move_cancelling_bit_while_a_cancelled_move_decelerates():
@@ -57,6 +61,14 @@ def test_datuming_bit_while_a_datum_move_executes():
     assert status(c) == 64
     run_to(c, 10.0)
     assert c.axis(0)["mtype"] == 0 and status(c) == 0
+
+
+def test_no_datuming_bit_while_a_linked_move_executes():
+    c = make()
+    c.terminal("CONNECT(1,1) AXIS(0)")
+    run_to(c, 0.01)
+    assert c.axis(0)["mtype"] == 21
+    assert status(c) == 0
 
 
 def test_motion_error_stays_zero_with_a_limit_bit_in_errormask():

@@ -28,7 +28,7 @@ def test_op_with_one_argument_writes_outputs_from_8_as_a_bit_pattern():
     c = make()
     c.terminal("OP(5)")  # binary 101: outputs 8 and 10
     assert [(o, v) for _t, o, v in outputs(c)] == [(8, 1), (10, 1)]
-    c.terminal("OP($FFFF)")
+    c.terminal("OP($1FFFF)")  # 16 outputs: bit 16 (output 24) is not one of them
     assert c.terminal("? READ_OP(23), READ_OP(24), READ_OP(7)").reply == (
         "1.0000\t0.0000\t0.0000")
     c.terminal("OP(0)")
@@ -43,6 +43,7 @@ def test_inputs_read_off_until_set_from_outside():
     assert c.get_variable("IN(5)") == 1.0
     assert c.terminal("? IN(3), IN(4)").reply == "1.0000\t0.0000"
     assert c.terminal("? IN(3,5)").reply == "5.0000"  # input 3 is bit 0
+    assert c.terminal("? IN(3,4)").reply == "1.0000"  # input 5 is past the range
     assert c.terminal("? IN").reply == f"{(1 << 3) + (1 << 5):.4f}"
     assert fields(c, "output") == []  # inputs are not outputs
 
@@ -57,6 +58,22 @@ def test_program_waits_for_an_input_then_switches_an_output():
     run_to(c, 0.1)
     # WAIT UNTIL is re-tested once per servo period: the next one is 11 ms
     assert outputs(c) == [(pytest.approx(0.0111), 12, 1)]
+
+
+def test_an_input_set_off_again_reads_off():
+    c = make()
+    c.set_variable("IN(4)", 1)
+    c.set_variable("IN(4)", 0)
+    assert c.get_variable("IN(4)") == 0.0
+    assert c.terminal("? IN(4), IN(0,7)").reply == "0.0000\t0.0000"
+
+
+def test_the_last_channel_255_is_an_output_and_an_input():
+    c = make()
+    assert c.terminal("OP(255,ON)").error is None
+    c.set_variable("IN(255)", 1)
+    assert c.terminal("? READ_OP(255), IN(255)").reply == "1.0000\t1.0000"
+    assert [(f["output"], f["value"]) for _t, f in fields(c, "output")] == [(255, 1)]
 
 
 def test_ain_reads_zero():

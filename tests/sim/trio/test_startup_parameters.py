@@ -71,10 +71,28 @@ def test_power_up_value_at_the_command_line(name, reply):
     assert (r.reply, r.error) == (reply, None)
 
 
+#: The power-up values docs/trio.md and sim/trio/axis_status.py document ([BK]).
+DOCUMENTED_POWER_UP = {
+    "FS_LIMIT": 200_000_000, "RS_LIMIT": -200_000_000, "ERRORMASK": 268, "FE_LIMIT": 2000,
+    "FE_RANGE": 0, "AXIS_ENABLE": 1, "SERVO": 0, "JOGSPEED": 0, "FASTDEC": 0, "ATYPE": 0,
+}
+
+
 def test_stored_axis_parameters_have_the_documented_power_up_values():
     c = make()
-    for name, value in STORED_DEFAULTS.items():
+    assert set(STORED_DEFAULTS) == set(DOCUMENTED_POWER_UP)
+    for name, value in DOCUMENTED_POWER_UP.items():
         assert c.terminal(f"? {name} AXIS(3)").reply == f"{value:.4f}", name
+
+
+@pytest.mark.parametrize(("cmd", "name", "reply"), [
+    ("ERRORMASK=0", "ERRORMASK", "0.0000"), ("FE_RANGE=0.5", "FE_RANGE", "0.5000"),
+    ("JOGSPEED=0", "JOGSPEED", "0.0000"),
+])
+def test_zero_and_fractions_are_accepted_where_negative_values_are_not(cmd, name, reply):
+    c = make()
+    assert c.terminal(cmd).error is None
+    assert c.terminal(f"? {name}").reply == reply
 
 
 @pytest.mark.parametrize(("model", "version", "control"), [
