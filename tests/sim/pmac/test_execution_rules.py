@@ -436,3 +436,82 @@ def test_s_given_while_running_stops_blending_the_calculated_moves_run_each_to_a
     assert starts[3] == ends[2] and ends[3] - starts[3] == ceil_cycles(rig, 110)  # from rest
     assert _states(rig)[-1] == (ends[3], "stopped")
     assert rig.c.positions(1) == {"X": 3.0}
+
+
+# -- PSET: the axis offset moves, the motor stays ------------------------------------------
+
+
+def test_pset_of_an_axis_never_moved_keeps_a_scaled_motor_where_it_is(rig):
+    """PSRM p179-180 (``#1->1000X``: 1000 counts per unit) and TSRM p31: ``PSET X5`` as the
+    first line sets X to 5 with no motion; motor 1 stays at 0 counts, and the next ``X6``
+    moves it one unit, 1000 counts. Y, set to its present value, changes nothing."""
+    rig.ok("&1 #1->1000X #2->500Y")
+    _start(rig, ["PSET X5", "TM100 TA10 TS0 X6"])
+    rig.run_until_idle()
+    ((_k, _t, f),) = rig.events("pset")
+    assert f["positions"] == {"X": 5.0}
+    assert rig.c.positions(1)["X"] == 6.0
+    assert rig.c.motor_position(1) == 1000.0
+
+
+def test_pset_of_two_axes_shifts_each_motor_by_its_own_scale(rig):
+    """Two axes after a move: ``PSET X0 Y2`` (Y unchanged) leaves both motors where they were;
+    the next move takes motor 1 (1000 cts/unit) and motor 2 (500 cts/unit) by their own
+    distances from the new positions."""
+    rig.ok("&1 #1->1000X #2->500Y")
+    _start(rig, ["TM100 TA10 TS0 X1 Y2", "PSET X0 Y2", "X1 Y3"])
+    rig.run_until_idle()
+    assert rig.c.positions(1) == {"X": 1.0, "Y": 3.0}
+    assert rig.c.motor_position(1) == 2000.0
+    assert rig.c.motor_position(2) == 1500.0
+
+
+def test_a_and_r_at_the_instant_a_move_starts_resume_at_the_next_rti_with_the_next_lines(rig):
+    """TUM p319: A discards the calculated moves; R continues with the lines not yet
+    calculated, planned at the next RTI (TUM p236). A and R in the very servo cycle the first
+    move starts (nothing moving yet: the stop is immediate): lines 4 and on run from the RTI
+    after it, once each, and the program ends ``waiting`` for more."""
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["TM20 TA10 TS0 X1", "X2", "X3", "X4", "X5", "X6"])
+    rig.c.run(1)
+    env = rig.c.env
+    while not rig.events("move_start"):
+        env.step()
+    k0 = rig.events("move_start")[0][0]
+    while env.peek() <= env.now:  # the rest of that cycle's work
+        env.step()
+    assert sorted(_by_n(rig, "line_calculated")) == [1, 2, 3]
+    rig.c.abort(1)
+    rig.c.run(1)
+    rig.run_until_idle()
+    starts = [(k, f["n"]) for k, _, f in rig.events("move_start")]
+    assert starts[0] == (k0, 1)
+    assert [n for _, n in starts[1:]] == [4, 5, 6]
+    assert starts[1][0] == (k0 // 3 + 1) * 3
+    assert [s for _, s in _states(rig)] == ["running", "aborted", "running", "waiting"]
+    assert rig.c.positions(1) == {"X": 6.0}
+
+
+def test_segmentation_mode_with_isx13_1_ms_blends_a_line_entered_during_the_last_move(make_rig):
+    """TSRM p177: any Isx13 > 0 puts the CS in segmentation mode (1 ms is the smallest), and
+    with it rotary blend-on-the-fly (seed 000): a line entered while the last move runs,
+    before its deceleration, is blended in without stopping."""
+    rig = make_rig(i5113=1)
+    _start(rig, ["TM500 TA100 TS0 X10"])
+    rig.run_for(0.3)
+    rig.c.load_lines(1, ["X20"])
+    rig.run_until_idle()
+    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    assert starts[2] == ends[1] == starts[1] + ceil_cycles(rig, 500)
+    assert [s for _, s in _states(rig)] == ["running", "waiting"]
+
+
+def test_each_blend_is_centred_on_its_boundary_with_the_ta_of_the_move_it_enters(rig):
+    """Spec §9.1: the blend into move i+1 takes move i+1's TA, centred on the programmed
+    boundary. TA 20, then 60, then 10 (all within 2·(TM − TA/2)): move 2 starts 30 ms before
+    move 1's programmed end (10 + 100 ms), move 3 5 ms before move 2's (210 ms)."""
+    _start(rig, ["TM100 TA20 TS0 X1", "TA60 X2", "TA10 X3"])
+    rig.run_until_idle()
+    starts = _by_n(rig, "move_start")
+    assert starts[2] - starts[1] == ceil_cycles(rig, 80)
+    assert starts[3] - starts[1] == ceil_cycles(rig, 205)
