@@ -515,3 +515,14 @@ def test_each_blend_is_centred_on_its_boundary_with_the_ta_of_the_move_it_enters
     starts = _by_n(rig, "move_start")
     assert starts[2] - starts[1] == ceil_cycles(rig, 80)
     assert starts[3] - starts[1] == ceil_cycles(rig, 205)
+
+
+def test_a_blend_start_falling_exactly_on_a_servo_cycle_starts_the_move_on_that_cycle(make_rig):
+    """Servo-cycle quantisation (spec §9.1, TUM p236): the next move starts at the first servo
+    cycle at or after its blend start. With a 1 kHz servo clock the blend into move 2 starts
+    exactly 100 ms (100 cycles) after move 1: on that cycle, not the one after."""
+    rig = make_rig(servo_hz=1000.0)
+    _start(rig, ["TM100 TA20 TS0 X5", "X10"])
+    rig.run_until_idle()
+    starts = _by_n(rig, "move_start")
+    assert starts[2] - starts[1] == 100
