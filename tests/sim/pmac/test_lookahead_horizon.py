@@ -44,3 +44,22 @@ def test_without_define_lookahead_isx20_does_not_make_segmented_linear_look_furt
     rest: the mode line and two moves), Isx20 = 20 notwithstanding."""
     _setup(rig, 20, lookahead=False)
     assert _first_rti(rig, 49.96) == 3
+
+
+def test_tsrm_p181_a_one_segment_lookahead_of_200_ms_segments(rig):
+    """Isx20 = 1 segment of Isx13 = 200 ms is a 200 ms horizon too: four TM49.96 moves are
+    short of it, a fifth is calculated."""
+    rig.ok("I5113=200")
+    rig.ok("I5120=1")
+    rig.ok("&1 DEFINE LOOKAHEAD 50,10")
+    rig.rotary_setup()
+    assert _first_rti(rig, 49.96) == 6
+
+
+def test_tsrm_p181_one_ms_segments_look_ahead_too(rig):
+    """Isx13 = 1 ms, Isx20 = 200: a 200 ms horizon, the same five moves calculated."""
+    rig.ok("I5113=1")
+    rig.ok("I5120=200")
+    rig.ok("&1 DEFINE LOOKAHEAD 250,10")
+    rig.rotary_setup()
+    assert _first_rti(rig, 49.96) == 6
