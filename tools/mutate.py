@@ -65,6 +65,7 @@ class Tally:
     ran: int = 0
     timing: dict = field(default_factory=dict)  # "patched" / "fresh": [mutants, seconds]
     untested: int | None = 0  # mutants not tested yet (None: no work DB at all)
+    stale: bool = False  # the DB was made from another version of the module's source
 
     @property
     def scored(self) -> int:
@@ -275,6 +276,8 @@ def tally_db(module: str, db: Path, config: dict | None = None) -> Tally:
     spent = _spent(_stem(module))
     tally = Tally(module, seconds=spent["seconds"], ran=spent["ran"],
                   timing={w: spent[w] for w in ("patched", "fresh") if w in spent})
+    stamp = db.with_suffix(".sha256")
+    tally.stale = not stamp.exists() or stamp.read_text() != _digest(module)
     with use_db(str(db), WorkDB.Mode.open) as work_db:
         for item, result in work_db.completed_work_items:
             (spec,) = item.mutations
@@ -310,8 +313,9 @@ def report(tallies: list[Tally]) -> str:
         mark = "PASS" if t.rate >= TARGET else "SHORT"
         if t.untested:
             mark = "PART"  # some mutants not tested: the rate is of those tested
+        stale = "  STALE: the module changed since this DB was made" if t.stale else ""
         rows.append(f"{t.module:<32}{t.killed:>8}{len(t.survived):>10}{t.equivalent:>8}"
-                    f"{t.rate:>8.1%}  {mark:<6}{t.ran:>7}{t.seconds:>8.0f}  {t.untested}")
+                    f"{t.rate:>8.1%}  {mark:<6}{t.ran:>7}{t.seconds:>8.0f}  {t.untested}{stale}")
     for t in tallies:
         ways = [f"{n} {way} {sec / n:.2f} s each" for way, (n, sec) in t.timing.items() if n]
         if ways:
