@@ -278,8 +278,9 @@ class Processor:
         bg = self._bg
         if bg is not None:
             bg.left = max(0.0, bg.left - cap)
-        elif r > 0 and cap >= self.costs.housekeeping_s:
-            # Free-running housekeeping cycles reload the watchdog once RTI work is done.
+        elif r > 0 and cap > _EPS and cap >= self.costs.housekeeping_s:
+            # Free-running housekeeping cycles reload the watchdog once RTI work is done (and
+            # only with processor time left for them: at a zero housekeeping cost too).
             done = self._t + (use + self.costs.housekeeping_s) / r
             self.watchdog.reload(min(t, self.scheduler.servo_at_or_after(done)))
         self._t = t

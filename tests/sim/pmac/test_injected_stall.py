@@ -43,3 +43,14 @@ def test_a_stall_shorter_than_the_watchdog_time_does_not_trip_it(make_rig):
     rig.run_for(0.5)
     assert rig.events("watchdog") == []
     assert rig.cmd("I10").error is None
+
+
+def test_a_stall_trips_the_watchdog_even_with_a_zero_housekeeping_cost(make_rig):
+    """The watchdog is reloaded by background cycles that run (TUM p236-237): a background
+    given no processor time reloads nothing, whatever its own cost is set to."""
+    rig = make_rig(i40=300, cpu_housekeeping_us=0)
+    t0 = rig.c.now
+    rig.c.background.stall(t0, t0 + 0.5)
+    rig.run_for(0.6)
+    (trip,) = rig.events("watchdog")
+    assert trip[0] - rig.cyc(rig.c.scheduler.servo_at_or_after(t0)) <= 301
