@@ -37,7 +37,7 @@ import weakref
 from collections.abc import Iterable
 from typing import Any
 
-from motionsim.sim.events import Event, EventLog, Reset
+from motionsim.sim.events import Event, EventLog, ReadResult, Reset
 
 #: The shared texts cover the newest this many events of a log (up to twice as many are held
 #: between two prunes): what every subscriber that keeps up reads. One further behind encodes
@@ -110,24 +110,28 @@ class Cursor:
 
     def read(self) -> list[dict[str, Any]]:
         """The next wire messages (a gap first if events were lost), at most ``batch`` events."""
-        res = self.log.read(self.since, self.types, self.batch)
+        res = self._take()
         out: list[dict[str, Any]] = []
         if res.gap is not None:
             out.append(res.gap.to_dict())
         cid = self.controller
         out.extend(e.to_dict(cid) for e in res.events)
-        self.since = res.next
         return out
 
     def read_text(self) -> list[str]:
         """:meth:`read`, each message as its JSON text (``json.dumps`` of it), an event's
         text shared with every other cursor of this log and controller id."""
-        res = self.log.read(self.since, self.types, self.batch)
+        res = self._take()
         out = [json.dumps(res.gap.to_dict())] if res.gap is not None else []
         text, newest = self._texts.text, self.log.last_seq
         out.extend(text(e, newest) for e in res.events)
-        self.since = res.next
         return out
+
+    def _take(self) -> ReadResult:
+        """The next batch from the log (a gap first if events were lost); moves past it."""
+        res = self.log.read(self.since, self.types, self.batch)
+        self.since = res.next
+        return res
 
     async def wait(self, *others: asyncio.Future[Any]) -> None:
         """Sleep until the next event is emitted (or one of ``others`` completes)."""
