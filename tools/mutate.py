@@ -15,7 +15,11 @@ reads it):
 3. each child has a time limit (a mutant that loops forever is killed).
 
 A DB whose module source is unchanged is resumed; ``--survivors`` re-tests only the survivors
-(after new tests), ``--fresh`` starts over. Prints killed / survived per module and lists the
+(after new tests), ``--fresh`` starts over. Each module's results are also written to
+``tools/mutation-results/<module>.json`` (committed: a fresh clone's ``--tally`` reports them,
+and a run on an unchanged source resumes from them instead of starting over). Within a module,
+the tests that killed the latest mutants run first: neighbouring mutants of one function are
+mostly killed by the same test. Prints killed / survived per module and lists the
 survivors. A report, never a failure: the exit code is 0 unless the tooling itself failed.
 
     python tools/mutate.py                      # every module
@@ -47,11 +51,13 @@ from mutation_patch import changed_functions  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 CONFIG = ROOT / "tools" / "mutation.toml"
 EQUIVALENTS = ROOT / "tools" / "mutation-equivalent"  # one <module stem>.toml a module
+RESULTS = ROOT / "tools" / "mutation-results"  # one <module stem>.json a module, committed
 WORK = ROOT / ".mutation"
 PACKAGE = "motionsim"  # the repository's top-level folders are this package's subpackages
 TARGET = 0.90
 CR = str(Path(sys.executable).with_name("cosmic-ray"))  # beside this interpreter (the venv)
 UNCOVERED = "no test in the subset executes this statement"
+KILLERS = 4  # how many of the latest mutants' killing tests are tried first
 
 
 @dataclass
@@ -102,7 +108,62 @@ def _init(module: str, stem: str, fresh: bool) -> Path:
     db.unlink(missing_ok=True)
     subprocess.run([CR, "init", str(cfg), str(db)], cwd=ROOT, check=True)
     stamp.write_text(_digest(module))
+    if not fresh:
+        _import_results(module, stem, db)
     return db
+
+
+def _result_row(spec, result) -> dict:
+    """One mutant's result as a JSON row (the diff kept for survivors only: the report's)."""
+    survived = result.test_outcome is not None and result.test_outcome.value == "survived"
+    return {"operator": spec.operator_name, "occurrence": spec.occurrence,
+            "line": spec.start_pos[0], "worker": result.worker_outcome.value,
+            "test": result.test_outcome.value if result.test_outcome else None,
+            "output": result.output, "diff": result.diff if survived else None}
+
+
+def _export_results(module: str, db: Path) -> None:
+    """The module's DB as ``tools/mutation-results/<stem>.json``, one mutant a line."""
+    from cosmic_ray.work_db import WorkDB, use_db
+
+    with use_db(str(db), WorkDB.Mode.open) as work_db:
+        rows = [_result_row(item.mutations[0], result)
+                for item, result in work_db.completed_work_items]
+        total = work_db.num_work_items
+    rows.sort(key=lambda r: (r["line"], r["operator"], r["occurrence"]))
+    head = {"module": module, "source_sha256": _digest(module), "mutants": total,
+            "spent": _spent(_stem(module))}
+    body = ",\n".join(json.dumps(r, sort_keys=True) for r in rows)
+    RESULTS.mkdir(exist_ok=True)
+    (RESULTS / f"{_stem(module)}.json").write_text(
+        json.dumps(head, sort_keys=True)[:-1] + ', "results": [\n' + body + "\n]}\n")
+
+
+def _load_results(stem: str) -> dict | None:
+    path = RESULTS / f"{stem}.json"
+    return json.loads(path.read_text()) if path.exists() else None
+
+
+def _import_results(module: str, stem: str, db: Path) -> None:
+    """Fill a new DB with the committed results of the same source (mutants matched by
+    operator and occurrence), and restore their time figures."""
+    from cosmic_ray.work_db import WorkDB, use_db
+    from cosmic_ray.work_item import TestOutcome, WorkerOutcome, WorkResult
+
+    data = _load_results(stem)
+    if data is None or data["source_sha256"] != _digest(module):
+        return
+    rows = {(r["operator"], r["occurrence"]): r for r in data["results"]}
+    with use_db(str(db), WorkDB.Mode.open) as work_db:
+        for item in list(work_db.pending_work_items):
+            (spec,) = item.mutations
+            r = rows.get((spec.operator_name, spec.occurrence))
+            if r is None:
+                continue
+            work_db.set_result(item.job_id, WorkResult(
+                worker_outcome=WorkerOutcome(r["worker"]), output=r["output"],
+                test_outcome=TestOutcome(r["test"]) if r["test"] else None, diff=r["diff"]))
+    (WORK / f"{stem}.spent.json").write_text(json.dumps(data["spent"]))
 
 
 def _squash(text: str) -> str:
@@ -171,6 +232,8 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
     zygote = mutation_fork.Zygote(tests, import_name(module), WORK / f"{stem}.zygote.log")
     patched = 0
     timing = {"patched": [0, 0.0], "fresh": [0, 0.0]}  # mutants run each way, their seconds
+    killers: list[str] = []  # the tests that killed the latest mutants, the newest first
+    killer_file = WORK / f"{stem}.killer"
     with contextlib.closing(zygote), use_db(str(db), WorkDB.Mode.open) as work_db:
         todo = list(work_db.pending_work_items)
         if args.survivors:
@@ -210,12 +273,16 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
                     output=UNCOVERED, diff=diff))
                 continue
             order = by_speed if chosen is None else [t for t in by_speed if t in chosen]
+            order = _killers_first(order, killers)
             limit = _limit(durations, order, overhead, args.timeout)
             patch = None if chosen is None else changed_functions(source, mutated, str(target))
             verdict = None
             if patch is not None:
-                verdict = zygote.run(mutated, patch, order, limit)
+                killer_file.unlink(missing_ok=True)
+                verdict = zygote.run(mutated, patch, order, limit, killer_file)
                 way = "patched"
+                if verdict.code not in (None, 0) and killer_file.exists():
+                    _promote(killers, killer_file.read_text())
             if verdict is None or verdict.code == mutation_fork.PATCH_FAILED:
                 files = sorted({t.split("::")[0] for t in order})
                 verdict = mutation_fork.run_mutant(files, None if chosen is None else order,
@@ -241,8 +308,23 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
                 print(f"  {n}/{len(todo)} ({ran} run, {patched} patched in) {spent:.0f} s",
                       flush=True)
                 _save_spent(stem, before, time.perf_counter() - started, ran, timing)
+                _export_results(module, db)
     _save_spent(stem, before, time.perf_counter() - started, ran, timing)
+    _export_results(module, db)
     return tally_db(module, db, config)
+
+
+def _killers_first(order: list[str], killers: list[str]) -> list[str]:
+    """``order`` with the latest killers that it contains moved to the front."""
+    first = [t for t in killers if t in order]
+    return first + [t for t in order if t not in first] if first else order
+
+
+def _promote(killers: list[str], test: str) -> None:
+    if test in killers:
+        killers.remove(test)
+    killers.insert(0, test)
+    del killers[KILLERS:]
 
 
 def _save_spent(stem: str, before: dict, seconds: float, ran: int, timing: dict) -> None:
@@ -265,40 +347,44 @@ def _spent(stem: str) -> dict:
 
 
 def tally_db(module: str, db: Path, config: dict | None = None) -> Tally:
-    """Count the module's DB; a survivor that an ``[[equivalent]]`` entry (of ``config``)
-    names — an entry added after it was run — counts as equivalent."""
+    """Count the module's DB (see :func:`tally_rows`)."""
     from cosmic_ray.work_db import WorkDB, use_db
-    from cosmic_ray.work_item import TestOutcome, WorkerOutcome
 
+    with use_db(str(db), WorkDB.Mode.open) as work_db:
+        rows = [_result_row(item.mutations[0], result)
+                for item, result in work_db.completed_work_items]
+        total = work_db.num_work_items
+    stamp = db.with_suffix(".sha256")
+    stale = not stamp.exists() or stamp.read_text() != _digest(module)
+    return tally_rows(module, rows, total, stale, _spent(_stem(module)), config)
+
+
+def tally_rows(module: str, rows: list[dict], total: int, stale: bool, spent: dict,
+               config: dict | None = None) -> Tally:
+    """Count a module's results; a survivor that an ``[[equivalent]]`` entry (of ``config``)
+    names — an entry added after it was run — counts as equivalent."""
     equivalent = _equivalents(config or {}, module)
     source_lines = (ROOT / module).read_text().splitlines()
-
-    spent = _spent(_stem(module))
-    tally = Tally(module, seconds=spent["seconds"], ran=spent["ran"],
+    tally = Tally(module, seconds=spent["seconds"], ran=spent["ran"], stale=stale,
                   timing={w: spent[w] for w in ("patched", "fresh") if w in spent})
-    stamp = db.with_suffix(".sha256")
-    tally.stale = not stamp.exists() or stamp.read_text() != _digest(module)
-    with use_db(str(db), WorkDB.Mode.open) as work_db:
-        for item, result in work_db.completed_work_items:
-            (spec,) = item.mutations
-            if result.worker_outcome == WorkerOutcome.SKIPPED:
+    for r in rows:
+        if r["worker"] == "skipped":
+            tally.equivalent += 1
+        elif r["test"] == "killed":
+            tally.killed += 1
+        elif r["test"] == "survived":
+            changed = [d for d in (r["diff"] or "").splitlines()
+                       if d.startswith("+") and not d.startswith("+++")]
+            line_no = r["line"]
+            source = source_lines[line_no - 1] if line_no <= len(source_lines) else ""
+            if changed and _listed(equivalent, r["operator"], source, changed[0][1:], line_no):
                 tally.equivalent += 1
-            elif result.test_outcome == TestOutcome.KILLED:
-                tally.killed += 1
-            elif result.test_outcome == TestOutcome.SURVIVED:
-                changed = [d for d in (result.diff or "").splitlines()
-                           if d.startswith("+") and not d.startswith("+++")]
-                line_no = spec.start_pos[0]
-                source = source_lines[line_no - 1] if line_no <= len(source_lines) else ""
-                if changed and _listed(equivalent, spec.operator_name, source, changed[0][1:],
-                                       line_no):
-                    tally.equivalent += 1
-                    continue
-                tally.survived.append((spec.start_pos[0], spec.operator_name,
-                                       " ".join(changed)[:90], result.output == UNCOVERED))
-            elif result.test_outcome == TestOutcome.INCOMPETENT:
-                tally.incompetent += 1
-        tally.untested = work_db.num_work_items - work_db.num_results
+                continue
+            tally.survived.append((line_no, r["operator"], " ".join(changed)[:90],
+                                   r["output"] == UNCOVERED))
+        elif r["test"] == "incompetent":
+            tally.incompetent += 1
+    tally.untested = total - len(rows)
     tally.survived.sort()
     return tally
 
@@ -325,6 +411,19 @@ def report(tallies: list[Tally]) -> str:
             note = " [not executed by the subset]" if uncovered else ""
             rows.append(f"survivor {t.module}:{line} {op}: {diff}{note}")
     return "\n".join(rows) + "\n"
+
+
+def _tally_stored(module: str, config: dict) -> Tally:
+    """The module's results without running anything: its work DB, else its committed
+    results file, else NOT RUN."""
+    db = WORK / f"{_stem(module)}.sqlite"
+    if db.exists():
+        return tally_db(module, db, config)
+    data = _load_results(_stem(module))
+    if data is None:
+        return Tally(module, untested=None)
+    return tally_rows(module, data["results"], data["mutants"],
+                      data["source_sha256"] != _digest(module), data["spent"], config)
 
 
 def load_config() -> dict:
@@ -357,9 +456,7 @@ def main() -> int:
     os.chdir(ROOT)
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))  # the child's group is ended too
     if args.tally:
-        tallies = [tally_db(m, WORK / f"{_stem(m)}.sqlite", config)
-                   if (WORK / f"{_stem(m)}.sqlite").exists() else Tally(m, untested=None)
-                   for m in chosen]
+        tallies = [_tally_stored(m, config) for m in chosen]
     else:
         mutation_fork.preload(PACKAGE)
         tallies = [run_module(m, modules[m]["tests"], config, args) for m in chosen]

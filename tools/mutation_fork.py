@@ -238,7 +238,10 @@ class _Serve:
                 chosen = [items[nodeid] for nodeid in req["order"] if nodeid in items]
                 for i, item in enumerate(chosen):
                     after = chosen[i + 1] if i + 1 < len(chosen) else None
+                    failed = session.testsfailed
                     item.config.hook.pytest_runtest_protocol(item=item, nextitem=after)
+                    if session.testsfailed > failed and req.get("killer"):
+                        Path(req["killer"]).write_text(item.nodeid)
                     if session.shouldfail or session.shouldstop:
                         break
                 return 1 if session.testsfailed else 0
@@ -288,9 +291,12 @@ class Zygote:
             raise RuntimeError(f"the zygote for {module} did not start; see {log}")
 
     def run(self, source: str, patch: list[str], order: Sequence[str],
-            limit_s: float) -> Verdict:
+            limit_s: float, killer: Path | None = None) -> Verdict:
+        """Test a mutant in a fork; the id of the test that failed, if one did, is written
+        to ``killer`` (the caller orders the next mutants' tests by it)."""
         self._requests.write(json.dumps({"source": source, "patch": patch,
-                                         "order": list(order), "limit": limit_s}) + "\n")
+                                         "order": list(order), "limit": limit_s,
+                                         "killer": str(killer) if killer else None}) + "\n")
         self._requests.flush()
         reply = self._replies.readline()
         if not reply:

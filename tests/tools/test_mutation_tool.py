@@ -209,3 +209,61 @@ def test_equivalent_entries_match_by_operator_line_and_optionally_mutant_and_num
     assert _listed(eq, "core/N", "pc += 1", "pc += 2", 7) == "dead"
     assert _listed(eq, "core/N", "pc += 1", "pc += 2", 8) is None
     assert _listed(eq, "core/M", "pc += 1", "pc += 2", 7) is None
+
+
+def test_a_zygote_names_the_test_that_killed_a_mutant(demo, tmp_path):
+    (demo / "mt_demo.py").write_text(SOURCE)
+    zygote = mutation_fork.Zygote([str(demo / "test_demo.py")], "mt_demo", demo / "z.log")
+    killer = tmp_path / "killer"
+    try:
+        order = ["test_demo.py::test_low", "test_demo.py::test_high"]
+        bad = SOURCE.replace("return top", "return value")
+        assert zygote.run(bad, ["clamp"], order, 60.0, killer).code == 1
+        assert killer.read_text() == "test_demo.py::test_high"
+        killer.unlink()
+        assert zygote.run(SOURCE, [], order, 60.0, killer).code == 0
+        assert not killer.exists()  # nothing failed: no killer named
+    finally:
+        zygote.close()
+
+
+def test_the_latest_killers_run_first_newest_first():
+    from tools.mutate import KILLERS, _killers_first, _promote
+
+    killers: list[str] = []
+    for test in ["a", "b", "a", "c"]:
+        _promote(killers, test)
+    assert killers == ["c", "a", "b"]
+    assert _killers_first(["x", "a", "y", "c"], killers) == ["c", "a", "x", "y"]
+    assert _killers_first(["x", "y"], killers) == ["x", "y"]
+    for n in range(10):
+        _promote(killers, f"t{n}")
+    assert len(killers) == KILLERS and killers[0] == "t9"
+
+
+def test_results_count_the_same_from_a_results_file_as_from_rows(tmp_path, monkeypatch):
+    import tools.mutate as mutate
+
+    monkeypatch.setattr(mutate, "ROOT", tmp_path)
+    (tmp_path / "m.py").write_text("x = 1\ny = max(0, x)\n")
+    rows = [
+        {"operator": "core/N", "occurrence": 0, "line": 1, "worker": "normal",
+         "test": "killed", "output": "pytest exit 1", "diff": None},
+        {"operator": "core/N", "occurrence": 1, "line": 2, "worker": "normal",
+         "test": "survived", "output": "3 tests passed",
+         "diff": "--- a/m.py\n+++ b/m.py\n-y = max(0, x)\n+y = max( -1, x)"},
+        {"operator": "core/N", "occurrence": 2, "line": 2, "worker": "normal",
+         "test": "survived", "output": mutate.UNCOVERED,
+         "diff": "--- a/m.py\n+++ b/m.py\n-y = max(0, x)\n+y = max(1, x)"},
+        {"operator": "core/N", "occurrence": 3, "line": 1, "worker": "skipped",
+         "test": None, "output": "equivalent: docstring", "diff": None},
+    ]
+    spent = {"seconds": 5.0, "ran": 3}
+    config = {"equivalent": [{"module": "m.py", "operator": "core/N", "code": "y = max(0, x)",
+                              "mutant": "y = max( -1, x)", "reason": "x >= 0"}]}
+    t = mutate.tally_rows("m.py", rows, 6, False, spent, config)
+    assert (t.killed, t.equivalent, t.untested) == (1, 2, 2)
+    assert t.survived == [(2, "core/N", "+y = max(1, x)", True)]
+    assert t.rate == 0.5
+    t = mutate.tally_rows("m.py", rows, 4, True, spent)  # no entry: both survive
+    assert (t.killed, len(t.survived), t.untested, t.stale) == (1, 2, 0, True)
