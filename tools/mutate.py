@@ -71,6 +71,7 @@ class Tally:
     ran: int = 0
     timing: dict = field(default_factory=dict)  # "patched" / "fresh": [mutants, seconds]
     untested: int | None = 0  # mutants not tested yet (None: no work DB at all)
+    timeouts: int = 0  # of the killed: by their time limit
     stale: bool = False  # the DB was made from another version of the module's source
 
     @property
@@ -198,7 +199,12 @@ def _diff(original: str, mutated: str, module: str) -> str:
 
 
 def _limit(durations: dict[str, float], tests: list[str], overhead: float, cap: float) -> float:
-    return min(cap, 10.0 + 2.0 * overhead + 3.0 * sum(durations[t] for t in tests))
+    """A mutant's time limit: 3x its tests' baseline time (measured under coverage, so
+    slower than the mutant's run) plus start-up, at most ``cap`` — but never under 1.5x the
+    baseline time: a limit the unmutated tests could hit would count a slow survivor as
+    killed (a timeout is a kill)."""
+    start, tests_s = 10.0 + 2.0 * overhead, sum(durations[t] for t in tests)
+    return max(min(cap, start + 3.0 * tests_s), start + 1.5 * tests_s)
 
 
 def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
@@ -239,6 +245,9 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
         if args.survivors:
             todo += [item for item, result in work_db.completed_work_items
                      if result.test_outcome == TestOutcome.SURVIVED]
+        if args.timeouts:
+            todo += [item for item, result in work_db.completed_work_items
+                     if result.test_outcome == TestOutcome.KILLED and result.output == "timeout"]
         todo.sort(key=lambda item: item.mutations[0].start_pos)
         print(f"{module}: {len(todo)} mutants to test, subset {len(durations)} tests "
               f"{sum(durations.values()):.1f} s + {overhead:.1f} s start", flush=True)
@@ -372,6 +381,7 @@ def tally_rows(module: str, rows: list[dict], total: int, stale: bool, spent: di
             tally.equivalent += 1
         elif r["test"] == "killed":
             tally.killed += 1
+            tally.timeouts += r["output"] == "timeout"
         elif r["test"] == "survived":
             changed = [d for d in (r["diff"] or "").splitlines()
                        if d.startswith("+") and not d.startswith("+++")]
@@ -405,7 +415,8 @@ def report(tallies: list[Tally]) -> str:
     for t in tallies:
         ways = [f"{n} {way} {sec / n:.2f} s each" for way, (n, sec) in t.timing.items() if n]
         if ways:
-            rows.append(f"timing {t.module}: " + ", ".join(ways))
+            rows.append(f"timing {t.module}: " + ", ".join(ways)
+                        + f"; {t.timeouts} killed by their time limit")
     for t in tallies:
         for line, op, diff, uncovered in t.survived:
             note = " [not executed by the subset]" if uncovered else ""
@@ -443,6 +454,8 @@ def main() -> int:
                         help="upper bound of a mutant's time limit, seconds")
     parser.add_argument("--fresh", action="store_true", help="discard earlier results")
     parser.add_argument("--survivors", action="store_true", help="re-test earlier survivors")
+    parser.add_argument("--timeouts", action="store_true",
+                        help="re-test mutants killed by their time limit (under a longer one)")
     parser.add_argument("--report", type=Path, help="also write the report to this file")
     parser.add_argument("--tally", action="store_true",
                         help="run nothing: report the results already in the work DBs")

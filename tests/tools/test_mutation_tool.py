@@ -267,3 +267,11 @@ def test_results_count_the_same_from_a_results_file_as_from_rows(tmp_path, monke
     assert t.rate == 0.5
     t = mutate.tally_rows("m.py", rows, 4, True, spent)  # no entry: both survive
     assert (t.killed, len(t.survived), t.untested, t.stale) == (1, 2, 0, True)
+
+
+def test_a_mutant_limit_never_falls_under_one_and_a_half_times_its_tests_baseline():
+    from tools.mutate import _limit
+
+    assert _limit({"a": 1.0}, ["a"], 0.0, 120.0) == 13.0  # 10 s start + 3x the tests
+    assert _limit({"a": 50.0, "b": 9.0}, ["a"], 0.0, 120.0) == 120.0  # capped
+    assert _limit({"a": 219.0}, ["a"], 2.0, 120.0) == 14.0 + 1.5 * 219.0  # cap < baseline
