@@ -274,6 +274,13 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
                 work_db.set_result(item.job_id, WorkResult(
                     worker_outcome=WorkerOutcome.SKIPPED, output=f"equivalent: {skip}"))
                 continue
+            try:
+                compile(mutated, str(target), "exec", dont_inherit=True)
+            except SyntaxError as e:  # e.g. ``**mapping`` mutated to ``* *mapping``
+                work_db.set_result(item.job_id, WorkResult(
+                    worker_outcome=WorkerOutcome.NORMAL, test_outcome=TestOutcome.INCOMPETENT,
+                    output=f"does not compile: {e.msg}"))
+                continue
             diff = _diff(source, mutated, module)
             chosen = select(lines, statements.lines(pos))
             if chosen is not None and not chosen:
