@@ -53,6 +53,10 @@ _LINE_CACHE_SIZE = 8192
 #: command length (spec pmac.md §5: dls-pmaclib cannot send a command over 255 characters) and
 #: the command-line buffer of 256 characters [BK]; the Turbo SRM pages searched give no figure.
 MAX_LINE_CHARS = 255
+#: A terminal reply this little past the 1 s wait is still on time: the float rounding the
+#: clock tolerates when it steps a POST to its deadline (app/clock.py), so a reply the POST
+#: returned is not also announced as a ``terminal_reply`` event.
+_WAIT_EPS_S = 1e-9
 _CONFIG_KEY = re.compile(r"^i(\d{1,4})$")
 
 
@@ -188,7 +192,7 @@ class PmacController(Controller):
             text, error = self._terminal.execute(command, port)
             reply.detail = self._terminal.detail if error is not None else None
             reply.resolve(text, error, self.env.now)
-            if reply.answered_pending or self.env.now - t0 >= self.terminal_wait_s:
+            if reply.answered_pending or self.env.now - t0 > self.terminal_wait_s + _WAIT_EPS_S:
                 self.log.emit("terminal_reply", command=command, reply=text, error=error)
 
         self.background.submit(job)
@@ -407,8 +411,7 @@ class PmacController(Controller):
             rot.store(line)
             if fresh:
                 self._remember(texts, [line])
-            if c._plan_due is None and (c.current is None or len(c.planned) < 2):
-                c.lines_arrived()  # (depth is at most 2: with 2 calculated it wants nothing)
+            c.lines_arrived()  # (it wants more with 2 calculated in the special lookahead)
             return _new_result(
                 LoadResult, (1, 1, len(rot.pending), rot.size_words - rot.used_words, rot.breq)
             )
