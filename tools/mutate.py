@@ -34,6 +34,7 @@ import difflib
 import hashlib
 import json
 import os
+import random
 import signal
 import subprocess
 import sys
@@ -248,6 +249,10 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
         if args.timeouts:
             todo += [item for item, result in work_db.completed_work_items
                      if result.test_outcome == TestOutcome.KILLED and result.output == "timeout"]
+        if args.sample is not None and len(todo) > args.sample:
+            # A seeded uniform sample: the rate of its mutants estimates the module's; a
+            # later run (without --sample) tests the rest.
+            todo = random.Random(args.seed).sample(todo, args.sample)
         todo.sort(key=lambda item: item.mutations[0].start_pos)
         print(f"{module}: {len(todo)} mutants to test, subset {len(durations)} tests "
               f"{sum(durations.values()):.1f} s + {overhead:.1f} s start", flush=True)
@@ -406,6 +411,13 @@ def tally_rows(module: str, rows: list[dict], total: int, stale: bool, spent: di
     return tally
 
 
+def wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
+    """The Wilson score interval of a rate of ``k`` in ``n`` (95 % for z = 1.96)."""
+    p, z2 = k / n, z * z
+    mid, half = p + z2 / (2 * n), z * ((p * (1 - p) + z2 / (4 * n)) / n) ** 0.5
+    return (mid - half) / (1 + z2 / n), (mid + half) / (1 + z2 / n)
+
+
 def report(tallies: list[Tally]) -> str:
     rows = [f"{'module':<32}{'killed':>8}{'survived':>10}{'equiv.':>8}{'rate':>8}  target"
             f"{'run':>7}{'wall s':>8}  untested"]
@@ -417,6 +429,9 @@ def report(tallies: list[Tally]) -> str:
         if t.untested:
             mark = "PART"  # some mutants not tested: the rate is of those tested
         stale = "  STALE: the module changed since this DB was made" if t.stale else ""
+        if t.untested and t.scored:
+            lo, hi = wilson(t.killed, t.scored)
+            stale += f"  (95 % interval of the rate if those run are a sample: {lo:.1%}-{hi:.1%})"
         rows.append(f"{t.module:<32}{t.killed:>8}{len(t.survived):>10}{t.equivalent:>8}"
                     f"{t.rate:>8.1%}  {mark:<6}{t.ran:>7}{t.seconds:>8.0f}  {t.untested}{stale}")
     for t in tallies:
@@ -461,6 +476,9 @@ def main() -> int:
                         help="upper bound of a mutant's time limit, seconds")
     parser.add_argument("--fresh", action="store_true", help="discard earlier results")
     parser.add_argument("--survivors", action="store_true", help="re-test earlier survivors")
+    parser.add_argument("--sample", type=int, metavar="N",
+                        help="test only a seeded random sample of N of the pending mutants")
+    parser.add_argument("--seed", type=int, default=0, help="the sample's seed")
     parser.add_argument("--timeouts", action="store_true",
                         help="re-test mutants killed by their time limit (under a longer one)")
     parser.add_argument("--report", type=Path, help="also write the report to this file")

@@ -275,3 +275,12 @@ def test_a_mutant_limit_never_falls_under_one_and_a_half_times_its_tests_baselin
     assert _limit({"a": 1.0}, ["a"], 0.0, 120.0) == 13.0  # 10 s start + 3x the tests
     assert _limit({"a": 50.0, "b": 9.0}, ["a"], 0.0, 120.0) == 120.0  # capped
     assert _limit({"a": 219.0}, ["a"], 2.0, 120.0) == 14.0 + 1.5 * 219.0  # cap < baseline
+
+
+def test_the_wilson_interval_of_a_sampled_rate():
+    from tools.mutate import wilson
+
+    lo, hi = wilson(90, 100)
+    assert round(lo, 3) == 0.826 and round(hi, 3) == 0.945  # the textbook 90/100 interval
+    lo, hi = wilson(10, 10)
+    assert hi == 1.0 and round(lo, 3) == 0.722
