@@ -348,6 +348,48 @@ def _promote(killers: list[str], test: str) -> None:
     del killers[KILLERS:]
 
 
+def retest_with(module: str, files: list[str], config: dict, args) -> Tally:
+    """Re-test the survivors of ``module``'s DB with only the test ``files`` (new tests, say):
+    a mutant they kill is recorded killed; one they do not kill stays a survivor (the earlier
+    verdict of the whole subset stands). Cheap: no baseline, each mutant a fresh pytest run
+    of just these files."""
+    import cosmic_ray.plugins
+    from cosmic_ray.mutating import mutate_code
+    from cosmic_ray.work_db import WorkDB, use_db
+    from cosmic_ray.work_item import TestOutcome, WorkerOutcome, WorkResult
+
+    stem = _stem(module)
+    db = _init(module, stem, False)
+    target = ROOT / module
+    source = target.read_text()
+    clean = mutation_fork.run_mutant(files, None, import_name(module), target, source, 600.0)
+    if clean.code != 0:
+        raise SystemExit(f"{module}: {' '.join(files)} fail on the unmutated code")
+    limit = 30.0 + 3.0 * clean.seconds
+    with use_db(str(db), WorkDB.Mode.open) as work_db:
+        todo = [item for item, result in work_db.completed_work_items
+                if result.test_outcome == TestOutcome.SURVIVED]
+        print(f"{module}: {len(todo)} survivors to re-test with {len(files)} files "
+              f"({clean.seconds:.1f} s a run)", flush=True)
+        killed = 0
+        for item in todo:
+            (spec,) = item.mutations
+            operator = cosmic_ray.plugins.get_operator(spec.operator_name)(
+                **(spec.operator_args or {}))
+            mutated = mutate_code(source, operator, spec.occurrence)
+            verdict = mutation_fork.run_mutant(files, None, import_name(module), target,
+                                               mutated, limit)
+            if verdict.code not in (0, 4, 5, 70):  # failed, or over the limit
+                killed += 1
+                work_db.set_result(item.job_id, WorkResult(
+                    worker_outcome=WorkerOutcome.NORMAL, test_outcome=TestOutcome.KILLED,
+                    output="timeout" if verdict.timed_out else f"pytest exit {verdict.code}",
+                    diff=_diff(source, mutated, module)))
+        print(f"  {killed} of {len(todo)} killed", flush=True)
+    _export_results(module, db)
+    return tally_db(module, db, config)
+
+
 def _save_spent(stem: str, before: dict, seconds: float, ran: int, timing: dict) -> None:
     """The module's totals: the earlier runs' (``before``) plus this run's so far."""
     spent = {"seconds": before["seconds"] + seconds, "ran": before["ran"] + ran}
@@ -479,6 +521,8 @@ def main() -> int:
     parser.add_argument("--sample", type=int, metavar="N",
                         help="test only a seeded random sample of N of the pending mutants")
     parser.add_argument("--seed", type=int, default=0, help="the sample's seed")
+    parser.add_argument("--retest-with", nargs="+", metavar="TESTFILE",
+                        help="re-test the survivors with only these test files (new tests)")
     parser.add_argument("--timeouts", action="store_true",
                         help="re-test mutants killed by their time limit (under a longer one)")
     parser.add_argument("--report", type=Path, help="also write the report to this file")
@@ -497,7 +541,8 @@ def main() -> int:
         tallies = [_tally_stored(m, config) for m in chosen]
     else:
         mutation_fork.preload(PACKAGE)
-        tallies = [run_module(m, modules[m]["tests"], config, args) for m in chosen]
+        tallies = [retest_with(m, args.retest_with, config, args) if args.retest_with
+                   else run_module(m, modules[m]["tests"], config, args) for m in chosen]
     text = report(tallies)
     print("\n" + text, end="")
     if args.report:
