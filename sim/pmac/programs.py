@@ -33,7 +33,7 @@ N_PROGRAMS = 32767
 class ProgramRun:
     """Program ``number`` as coordinate system ``cs``'s line source (the rotary buffer's
     interface: ``pending``, ``take``, ``take_simple``, ``line_calculated``, ``n_loaded``,
-    ``calculated``, ``free_through``, ``free_calculated``), numbered from 1."""
+    ``calculated``, ``free_calculated``), numbered from 1."""
 
     ends = True  # the program stops at its end (a rotary buffer waits)
     full = False
@@ -60,9 +60,6 @@ class ProgramRun:
 
     def line_calculated(self, n: int) -> None:
         self._emit("line_calculated", cs=self.cs, n=n, prog=self.number)
-
-    def free_through(self, n: int) -> None:
-        """Program lines stay in memory."""
 
     def free_calculated(self) -> None:
         """Program lines stay in memory."""

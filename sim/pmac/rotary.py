@@ -7,7 +7,8 @@ words back, so a 600-word buffer streams any number of lines. Here it is two que
 * ``pending`` — lines stored but not yet worked through by move planning; their number is
   ``lines_ahead``, what ``PR`` reports and what I16 / I17 are compared with (TSRM p46, p286);
 * ``calculated`` — lines planning has worked through whose words are not yet free (they are
-  released when execution moves past them, :meth:`RotaryBuffer.free_through`).
+  released when execution starts the move of a later line: the move start in
+  :mod:`motionsim.sim.pmac.lookahead.execution` pops them).
 
 BREQ ("buffer request", seed 000 and spec §1.2), each edge a ``breq`` event:
 
@@ -227,12 +228,6 @@ class RotaryBuffer:
             self.full = False
             if not self.breq:
                 self._set(True)
-
-    def free_through(self, n: int) -> None:
-        """Execution has moved past line ``n``: its words (and earlier lines') are free."""
-        calc = self.calculated
-        while calc and calc[0][0] <= n:
-            self.used_words -= calc.popleft()[1]
 
     def free_calculated(self) -> None:
         """Release every calculated line (motion stopped, or lookahead discarded by ``A``)."""

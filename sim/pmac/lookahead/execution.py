@@ -102,7 +102,7 @@ class Execution:
         if rot is not None:
             calc = rot.calculated
             if calc and calc[0][0] < n:
-                # = rot.free_through(n - 1), written out (the per-line path)
+                # the words of the lines before this move's are free (the per-line path)
                 while calc and calc[0][0] < n:
                     rot.used_words -= calc.popleft()[1]
         if prev is None:
