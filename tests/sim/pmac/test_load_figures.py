@@ -78,3 +78,16 @@ def test_each_defined_motor_takes_about_one_percent_of_the_processor(rig):
     cpu = rig.c.status()["cpu"]
     assert cpu["servo"] == pytest.approx(0.08, abs=0.004)
     assert cpu["background"] == pytest.approx(1.0 - cpu["servo"] - cpu["rti"], abs=1e-9)
+
+
+def test_the_margin_is_zero_cycles_on_the_trip_cycle_itself(make_rig):
+    """``cycles_left`` counts servo cycles to the trip: read on the trip cycle, before the
+    card has acted on it, none are left (not one)."""
+    rig = make_rig(i40=300)
+    rig.c.plcs.load(0, "\n".join(["M1=M1+1"] + ["P10=P10+1"] * 499))
+    k_trip = rig.cyc(rig.cmd("ENABLE PLC 0").t_done) + 1 + 300
+    rig.c.env.run(until=rig.c.scheduler.clock.t(k_trip))
+    wd = rig.c.status()["watchdog"]
+    assert wd["tripped"] is False and wd["cycles_left"] == 0
+    rig.run_for(rig.period)
+    assert rig.c.status()["watchdog"]["tripped"] is True
