@@ -1,0 +1,253 @@
+"""When a coordinate system calculates ("plans") program lines, pinned to the manual: only at
+RTIs, the first RTI strictly after the move start that sets the "plan the next move" flag
+(TUM p236); two moves ahead of the executing one for LINEAR with Isx13 = 0, one otherwise
+(TUM p339; spec §4.2, §9.3), three from rest; with the special lookahead Isx20 segments of
+Isx13 ms ahead (TSRM p181); nothing after a DWELL until it ends, nothing while the program is
+not running; a line arriving while running is calculated at the next RTI when calculation
+wants it. Times are servo cycles; I8 = 0 makes every servo cycle an RTI.
+
+Several tests run a *twin*: the same program on a second controller (the simulation is
+deterministic), with one more line arriving one servo cycle before an instant the first run
+showed — the move start, dwell end or R after which calculation must wait for the next RTI.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import pytest
+
+from tests.sim.pmac.conftest import Rig
+
+
+def _by_n(rig: Rig, type_: str) -> dict[int, int]:
+    return {f["n"]: k for k, _, f in rig.events(type_)}
+
+
+def _run_to(rig: Rig, k: int) -> None:
+    """Run the simulation up to servo cycle ``k`` (events due at ``k`` not yet processed)."""
+    rig.c.env.run(until=k * rig.period)
+
+
+def _next_rti(k: int, m: int = 3) -> int:
+    """The first RTI strictly after cycle ``k`` (cycles divisible by I8+1 = ``m``)."""
+    return (k // m + 1) * m
+
+
+def _start(rig: Rig, lines: list[str], *setup: str) -> None:
+    for s in setup:
+        rig.ok(s)
+    rig.rotary_setup()
+    rig.c.load_lines(1, lines)
+    rig.ok("R")
+
+
+def _twin(
+    make_rig: Callable[[], Rig], begin: Callable[[Rig], None], instant: Callable[[Rig], int]
+) -> tuple[Rig, int]:
+    """Run ``begin`` on a reference controller to the end and read ``instant`` of it; run it
+    again on a twin up to one servo cycle before that instant. Returns (twin, instant)."""
+    ref = make_rig()
+    begin(ref)
+    ref.run_until_idle()
+    k = instant(ref)
+    twin = make_rig()
+    begin(twin)
+    _run_to(twin, k - 1)
+    return twin, k
+
+
+# -- depth: how many moves are kept calculated -------------------------------------------
+
+
+def test_with_isx13_0_a_line_arriving_with_one_move_calculated_ahead_is_calculated_at_the_next_rti(
+    rig,
+):
+    """TUM p339: with Isx13 = 0 LINEAR calculates two moves ahead of the executing one. X1
+    executes, X2 is calculated, nothing else: X3 arriving at cycle 100 is wanted and is
+    calculated at the next RTI, so X2 blends into it (X2 ends where X3 starts)."""
+    _start(rig, ["TM100 TA10 TS0 X1", "X2"])
+    _run_to(rig, 100)
+    rig.c.load_lines(1, ["X3"])
+    rig.run_until_idle()
+    assert _by_n(rig, "line_calculated")[3] == _next_rti(100)
+    assert _by_n(rig, "move_start")[3] == _by_n(rig, "move_end")[2]
+
+
+def test_during_the_i11_delay_linear_calculates_three_moves_from_rest(rig):
+    """TUM p339 / PSRM I11: from rest no move executes yet, so two ahead of the first is three
+    moves. With I11 = 50 ms the first move waits; X1 and X2 are calculated, X3 arriving in
+    the delay is wanted and calculated at the next RTI, before the first move starts."""
+    _start(rig, ["TM100 TA10 TS0 X1", "X2"], "I11=50")
+    k_r = rig.cyc(rig.c.now)
+    _run_to(rig, k_r + 30)
+    rig.c.load_lines(1, ["X3"])
+    rig.run_until_idle()
+    k_go = _by_n(rig, "move_start")[1]
+    assert _by_n(rig, "line_calculated")[3] == _next_rti(k_r + 30) < k_go
+
+
+def test_segmented_linear_calculates_one_move_ahead_the_next_at_the_rti_after_a_move_starts(
+    make_rig,
+):
+    """TSRM p177 / TUM p339: with Isx13 > 0 (no lookahead buffer) LINEAR keeps one move
+    calculated beyond the executing one. X1 executes with X2 calculated: X3 arriving one cycle
+    before X2 starts is not wanted yet; X2's start asks for it, calculated at the first RTI
+    strictly after that start (TUM p236), not at the start's own cycle."""
+
+    def begin(rig: Rig) -> None:
+        _start(rig, ["LINEAR ABS TM200 TA100 TS0 X1", "TA10 X2"], "I8=0", "I5113=10")
+
+    rig, k_s = _twin(make_rig, begin, lambda ref: _by_n(ref, "move_start")[2])
+    rig.c.load_lines(1, ["X3"])
+    rig.run_until_idle()
+    assert _by_n(rig, "move_start")[2] == k_s
+    assert _by_n(rig, "line_calculated")[3] == k_s + 1
+
+
+def _lookahead(isx20: int, *more: str) -> tuple[str, ...]:
+    """The special lookahead active: Isx13 = 10 ms segments, Isx20 of them, a buffer."""
+    return ("I5113=10", f"I5120={isx20}", "&1 DEFINE LOOKAHEAD 50,10", *more)
+
+
+def test_tsrm_p181_a_line_arriving_short_of_the_horizon_is_calculated_at_the_next_rti(rig):
+    """TSRM p181: the special lookahead calculates Isx20 segments (here 30 × 10 ms = 300 ms)
+    ahead. X1 executes, X2 (100 ms) is all that is calculated: short of the horizon, so X3
+    arriving at cycle 100 is calculated at the next RTI."""
+    _start(rig, ["LINEAR ABS TM100 TA10 TS0 X1", "X2"], *_lookahead(30))
+    _run_to(rig, 100)
+    assert 2 in _by_n(rig, "line_calculated") and 2 not in _by_n(rig, "move_start")
+    rig.c.load_lines(1, ["X3"])
+    rig.run_until_idle()
+    assert _by_n(rig, "line_calculated")[3] == _next_rti(100)
+
+
+def test_tsrm_p181_with_the_horizon_covered_a_line_waits_for_the_rti_after_the_next_move_start(
+    make_rig,
+):
+    """Horizon 300 ms: while X1 executes, X2 and X3 (200 ms each) cover it. X4 arriving one
+    cycle before X2 starts is not wanted; X2's start leaves X3 alone, short of the horizon,
+    and X4 is calculated at the first RTI strictly after that start (TUM p236)."""
+
+    def begin(rig: Rig) -> None:
+        lines = ["LINEAR ABS TM200 TA100 TS0 X1", "TA10 X2", "X3"]
+        _start(rig, lines, *_lookahead(30, "I8=0"))
+
+    rig, k_s = _twin(make_rig, begin, lambda ref: _by_n(ref, "move_start")[2])
+    assert {2, 3} <= set(_by_n(rig, "line_calculated"))
+    rig.c.load_lines(1, ["X4"])
+    rig.run_until_idle()
+    assert _by_n(rig, "move_start")[2] == k_s
+    assert _by_n(rig, "line_calculated")[4] == k_s + 1
+
+
+def test_tsrm_p181_from_rest_in_the_i11_delay_a_covered_horizon_waits_for_the_first_move_start(
+    make_rig,
+):
+    """From rest with I11 = 50 ms the special lookahead (150 ms) calculates X1 and X2 (100 ms
+    each; two from rest). X3 arriving one cycle before the delayed first move starts is not
+    wanted; that start leaves X2 alone, short of the horizon, and X3 is calculated at the first
+    RTI strictly after it."""
+
+    def begin(rig: Rig) -> None:
+        _start(rig, ["LINEAR ABS TM100 TA10 TS0 X1", "X2"], *_lookahead(15, "I8=0", "I11=50"))
+
+    rig, k_go = _twin(make_rig, begin, lambda ref: _by_n(ref, "move_start")[1])
+    rig.c.load_lines(1, ["X3"])
+    rig.run_until_idle()
+    assert _by_n(rig, "move_start")[1] == k_go
+    assert _by_n(rig, "line_calculated")[3] == k_go + 1
+
+
+def test_tsrm_p181_the_horizon_is_counted_in_program_time_at_a_feedrate_override(rig):
+    """At %50 moves take twice as long in real time, but the horizon is Isx20 segments of
+    Isx13 ms of the program (20 × 10 = 200 ms): four TM49.96 moves are still short of it and a
+    fifth is calculated at the first RTI (the mode line and five moves), as at %100."""
+    _start(rig, ["LINEAR ABS TA10 TS0 TM49.96"] + [f"X{i}" for i in range(1, 12)],
+           *_lookahead(20, "%50"))  # fmt: skip
+    rig.run_for(0.01)
+    ks = [k for k, _, _ in rig.events("line_calculated")]
+    assert sum(1 for k in ks if k == ks[0]) == 6
+
+
+def test_s_with_the_special_lookahead_calculates_only_the_move_it_runs(rig):
+    """TSRM (S): a single step runs one move, then the program stops; the special lookahead's
+    horizon (300 ms, four 100 ms moves loaded) does not make it calculate further."""
+    rig.ok("I5113=10")
+    rig.ok("I5120=30")
+    rig.ok("&1 DEFINE LOOKAHEAD 50,10")
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["LINEAR ABS TM100 TA10 TS0 X1", "X2", "X3", "X4"])
+    rig.ok("S")
+    rig.run_until_idle()
+    assert sorted(_by_n(rig, "line_calculated")) == [1]
+    assert sorted(_by_n(rig, "move_start")) == [1]
+    assert rig.c.coord(1)["program"] == {"state": "stopped"}
+
+
+def test_raising_isx20_while_running_lengthens_the_horizon_for_the_next_line_arriving(rig):
+    """I-variables are re-read when they change: horizon 150 ms, X2 and X3 (100 ms each)
+    calculated while X1 executes; I5120 = 40 makes it 400 ms, so X4 arriving right after is
+    wanted and calculated at the next RTI."""
+    _start(rig, ["LINEAR ABS TM100 TA10 TS0 X1", "X2", "X3"], *_lookahead(15))
+    _run_to(rig, 100)
+    assert {2, 3} <= set(_by_n(rig, "line_calculated"))
+    rig.ok("I5120=40")
+    k = rig.cyc(rig.c.now)
+    rig.c.load_lines(1, ["X4"])
+    rig.run_until_idle()
+    assert _by_n(rig, "line_calculated")[4] == _next_rti(k)
+
+
+# -- breaks and a program not running -------------------------------------------------------
+
+
+def test_a_line_arriving_during_a_dwell_is_calculated_at_the_rti_after_the_dwell_ends(make_rig):
+    """A DWELL stops lookahead: nothing after it is calculated until it has finished, then
+    at the next RTI. A line arriving one cycle before the dwell ends is calculated at the first
+    RTI strictly after the end (I8 = 0: the next cycle), not at the end's own cycle."""
+
+    def begin(rig: Rig) -> None:
+        _start(rig, ["DWELL100"], "I8=0")
+
+    rig, k_e = _twin(make_rig, begin, lambda ref: _by_n(ref, "move_end")[1])
+    rig.c.load_lines(1, ["TM100 TA10 TS0 X1"])
+    rig.run_until_idle()
+    assert _by_n(rig, "move_end")[1] == k_e
+    assert _by_n(rig, "line_calculated")[2] == _by_n(rig, "move_start")[2] == k_e + 1
+
+
+def _idle(rig: Rig) -> None:
+    rig.rotary_setup()
+
+
+def _stopped(rig: Rig) -> None:
+    _start(rig, ["TM100 TA10 TS0 X1"])
+    rig.run_until_idle()
+    rig.ok("Q")
+
+
+def _aborted(rig: Rig) -> None:
+    _start(rig, ["TM100 TA10 TS0 X1"])
+    rig.run_until_idle()
+    rig.ok("A")
+
+
+@pytest.mark.parametrize("state,before", [("idle", _idle), ("stopped", _stopped),
+                                          ("aborted", _aborted)])  # fmt: skip
+def test_a_line_arriving_while_the_program_is_not_running_is_calculated_only_after_r(
+    rig, state, before
+):
+    """PUM p213 / TUM p236: a program that is not running calculates nothing; ``R`` asks for
+    calculation at the first RTI strictly after it. Here the line arrives with the ``R`` on
+    its way (answered one servo cycle later, I8 = 0: at the next RTI) and is calculated at
+    the RTI after the ``R``, not at the ``R``'s own cycle."""
+    rig.ok("I8=0")
+    before(rig)
+    assert rig.c.coord(1)["program"]["state"] == state
+    r = rig.c.terminal("R")
+    rig.c.load_lines(1, ["TM100 TA10 TS0 X5"])
+    rig.run_until_idle()
+    k_r = rig.cyc(r.t_done)
+    calc = [k for k, _, f in rig.events("line_calculated") if k >= k_r]
+    assert calc == [k_r + 1]
