@@ -251,3 +251,30 @@ def test_a_line_arriving_while_the_program_is_not_running_is_calculated_only_aft
     k_r = rig.cyc(r.t_done)
     calc = [k for k, _, f in rig.events("line_calculated") if k >= k_r]
     assert calc == [k_r + 1]
+
+
+def test_q_calculates_nothing_more_even_with_a_planning_request_from_before_it(rig):
+    """Spec §1.1 / TSRM (Q): the calculated moves finish, nothing more is calculated, then
+    the program is stopped. With I8 = 255 (an RTI every 256 cycles) X1's start asks for
+    planning at the next RTI (cycle 512); Q comes first and X1-X3 have stopped by then: at
+    that RTI X4 and X5 stay uncalculated and nothing moves."""
+    _start(rig, ["TM20 TA10 TS0 X1", "X2", "X3", "X4", "X5"], "I8=255")
+    _run_to(rig, 260)
+    assert sorted(_by_n(rig, "line_calculated")) == [1, 2, 3]
+    rig.ok("Q")
+    rig.run_until_idle()
+    assert max(_by_n(rig, "move_end").values()) < 512
+    assert sorted(_by_n(rig, "line_calculated")) == [1, 2, 3]
+    assert sorted(_by_n(rig, "move_start")) == [1, 2, 3]
+    assert rig.c.coord(1)["program"] == {"state": "stopped"}
+
+
+def test_isx13_written_after_r_applies_to_the_first_rtis_calculation(rig):
+    """I-variables are read when calculation runs: ``R I5113=10`` (one command line) sets
+    segmentation mode after R asked for the first RTI's calculation, so that RTI calculates
+    segmented LINEAR's two moves from rest, not the three of Isx13 = 0."""
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["LINEAR ABS TM100 TA10 TS0 X1", "X2", "X3", "X4"])
+    k_r = rig.cyc(rig.cmd("R I5113=10").t_done)
+    rig.run_for(0.02)
+    assert _by_n(rig, "line_calculated") == {1: _next_rti(k_r), 2: _next_rti(k_r)}
