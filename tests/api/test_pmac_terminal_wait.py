@@ -18,16 +18,22 @@ async def _replies(api) -> list[dict]:
     return page["events"]
 
 
-@pytest.mark.parametrize("start", [0.0, 1.3])
-async def test_a_reply_at_exactly_one_second_is_returned_and_not_announced(api, start):
-    await api.post("/controllers", json={"id": "pm", "kind": "pmac", "config": SLOW,
+@pytest.mark.parametrize(("start", "cycles", "reply_t"), [
+    (0.0, 1000, 1.0), (1.3, 1000, 2.3),
+    (0.499999999, 1001, 1.5),  # 1 s + 1 ns later: within the clock's float tolerance
+])
+async def test_a_reply_at_the_end_of_the_second_is_returned_and_not_announced(
+    api, start, cycles, reply_t
+):
+    await api.post("/controllers", json={"id": "pm", "kind": "pmac",
+                                         "config": {**SLOW, "background_cycles": cycles},
                                          "clock": {"mode": "virtual"}})
     if start:
         await api.post("/controllers/pm/clock/advance", json={"seconds": start})
     r = await api.post("/controllers/pm/terminal", json={"command": "I16"})
     assert r.json() == {"reply": "5", "error": None, "pending": False}
     clock = (await api.get("/controllers/pm/clock")).json()
-    assert clock["t"] == pytest.approx(start + 1.0)
+    assert clock["t"] == pytest.approx(reply_t)
     assert await _replies(api) == []
 
 

@@ -208,7 +208,9 @@ def test_a_line_that_is_not_text_is_refused_naming_its_index(rig, batch):
     assert rig.c.rotary(1)["used_words"] == 0
 
 
-@pytest.mark.parametrize("batch", [["X1 Q"], ["X1", "X2", "X3 Q"]])
+@pytest.mark.parametrize("batch", [
+    ["X1 Q"], ["X1", "X2 Q"], ["X1", "X2", "X3 Q"], ["X1"] * 3 + ["X4 Q"],
+])
 def test_a_batch_parse_error_names_the_index_and_the_line(rig, batch):
     """API.md: a parse error carries ``index`` (0-based in the batch) and ``line`` (1-based,
     the same line counted from 1), the ``column`` and ERR003; nothing is stored."""
@@ -235,14 +237,14 @@ def test_an_overlong_line_names_its_index_line_and_column(rig, index):
 
 
 def test_a_batch_of_more_distinct_lines_than_the_parse_cache_holds_is_stored_whole(rig):
-    """The batch is atomic and unbounded but for memory: 8193 distinct lines (more than the
-    8192 texts the parse cache keeps) are all stored, in order."""
-    rig.rotary_setup(words=10_000)
-    lines = [f"X{i}" for i in range(8193)]
+    """The batch is atomic and unbounded but for memory: 8193 lines never sent before (more
+    than the 8192 texts the parse cache keeps) are all stored, in order."""
+    rig.rotary_setup(words=20_000)
+    lines = [f"X{i}.5 Y-{i}.25" for i in range(8193)]
     result = rig.c.load_lines(1, lines)
     assert (result.accepted, result.stored, result.lines_ahead) == (8193, 8193, 8193)
     pending = rig.c.coord_system(1).rotary.pending
-    assert (pending[0][1].text, pending[-1][1].text) == ("X0", "X8192")
+    assert [line.text for _, line in pending] == lines
 
 
 # -- ports --------------------------------------------------------------------------------------
@@ -308,6 +310,15 @@ def test_writing_mxx62_moves_the_position_reference_of_motor_xx(rig, motor):
     rig.run_for(0.1)
     assert rig.ok(f"#{motor}P") == "-75"
     assert rig.events("move_start", "jog", since=since) == []
+
+
+def test_f_reports_no_following_error_while_a_motor_jogs(rig):
+    """``F`` (TSRM p402) reports the following error; the simulated loop tracks perfectly
+    (``[INF]``), so it is 0 also while the motor moves and ``V`` is not."""
+    rig.ok("#1J+")
+    rig.run_for(0.5)
+    assert float(rig.ok("#1V")) > 1
+    assert rig.ok("#1F") == "0"
 
 
 # -- variables ----------------------------------------------------------------------------------
@@ -391,6 +402,9 @@ def test_the_controller_resource_lists_coordinate_systems_with_a_buffer_or_runni
     status = rig.c.status()
     assert status["coord"] == {"2": "idle", "3": "running"}
     assert set(status["watchdog"]) == {"tripped", "t", "reload_s", "limit_cycles", "cycles_left"}
+    rig.ok("&3 A")
+    rig.run_for(0.01)
+    assert rig.c.status()["coord"] == {"2": "idle", "3": "aborted"}
 
 
 # -- the terminal and streaming ---------------------------------------------------------------
