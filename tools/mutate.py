@@ -46,7 +46,13 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import mutation_fork  # noqa: E402
-from mutation_lines import StatementIndex, inert_reason, inert_spans, select  # noqa: E402
+from mutation_lines import (  # noqa: E402
+    FunctionAnchors,
+    StatementIndex,
+    inert_reason,
+    inert_spans,
+    select,
+)
 from mutation_patch import changed_functions  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -59,6 +65,7 @@ TARGET = 0.90
 CR = str(Path(sys.executable).with_name("cosmic-ray"))  # beside this interpreter (the venv)
 UNCOVERED = "no test in the subset executes this statement"
 KILLERS = 4  # how many of the latest mutants' killing tests are tried first
+CARRIED = "carried; "  # prefix of the output of a result carried over from an earlier source
 
 
 @dataclass
@@ -73,6 +80,7 @@ class Tally:
     timing: dict = field(default_factory=dict)  # "patched" / "fresh": [mutants, seconds]
     untested: int | None = 0  # mutants not tested yet (None: no work DB at all)
     timeouts: int = 0  # of the killed: by their time limit
+    carried: int = 0  # results carried over from an earlier version of the module
     stale: bool = False  # the DB was made from another version of the module's source
 
     @property
@@ -111,7 +119,7 @@ def _init(module: str, stem: str, fresh: bool) -> Path:
     subprocess.run([CR, "init", str(cfg), str(db)], cwd=ROOT, check=True)
     stamp.write_text(_digest(module))
     if not fresh:
-        _import_results(module, stem, db)
+        _import_results(module, stem, db, (ROOT / module).read_text())
     return db
 
 
@@ -124,16 +132,42 @@ def _result_row(spec, result) -> dict:
             "output": result.output, "diff": result.diff if survived else None}
 
 
-def _export_results(module: str, db: Path) -> None:
-    """The module's DB as ``tools/mutation-results/<stem>.json``, one mutant a line."""
+def _carry_keys(items, source: str) -> dict[str, tuple]:
+    """Each work item's key for carrying its result to another version of the module: its
+    operator, its function's anchor (name, source digest, line offset) and its rank among
+    the mutants of that operator on that line; none for code outside a function."""
+    anchors = FunctionAnchors(source)
+    by_line: dict[tuple[int, str], list] = {}
+    for item in items:
+        (spec,) = item.mutations
+        by_line.setdefault((spec.start_pos[0], spec.operator_name), []).append(item)
+    keys = {}
+    for (line, operator), group in by_line.items():
+        anchor = anchors.anchor(line)
+        if anchor is None:
+            continue
+        group.sort(key=lambda i: (tuple(i.mutations[0].start_pos), i.mutations[0].occurrence))
+        for rank, item in enumerate(group):
+            keys[item.job_id] = (operator, *anchor, rank)
+    return keys
+
+
+def _export_results(module: str, db: Path, source: str) -> None:
+    """The module's DB (made from ``source``) as ``tools/mutation-results/<stem>.json``, one
+    mutant a line, each with its carry-over key."""
     from cosmic_ray.work_db import WorkDB, use_db
 
     with use_db(str(db), WorkDB.Mode.open) as work_db:
-        rows = [_result_row(item.mutations[0], result)
-                for item, result in work_db.completed_work_items]
+        keys = _carry_keys(list(work_db.work_items), source)
+        rows = []
+        for item, result in work_db.completed_work_items:
+            row = _result_row(item.mutations[0], result)
+            row["carry"] = keys.get(item.job_id)
+            rows.append(row)
         total = work_db.num_work_items
     rows.sort(key=lambda r: (r["line"], r["operator"], r["occurrence"]))
-    head = {"module": module, "source_sha256": _digest(module), "mutants": total,
+    digest = hashlib.sha256(source.encode()).hexdigest()
+    head = {"module": module, "source_sha256": digest, "mutants": total,
             "spent": _spent(_stem(module))}
     body = ",\n".join(json.dumps(r, sort_keys=True) for r in rows)
     RESULTS.mkdir(exist_ok=True)
@@ -146,26 +180,39 @@ def _load_results(stem: str) -> dict | None:
     return json.loads(path.read_text()) if path.exists() else None
 
 
-def _import_results(module: str, stem: str, db: Path) -> None:
-    """Fill a new DB with the committed results of the same source (mutants matched by
-    operator and occurrence), and restore their time figures."""
+def _import_results(module: str, stem: str, db: Path, source: str) -> None:
+    """Fill a new DB with the committed results: all of them for the same source (mutants
+    matched by operator and occurrence, time figures restored); for another version of the
+    module, those of mutants whose function is unchanged (matched by their carry-over key,
+    their output marked ``carried``; ``--fresh`` runs everything)."""
     from cosmic_ray.work_db import WorkDB, use_db
     from cosmic_ray.work_item import TestOutcome, WorkerOutcome, WorkResult
 
     data = _load_results(stem)
-    if data is None or data["source_sha256"] != _digest(module):
+    if data is None:
         return
-    rows = {(r["operator"], r["occurrence"]): r for r in data["results"]}
+    same = data["source_sha256"] == hashlib.sha256(source.encode()).hexdigest()
+    if same:
+        rows = {(r["operator"], r["occurrence"]): r for r in data["results"]}
+    else:
+        rows = {tuple(r["carry"]): r for r in data["results"] if r.get("carry")}
     with use_db(str(db), WorkDB.Mode.open) as work_db:
-        for item in list(work_db.pending_work_items):
+        items = list(work_db.pending_work_items)
+        keys = {} if same else _carry_keys(items, source)
+        for item in items:
             (spec,) = item.mutations
-            r = rows.get((spec.operator_name, spec.occurrence))
+            key = (spec.operator_name, spec.occurrence) if same else keys.get(item.job_id)
+            r = rows.get(key) if key is not None else None
             if r is None:
                 continue
+            output = r["output"]
+            if not same and not (output or "").startswith(CARRIED):
+                output = CARRIED + (output or "")
             work_db.set_result(item.job_id, WorkResult(
-                worker_outcome=WorkerOutcome(r["worker"]), output=r["output"],
+                worker_outcome=WorkerOutcome(r["worker"]), output=output,
                 test_outcome=TestOutcome(r["test"]) if r["test"] else None, diff=r["diff"]))
-    (WORK / f"{stem}.spent.json").write_text(json.dumps(data["spent"]))
+    if same:
+        (WORK / f"{stem}.spent.json").write_text(json.dumps(data["spent"]))
 
 
 def _squash(text: str) -> str:
@@ -329,9 +376,9 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
                 print(f"  {n}/{len(todo)} ({ran} run, {patched} patched in) {spent:.0f} s",
                       flush=True)
                 _save_spent(stem, before, time.perf_counter() - started, ran, timing)
-                _export_results(module, db)
+                _export_results(module, db, source)
     _save_spent(stem, before, time.perf_counter() - started, ran, timing)
-    _export_results(module, db)
+    _export_results(module, db, source)
     return tally_db(module, db, config)
 
 
@@ -386,7 +433,7 @@ def retest_with(module: str, files: list[str], config: dict, args) -> Tally:
                     output="timeout" if verdict.timed_out else f"pytest exit {verdict.code}",
                     diff=_diff(source, mutated, module)))
         print(f"  {killed} of {len(todo)} killed", flush=True)
-    _export_results(module, db)
+    _export_results(module, db, source)
     return tally_db(module, db, config)
 
 
@@ -431,11 +478,15 @@ def tally_rows(module: str, rows: list[dict], total: int, stale: bool, spent: di
     tally = Tally(module, seconds=spent["seconds"], ran=spent["ran"], stale=stale,
                   timing={w: spent[w] for w in ("patched", "fresh") if w in spent})
     for r in rows:
+        output = r["output"] or ""
+        if output.startswith(CARRIED):
+            tally.carried += 1
+            output = output[len(CARRIED):]
         if r["worker"] == "skipped":
             tally.equivalent += 1
         elif r["test"] == "killed":
             tally.killed += 1
-            tally.timeouts += r["output"] == "timeout"
+            tally.timeouts += output == "timeout"
         elif r["test"] == "survived":
             changed = [d for d in (r["diff"] or "").splitlines()
                        if d.startswith("+") and not d.startswith("+++")]
@@ -445,7 +496,7 @@ def tally_rows(module: str, rows: list[dict], total: int, stale: bool, spent: di
                 tally.equivalent += 1
                 continue
             tally.survived.append((line_no, r["operator"], " ".join(changed)[:90],
-                                   r["output"] == UNCOVERED))
+                                   output == UNCOVERED))
         elif r["test"] == "incompetent":
             tally.incompetent += 1
     tally.untested = total - len(rows)
@@ -480,7 +531,9 @@ def report(tallies: list[Tally]) -> str:
         ways = [f"{n} {way} {sec / n:.2f} s each" for way, (n, sec) in t.timing.items() if n]
         if ways:
             rows.append(f"timing {t.module}: " + ", ".join(ways)
-                        + f"; {t.timeouts} killed by their time limit")
+                        + f"; {t.timeouts} killed by their time limit"
+                        + (f"; {t.carried} results carried over from an earlier version of "
+                           "the module (their function unchanged)" if t.carried else ""))
     for t in tallies:
         for line, op, diff, uncovered in t.survived:
             note = " [not executed by the subset]" if uncovered else ""

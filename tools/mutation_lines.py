@@ -13,6 +13,7 @@ Two questions ``tools/mutate.py`` asks before it runs anything:
 from __future__ import annotations
 
 import ast
+import hashlib
 from collections.abc import Iterable, Mapping
 
 Pos = tuple[int, int]  # (line, column) as cosmic-ray records a mutant's start
@@ -101,3 +102,38 @@ def select(contexts_by_line: Mapping[int, Iterable[str]], lines: Iterable[int]) 
                 return None
             tests.add(context)
     return tests
+
+
+class FunctionAnchors:
+    """Where a line sits in its innermost function or method: its qualified name, a digest
+    of its source text (decorators to last line) and the line's offset from its first line.
+    A mutant's result carries over to a new version of the module when this anchor is the
+    same there: the function it mutates is unchanged (``tools/mutate.py``)."""
+
+    def __init__(self, source: str) -> None:
+        lines = source.splitlines()
+        self._defs: list[tuple[int, int, str, str]] = []  # start, end, qualname, digest
+
+        def walk(node: ast.AST, prefix: str) -> None:
+            for child in ast.iter_child_nodes(node):
+                if isinstance(child, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef):
+                    name = prefix + child.name
+                    if not isinstance(child, ast.ClassDef):
+                        start = min([d.lineno for d in child.decorator_list] + [child.lineno])
+                        text = "\n".join(lines[start - 1:child.end_lineno])
+                        digest = hashlib.sha256(text.encode()).hexdigest()[:16]
+                        self._defs.append((start, child.end_lineno, name, digest))
+                    walk(child, name + ".")
+                else:
+                    walk(child, prefix)
+
+        walk(ast.parse(source), "")
+
+    def anchor(self, line: int) -> tuple[str, str, int] | None:
+        """``(qualname, digest, offset)`` of the innermost function holding ``line``, or None
+        (module or class level: code run at import, which every function depends on)."""
+        best = None
+        for start, end, name, digest in self._defs:
+            if start <= line <= end and (best is None or start >= best[0]):
+                best = (start, name, digest)
+        return None if best is None else (best[1], best[2], line - best[0])
