@@ -278,3 +278,26 @@ def test_isx13_written_after_r_applies_to_the_first_rtis_calculation(rig):
     k_r = rig.cyc(rig.cmd("R I5113=10").t_done)
     rig.run_for(0.02)
     assert _by_n(rig, "line_calculated") == {1: _next_rti(k_r), 2: _next_rti(k_r)}
+
+
+def test_i11_times_a_start_from_rest_not_a_line_arriving_during_motion(rig):
+    """PSRM I11: the delay from the run signal (or a line starting a sequence from rest) to
+    the first move; a line arriving while a move executes starts no such deadline. I8 = 255
+    (RTIs 256 cycles apart), I11 = 170 ms (384 cycles): X2 arrives during X1 (cycle 600) and
+    runs after it; X3 arrives while waiting (cycle 950) with calculation already due at the RTI
+    of cycle 1024. At cycle 984, 384 cycles after X2 arrived, nothing is due: X3 is calculated
+    at that RTI and runs, no run-time error."""
+    _start(rig, ["TM200 TA10 TS0 X1"], "I8=255", "I11=170")
+    _run_to(rig, 600)
+    rig.c.load_lines(1, ["TM20 X2"])
+    _run_to(rig, 950)
+    assert rig.c.coord(1)["program"] == {"state": "waiting"}
+    assert sorted(_by_n(rig, "move_end")) == [1, 2]
+    rig.c.load_lines(1, ["X3"])
+    rig.run_until_idle()
+    assert "error" not in rig.c.coord(1)["program"]
+    assert [s for _, _, s in rig.events("program")][-3:] == [
+        {"cs": 1, "state": "waiting"}, {"cs": 1, "state": "running"},
+        {"cs": 1, "state": "waiting"},
+    ]  # fmt: skip
+    assert _by_n(rig, "line_calculated")[3] == 1024 < _by_n(rig, "move_start")[3]
