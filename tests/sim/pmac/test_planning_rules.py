@@ -13,6 +13,7 @@ showed — the move start, dwell end or R after which calculation must wait for 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import pytest
@@ -22,6 +23,11 @@ from tests.sim.pmac.conftest import Rig
 
 def _by_n(rig: Rig, type_: str) -> dict[int, int]:
     return {f["n"]: k for k, _, f in rig.events(type_)}
+
+
+def _states_at(rig: Rig) -> dict[str, int]:
+    """The cycle of each program state's latest ``program`` event."""
+    return {f["state"]: k for k, _, f in rig.events("program")}
 
 
 def _run_to(rig: Rig, k: int) -> None:
@@ -301,3 +307,42 @@ def test_i11_times_a_start_from_rest_not_a_line_arriving_during_motion(rig):
         {"cs": 1, "state": "waiting"},
     ]  # fmt: skip
     assert _by_n(rig, "line_calculated")[3] == 1024 < _by_n(rig, "move_start")[3]
+
+
+# -- starting from rest ------------------------------------------------------------------------
+
+
+def test_at_1_percent_override_the_first_move_starts_at_the_first_rti(rig):
+    """TSRM (%): only ``%0`` holds motion; at %1 (reached at once: Isx94 at its maximum) the
+    first move is calculated and starts at the first RTI after R, as at %100."""
+    _start(rig, ["TM10 TA10 TS0 X1"], "I5194=8388607", "%1")
+    k_r = _states_at(rig)["running"]
+    rig.run_for(0.05)
+    assert rig.ok("%") == "1"
+    assert _by_n(rig, "move_start")[1] == _by_n(rig, "line_calculated")[1] == _next_rti(k_r)
+
+
+def test_with_i11_0_the_first_move_starts_within_the_rti_that_calculates_it(rig):
+    """PSRM I11 = 0: the first move starts as soon as calculated, in the same RTI. An ``A``
+    answered at that very cycle finds the move started: it aborts it there (``move_start``,
+    ``aborted`` and ``move_end`` all at the first RTI)."""
+    _start(rig, ["TM100 TA10 TS0 X1"])
+    k = _next_rti(_states_at(rig)["running"])
+    _run_to(rig, k - 1)
+    a = rig.c.terminal("A")  # answered one servo cycle later: at the RTI
+    rig.run_until_idle()
+    assert rig.cyc(a.t_done) == k
+    assert _by_n(rig, "line_calculated") == _by_n(rig, "move_start") == {1: k}
+    assert _states_at(rig)["aborted"] == _by_n(rig, "move_end")[1] == k
+
+
+def test_an_i11_written_after_r_delays_the_first_move_from_the_rti_that_calculates_it(rig):
+    """PSRM I11, read when the first move is calculated: ``R I11=50`` (one command line) asks
+    for calculation with I11 = 0, then sets 50 ms; the first RTI calculates X1 and it starts
+    50 ms later, on the first servo cycle at or after then."""
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["TM100 TA10 TS0 X1"])
+    k = _next_rti(rig.cyc(rig.cmd("R I11=50").t_done))
+    rig.run_until_idle()
+    assert _by_n(rig, "line_calculated")[1] == k
+    assert _by_n(rig, "move_start")[1] == k + math.ceil(rig.ms_cycles(50) - 1e-9)
