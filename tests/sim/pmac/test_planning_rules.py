@@ -346,3 +346,29 @@ def test_an_i11_written_after_r_delays_the_first_move_from_the_rti_that_calculat
     rig.run_until_idle()
     assert _by_n(rig, "line_calculated")[1] == k
     assert _by_n(rig, "move_start")[1] == k + math.ceil(rig.ms_cycles(50) - 1e-9)
+
+
+def test_feed_hold_during_the_i11_delay_keeps_the_first_move_from_starting(rig):
+    """TSRM (%): ``%0`` holds motion. Given during the I11 delay (50 ms) before the first
+    move, the move does not start when the delay is up; ``%100`` starts it at once."""
+    _start(rig, ["TM100 TA10 TS0 X1"], "I5194=8388607", "I11=50")
+    rig.ok("%0")
+    rig.run_for(0.2)
+    assert 1 in _by_n(rig, "line_calculated") and _by_n(rig, "move_start") == {}
+    k = rig.cyc(rig.cmd("%100").t_done)
+    rig.run_until_idle()
+    assert _by_n(rig, "move_start") == {1: k}
+
+
+# -- program order ------------------------------------------------------------------------------
+
+
+def test_a_constant_line_after_a_spline_series_and_a_circle_mode_word_runs_after_the_series(rig):
+    """TUM p290: a SPLINE series ends at another mode's move, its last point with the added
+    segment to rest first. ``CIRCLE1`` alone (TM kept from the series) then ``X5`` (no
+    centre: a straight move): the moves run in program order and X ends at 5."""
+    _start(rig, ["SPLINE1 TM100 ABS X1", "X2", "CIRCLE1", "X5"])
+    rig.run_until_idle()
+    starts = _by_n(rig, "move_start")
+    assert sorted(starts, key=starts.__getitem__) == [1, 2, 4]
+    assert rig.c.positions(1) == {"X": 5.0}
