@@ -372,3 +372,68 @@ def test_a_constant_line_after_a_spline_series_and_a_circle_mode_word_runs_after
     starts = _by_n(rig, "move_start")
     assert sorted(starts, key=starts.__getitem__) == [1, 2, 4]
     assert rig.c.positions(1) == {"X": 5.0}
+
+
+# -- values computed at calculation --------------------------------------------------------------
+
+
+def test_pset_takes_an_expression_evaluated_when_it_is_calculated(rig):
+    """TSRM p31 / PSRM p340: ``PSET{axis}{data}``, data a constant or an expression. With
+    P1 = 3 assigned on the line before, ``PSET X(P1+1)`` makes X 4 without motion."""
+    _start(rig, ["TM100 TA10 TS0 X10", "P1=3", "PSET X(P1+1)"])
+    rig.run_until_idle()
+    assert rig.c.positions(1) == {"X": 4.0}
+    assert [f["positions"] for _, _, f in rig.events("pset")] == [{"X": 4.0}]
+
+
+def test_a_pvt_end_velocity_may_be_an_expression(make_rig):
+    """TSRM p463: ``X{pos}:{vel}``, the velocity a constant or an expression. ``X10:(P2)``
+    with P2 = 100 is the same segment as ``X10:100``: the same positions through both
+    segments (sampled every 20 cycles)."""
+    paths = []
+    for vel in ("100", "(P2)"):
+        rig = make_rig()
+        _start(rig, ["P2=100", f"ABS PVT100 X10:{vel}", "X20:0"])
+        path = []
+        for k in range(20, 480, 20):
+            _run_to(rig, k)
+            path.append(rig.c.positions(1)["X"])
+        rig.run_until_idle()
+        assert rig.c.positions(1) == {"X": 20.0}
+        paths.append(path)
+    assert paths[1] == paths[0]
+    assert 10.0 < paths[0][13] < 20.0  # (cycle 280: in the second segment)
+
+
+def test_tsrm_p98_the_x_motors_ixx16_does_not_slow_a_move_of_y_alone(rig):
+    """Ixx16 limits the motors of the axes that move: X is motor 1 with I116 = 0.1 cts/ms,
+    Y motor 2 with I216 = 1000; ``Y10`` in TM100 (100 cts/ms of motor 2) keeps its 100 ms,
+    the same as when X moves not at all (Y ends its stop Ta after TM from rest)."""
+    rig.ok("&1 #1->1000X")
+    rig.ok("&1 #2->1000Y")
+    rig.ok("I117=1000")
+    rig.ok("I217=1000")
+    _start(rig, ["LINEAR ABS TM100 TA10 TS0 Y10"], "I116=0.1", "I216=1000")
+    rig.run_until_idle()
+    assert _by_n(rig, "move_end")[1] - _by_n(rig, "move_start")[1] == math.ceil(
+        rig.ms_cycles(110) - 1e-6
+    )
+
+
+def test_a_spline_point_waiting_through_a_feedrate_change_runs_at_the_new_rate(make_rig):
+    """TSRM (%) / TUM p290: the time base scales every move still to run. X1 (ending in a
+    stop) executes while ``SPLINE1 TM100 X2`` is calculated and waits for a next point;
+    ``%50`` during X1 (reached at once) makes the series' move — X2 and the added segment to
+    rest, closed when X1 has stopped — take twice as long as at %100."""
+    durations = []
+    for pct in ("%100", "%50"):
+        rig = make_rig()
+        _start(rig, ["TM200 TA100 TS0 X1"], "I5194=8388607")
+        _run_to(rig, 50)
+        rig.c.load_lines(1, ["SPLINE1 TM100 X2"])
+        _run_to(rig, 100)
+        assert 2 in _by_n(rig, "line_calculated") and 2 not in _by_n(rig, "move_start")
+        rig.ok(pct)
+        rig.run_until_idle()
+        durations.append(_by_n(rig, "move_end")[2] - _by_n(rig, "move_start")[2])
+    assert durations[1] == 2 * durations[0]
