@@ -93,7 +93,10 @@ class Planning:
             return
         if self._ver != self.vars.version:
             self._refresh()
-        # _depth() and _short_of_horizon() written out (the per-line path)
+        # The depth: how many moves calculation keeps ready (TUM p339, spec §4.2): 2 beyond
+        # the executing one with Isx13 = 0 for LINEAR, and CIRCLE, which then runs as LINEAR
+        # (TSRM p177), and SPLINE; else 1; one more from rest, where no move executes yet.
+        # Written out here and in _plan_cb (the per-line path).
         mode = self.mode
         depth = 2 if (self._isx13 == 0 and mode in _TWO_AHEAD) or mode in _SPLINES else 1
         if self.current is None:
@@ -102,14 +105,6 @@ class Planning:
             self._request_plan()
             if self.current is None and not self.planned and self._i11_s > 0:
                 self._arm_i11()
-
-    def _depth(self) -> int:
-        """How many moves calculation keeps ready (TUM p339, spec §4.2): 2 beyond the executing
-        one with Isx13 = 0 — LINEAR, and CIRCLE, which then runs as LINEAR (TSRM p177) — else
-        1; one more from rest, where no move is executing yet. (The caller has refreshed.)"""
-        mode = self.mode
-        depth = 2 if (self._isx13 == 0 and mode in _TWO_AHEAD) or mode in _SPLINES else 1
-        return depth + 1 if self.current is None else depth
 
     def _short_of_horizon(self) -> bool:
         """The special lookahead is active (Isx13 > 0, ``DEFINE LOOKAHEAD``, Isx20 > 0) and
@@ -151,7 +146,7 @@ class Planning:
             self._refresh()
         if self.single_step:
             target = 0 if (self.current is not None or planned) else 1
-        else:  # = self._depth(), written out (the per-line path)
+        else:  # the depth, as in lines_arrived
             mode = self.mode
             target = 2 if (self._isx13 == 0 and mode in _TWO_AHEAD) or mode in _SPLINES else 1
             if self.current is None:
