@@ -134,21 +134,21 @@ def _result_row(spec, result) -> dict:
 
 def _carry_keys(items, source: str) -> dict[str, tuple]:
     """Each work item's key for carrying its result to another version of the module: its
-    operator, its function's anchor (name, source digest, line offset) and its rank among
-    the mutants of that operator on that line; none for code outside a function."""
+    operator, its function's anchor (name, code digest) and its rank among that operator's
+    mutants in that function (the same code gives the same mutants in the same order); none
+    for code outside a function."""
     anchors = FunctionAnchors(source)
-    by_line: dict[tuple[int, str], list] = {}
+    groups: dict[tuple, list] = {}
     for item in items:
         (spec,) = item.mutations
-        by_line.setdefault((spec.start_pos[0], spec.operator_name), []).append(item)
+        anchor = anchors.anchor(spec.start_pos[0])
+        if anchor is not None:
+            groups.setdefault((spec.operator_name, *anchor), []).append(item)
     keys = {}
-    for (line, operator), group in by_line.items():
-        anchor = anchors.anchor(line)
-        if anchor is None:
-            continue
+    for group_key, group in groups.items():
         group.sort(key=lambda i: (tuple(i.mutations[0].start_pos), i.mutations[0].occurrence))
         for rank, item in enumerate(group):
-            keys[item.job_id] = (operator, *anchor, rank)
+            keys[item.job_id] = (*group_key, rank)
     return keys
 
 

@@ -105,13 +105,12 @@ def select(contexts_by_line: Mapping[int, Iterable[str]], lines: Iterable[int]) 
 
 
 class FunctionAnchors:
-    """Where a line sits in its innermost function or method: its qualified name, a digest
-    of its source text (decorators to last line) and the line's offset from its first line.
-    A mutant's result carries over to a new version of the module when this anchor is the
-    same there: the function it mutates is unchanged (``tools/mutate.py``)."""
+    """The innermost function or method holding a line: its qualified name, a digest of its
+    code (its ``ast`` dump: comments, blank lines and its place in the file do not count) and
+    its first line. A mutant's result carries over to a new version of the module when its
+    function's code is the same there (``tools/mutate.py``)."""
 
     def __init__(self, source: str) -> None:
-        lines = source.splitlines()
         self._defs: list[tuple[int, int, str, str]] = []  # start, end, qualname, digest
 
         def walk(node: ast.AST, prefix: str) -> None:
@@ -120,8 +119,8 @@ class FunctionAnchors:
                     name = prefix + child.name
                     if not isinstance(child, ast.ClassDef):
                         start = min([d.lineno for d in child.decorator_list] + [child.lineno])
-                        text = "\n".join(lines[start - 1:child.end_lineno])
-                        digest = hashlib.sha256(text.encode()).hexdigest()[:16]
+                        code = ast.dump(child).encode()
+                        digest = hashlib.sha256(code).hexdigest()[:16]
                         self._defs.append((start, child.end_lineno, name, digest))
                     walk(child, name + ".")
                 else:
@@ -129,11 +128,11 @@ class FunctionAnchors:
 
         walk(ast.parse(source), "")
 
-    def anchor(self, line: int) -> tuple[str, str, int] | None:
-        """``(qualname, digest, offset)`` of the innermost function holding ``line``, or None
-        (module or class level: code run at import, which every function depends on)."""
+    def anchor(self, line: int) -> tuple[str, str] | None:
+        """``(qualname, digest)`` of the innermost function holding ``line``, or None (module
+        or class level: code run at import, which every function depends on)."""
         best = None
         for start, end, name, digest in self._defs:
             if start <= line <= end and (best is None or start >= best[0]):
                 best = (start, name, digest)
-        return None if best is None else (best[1], best[2], line - best[0])
+        return None if best is None else (best[1], best[2])

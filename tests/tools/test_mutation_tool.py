@@ -286,15 +286,15 @@ def test_the_wilson_interval_of_a_sampled_rate():
     assert hi == 1.0 and round(lo, 3) == 0.722
 
 
-def test_a_function_anchor_is_the_same_only_while_the_function_is_unchanged():
+def test_a_function_anchor_is_the_same_only_while_the_function_code_is_unchanged():
     from tools.mutation_lines import FunctionAnchors
 
     old = "X = 1\n\n\nclass A:\n    def f(self):\n        return 1\n\n    def g(self):\n" \
           "        return 2\n"
-    new = "X = 1\nY = 2\n\n\nclass A:\n    def f(self):\n        return 1\n\n" \
-          "    def g(self):\n        return 3\n"
+    new = "X = 1\nY = 2\n\n\nclass A:\n    def f(self):\n        # a comment\n" \
+          "        return 1\n\n    def g(self):\n        return 3\n"
     a, b = FunctionAnchors(old), FunctionAnchors(new)
     assert a.anchor(1) is None and a.anchor(4) is None  # module and class level
-    assert a.anchor(6) == b.anchor(7) == ("A.f", a.anchor(6)[1], 1)  # moved, unchanged
-    assert a.anchor(9)[0] == b.anchor(10)[0] == "A.g"
-    assert a.anchor(9) != b.anchor(10)  # its body changed
+    assert a.anchor(6) == b.anchor(8) == ("A.f", a.anchor(6)[1])  # moved, commented: same code
+    assert a.anchor(9)[0] == b.anchor(11)[0] == "A.g"
+    assert a.anchor(9) != b.anchor(11)  # its code changed
