@@ -30,6 +30,11 @@ def _states_at(rig: Rig) -> dict[str, int]:
     return {f["state"]: k for k, _, f in rig.events("program")}
 
 
+def _settle(rig: Rig) -> None:
+    """Run 3 s of simulated time: every program here has ended well before."""
+    rig.run_until_idle(limit_s=3.0)
+
+
 def _run_to(rig: Rig, k: int) -> None:
     """Run the simulation up to servo cycle ``k`` (events due at ``k`` not yet processed)."""
     rig.c.env.run(until=k * rig.period)
@@ -55,7 +60,7 @@ def _twin(
     again on a twin up to one servo cycle before that instant. Returns (twin, instant)."""
     ref = make_rig()
     begin(ref)
-    ref.run_until_idle()
+    _settle(ref)
     k = instant(ref)
     twin = make_rig()
     begin(twin)
@@ -75,7 +80,7 @@ def test_with_isx13_0_a_line_arriving_with_one_move_calculated_ahead_is_calculat
     _start(rig, ["TM100 TA10 TS0 X1", "X2"])
     _run_to(rig, 100)
     rig.c.load_lines(1, ["X3"])
-    rig.run_until_idle()
+    _settle(rig)
     assert _by_n(rig, "line_calculated")[3] == _next_rti(100)
     assert _by_n(rig, "move_start")[3] == _by_n(rig, "move_end")[2]
 
@@ -88,7 +93,7 @@ def test_during_the_i11_delay_linear_calculates_three_moves_from_rest(rig):
     k_r = rig.cyc(rig.c.now)
     _run_to(rig, k_r + 30)
     rig.c.load_lines(1, ["X3"])
-    rig.run_until_idle()
+    _settle(rig)
     k_go = _by_n(rig, "move_start")[1]
     assert _by_n(rig, "line_calculated")[3] == _next_rti(k_r + 30) < k_go
 
@@ -106,7 +111,7 @@ def test_segmented_linear_calculates_one_move_ahead_the_next_at_the_rti_after_a_
 
     rig, k_s = _twin(make_rig, begin, lambda ref: _by_n(ref, "move_start")[2])
     rig.c.load_lines(1, ["X3"])
-    rig.run_until_idle()
+    _settle(rig)
     assert _by_n(rig, "move_start")[2] == k_s
     assert _by_n(rig, "line_calculated")[3] == k_s + 1
 
@@ -124,7 +129,7 @@ def test_tsrm_p181_a_line_arriving_short_of_the_horizon_is_calculated_at_the_nex
     _run_to(rig, 100)
     assert 2 in _by_n(rig, "line_calculated") and 2 not in _by_n(rig, "move_start")
     rig.c.load_lines(1, ["X3"])
-    rig.run_until_idle()
+    _settle(rig)
     assert _by_n(rig, "line_calculated")[3] == _next_rti(100)
 
 
@@ -142,7 +147,7 @@ def test_tsrm_p181_with_the_horizon_covered_a_line_waits_for_the_rti_after_the_n
     rig, k_s = _twin(make_rig, begin, lambda ref: _by_n(ref, "move_start")[2])
     assert {2, 3} <= set(_by_n(rig, "line_calculated"))
     rig.c.load_lines(1, ["X4"])
-    rig.run_until_idle()
+    _settle(rig)
     assert _by_n(rig, "move_start")[2] == k_s
     assert _by_n(rig, "line_calculated")[4] == k_s + 1
 
@@ -160,7 +165,7 @@ def test_tsrm_p181_from_rest_in_the_i11_delay_a_covered_horizon_waits_for_the_fi
 
     rig, k_go = _twin(make_rig, begin, lambda ref: _by_n(ref, "move_start")[1])
     rig.c.load_lines(1, ["X3"])
-    rig.run_until_idle()
+    _settle(rig)
     assert _by_n(rig, "move_start")[1] == k_go
     assert _by_n(rig, "line_calculated")[3] == k_go + 1
 
@@ -185,7 +190,7 @@ def test_s_with_the_special_lookahead_calculates_only_the_move_it_runs(rig):
     rig.rotary_setup()
     rig.c.load_lines(1, ["LINEAR ABS TM100 TA10 TS0 X1", "X2", "X3", "X4"])
     rig.ok("S")
-    rig.run_until_idle()
+    _settle(rig)
     assert sorted(_by_n(rig, "line_calculated")) == [1]
     assert sorted(_by_n(rig, "move_start")) == [1]
     assert rig.c.coord(1)["program"] == {"state": "stopped"}
@@ -201,7 +206,7 @@ def test_raising_isx20_while_running_lengthens_the_horizon_for_the_next_line_arr
     rig.ok("I5120=40")
     k = rig.cyc(rig.c.now)
     rig.c.load_lines(1, ["X4"])
-    rig.run_until_idle()
+    _settle(rig)
     assert _by_n(rig, "line_calculated")[4] == _next_rti(k)
 
 
@@ -218,7 +223,7 @@ def test_a_line_arriving_during_a_dwell_is_calculated_at_the_rti_after_the_dwell
 
     rig, k_e = _twin(make_rig, begin, lambda ref: _by_n(ref, "move_end")[1])
     rig.c.load_lines(1, ["TM100 TA10 TS0 X1"])
-    rig.run_until_idle()
+    _settle(rig)
     assert _by_n(rig, "move_end")[1] == k_e
     assert _by_n(rig, "line_calculated")[2] == _by_n(rig, "move_start")[2] == k_e + 1
 
@@ -229,13 +234,13 @@ def _idle(rig: Rig) -> None:
 
 def _stopped(rig: Rig) -> None:
     _start(rig, ["TM100 TA10 TS0 X1"])
-    rig.run_until_idle()
+    _settle(rig)
     rig.ok("Q")
 
 
 def _aborted(rig: Rig) -> None:
     _start(rig, ["TM100 TA10 TS0 X1"])
-    rig.run_until_idle()
+    _settle(rig)
     rig.ok("A")
 
 
@@ -253,7 +258,7 @@ def test_a_line_arriving_while_the_program_is_not_running_is_calculated_only_aft
     assert rig.c.coord(1)["program"]["state"] == state
     r = rig.c.terminal("R")
     rig.c.load_lines(1, ["TM100 TA10 TS0 X5"])
-    rig.run_until_idle()
+    _settle(rig)
     k_r = rig.cyc(r.t_done)
     calc = [k for k, _, f in rig.events("line_calculated") if k >= k_r]
     assert calc == [k_r + 1]
@@ -268,7 +273,7 @@ def test_q_calculates_nothing_more_even_with_a_planning_request_from_before_it(r
     _run_to(rig, 260)
     assert sorted(_by_n(rig, "line_calculated")) == [1, 2, 3]
     rig.ok("Q")
-    rig.run_until_idle()
+    _settle(rig)
     assert max(_by_n(rig, "move_end").values()) < 512
     assert sorted(_by_n(rig, "line_calculated")) == [1, 2, 3]
     assert sorted(_by_n(rig, "move_start")) == [1, 2, 3]
@@ -300,7 +305,7 @@ def test_i11_times_a_start_from_rest_not_a_line_arriving_during_motion(rig):
     assert rig.c.coord(1)["program"] == {"state": "waiting"}
     assert sorted(_by_n(rig, "move_end")) == [1, 2]
     rig.c.load_lines(1, ["X3"])
-    rig.run_until_idle()
+    _settle(rig)
     assert "error" not in rig.c.coord(1)["program"]
     assert [s for _, _, s in rig.events("program")][-3:] == [
         {"cs": 1, "state": "waiting"}, {"cs": 1, "state": "running"},
@@ -330,7 +335,7 @@ def test_with_i11_0_the_first_move_starts_within_the_rti_that_calculates_it(rig)
     k = _next_rti(_states_at(rig)["running"])
     _run_to(rig, k - 1)
     a = rig.c.terminal("A")  # answered one servo cycle later: at the RTI
-    rig.run_until_idle()
+    _settle(rig)
     assert rig.cyc(a.t_done) == k
     assert _by_n(rig, "line_calculated") == _by_n(rig, "move_start") == {1: k}
     assert _states_at(rig)["aborted"] == _by_n(rig, "move_end")[1] == k
@@ -343,7 +348,7 @@ def test_an_i11_written_after_r_delays_the_first_move_from_the_rti_that_calculat
     rig.rotary_setup()
     rig.c.load_lines(1, ["TM100 TA10 TS0 X1"])
     k = _next_rti(rig.cyc(rig.cmd("R I11=50").t_done))
-    rig.run_until_idle()
+    _settle(rig)
     assert _by_n(rig, "line_calculated")[1] == k
     assert _by_n(rig, "move_start")[1] == k + math.ceil(rig.ms_cycles(50) - 1e-9)
 
@@ -356,7 +361,7 @@ def test_feed_hold_during_the_i11_delay_keeps_the_first_move_from_starting(rig):
     rig.run_for(0.2)
     assert 1 in _by_n(rig, "line_calculated") and _by_n(rig, "move_start") == {}
     k = rig.cyc(rig.cmd("%100").t_done)
-    rig.run_until_idle()
+    _settle(rig)
     assert _by_n(rig, "move_start") == {1: k}
 
 
@@ -368,7 +373,7 @@ def test_a_constant_line_after_a_spline_series_and_a_circle_mode_word_runs_after
     segment to rest first. ``CIRCLE1`` alone (TM kept from the series) then ``X5`` (no
     centre: a straight move): the moves run in program order and X ends at 5."""
     _start(rig, ["SPLINE1 TM100 ABS X1", "X2", "CIRCLE1", "X5"])
-    rig.run_until_idle()
+    _settle(rig)
     starts = _by_n(rig, "move_start")
     assert sorted(starts, key=starts.__getitem__) == [1, 2, 4]
     assert rig.c.positions(1) == {"X": 5.0}
@@ -381,7 +386,7 @@ def test_pset_takes_an_expression_evaluated_when_it_is_calculated(rig):
     """TSRM p31 / PSRM p340: ``PSET{axis}{data}``, data a constant or an expression. With
     P1 = 3 assigned on the line before, ``PSET X(P1+1)`` makes X 4 without motion."""
     _start(rig, ["TM100 TA10 TS0 X10", "P1=3", "PSET X(P1+1)"])
-    rig.run_until_idle()
+    _settle(rig)
     assert rig.c.positions(1) == {"X": 4.0}
     assert [f["positions"] for _, _, f in rig.events("pset")] == [{"X": 4.0}]
 
@@ -398,7 +403,7 @@ def test_a_pvt_end_velocity_may_be_an_expression(make_rig):
         for k in range(20, 480, 20):
             _run_to(rig, k)
             path.append(rig.c.positions(1)["X"])
-        rig.run_until_idle()
+        _settle(rig)
         assert rig.c.positions(1) == {"X": 20.0}
         paths.append(path)
     assert paths[1] == paths[0]
@@ -414,7 +419,7 @@ def test_tsrm_p98_the_x_motors_ixx16_does_not_slow_a_move_of_y_alone(rig):
     rig.ok("I117=1000")
     rig.ok("I217=1000")
     _start(rig, ["LINEAR ABS TM100 TA10 TS0 Y10"], "I116=0.1", "I216=1000")
-    rig.run_until_idle()
+    _settle(rig)
     assert _by_n(rig, "move_end")[1] - _by_n(rig, "move_start")[1] == math.ceil(
         rig.ms_cycles(110) - 1e-6
     )
@@ -434,6 +439,6 @@ def test_a_spline_point_waiting_through_a_feedrate_change_runs_at_the_new_rate(m
         _run_to(rig, 100)
         assert 2 in _by_n(rig, "line_calculated") and 2 not in _by_n(rig, "move_start")
         rig.ok(pct)
-        rig.run_until_idle()
+        _settle(rig)
         durations.append(_by_n(rig, "move_end")[2] - _by_n(rig, "move_start")[2])
     assert durations[1] == 2 * durations[0]
