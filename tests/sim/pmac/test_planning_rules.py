@@ -4,7 +4,8 @@ RTIs, the first RTI strictly after the move start that sets the "plan the next m
 (TUM p339; spec §4.2, §9.3), three from rest; with the special lookahead Isx20 segments of
 Isx13 ms ahead (TSRM p181); nothing after a DWELL until it ends, nothing while the program is
 not running; a line arriving while running is calculated at the next RTI when calculation
-wants it. Times are servo cycles; I8 = 0 makes every servo cycle an RTI.
+wants it; I11 from rest (PSRM I11); values, modes and settings read at calculation. Times are
+servo cycles; I8 = 0 makes every servo cycle an RTI.
 
 Several tests run a *twin*: the same program on a second controller (the simulation is
 deterministic), with one more line arriving one servo cycle before an instant the first run
@@ -22,6 +23,7 @@ from tests.sim.pmac.conftest import Rig
 
 
 def _by_n(rig: Rig, type_: str) -> dict[int, int]:
+    """Line number -> cycle of its (latest) ``type_`` event."""
     return {f["n"]: k for k, _, f in rig.events(type_)}
 
 
@@ -46,6 +48,7 @@ def _next_rti(k: int, m: int = 3) -> int:
 
 
 def _start(rig: Rig, lines: list[str], *setup: str) -> None:
+    """The ``setup`` commands, a rotary buffer for CS 1 with ``lines`` in it, then ``R``."""
     for s in setup:
         rig.ok(s)
     rig.rotary_setup()
