@@ -178,3 +178,14 @@ def test_run_error_and_error_line_hold_the_last_error_of_a_process():
     assert c.terminal("? RUN_ERROR PROC(3)").reply == "0.0000"  # PEEK ended without error
     c.run_program("BAD", 2)  # a new run clears the error until it fails again
     assert c.terminal("? ERROR_LINE PROC(2)").reply == "0.0000"
+
+
+@pytest.mark.parametrize("name, text", [("FS_LIMIT", "200000000.0000"),
+                                        ("RS_LIMIT", "-200000000.0000")])
+def test_a_64_bit_mc4xx_holds_the_software_limits_power_up_values_exactly(name, text):
+    """On a 32-bit controller 2e8 +- 1 are one float32; an MC4xx's 64-bit word holds the
+    power-up value 200000000 exactly (read back with 4 decimals)."""
+    c = make(model="mc4xx")
+    assert c.terminal(f"?{name}").reply == text
+    c.terminal(f"{name}=200000001")
+    assert c.terminal(f"?{name}").reply == "200000001.0000"
