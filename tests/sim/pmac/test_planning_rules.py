@@ -445,3 +445,123 @@ def test_a_spline_point_waiting_through_a_feedrate_change_runs_at_the_new_rate(m
         _settle(rig)
         durations.append(_by_n(rig, "move_end")[2] - _by_n(rig, "move_start")[2])
     assert durations[1] == 2 * durations[0]
+
+
+# -- single step, holds and the I11 delay ---------------------------------------------------
+
+
+def test_s_does_not_calculate_a_line_arriving_during_its_step(rig):
+    """TSRM (S): one move, then the program stops. X2 arriving while the step's X1 executes
+    is not calculated: only X1 runs and the program is stopped with X2 left in the buffer."""
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["TM100 TA10 TS0 X1"])
+    rig.ok("S")
+    _run_to(rig, 50)
+    rig.c.load_lines(1, ["X2"])
+    _settle(rig)
+    assert sorted(_by_n(rig, "line_calculated")) == [1]
+    assert sorted(_by_n(rig, "move_start")) == [1]
+    assert rig.c.coord(1)["program"] == {"state": "stopped"}
+    assert rig.c.rotary(1)["lines_ahead"] == 1
+
+
+def test_r_on_an_empty_buffer_with_i11_waits_without_a_run_time_error(rig):
+    """PUM p213: running out of lines is not an error. R on an empty rotary buffer with
+    I11 = 20 ms: when the I11 time is up there is nothing to calculate; the program waits,
+    and a line arriving later runs."""
+    _start(rig, [], "I11=20")
+    rig.run_for(0.1)
+    assert rig.c.coord(1)["program"] == {"state": "waiting"}
+    rig.c.load_lines(1, ["TM100 TA10 TS0 X1"])
+    _settle(rig)
+    assert "error" not in rig.c.coord(1)["program"]
+    assert rig.c.positions(1) == {"X": 1.0}
+
+
+def test_r_at_0_percent_calculates_the_first_move_and_starts_it_when_the_override_rises(rig):
+    """TSRM (%): ``%0`` holds motion. R at %0 calculates the first move at the first RTI but
+    it does not start; ``%100`` starts it at once."""
+    _start(rig, ["TM100 TA10 TS0 X1"], "I5194=8388607", "%0")
+    rig.run_for(0.1)
+    assert 1 in _by_n(rig, "line_calculated") and _by_n(rig, "move_start") == {}
+    k = rig.cyc(rig.cmd("%100").t_done)
+    _settle(rig)
+    assert _by_n(rig, "move_start") == {1: k}
+
+
+def test_a_feedrate_change_during_the_i11_delay_does_not_start_the_first_move_early(rig):
+    """PSRM I11: the first move starts I11 (50 ms) after R. ``%50`` given during the delay
+    (reached at once) changes the speed, not the start: X1 starts when the delay is up."""
+    _start(rig, ["TM100 TA10 TS0 X1"], "I5194=8388607", "I11=50")
+    k_r = _states_at(rig)["running"]
+    _run_to(rig, k_r + 20)
+    rig.ok("%50")
+    _settle(rig)
+    assert _by_n(rig, "move_start")[1] == k_r + math.ceil(rig.ms_cycles(50) - 1e-9)
+
+
+def test_a_pset_after_the_first_move_keeps_the_i11_delay_of_that_move(rig):
+    """PSRM I11 / TUM p341: the first move of ``X1``, ``PSET X0`` (the PSET a lookahead
+    break, calculated with it) still waits I11 = 50 ms after R; the PSET is no move of its
+    own."""
+    _start(rig, ["TM100 TA10 TS0 X1", "PSET X0"], "I11=50")
+    k_r = _states_at(rig)["running"]
+    _settle(rig)
+    assert _by_n(rig, "move_start")[1] == k_r + math.ceil(rig.ms_cycles(50) - 1e-9)
+
+
+# -- constant lines ---------------------------------------------------------------------------
+
+
+def test_an_axis_first_named_on_a_later_constant_line_moves_from_0(rig):
+    """An axis not yet commanded is at 0 and only its own line moves it: ``Y2`` after ``X1``
+    ``X2`` moves Y from 0 to 2 once X has (nearly: the 10 ms blend) reached 2, ``Z3`` then Z
+    from 0 to 3, ``X3`` X on from 2. Sampled every 5 cycles, every axis rises steadily from 0
+    to its end point."""
+    _start(rig, ["LINEAR ABS TM100 TA10 TS0 X1", "X2", "Y2", "Z3", "X3"])
+    path = []
+    for k in range(5, 1400, 5):
+        _run_to(rig, k)
+        pos = rig.c.positions(1)
+        path.append(tuple(pos.get(a, 0.0) for a in "XYZ"))
+    assert path[-1] == (3.0, 2.0, 3.0)
+    assert all(y == z == 0.0 for x, y, z in path if x < 1.9)
+    assert all(z == 0.0 for _, y, z in path if y < 1.9)
+    for axis, end in enumerate((3.0, 2.0, 3.0)):
+        values = [p[axis] for p in path]
+        assert values == sorted(values)
+        steps = [b - a for a, b in zip(values, values[1:], strict=False)]
+        assert max(steps) < end / 10  # 100 ms moves: at most ~2.2 % of the way per 5 cycles
+
+
+def test_inc_constant_lines_each_move_by_their_amount(rig):
+    """TSRM (INC): axis words are distances from the last commanded point. ``X1`` three
+    times after ``INC`` ends at X3."""
+    _start(rig, ["LINEAR INC TM100 TA10 TS0 X1", "X1", "X1"])
+    _settle(rig)
+    assert rig.c.positions(1) == {"X": 3.0}
+    assert sorted(_by_n(rig, "move_start")) == [1, 2, 3]
+
+
+def test_a_run_time_error_in_calculation_aborts_the_program(rig):
+    """TSRM p463: a PVT segment time computed outside (0, 4095.9998] ms is a run-time error:
+    the program aborts with ``run_time_error`` at the RTI that calculates the line, nothing
+    moves."""
+    _start(rig, ["P1=0", "ABS PVT(P1) X1:0", "X2:0"])
+    k = _next_rti(_states_at(rig)["running"])
+    _settle(rig)
+    assert rig.c.coord(1)["program"] == {"state": "aborted", "error": "run_time_error"}
+    assert _states_at(rig)["aborted"] == k
+    assert _by_n(rig, "move_start") == {}
+
+
+def test_i11_shorter_than_the_wait_for_the_first_rti_is_a_run_time_error(rig):
+    """PSRM I11 / TUM p339: the first move is due I11 after R and must be calculated by then.
+    With I8 = 255 the first RTI is up to 256 cycles away; I11 = 10 ms (23 cycles) passes
+    first: a run-time error at that instant, the line stays uncalculated, nothing moves."""
+    _start(rig, ["TM100 TA10 TS0 X1"], "I8=255", "I11=10")
+    k_r = _states_at(rig)["running"]
+    _settle(rig)
+    assert rig.c.coord(1)["program"] == {"state": "aborted", "error": "run_time_error"}
+    assert _states_at(rig)["aborted"] == k_r + math.ceil(rig.ms_cycles(10) - 1e-9) < 256
+    assert _by_n(rig, "line_calculated") == {} and _by_n(rig, "move_start") == {}
