@@ -1,0 +1,134 @@
+"""Edges of move execution pinned to the manual: the blend-ramp clip and the hand-off in
+segmentation mode (spec §9.1-9.2), a spline series after a LINEAR move (TUM p290), the
+synchronous write of an unsegmented move with Isx13 > 0 (TUM p250), and the motor velocity
+in the servo cycle ``%0`` freezes the time base (TSRM p191). Times are servo cycles.
+"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+
+def _by_n(rig, type_: str) -> dict[int, int]:
+    return {f["n"]: k for k, _, f in rig.events(type_)}
+
+
+def _start(rig, lines: list[str], *setup: str) -> None:
+    rig.rotary_setup()
+    for s in setup:
+        rig.ok(s)
+    rig.c.load_lines(1, lines)
+    rig.ok("R")
+
+
+def _cycles(rig, ms: float) -> int:
+    """Whole servo cycles up to the first at or after ``ms``."""
+    return math.ceil(rig.ms_cycles(ms) - 1e-6)
+
+
+def _states(rig) -> list[str]:
+    return [f["state"] for _, _, f in rig.events("program")]
+
+
+# -- blending in segmentation mode (Isx13 > 0) ------------------------------------------------
+
+
+def test_segmentation_mode_clips_the_next_ta_to_twice_tm_less_half_ta_at_the_blend_centre(
+    make_rig,
+):
+    """Spec §9.1 (Quick Ref p49): TA(i+1) ≤ 2·(TM(i) − TA(i)/2), with Isx13 > 0 too. Move 1
+    (TM100, TA20 from rest, 100 units/s) allows 180 ms; ``TA190`` is clipped to it. The blend
+    from 100 to 50 units/s is a constant acceleration centred on the programmed point X10, so
+    the axis passes that instant Δv·Ta/8 = 50 · 0.18 / 8 short of it."""
+    rig = make_rig(i5113=10)
+    _start(rig, ["TM100 TA20 TS0 X10", "TM200 TA190 X20"])
+    rig.run_for(0.01)
+    t_corner = _by_n(rig, "move_start")[1] * rig.period + 0.010 + 0.100  # Ta/2 + TM
+    rig.c.env.run(until=t_corner + 0.001)
+    assert rig.c.coord(1)["program"]["line"] == 2
+    assert rig.c.positions(1, t_corner)["X"] == pytest.approx(10.0 - 50 * 0.180 / 8)
+
+
+def test_segmentation_mode_a_shorter_next_ta_starts_its_blend_half_that_ta_before_the_point(
+    make_rig,
+):
+    """Spec §9.1-9.2: with Isx13 > 0 the blend into a calculated next move is centred on the
+    programmed point with the next move's TA. Move 1 (TM500 TA100) passes X10 at 50 + 500 ms;
+    ``TA20`` makes move 2 start 10 ms before that, 540 ms after move 1 starts."""
+    rig = make_rig(i5113=10)
+    _start(rig, ["TM500 TA100 TS0 X10", "TA20 X20"])
+    rig.run_until_idle()
+    starts = _by_n(rig, "move_start")
+    assert starts[2] - starts[1] == _cycles(rig, 540)
+    assert _by_n(rig, "move_end")[1] == starts[2]
+
+
+# -- a spline series after a LINEAR move ---------------------------------------------------
+
+
+def test_a_spline_point_after_a_linear_move_runs_from_rest_in_three_segment_times(rig):
+    """TUM p290: a series gets a zero-distance segment at each end, so N points take
+    (N + 2)·T. A single ``SPLINE1 TM100`` point after a LINEAR move (which stops first: TM +
+    TA) starts when that move has stopped and runs 300 ms to X2; then the program waits."""
+    _start(rig, ["TM100 TA10 TS0 X1", "SPLINE1 TM100 X2"])
+    rig.run_until_idle()
+    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    assert ends[1] - starts[1] == _cycles(rig, 110)
+    assert starts[2] == ends[1]
+    assert ends[2] == math.ceil((starts[2] * rig.period + 0.3) / rig.period - 1e-6)
+    assert _states(rig) == ["running", "waiting"]
+    assert rig.c.positions(1) == {"X": pytest.approx(2.0)}
+
+
+def test_a_spline_point_arriving_as_the_linear_move_stops_joins_the_waiting_point_series(rig):
+    """TUM p290, p339: a spline point needs the next one; ``X3`` arrives in the last servo
+    cycle of the LINEAR move's stop, before any RTI could calculate it. It is calculated at
+    the next RTI and continues the series of the waiting point X2: one series of two points,
+    (2 + 2)·T = 400 ms, not two single-point series of 3·T each."""
+    _start(rig, ["TM100 TA10 TS0 X1", "SPLINE1 TM100 X2"])
+    rig.run_for(0.01)
+    k_stop = _by_n(rig, "move_start")[1] + _cycles(rig, 110)
+    rig.c.env.run(until=(k_stop - 1) * rig.period)
+    rig.c.load_lines(1, ["X3"])
+    rig.run_until_idle()
+    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    assert ends[1] == k_stop
+    t2 = starts[2] * rig.period
+    assert ends[2] == starts[3] == math.ceil((t2 + 0.2) / rig.period - 1e-6)
+    assert ends[3] == math.ceil((t2 + 0.4) / rig.period - 1e-6)
+    assert rig.c.positions(1) == {"X": pytest.approx(3.0)}
+
+
+# -- synchronous writes with Isx13 > 0 -----------------------------------------------------------
+
+
+def test_segmentation_mode_a_pvt_moves_synchronous_write_waits_only_for_the_rti(make_rig):
+    """TUM p250: the queue is served at RTIs (every I8+1 = 3 cycles). With Isx13 > 0 only
+    LINEAR / CIRCLE / DELAY are cut into Isx13 segments ``[INF]``; a PVT move's write lands at
+    the first RTI at or after its start (15 ms segments: not the 20 ms segment boundary)."""
+    rig = make_rig(i5113=10)
+    _start(rig, ["ABS PVT15 X1:100", "M1==1 X2:100", "X3:0"])
+    rig.run_until_idle()
+    k2 = _by_n(rig, "move_start")[2]
+    writes = [k for k, _, f in rig.events("mvar") if f["sync"]]
+    assert writes == [-(-k2 // 3) * 3]
+
+
+# -- %0: the time base freezes --------------------------------------------------------------
+
+
+def test_v_on_the_line_of_percent_zero_reports_the_velocity_of_the_last_servo_cycle(rig):
+    """``V`` is the motor velocity in counts per servo cycle over the last cycle; ``%0``
+    (TSRM p191, instant at Isx94 = 8388607) freezes the commanded position from its own servo
+    cycle on. ``#1V`` on the ``%0`` line still reports the cruise (100 units/s at 1000
+    counts/unit), ``#1V`` a cycle later reports 0."""
+    rig.ok("&1 #1->1000X")
+    _start(rig, ["TM1000 TA100 TS0 X100"], "I116=1000", "I117=10", "I5194=8388607")
+    rig.run_for(0.5)
+    v = rig.cmd("%0 #1V")
+    assert float(v.reply) == pytest.approx(100 * 1000 * rig.period, abs=1e-3)
+    after = rig.cmd("#1V")
+    assert rig.cyc(after.t_done) > rig.cyc(v.t_done)
+    assert float(after.reply) == 0.0
