@@ -489,13 +489,15 @@ def test_r_at_0_percent_calculates_the_first_move_and_starts_it_when_the_overrid
     assert _by_n(rig, "move_start") == {1: k}
 
 
-def test_a_feedrate_change_during_the_i11_delay_does_not_start_the_first_move_early(rig):
-    """PSRM I11: the first move starts I11 (50 ms) after R. ``%50`` given during the delay
-    (reached at once) changes the speed, not the start: X1 starts when the delay is up."""
+@pytest.mark.parametrize("pct", ["%50", "%1"])
+def test_a_feedrate_change_during_the_i11_delay_does_not_move_the_first_moves_start(rig, pct):
+    """PSRM I11: the first move starts I11 (50 ms) after R. ``%50`` or ``%1`` given during
+    the delay (reached at once) changes the speed, not the start: X1 starts when the delay is
+    up (only ``%0`` holds it)."""
     _start(rig, ["TM100 TA10 TS0 X1"], "I5194=8388607", "I11=50")
     k_r = _states_at(rig)["running"]
     _run_to(rig, k_r + 20)
-    rig.ok("%50")
+    rig.ok(pct)
     _settle(rig)
     assert _by_n(rig, "move_start")[1] == k_r + math.ceil(rig.ms_cycles(50) - 1e-9)
 
@@ -565,3 +567,69 @@ def test_i11_shorter_than_the_wait_for_the_first_rti_is_a_run_time_error(rig):
     assert rig.c.coord(1)["program"] == {"state": "aborted", "error": "run_time_error"}
     assert _states_at(rig)["aborted"] == k_r + math.ceil(rig.ms_cycles(10) - 1e-9) < 256
     assert _by_n(rig, "line_calculated") == {} and _by_n(rig, "move_start") == {}
+
+
+# -- more on depth and on settings changed on a line of their own ---------------------------------
+
+
+def test_with_isx13_0_two_calculated_ahead_a_line_waits_for_the_rti_after_the_next_move_start(
+    make_rig,
+):
+    """TUM p339: LINEAR with Isx13 = 0 keeps two moves calculated beyond the executing one.
+    X1 executes with X2 and X3 calculated: X4 arriving one cycle before X2 starts is not
+    wanted yet; X2's start asks for it, calculated at the first RTI strictly after that start
+    (I8 = 0: the next cycle)."""
+
+    def begin(rig: Rig) -> None:
+        _start(rig, ["TM100 TA10 TS0 X1", "X2", "X3"], "I8=0")
+
+    rig, k_s = _twin(make_rig, begin, lambda ref: _by_n(ref, "move_start")[2])
+    rig.c.load_lines(1, ["X4"])
+    _settle(rig)
+    assert _by_n(rig, "move_start")[2] == k_s
+    assert _by_n(rig, "line_calculated")[4] == k_s + 1
+
+
+def test_segmented_linear_a_line_arriving_with_nothing_ahead_is_calculated_at_the_next_rti(rig):
+    """TSRM p177: with Isx13 > 0 LINEAR keeps one move calculated beyond the executing one.
+    X1 executes with nothing calculated after it: X2 arriving at cycle 100 is wanted at once,
+    calculated at the next RTI, and X1 blends into it."""
+    _start(rig, ["LINEAR ABS TM200 TA10 TS0 X1"], "I5113=10")
+    _run_to(rig, 100)
+    rig.c.load_lines(1, ["X2"])
+    _settle(rig)
+    assert _by_n(rig, "line_calculated")[2] == _next_rti(100)
+    assert _by_n(rig, "move_start")[2] == _by_n(rig, "move_end")[1]
+
+
+def test_a_pvt_time_set_on_a_line_of_its_own_applies_to_the_next_constant_segment(rig):
+    """TSRM p463: ``PVT{t}`` sets the segment time of the segments after it. ``PVT50`` alone
+    between 100 ms segments: the next constant segment takes 50 ms (on servo cycles)."""
+    _start(rig, ["ABS PVT100 X10:100", "X20:100", "X30:100", "PVT50", "X35:0"])
+    _settle(rig)
+    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    assert abs((ends[5] - starts[5]) - rig.ms_cycles(50)) <= 1
+    assert abs((ends[3] - starts[3]) - rig.ms_cycles(100)) <= 1
+
+
+def test_a_tm_set_on_a_line_of_its_own_applies_to_the_next_constant_move(rig):
+    """TSRM (TM): the move time of the moves after it. ``TM300`` alone between TM100 moves
+    (blended, TA10): the next constant move takes 300 ms from its start to the next one's."""
+    _start(rig, ["LINEAR ABS TM100 TA10 TS0 X1", "X2", "X3", "TM300", "X4", "X5"])
+    _settle(rig)
+    starts = _by_n(rig, "move_start")
+    assert abs((starts[6] - starts[5]) - rig.ms_cycles(300)) <= 1
+    assert abs((starts[3] - starts[2]) - rig.ms_cycles(100)) <= 1
+
+
+def test_tsrm_p98_ixx16_slows_every_move_of_a_stream_of_constant_lines(rig):
+    """TSRM p98: with a motor on X, Ixx16 limits every LINEAR move, the streamed constant
+    ones too. I116 = 20 cts/ms (20 units/s at 1000 cts/unit): each 10-unit TM100 move is
+    stretched to 500 ms, start to start."""
+    rig.ok("&1 #1->1000X")
+    rig.ok("I117=1000")
+    _start(rig, ["LINEAR ABS TM100 TA10 TS0 X10", "X20", "X30", "X40"], "I116=20")
+    rig.run_until_idle(limit_s=5.0)
+    starts = _by_n(rig, "move_start")
+    for n in (2, 3):
+        assert abs((starts[n + 1] - starts[n]) - rig.ms_cycles(500)) <= 1
