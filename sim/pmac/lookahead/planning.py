@@ -103,8 +103,8 @@ class Planning:
             depth += 1
         if len(self.planned) < depth or (self._la_s > 0 and self._short_of_horizon()):
             self._request_plan()
-            if self.current is None and not self.planned and self._i11_s > 0:
-                self._arm_i11()
+            if self.current is None and not self.planned:
+                self._arm_i11()  # (also at I11 = 0: a delay armed under an earlier I11 goes)
 
     def _short_of_horizon(self) -> bool:
         """The special lookahead is active (Isx13 > 0, ``DEFINE LOOKAHEAD``, Isx20 > 0) and
@@ -222,10 +222,12 @@ class Planning:
     def _fast_kind(self) -> int:
         """Which planning short cut the next constant line may take: ``_FAST_LINEAR`` (time
         mode, LINEAR, all axes absolute), ``_FAST_PVT`` (PVT, all axes absolute, a valid
-        segment time) or none."""
-        if self.incremental or self.no_blend:
+        segment time) or none. Not while a spline series is open (the next move closes it
+        first) and not for LINEAR while PVT end velocities are kept (the first LINEAR move
+        clears them): the full path does both."""
+        if self.incremental or self.no_blend or self.spline is not None:
             return 0
-        if self.mode == "LINEAR" and self.time_mode and not self.ctl.motors:
+        if self.mode == "LINEAR" and self.time_mode and not self.ctl.motors and not self.calc_vel:
             return _FAST_LINEAR  # (with motors assigned, Ixx16 needs the full path)
         if self.mode == "PVT" and self._pvt_t > 0:
             return _FAST_PVT

@@ -1,0 +1,26 @@
+"""I11 ("the delay from when the run signal is taken ... and when the first programmed move
+starts", PSRM I11) for a line arriving while the program waits: the sequence from rest starts
+at that line, under the I11 then in force. A delay armed by an earlier ``R`` under another
+I11 no longer applies."""
+
+from __future__ import annotations
+
+
+def test_i11_set_to_0_while_waiting_drops_the_delay_an_earlier_r_armed(make_rig):
+    """``R`` with I11 = 50 on an empty buffer arms a 50-ms delay; ``I11=0`` then, and a line
+    arriving just before that delay ends is calculated at its RTI and runs: no run-time error
+    at the old deadline."""
+    rig = make_rig()
+    rig.ok("I11=50")
+    rig.rotary_setup()
+    rig.ok("R")
+    t_r = rig.c.now
+    rig.ok("I11=0")
+    deadline = rig.c.scheduler.servo_at_or_after(t_r + 0.05)
+    rig.c.env.run(until=deadline - 0.5 * rig.period)
+    rig.c.load_lines(1, ["TM10 X1"])
+    rig.run_until_idle(2.0)
+    states = [f["state"] for _, _, f in rig.events("program")]
+    assert states == ["running", "waiting", "running", "waiting"]
+    (k_start,) = [k for k, _, f in rig.events("move_start") if f["n"] == 1]
+    assert k_start * rig.period < deadline + 3 * rig.period  # the RTI after the line
