@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from motionsim.sim.pmac.lookahead.states import RUNNING, WAITING
 from motionsim.sim.pmac.modes import DWELL, PROFILES, Move
 from motionsim.sim.pmac.scheduler import wake_at
 from motionsim.sim.pmac.variables import isx
@@ -117,6 +118,8 @@ class TimeBase:
             self._stretch(m, now, k)  # type: ignore[arg-type]
             self._reschedule()
         elif m is None and self.planned and not self._starting and self.running:
+            if self.state == WAITING:
+                self._set_state(RUNNING)  # moves calculated while frozen at %0 start now
             self._start_next()
 
     @staticmethod
