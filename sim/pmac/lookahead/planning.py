@@ -87,9 +87,14 @@ class Planning:
 
     def lines_arrived(self) -> None:
         """New lines in the rotary buffer: plan at the next RTI if calculation wants them."""
-        if self._plan_due is not None or self.blocked or self.quitting:
+        if self.blocked or self.quitting or (self.state != RUNNING and self.state != WAITING):
             return
-        if self.state != RUNNING and self.state != WAITING:
+        if self._plan_due is not None:
+            wake = self._i11_wake
+            if self.current is None and not self.planned and (wake is None or not wake.callbacks):
+                # From rest with calculation already due (asked for by the last move's start)
+                # and no I11 delay running: the sequence starts at this line, its delay too.
+                self._arm_i11()
             return
         if self._ver != self.vars.version:
             self._refresh()
