@@ -268,7 +268,9 @@ class Execution:
         self.current = None
         m.prev = None
         self.rest_pos = dict(m.end)
-        if PROFILES[m.kind].breaks or self.no_blend:
+        if PROFILES[m.kind].breaks or self.no_blend or not self.planned:
+            # The break this move made (a DWELL / PSET, or Isx92 = 1 then) is over; with
+            # nothing calculated after it, also when Isx92 was cleared and R given meanwhile.
             self.blocked = False
         self._motion_stopped()
 
