@@ -9,18 +9,21 @@ reads it):
 1. mutants inside type annotations or docstrings are equivalent by construction: stored as
    skipped, never run; so are the ``[[equivalent]]`` entries of ``mutation.toml``;
 2. the module's test subset runs once under coverage with one context per test; a mutant then
-   runs only the tests that execute its statement (``tools/mutation_lines.py``), fastest
-   first, stopping at the first failure; a statement run at import time runs the whole subset;
-   a statement no test executes survives without running;
-3. each child has a time limit (a mutant that loops forever is killed).
+   runs only the tests that execute its statement (``tools/mutation_lines.py``), the tests
+   that killed the latest mutants first (neighbouring mutants of one function mostly fall to
+   the same test), then fastest first, stopping at the first failure; a statement run at
+   import time runs the whole subset; a statement no test executes survives without running;
+3. each child has a time limit, never under 1.5x its tests' baseline time (a mutant that
+   loops forever is killed; a slow survivor is not).
 
 A DB whose module source is unchanged is resumed; ``--survivors`` re-tests only the survivors
-(after new tests), ``--fresh`` starts over. Each module's results are also written to
-``tools/mutation-results/<module>.json`` (committed: a fresh clone's ``--tally`` reports them,
-and a run on an unchanged source resumes from them instead of starting over). Within a module,
-the tests that killed the latest mutants run first: neighbouring mutants of one function are
-mostly killed by the same test. Prints killed / survived per module and lists the
-survivors. A report, never a failure: the exit code is 0 unless the tooling itself failed.
+(after new tests), ``--retest-with`` only with the given new test files, ``--timeouts`` the
+mutants killed by their limit, ``--sample N`` a seeded sample of the pending ones, ``--fresh``
+starts over. Each module's results are also written to ``tools/mutation-results/<module>.json``
+(committed: a fresh clone's ``--tally`` reports them; a run on an unchanged source resumes from
+them, and one on an edited source carries over the results of mutants whose function's code
+is unchanged). Prints killed / survived per module and lists the survivors. A report, never a
+failure: the exit code is 0 unless the tooling itself failed.
 
     python tools/mutate.py                      # every module
     python tools/mutate.py sim/pmac/rotary.py   # one
