@@ -68,6 +68,7 @@ TARGET = 0.90
 CR = str(Path(sys.executable).with_name("cosmic-ray"))  # beside this interpreter (the venv)
 UNCOVERED = "no test in the subset executes this statement"
 KILLERS = 4  # how many of the latest mutants' killing tests are tried first
+INCOMPETENT_CODES = (4, 5, 70)  # pytest: usage error, no tests; the child itself broke
 CARRIED = "carried; "  # prefix of the output of a result carried over from an earlier source
 
 
@@ -99,8 +100,21 @@ def import_name(module: str) -> str:
     return ".".join([PACKAGE, *Path(module).with_suffix("").parts])
 
 
+def _text_digest(source: str) -> str:
+    return hashlib.sha256(source.encode()).hexdigest()
+
+
 def _digest(module: str) -> str:
-    return hashlib.sha256((ROOT / module).read_bytes()).hexdigest()
+    return _text_digest((ROOT / module).read_text())
+
+
+def _mutant(source: str, spec) -> str | None:
+    """The source of the mutant ``spec`` names (None when cosmic-ray makes none)."""
+    import cosmic_ray.plugins
+    from cosmic_ray.mutating import mutate_code
+
+    operator = cosmic_ray.plugins.get_operator(spec.operator_name)(**(spec.operator_args or {}))
+    return mutate_code(source, operator, spec.occurrence)
 
 
 def _init(module: str, stem: str, fresh: bool) -> Path:
@@ -169,8 +183,7 @@ def _export_results(module: str, db: Path, source: str) -> None:
             rows.append(row)
         total = work_db.num_work_items
     rows.sort(key=lambda r: (r["line"], r["operator"], r["occurrence"]))
-    digest = hashlib.sha256(source.encode()).hexdigest()
-    head = {"module": module, "source_sha256": digest, "mutants": total,
+    head = {"module": module, "source_sha256": _text_digest(source), "mutants": total,
             "spent": _spent(_stem(module))}
     body = ",\n".join(json.dumps(r, sort_keys=True) for r in rows)
     RESULTS.mkdir(exist_ok=True)
@@ -194,7 +207,7 @@ def _import_results(module: str, stem: str, db: Path, source: str) -> None:
     data = _load_results(stem)
     if data is None:
         return
-    same = data["source_sha256"] == hashlib.sha256(source.encode()).hexdigest()
+    same = data["source_sha256"] == _text_digest(source)
     if same:
         rows = {(r["operator"], r["occurrence"]): r for r in data["results"]}
     else:
@@ -260,8 +273,6 @@ def _limit(durations: dict[str, float], tests: list[str], overhead: float, cap: 
 
 def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
     """Test every pending mutant of ``module`` (see the module docstring) and tally the DB."""
-    import cosmic_ray.plugins
-    from cosmic_ray.mutating import mutate_code
     from cosmic_ray.work_db import WorkDB, use_db
     from cosmic_ray.work_item import TestOutcome, WorkerOutcome, WorkResult
 
@@ -315,9 +326,7 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
                 work_db.set_result(item.job_id, WorkResult(
                     worker_outcome=WorkerOutcome.SKIPPED, output=f"equivalent: {skip}"))
                 continue
-            operator = cosmic_ray.plugins.get_operator(spec.operator_name)(
-                **(spec.operator_args or {}))
-            mutated = mutate_code(source, operator, spec.occurrence)
+            mutated = _mutant(source, spec)
             if mutated is None:
                 work_db.set_result(item.job_id, WorkResult(worker_outcome=WorkerOutcome.NO_TEST))
                 continue
@@ -367,7 +376,7 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
                 outcome, output = TestOutcome.KILLED, "timeout"
             elif verdict.code in (0,):
                 outcome, output = TestOutcome.SURVIVED, f"{len(order)} tests passed"
-            elif verdict.code in (4, 5, 70):  # usage error, no tests, the child itself broke
+            elif verdict.code in INCOMPETENT_CODES:
                 outcome, output = TestOutcome.INCOMPETENT, f"pytest exit {verdict.code}"
             else:
                 outcome, output = TestOutcome.KILLED, f"pytest exit {verdict.code}"
@@ -403,8 +412,6 @@ def retest_with(module: str, files: list[str], config: dict, args) -> Tally:
     a mutant they kill is recorded killed; one they do not kill stays a survivor (the earlier
     verdict of the whole subset stands). Cheap: no baseline, each mutant a fresh pytest run
     of just these files."""
-    import cosmic_ray.plugins
-    from cosmic_ray.mutating import mutate_code
     from cosmic_ray.work_db import WorkDB, use_db
     from cosmic_ray.work_item import TestOutcome, WorkerOutcome, WorkResult
 
@@ -424,12 +431,10 @@ def retest_with(module: str, files: list[str], config: dict, args) -> Tally:
         killed = 0
         for item in todo:
             (spec,) = item.mutations
-            operator = cosmic_ray.plugins.get_operator(spec.operator_name)(
-                **(spec.operator_args or {}))
-            mutated = mutate_code(source, operator, spec.occurrence)
+            mutated = _mutant(source, spec)
             verdict = mutation_fork.run_mutant(files, None, import_name(module), target,
                                                mutated, limit)
-            if verdict.code not in (0, 4, 5, 70):  # failed, or over the limit
+            if verdict.code != 0 and verdict.code not in INCOMPETENT_CODES:  # failed / limit
                 killed += 1
                 work_db.set_result(item.job_id, WorkResult(
                     worker_outcome=WorkerOutcome.NORMAL, test_outcome=TestOutcome.KILLED,
