@@ -54,6 +54,10 @@ class Rig:
             for e in self.c.log.read(since, types or None).events
         ]
 
+    def by_n(self, type_: str) -> dict[int, int]:
+        """Program line number -> the cycle of its (latest) ``type_`` event."""
+        return {f["n"]: k for k, _, f in self.events(type_)}
+
     def ms_cycles(self, ms: float) -> float:
         return ms / 1000.0 / self.period
 

@@ -29,17 +29,13 @@ def _run(rig, lines):
     rig.run_until_idle()
 
 
-def _by_n(rig, type_):
-    return {f["n"]: k for k, _, f in rig.events(type_)}
-
-
 def _cycles(rig, s):
     return math.ceil(s / rig.period - 1e-6)
 
 
 def _span(rig, n):
     """Cycles from line ``n``'s ``move_start`` to its ``move_end``."""
-    return _by_n(rig, "move_end")[n] - _by_n(rig, "move_start")[n]
+    return rig.by_n("move_end")[n] - rig.by_n("move_start")[n]
 
 
 def test_psrm_p74_a_ramp_over_ixx17_is_stretched_for_all_motors_same_path(rig):
@@ -78,7 +74,7 @@ def test_tum_p276_short_blended_segments_run_slower_than_programmed(rig):
     instead of 10 ms (start to start, to the servo cycle)."""
     _setup(rig, "I117=0.05")
     _run(rig, ["LINEAR INC TA10 TS0 TM10"] + ["X0.1"] * 10)
-    starts = sorted(_by_n(rig, "move_start").values())
+    starts = sorted(rig.by_n("move_start").values())
     assert len(starts) == 10
     seg = math.sqrt(100 / 0.05) / 1000 / rig.period
     for a, b in zip(starts[1:], starts[2:], strict=False):
@@ -90,7 +86,7 @@ def test_tum_p276_ixx17_above_top_speed_over_segment_time_keeps_the_segments(rig
     1 count/ms²) does not limit: the TM10 segments keep 10 ms each."""
     _setup(rig, "I117=1.01")
     _run(rig, ["LINEAR INC TA10 TS0 TM10"] + ["X0.1"] * 10)
-    starts = sorted(_by_n(rig, "move_start").values())
+    starts = sorted(rig.by_n("move_start").values())
     for a, b in zip(starts[1:], starts[2:], strict=False):
         assert abs((b - a) - rig.ms_cycles(10)) <= 1
 
@@ -107,7 +103,7 @@ def test_psrm_p75_the_corner_velocity_change_stretches_the_blend_ramp(rig):
     t1 = 40 * math.sqrt(0.5) / 10  # 28.28 units at 10 units/s
     ta1 = 0.2 * (70.71 / 200) / 0.25
     ta2 = 0.2 * (141.42 / 200) / 0.25
-    start = _by_n(rig, "move_start")
+    start = rig.by_n("move_start")
     assert start[3] - start[2] == pytest.approx((ta1 / 2 + t1 - ta2 / 2) / rig.period, abs=1.5)
     assert ta2 == pytest.approx(0.5657, abs=1e-3)
 

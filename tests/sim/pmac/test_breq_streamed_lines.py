@@ -7,9 +7,7 @@ from __future__ import annotations
 
 from motionsim.sim.faults import EdgeLoss, Selector
 
-
-def _breq(rig, since=0):
-    return [(k, f["level"]) for k, _, f in rig.events("breq", since=since)]
+from tests.sim.pmac.test_breq import _breq
 
 
 def _streamed(rig, n_moves: int) -> None:

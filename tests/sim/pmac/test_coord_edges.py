@@ -10,10 +10,6 @@ import math
 import pytest
 
 
-def _by_n(rig, type_: str) -> dict[int, int]:
-    return {f["n"]: k for k, _, f in rig.events(type_)}
-
-
 def _start(rig, lines: list[str]) -> None:
     rig.rotary_setup()
     rig.c.load_lines(1, lines)
@@ -27,7 +23,7 @@ def test_an_odd_i8_plans_after_each_move_start_at_the_next_rti_every_i8_plus_1_c
     rig = make_rig(i8=3)
     _start(rig, ["TM100 TA10 TS0 X1", "X2", "X3", "X4", "X5"])
     rig.run_until_idle()
-    starts, calc = _by_n(rig, "move_start"), _by_n(rig, "line_calculated")
+    starts, calc = rig.by_n("move_start"), rig.by_n("line_calculated")
     assert calc[4] == (starts[2] // 4 + 1) * 4
     assert calc[5] == (starts[3] // 4 + 1) * 4
     assert rig.c.positions(1) == {"X": 5.0}
@@ -38,7 +34,7 @@ def test_pvt_segments_of_more_than_a_second_each_take_their_time(rig):
     segments of constant lines each last 1.5 s, abutting, and end at their points."""
     _start(rig, ["ABS PVT1500 X10:0", "X20:0", "X30:0"])
     rig.run_until_idle()
-    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    starts, ends = rig.by_n("move_start"), rig.by_n("move_end")
     t0 = starts[1] * rig.period
     for n in (1, 2, 3):
         assert ends[n] == math.ceil((t0 + 1.5 * n) / rig.period - 1e-6)
@@ -55,7 +51,7 @@ def test_segmentation_mode_a_ta_line_after_the_last_move_sets_its_final_decelera
     rig.run_for(0.2)
     rig.c.load_lines(1, ["TA50"])
     rig.run_until_idle()
-    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    starts, ends = rig.by_n("move_start"), rig.by_n("move_end")
     assert ends[1] - starts[1] == math.ceil(rig.ms_cycles(50 + 500 + 25) - 1e-6)
     assert rig.c.positions(1) == {"X": 10.0}
 

@@ -11,10 +11,6 @@ import math
 import pytest
 
 
-def _by_n(rig, type_: str) -> dict[int, int]:
-    return {f["n"]: k for k, _, f in rig.events(type_)}
-
-
 def _start(rig, lines: list[str], *setup: str) -> None:
     rig.rotary_setup()
     for s in setup:
@@ -45,7 +41,7 @@ def test_segmentation_mode_clips_the_next_ta_to_twice_tm_less_half_ta_at_the_ble
     rig = make_rig(i5113=10)
     _start(rig, ["TM100 TA20 TS0 X10", "TM200 TA190 X20"])
     rig.run_for(0.01)
-    t_corner = _by_n(rig, "move_start")[1] * rig.period + 0.010 + 0.100  # Ta/2 + TM
+    t_corner = rig.by_n("move_start")[1] * rig.period + 0.010 + 0.100  # Ta/2 + TM
     rig.c.env.run(until=t_corner + 0.001)
     assert rig.c.coord(1)["program"]["line"] == 2
     assert rig.c.positions(1, t_corner)["X"] == pytest.approx(10.0 - 50 * 0.180 / 8)
@@ -60,9 +56,9 @@ def test_segmentation_mode_a_shorter_next_ta_starts_its_blend_half_that_ta_befor
     rig = make_rig(i5113=10)
     _start(rig, ["TM500 TA100 TS0 X10", "TA20 X20"])
     rig.run_until_idle()
-    starts = _by_n(rig, "move_start")
+    starts = rig.by_n("move_start")
     assert starts[2] - starts[1] == _cycles(rig, 540)
-    assert _by_n(rig, "move_end")[1] == starts[2]
+    assert rig.by_n("move_end")[1] == starts[2]
 
 
 # -- a spline series after a LINEAR move ---------------------------------------------------
@@ -74,7 +70,7 @@ def test_a_spline_point_after_a_linear_move_runs_from_rest_in_three_segment_time
     TA) starts when that move has stopped and runs 300 ms to X2; then the program waits."""
     _start(rig, ["TM100 TA10 TS0 X1", "SPLINE1 TM100 X2"])
     rig.run_until_idle()
-    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    starts, ends = rig.by_n("move_start"), rig.by_n("move_end")
     assert ends[1] - starts[1] == _cycles(rig, 110)
     assert starts[2] == ends[1]
     assert ends[2] == math.ceil((starts[2] * rig.period + 0.3) / rig.period - 1e-6)
@@ -89,11 +85,11 @@ def test_a_spline_point_arriving_as_the_linear_move_stops_joins_the_waiting_poin
     (2 + 2)·T = 400 ms, not two single-point series of 3·T each."""
     _start(rig, ["TM100 TA10 TS0 X1", "SPLINE1 TM100 X2"])
     rig.run_for(0.01)
-    k_stop = _by_n(rig, "move_start")[1] + _cycles(rig, 110)
+    k_stop = rig.by_n("move_start")[1] + _cycles(rig, 110)
     rig.c.env.run(until=(k_stop - 1) * rig.period)
     rig.c.load_lines(1, ["X3"])
     rig.run_until_idle()
-    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    starts, ends = rig.by_n("move_start"), rig.by_n("move_end")
     assert ends[1] == k_stop
     t2 = starts[2] * rig.period
     assert ends[2] == starts[3] == math.ceil((t2 + 0.2) / rig.period - 1e-6)
@@ -111,7 +107,7 @@ def test_segmentation_mode_a_pvt_moves_synchronous_write_waits_only_for_the_rti(
     rig = make_rig(i5113=10)
     _start(rig, ["ABS PVT15 X1:100", "M1==1 X2:100", "X3:0"])
     rig.run_until_idle()
-    k2 = _by_n(rig, "move_start")[2]
+    k2 = rig.by_n("move_start")[2]
     writes = [k for k, _, f in rig.events("mvar") if f["sync"]]
     assert writes == [-(-k2 // 3) * 3]
 

@@ -20,10 +20,6 @@ def ceil_cycles(rig, ms: float) -> int:
     return math.ceil(rig.ms_cycles(ms) - 1e-6)
 
 
-def _by_n(rig, type_):
-    return {f["n"]: k for k, _, f in rig.events(type_)}
-
-
 def _states(rig):
     return [(k, f["state"]) for k, _, f in rig.events("program")]
 
@@ -40,7 +36,7 @@ def _cruising(rig, *setup, after_s=0.5):
     """``MOVE`` then ``X200`` running; stop ``after_s`` after R (inside the cruise of line 1)."""
     _start(rig, [MOVE, "X200"], *setup)
     rig.run_for(after_s)
-    k0 = _by_n(rig, "move_start")[1]
+    k0 = rig.by_n("move_start")[1]
     return k0
 
 
@@ -58,9 +54,9 @@ def test_a_decelerates_at_ixx15_and_the_move_ends_when_velocity_reaches_zero(rig
     k_a = rig.cyc(a.t_done)
     rig.run_until_idle()
     assert _states(rig)[-1] == (k_a, "aborted")
-    assert _by_n(rig, "move_end") == {1: math.ceil((a.t_done + 0.1) / rig.period - 1e-9)}
+    assert rig.by_n("move_end") == {1: math.ceil((a.t_done + 0.1) / rig.period - 1e-9)}
     assert rig.c.positions(1)["X"] == pytest.approx(x_a + 100 * (a.t_done - t_a) + 5.0)
-    assert sorted(_by_n(rig, "move_start")) == [1]
+    assert sorted(rig.by_n("move_start")) == [1]
 
 
 def test_during_the_abort_deceleration_velocity_falls_linearly(rig):
@@ -82,7 +78,7 @@ def test_a_slower_ixx15_takes_proportionally_longer(rig):
     a = rig.cmd("A")
     x = rig.c.positions(1, a.t_done)["X"]
     rig.run_until_idle()
-    assert _by_n(rig, "move_end")[1] == math.ceil((a.t_done + 0.2) / rig.period - 1e-9)
+    assert rig.by_n("move_end")[1] == math.ceil((a.t_done + 0.2) / rig.period - 1e-9)
     assert rig.c.positions(1)["X"] == pytest.approx(x + 10.0)
 
 
@@ -91,7 +87,7 @@ def test_the_abort_rate_is_motor_1s_ixx15_not_another_motors(rig):
     _cruising(rig, "I115=0.001", "I215=0.0001")
     a = rig.cmd("A")
     rig.run_until_idle()
-    assert _by_n(rig, "move_end")[1] == math.ceil((a.t_done + 0.1) / rig.period - 1e-9)
+    assert rig.by_n("move_end")[1] == math.ceil((a.t_done + 0.1) / rig.period - 1e-9)
 
 
 def test_a_during_a_dwell_ends_it_at_once_where_it_stands(rig):
@@ -99,15 +95,15 @@ def test_a_during_a_dwell_ends_it_at_once_where_it_stands(rig):
     ends at the A's servo cycle and the axis stays at the dwell position."""
     _start(rig, ["TM100 TA10 TS0 X5", "DWELL1000", "X10"])
     rig.run_for(0.5)
-    starts = _by_n(rig, "move_start")
-    assert 2 in starts and 2 not in _by_n(rig, "move_end")  # dwelling
+    starts = rig.by_n("move_start")
+    assert 2 in starts and 2 not in rig.by_n("move_end")  # dwelling
     a = rig.cmd("A")
     k_a = rig.cyc(a.t_done)
     rig.run_until_idle()
-    assert _by_n(rig, "move_end")[2] == k_a
+    assert rig.by_n("move_end")[2] == k_a
     assert _states(rig)[-1] == (k_a, "aborted")
     assert rig.c.positions(1) == {"X": 5.0}
-    assert 3 not in _by_n(rig, "move_start")
+    assert 3 not in rig.by_n("move_start")
 
 
 def test_a_while_waiting_for_lines_aborts_without_a_move_end(rig):
@@ -123,7 +119,7 @@ def test_a_while_waiting_for_lines_aborts_without_a_move_end(rig):
     assert rig.c.positions(1) == {"X": 5.0}
     rig.c.load_lines(1, ["X7"])
     rig.run_for(0.5)
-    assert 2 not in _by_n(rig, "move_start")  # aborted: a new line waits for R
+    assert 2 not in rig.by_n("move_start")  # aborted: a new line waits for R
 
 
 def test_a_with_the_time_base_at_zero_ends_the_move_where_it_was_frozen(rig):
@@ -136,7 +132,7 @@ def test_a_with_the_time_base_at_zero_ends_the_move_where_it_was_frozen(rig):
     a = rig.cmd("A")
     k_a = rig.cyc(a.t_done)
     rig.run_until_idle()
-    assert _by_n(rig, "move_end")[1] == k_a
+    assert rig.by_n("move_end")[1] == k_a
     assert rig.c.positions(1)["X"] == x
 
 
@@ -148,12 +144,12 @@ def test_r_after_a_starts_the_next_uncalculated_line_from_the_stop_point(rig):
     a = rig.cmd("A")
     x_a = rig.c.positions(1, a.t_done)["X"]
     rig.run_until_idle()
-    calculated = set(_by_n(rig, "line_calculated"))
+    calculated = set(rig.by_n("line_calculated"))
     first = min(n for n in (2, 3, 4) if n not in calculated)
     stop = rig.c.positions(1)["X"]
     r = rig.cmd("R")
     rig.run_until_idle()
-    starts = _by_n(rig, "move_start")
+    starts = rig.by_n("move_start")
     assert sorted(starts) == [1, *range(first, 5)]
     assert starts[first] == (rig.cyc(r.t_done) // 3 + 1) * 3  # calculated at the next RTI
     assert stop == pytest.approx(x_a + 5.0)  # v²/2a at I115 = 0.001
@@ -171,12 +167,12 @@ def test_ctrl_k_freezes_the_commanded_position_and_ends_the_move_at_that_cycle(r
     k = rig.cyc(r.t_done)
     x = 100 * (r.t_done - k0 * rig.period - 0.05)  # where the profile was at that instant
     rig.run_until_idle()
-    assert _by_n(rig, "move_end") == {1: k}
+    assert rig.by_n("move_end") == {1: k}
     assert _states(rig)[-1] == (k, "aborted")
     assert rig.c.coord(1)["program"] == {"state": "aborted", "error": "killed"}
     assert rig.c.positions(1)["X"] == pytest.approx(x)
     assert rig.c.positions(1, rig.c.now + 1.0)["X"] == pytest.approx(x)
-    assert sorted(_by_n(rig, "move_start")) == [1]
+    assert sorted(rig.by_n("move_start")) == [1]
 
 
 # -- DWELL: a stop, then real time -------------------------------------------------------------
@@ -187,7 +183,7 @@ def test_dwell_after_a_blended_move_starts_when_the_move_has_stopped_and_lasts_i
     TA), then holds for the dwell time; the next move starts from rest after it."""
     _start(rig, ["TM100 TA20 TS0 X5", "DWELL50", "X10"])
     rig.run_until_idle()
-    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    starts, ends = rig.by_n("move_start"), rig.by_n("move_end")
     assert ends[1] - starts[1] == ceil_cycles(rig, 120)  # TM + Ta: a stop
     assert starts[2] == ends[1]
     assert ends[2] == starts[2] + ceil_cycles(rig, 50)
@@ -209,7 +205,7 @@ def test_a_synchronous_write_of_a_move_started_from_rest_fires_at_the_first_rti_
     rig.run_until_idle()
     ((k_m, _, f),) = rig.events("mvar")
     assert (f["name"], f["value"], f["sync"]) == ("M1", 3.0, True)
-    assert k_m == _by_n(rig, "move_start")[1] and k_m % 5 == 0
+    assert k_m == rig.by_n("move_start")[1] and k_m % 5 == 0
 
 
 # -- the stop at the end of a sequence -----------------------------------------------------
@@ -220,7 +216,7 @@ def test_the_final_deceleration_uses_the_ta_in_force_after_the_last_move_line(ri
     line". ``TA50`` after ``X5`` (TA10): 5 ms up to the start point, TM, 25 ms down."""
     _start(rig, ["TM100 TA10 TS0 X5", "TA50"])
     rig.run_until_idle()
-    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    starts, ends = rig.by_n("move_start"), rig.by_n("move_end")
     assert ends[1] - starts[1] == ceil_cycles(rig, 5 + 100 + 25)
 
 
@@ -233,7 +229,7 @@ def test_a_move_run_at_half_speed_stops_in_twice_its_ta(make_rig):
     rig.c.load_lines(1, ["TM100 TA20 TS0 X5"])
     rig.ok("R")
     rig.run_until_idle()
-    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    starts, ends = rig.by_n("move_start"), rig.by_n("move_end")
     assert ends[1] - starts[1] == ceil_cycles(rig, 2 * (100 + 20))
     assert rig.c.positions(1) == {"X": 5.0}
 
@@ -246,7 +242,7 @@ def test_q_lets_the_executing_move_end_in_a_stop_at_its_programmed_time(rig):
     rig.ok("Q")
     rig.c.load_lines(1, ["X10"])
     rig.run_until_idle()
-    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    starts, ends = rig.by_n("move_start"), rig.by_n("move_end")
     assert sorted(starts) == [1]
     assert ends[1] - starts[1] == ceil_cycles(rig, 220)
     assert _states(rig)[-1] == (ends[1], "stopped")
@@ -260,13 +256,13 @@ def test_s_runs_one_move_to_a_stop_even_when_the_next_would_blend(rig):
     rig.c.load_lines(1, ["TM100 TA10 TS0 X5", "X10", "X15"])
     rig.ok("S")
     rig.run_until_idle()
-    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    starts, ends = rig.by_n("move_start"), rig.by_n("move_end")
     assert sorted(starts) == [1] and ends[1] - starts[1] == ceil_cycles(rig, 110)
     assert _states(rig)[-1] == (ends[1], "stopped")
     assert rig.c.positions(1) == {"X": 5.0}
     s = rig.cmd("S")
     rig.run_until_idle()
-    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    starts, ends = rig.by_n("move_start"), rig.by_n("move_end")
     assert sorted(starts) == [1, 2] and ends[2] - starts[2] == ceil_cycles(rig, 110)
     assert starts[2] > rig.cyc(s.t_done)
     assert rig.c.positions(1) == {"X": 10.0}
@@ -279,16 +275,16 @@ def test_a_dwell_ends_in_real_time_at_percent_zero_and_the_next_move_waits_for_t
     the time base is 0 and starts when ``%`` returns."""
     _start(rig, ["TM100 TA10 TS0 X5", "DWELL500", "X10"], "I5194=8388607")
     rig.run_for(0.3)
-    assert 2 in _by_n(rig, "move_start")  # dwelling
+    assert 2 in rig.by_n("move_start")  # dwelling
     rig.ok("%0")
     rig.run_for(2.0)
-    ends = _by_n(rig, "move_end")
-    assert ends[2] == _by_n(rig, "move_start")[2] + ceil_cycles(rig, 500)
-    assert 3 not in _by_n(rig, "move_start")
+    ends = rig.by_n("move_end")
+    assert ends[2] == rig.by_n("move_start")[2] + ceil_cycles(rig, 500)
+    assert 3 not in rig.by_n("move_start")
     assert rig.c.positions(1) == {"X": 5.0}
     back = rig.cmd("%100")
     rig.run_until_idle()
-    assert _by_n(rig, "move_start")[3] >= rig.cyc(back.t_done)
+    assert rig.by_n("move_start")[3] >= rig.cyc(back.t_done)
     assert rig.c.positions(1) == {"X": 10.0}
 
 
@@ -301,7 +297,7 @@ def test_the_next_moves_ta_is_clipped_to_twice_the_move_time_less_half_its_own_t
     starts 90 ms before move 1's programmed end (at 10 + 100 ms): 20 ms after move 1 starts."""
     _start(rig, ["TM100 TA20 TS0 X5", "TA200 X10"])
     rig.run_until_idle()
-    starts = _by_n(rig, "move_start")
+    starts = rig.by_n("move_start")
     assert starts[2] - starts[1] == ceil_cycles(rig, 20)
 
 
@@ -310,7 +306,7 @@ def test_an_unclipped_next_ta_starts_the_blend_half_its_ta_before_the_boundary(r
     programmed end, 60 ms after its start (spec §9.1: the blend is centred on the boundary)."""
     _start(rig, ["TM100 TA20 TS0 X5", "TA100 X10"])
     rig.run_until_idle()
-    starts = _by_n(rig, "move_start")
+    starts = rig.by_n("move_start")
     assert starts[2] - starts[1] == ceil_cycles(rig, 60)
 
 
@@ -326,11 +322,11 @@ def test_segmentation_mode_a_line_planned_before_the_deceleration_point_is_blend
     rig = make_rig(i5113=10)
     _start(rig, ["TM500 TA100 TS0 X10"])
     rig.run_for(0.01)
-    k0 = _by_n(rig, "move_start")[1]
+    k0 = rig.by_n("move_start")[1]
     k_dec = k0 + ceil_cycles(rig, 500)
     _line_at(rig, k_dec - 7, "X20")  # two RTIs to be planned in
     rig.run_until_idle()
-    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    starts, ends = rig.by_n("move_start"), rig.by_n("move_end")
     assert starts[2] == ends[1] == k_dec  # blended: the hand-off at the blend's start
 
 
@@ -342,11 +338,11 @@ def test_segmentation_mode_a_line_arriving_after_the_deceleration_point_starts_f
     rig = make_rig(i5113=10)
     _start(rig, ["TM500 TA100 TS0 X10"])
     rig.run_for(0.01)
-    k0 = _by_n(rig, "move_start")[1]
+    k0 = rig.by_n("move_start")[1]
     k_dec = k0 + ceil_cycles(rig, 500)
     _line_at(rig, k_dec + 1, "X20")
     rig.run_until_idle()
-    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    starts, ends = rig.by_n("move_start"), rig.by_n("move_end")
     assert ends[1] == k0 + ceil_cycles(rig, 600)
     assert starts[2] == ends[1]
     assert ends[2] - starts[2] == ceil_cycles(rig, 600)
@@ -358,7 +354,7 @@ def test_ctrl_k_during_the_i11_delay_cancels_the_start(make_rig):
     rig = make_rig(i11=100)
     _start(rig, ["TM100 TA10 TS0 X5", "X10"])
     rig.run_for(0.05)
-    assert _by_n(rig, "line_calculated") and not rig.events("move_start")
+    assert rig.by_n("line_calculated") and not rig.events("move_start")
     rig.ok("\x0b")
     rig.run_until_idle()
     assert rig.events("move_start") == [] and rig.events("move_end") == []
@@ -371,7 +367,7 @@ def test_ctrl_k_frees_the_words_of_calculated_lines_and_keeps_the_rest(rig):
     rotary buffer."""
     _start(rig, ["TM1000 TA100 TS0 X100", "X200", "X300", "X400", "X500", "X600"])
     rig.run_for(0.3)
-    calculated = set(_by_n(rig, "line_calculated"))
+    calculated = set(rig.by_n("line_calculated"))
     rig.ok("\x0b")
     rig.run_until_idle()
     words = {f["n"]: f["words"] for _, _, f in rig.events("line_loaded")}
@@ -387,12 +383,12 @@ def test_i8_changed_on_line_moves_the_planning_of_the_next_move_start_to_the_new
     planned): move 3's start asks for the next RTI of the new I8 (every 5th cycle)."""
     _start(rig, ["TM100 TA10 TS0 X1", "X2", "X3", "X4", "X5"])
     rig.run_for(0.01)
-    k0 = _by_n(rig, "move_start")[1]
+    k0 = rig.by_n("move_start")[1]
     rig.c.env.run(until=(k0 + ceil_cycles(rig, 150)) * rig.period)
-    assert sorted(_by_n(rig, "line_calculated")) == [1, 2, 3, 4]
+    assert sorted(rig.by_n("line_calculated")) == [1, 2, 3, 4]
     rig.ok("I8=4")
     rig.run_until_idle()
-    starts, calc = _by_n(rig, "move_start"), _by_n(rig, "line_calculated")
+    starts, calc = rig.by_n("move_start"), rig.by_n("line_calculated")
     k3 = starts[3]
     assert k3 == k0 + ceil_cycles(rig, 200)
     assert calc[5] == (k3 // 5 + 1) * 5 != (k3 // 3 + 1) * 3
@@ -406,11 +402,11 @@ def test_a_lines_words_are_freed_when_the_next_move_starts_executing(rig):
     words = {f["n"]: f["words"] for _, _, f in rig.events("line_loaded")}
     total = sum(words.values())
     rig.run_for(0.01)
-    k0 = _by_n(rig, "move_start")[1]
+    k0 = rig.by_n("move_start")[1]
     seen = []
     for n, at_ms in ((1, 50), (2, 150), (3, 250), (4, 350)):
         rig.c.env.run(until=(k0 + ceil_cycles(rig, at_ms)) * rig.period)
-        assert max(_by_n(rig, "move_start")) == n
+        assert max(rig.by_n("move_start")) == n
         seen.append(rig.c.rotary(1)["used_words"])
     assert seen == [total - sum(words[i] for i in range(1, n)) for n in (1, 2, 3, 4)]
     assert words[1] > 2  # (line 1's words outnumber the line numbers here)
@@ -423,13 +419,13 @@ def test_s_given_while_running_stops_blending_the_calculated_moves_run_each_to_a
     calculated, and the moves already calculated run from rest, then ``stopped``."""
     _start(rig, ["TM100 TA10 TS0 X1", "X2", "X3", "X4", "X5", "X6"])
     rig.run_for(0.05)
-    k0 = _by_n(rig, "move_start")[1]
-    calculated = sorted(_by_n(rig, "line_calculated"))
+    k0 = rig.by_n("move_start")[1]
+    calculated = sorted(rig.by_n("line_calculated"))
     assert calculated == [1, 2, 3]
     rig.ok("S")
     assert not int(rig.ok("??")[:6], 16) & (1 << 4)  # continuous motion request off
     rig.run_until_idle()
-    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    starts, ends = rig.by_n("move_start"), rig.by_n("move_end")
     assert sorted(starts) == calculated
     assert starts[2] == k0 + ceil_cycles(rig, 100)  # blended out of move 1
     assert ends[2] == k0 + ceil_cycles(rig, 210)  # then TM, and Ta/2 to a stop
@@ -480,7 +476,7 @@ def test_a_and_r_at_the_instant_a_move_starts_resume_at_the_next_rti_with_the_ne
     k0 = rig.events("move_start")[0][0]
     while env.peek() <= env.now:  # the rest of that cycle's work
         env.step()
-    assert sorted(_by_n(rig, "line_calculated")) == [1, 2, 3]
+    assert sorted(rig.by_n("line_calculated")) == [1, 2, 3]
     rig.c.abort(1)
     rig.c.run(1)
     rig.run_until_idle()
@@ -501,7 +497,7 @@ def test_segmentation_mode_with_isx13_1_ms_blends_a_line_entered_during_the_last
     rig.run_for(0.3)
     rig.c.load_lines(1, ["X20"])
     rig.run_until_idle()
-    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    starts, ends = rig.by_n("move_start"), rig.by_n("move_end")
     assert starts[2] == ends[1] == starts[1] + ceil_cycles(rig, 500)
     assert [s for _, s in _states(rig)] == ["running", "waiting"]
 
@@ -512,7 +508,7 @@ def test_each_blend_is_centred_on_its_boundary_with_the_ta_of_the_move_it_enters
     move 1's programmed end (10 + 100 ms), move 3 5 ms before move 2's (210 ms)."""
     _start(rig, ["TM100 TA20 TS0 X1", "TA60 X2", "TA10 X3"])
     rig.run_until_idle()
-    starts = _by_n(rig, "move_start")
+    starts = rig.by_n("move_start")
     assert starts[2] - starts[1] == ceil_cycles(rig, 80)
     assert starts[3] - starts[1] == ceil_cycles(rig, 205)
 
@@ -524,5 +520,5 @@ def test_a_blend_start_falling_exactly_on_a_servo_cycle_starts_the_move_on_that_
     rig = make_rig(servo_hz=1000.0)
     _start(rig, ["TM100 TA20 TS0 X5", "X10"])
     rig.run_until_idle()
-    starts = _by_n(rig, "move_start")
+    starts = rig.by_n("move_start")
     assert starts[2] - starts[1] == 100

@@ -12,10 +12,6 @@ import math
 import pytest
 
 
-def _by_n(rig, type_):
-    return {f["n"]: k for k, _, f in rig.events(type_)}
-
-
 def ceil_cycles(rig, ms: float) -> int:
     return math.ceil(rig.ms_cycles(ms) - 1e-6)
 
@@ -34,7 +30,7 @@ def _cycles_of_one_line_at(rig, override: str, line: str) -> int:
     rig.c.load_lines(1, [line])
     rig.ok("R")
     rig.run_until_idle()
-    start, end = _by_n(rig, "move_start")[1], _by_n(rig, "move_end")[1]
+    start, end = rig.by_n("move_start")[1], rig.by_n("move_end")[1]
     return end - start
 
 
@@ -50,13 +46,13 @@ def test_override_change_mid_move_stretches_the_rest_and_keeps_position_continuo
     rig.c.load_lines(1, ["TM1000 TA100 TS0 X100"])
     rig.ok("R")
     rig.run_for(0.4)
-    start = _by_n(rig, "move_start")[1] * rig.period
+    start = rig.by_n("move_start")[1] * rig.period
     before = rig.c.positions(1)["X"]
     t_change = rig.c.now
     rig.c.coord_system(1).set_feed_override(50)
     assert rig.c.positions(1)["X"] == pytest.approx(before, abs=1e-9)
     rig.run_until_idle()
-    end = _by_n(rig, "move_end")[1] * rig.period
+    end = rig.by_n("move_end")[1] * rig.period
     remaining = start + 1.1 - t_change  # at 100 % the move would end at start + TM + Ta
     assert end == pytest.approx(t_change + 2 * remaining, abs=rig.period)
     assert rig.c.positions(1)["X"] == pytest.approx(100.0)
@@ -75,7 +71,7 @@ def test_percent_zero_freezes_motion_and_resuming_continues(rig):
     assert rig.events("move_end") == []
     rig.ok("%100")
     rig.run_until_idle()
-    assert sorted(_by_n(rig, "move_end")) == [1, 2]
+    assert sorted(rig.by_n("move_end")) == [1, 2]
     assert rig.c.positions(1)["X"] == pytest.approx(200.0)
 
 
@@ -115,5 +111,5 @@ def test_an_override_change_leaves_a_calculated_dwell_in_real_time(rig):
     rig.run_for(0.3)
     rig.ok("%50")
     rig.run_until_idle()
-    start, end = _by_n(rig, "move_start")[2], _by_n(rig, "move_end")[2]
+    start, end = rig.by_n("move_start")[2], rig.by_n("move_end")[2]
     assert end - start == ceil_cycles(rig, 500)

@@ -22,15 +22,11 @@ def _run(rig, lines, **cfg):
     rig.run_until_idle()
 
 
-def _by_n(rig, type_):
-    return {f["n"]: k for k, _, f in rig.events(type_)}
-
-
 def _one_line_cycles(rig, line: str) -> int:
     """Run ``line`` alone from a fresh rotary buffer; servo cycles from its move_start to its
     move_end."""
     _run(rig, [line])
-    return _by_n(rig, "move_end")[1] - _by_n(rig, "move_start")[1]
+    return rig.by_n("move_end")[1] - rig.by_n("move_start")[1]
 
 
 def test_servo_period_default_from_i10(rig):
@@ -66,7 +62,7 @@ def test_blended_moves_take_n_tm_plus_ta(rig):
     """Spec §9.1: N blended moves of TM each take N·TM + Ta, each next move starting Ta/2
     before the programmed point."""
     _run(rig, ["TM200 TA50 TS0 X1", "X2", "X3"])
-    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    starts, ends = rig.by_n("move_start"), rig.by_n("move_end")
     k0 = starts[1]
     assert ends[3] - k0 == ceil_cycles(rig, 650)
     assert starts[2] - k0 == ceil_cycles(rig, 200)
@@ -81,8 +77,8 @@ def test_motion_starts_at_the_first_rti_after_r(rig):
     r = rig.cmd("R")
     k_r = rig.cyc(r.t_done)
     rig.run_until_idle()
-    assert _by_n(rig, "line_calculated")[1] == next_rti(k_r)
-    assert _by_n(rig, "move_start")[1] == next_rti(k_r)
+    assert rig.by_n("line_calculated")[1] == next_rti(k_r)
+    assert rig.by_n("move_start")[1] == next_rti(k_r)
 
 
 def test_rti_period_follows_i8(make_rig):
@@ -92,14 +88,14 @@ def test_rti_period_follows_i8(make_rig):
     rig.c.load_lines(1, ["TM100 TA10 TS0 X1"])
     r = rig.cmd("R")
     rig.run_until_idle()
-    assert _by_n(rig, "move_start")[1] == next_rti(rig.cyc(r.t_done), 5)
+    assert rig.by_n("move_start")[1] == next_rti(rig.cyc(r.t_done), 5)
 
 
 def test_linear_calculates_two_moves_ahead(rig):
     """Spec §4.2/§9.3 (Isx13=0, LINEAR): from rest the scan runs through the 3rd move; each
     later line is calculated at the first RTI after the move two before it starts."""
     _run(rig, ["TM100 TA10 TS0 X1", "X2", "X3", "X4", "X5", "X6"])
-    calc, starts = _by_n(rig, "line_calculated"), _by_n(rig, "move_start")
+    calc, starts = rig.by_n("line_calculated"), rig.by_n("move_start")
     assert calc[1] == calc[2] == calc[3] == starts[1]
     for n in (4, 5, 6):
         assert calc[n] == next_rti(starts[n - 2])
@@ -109,7 +105,7 @@ def test_circles_without_segmentation_run_as_linear_and_calculate_two_moves_ahea
     """TSRM p177 (spec §4.3): CIRCLE1/2 need Isx13 > 0; with Isx13 = 0 they run as LINEAR
     moves, so lookahead is LINEAR's two moves (TUM p339, spec §4.2)."""
     _run(rig, ["CIRCLE1 TM100 TA10 TS0 X1 I1", "X2 I1", "X3 I1", "X4 I1", "X5 I1", "X6 I1"])
-    calc, starts = _by_n(rig, "line_calculated"), _by_n(rig, "move_start")
+    calc, starts = rig.by_n("line_calculated"), rig.by_n("move_start")
     assert calc[1] == calc[2] == calc[3] == starts[1]
     for n in (4, 5, 6):
         assert calc[n] == next_rti(starts[n - 2])
@@ -119,7 +115,7 @@ def test_segmented_mode_calculates_one_move_ahead(make_rig):
     """Spec §9.3: with Isx13 > 0, one move ahead."""
     rig = make_rig(i5113=10)
     _run(rig, ["TM100 TA10 TS0 X1", "X2", "X3", "X4"])
-    calc, starts = _by_n(rig, "line_calculated"), _by_n(rig, "move_start")
+    calc, starts = rig.by_n("line_calculated"), rig.by_n("move_start")
     assert calc[1] == calc[2] == starts[1]
     for n in (3, 4):
         assert calc[n] == next_rti(starts[n - 1])
@@ -129,7 +125,7 @@ def test_dwell_stops_lookahead(rig):
     """TUM p341 / TSRM p429: nothing after a DWELL is calculated during it; the move before
     it decelerates to a stop first; calculation resumes at the RTI after the dwell."""
     _run(rig, ["TM100 TA10 TS0 X1", "DWELL50", "X2", "X3"])
-    calc, starts, ends = (_by_n(rig, t) for t in ("line_calculated", "move_start", "move_end"))
+    calc, starts, ends = (rig.by_n(t) for t in ("line_calculated", "move_start", "move_end"))
     k0 = starts[1]
     assert calc[2] == k0  # the dwell itself is calculated
     assert ends[1] - k0 == ceil_cycles(rig, 110)  # stop before the dwell
@@ -141,7 +137,7 @@ def test_dwell_stops_lookahead(rig):
 def test_delay_does_not_stop_lookahead(rig):
     """TUM p341: DELAY is a zero-distance move, calculated through."""
     _run(rig, ["TM100 TA10 TS0 X1", "DELAY50", "X2", "X3"])
-    calc, starts, ends = (_by_n(rig, t) for t in ("line_calculated", "move_start", "move_end"))
+    calc, starts, ends = (rig.by_n(t) for t in ("line_calculated", "move_start", "move_end"))
     assert calc[1] == calc[2] == calc[3] == starts[1]
     assert starts[2] == ends[1]  # blended, no stop
 
@@ -152,7 +148,7 @@ def test_positions_come_from_the_profile(rig):
     rig.c.load_lines(1, ["TM1000 TA100 TS0 X100"])
     rig.ok("R")
     rig.run_for(0.3)
-    k0 = _by_n(rig, "move_start")[1]
+    k0 = rig.by_n("move_start")[1]
     t0 = k0 * rig.period
     # Programmed start point passed at t0 + Ta/2, then 100 units/s.
     p = rig.c.positions(1)["X"]
@@ -172,7 +168,7 @@ def test_i11_delays_the_start_after_calculation(make_rig):
     move starts"; the moves are calculated (at the first RTI) before that."""
     rig = make_rig(i11=10)
     _run(rig, ["TM100 TA10 TS0 X1", "X2"])
-    calc, starts = _by_n(rig, "line_calculated"), _by_n(rig, "move_start")
+    calc, starts = rig.by_n("line_calculated"), rig.by_n("move_start")
     (k_r, _, _), *_ = rig.events("program")  # R taken: running
     assert calc[1] == next_rti(k_r) < starts[1] == k_r + ceil_cycles(rig, 10)
 
@@ -187,7 +183,7 @@ def test_isx92_disables_blending_and_lookahead(make_rig):
     word1 = int(rig.ok("??")[:6], 16)
     assert word1 & 1 and not word1 & (1 << 4)
     rig.run_until_idle()
-    calc, starts, ends = (_by_n(rig, t) for t in ("line_calculated", "move_start", "move_end"))
+    calc, starts, ends = (rig.by_n(t) for t in ("line_calculated", "move_start", "move_end"))
     for n in (1, 2, 3):
         assert ends[n] - starts[n] == ceil_cycles(rig, 110)  # every move from rest to rest
     for n in (2, 3):

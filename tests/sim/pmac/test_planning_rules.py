@@ -22,11 +22,6 @@ import pytest
 from tests.sim.pmac.conftest import Rig
 
 
-def _by_n(rig: Rig, type_: str) -> dict[int, int]:
-    """Line number -> cycle of its (latest) ``type_`` event."""
-    return {f["n"]: k for k, _, f in rig.events(type_)}
-
-
 def _states_at(rig: Rig) -> dict[str, int]:
     """The cycle of each program state's latest ``program`` event."""
     return {f["state"]: k for k, _, f in rig.events("program")}
@@ -84,8 +79,8 @@ def test_with_isx13_0_a_line_arriving_with_one_move_calculated_ahead_is_calculat
     _run_to(rig, 100)
     rig.c.load_lines(1, ["X3"])
     _settle(rig)
-    assert _by_n(rig, "line_calculated")[3] == _next_rti(100)
-    assert _by_n(rig, "move_start")[3] == _by_n(rig, "move_end")[2]
+    assert rig.by_n("line_calculated")[3] == _next_rti(100)
+    assert rig.by_n("move_start")[3] == rig.by_n("move_end")[2]
 
 
 def test_during_the_i11_delay_linear_calculates_three_moves_from_rest(rig):
@@ -97,8 +92,8 @@ def test_during_the_i11_delay_linear_calculates_three_moves_from_rest(rig):
     _run_to(rig, k_r + 30)
     rig.c.load_lines(1, ["X3"])
     _settle(rig)
-    k_go = _by_n(rig, "move_start")[1]
-    assert _by_n(rig, "line_calculated")[3] == _next_rti(k_r + 30) < k_go
+    k_go = rig.by_n("move_start")[1]
+    assert rig.by_n("line_calculated")[3] == _next_rti(k_r + 30) < k_go
 
 
 def test_segmented_linear_calculates_one_move_ahead_the_next_at_the_rti_after_a_move_starts(
@@ -112,11 +107,11 @@ def test_segmented_linear_calculates_one_move_ahead_the_next_at_the_rti_after_a_
     def begin(rig: Rig) -> None:
         _start(rig, ["LINEAR ABS TM200 TA100 TS0 X1", "TA10 X2"], "I8=0", "I5113=10")
 
-    rig, k_s = _twin(make_rig, begin, lambda ref: _by_n(ref, "move_start")[2])
+    rig, k_s = _twin(make_rig, begin, lambda ref: ref.by_n("move_start")[2])
     rig.c.load_lines(1, ["X3"])
     _settle(rig)
-    assert _by_n(rig, "move_start")[2] == k_s
-    assert _by_n(rig, "line_calculated")[3] == k_s + 1
+    assert rig.by_n("move_start")[2] == k_s
+    assert rig.by_n("line_calculated")[3] == k_s + 1
 
 
 def _lookahead(isx20: int, *more: str) -> tuple[str, ...]:
@@ -130,10 +125,10 @@ def test_tsrm_p181_a_line_arriving_short_of_the_horizon_is_calculated_at_the_nex
     arriving at cycle 100 is calculated at the next RTI."""
     _start(rig, ["LINEAR ABS TM100 TA10 TS0 X1", "X2"], *_lookahead(30))
     _run_to(rig, 100)
-    assert 2 in _by_n(rig, "line_calculated") and 2 not in _by_n(rig, "move_start")
+    assert 2 in rig.by_n("line_calculated") and 2 not in rig.by_n("move_start")
     rig.c.load_lines(1, ["X3"])
     _settle(rig)
-    assert _by_n(rig, "line_calculated")[3] == _next_rti(100)
+    assert rig.by_n("line_calculated")[3] == _next_rti(100)
 
 
 def test_tsrm_p181_with_the_horizon_covered_a_line_waits_for_the_rti_after_the_next_move_start(
@@ -147,12 +142,12 @@ def test_tsrm_p181_with_the_horizon_covered_a_line_waits_for_the_rti_after_the_n
         lines = ["LINEAR ABS TM200 TA100 TS0 X1", "TA10 X2", "X3"]
         _start(rig, lines, *_lookahead(30, "I8=0"))
 
-    rig, k_s = _twin(make_rig, begin, lambda ref: _by_n(ref, "move_start")[2])
-    assert {2, 3} <= set(_by_n(rig, "line_calculated"))
+    rig, k_s = _twin(make_rig, begin, lambda ref: ref.by_n("move_start")[2])
+    assert {2, 3} <= set(rig.by_n("line_calculated"))
     rig.c.load_lines(1, ["X4"])
     _settle(rig)
-    assert _by_n(rig, "move_start")[2] == k_s
-    assert _by_n(rig, "line_calculated")[4] == k_s + 1
+    assert rig.by_n("move_start")[2] == k_s
+    assert rig.by_n("line_calculated")[4] == k_s + 1
 
 
 def test_tsrm_p181_from_rest_in_the_i11_delay_a_covered_horizon_waits_for_the_first_move_start(
@@ -166,11 +161,11 @@ def test_tsrm_p181_from_rest_in_the_i11_delay_a_covered_horizon_waits_for_the_fi
     def begin(rig: Rig) -> None:
         _start(rig, ["LINEAR ABS TM100 TA10 TS0 X1", "X2"], *_lookahead(15, "I8=0", "I11=50"))
 
-    rig, k_go = _twin(make_rig, begin, lambda ref: _by_n(ref, "move_start")[1])
+    rig, k_go = _twin(make_rig, begin, lambda ref: ref.by_n("move_start")[1])
     rig.c.load_lines(1, ["X3"])
     _settle(rig)
-    assert _by_n(rig, "move_start")[1] == k_go
-    assert _by_n(rig, "line_calculated")[3] == k_go + 1
+    assert rig.by_n("move_start")[1] == k_go
+    assert rig.by_n("line_calculated")[3] == k_go + 1
 
 
 def test_tsrm_p181_the_horizon_is_counted_in_program_time_at_a_feedrate_override(rig):
@@ -194,8 +189,8 @@ def test_s_with_the_special_lookahead_calculates_only_the_move_it_runs(rig):
     rig.c.load_lines(1, ["LINEAR ABS TM100 TA10 TS0 X1", "X2", "X3", "X4"])
     rig.ok("S")
     _settle(rig)
-    assert sorted(_by_n(rig, "line_calculated")) == [1]
-    assert sorted(_by_n(rig, "move_start")) == [1]
+    assert sorted(rig.by_n("line_calculated")) == [1]
+    assert sorted(rig.by_n("move_start")) == [1]
     assert rig.c.coord(1)["program"] == {"state": "stopped"}
 
 
@@ -205,12 +200,12 @@ def test_raising_isx20_while_running_lengthens_the_horizon_for_the_next_line_arr
     wanted and calculated at the next RTI."""
     _start(rig, ["LINEAR ABS TM100 TA10 TS0 X1", "X2", "X3"], *_lookahead(15))
     _run_to(rig, 100)
-    assert {2, 3} <= set(_by_n(rig, "line_calculated"))
+    assert {2, 3} <= set(rig.by_n("line_calculated"))
     rig.ok("I5120=40")
     k = rig.cyc(rig.c.now)
     rig.c.load_lines(1, ["X4"])
     _settle(rig)
-    assert _by_n(rig, "line_calculated")[4] == _next_rti(k)
+    assert rig.by_n("line_calculated")[4] == _next_rti(k)
 
 
 # -- breaks and a program not running -------------------------------------------------------
@@ -224,11 +219,11 @@ def test_a_line_arriving_during_a_dwell_is_calculated_at_the_rti_after_the_dwell
     def begin(rig: Rig) -> None:
         _start(rig, ["DWELL100"], "I8=0")
 
-    rig, k_e = _twin(make_rig, begin, lambda ref: _by_n(ref, "move_end")[1])
+    rig, k_e = _twin(make_rig, begin, lambda ref: ref.by_n("move_end")[1])
     rig.c.load_lines(1, ["TM100 TA10 TS0 X1"])
     _settle(rig)
-    assert _by_n(rig, "move_end")[1] == k_e
-    assert _by_n(rig, "line_calculated")[2] == _by_n(rig, "move_start")[2] == k_e + 1
+    assert rig.by_n("move_end")[1] == k_e
+    assert rig.by_n("line_calculated")[2] == rig.by_n("move_start")[2] == k_e + 1
 
 
 def _idle(rig: Rig) -> None:
@@ -274,12 +269,12 @@ def test_q_calculates_nothing_more_even_with_a_planning_request_from_before_it(r
     that RTI X4 and X5 stay uncalculated and nothing moves."""
     _start(rig, ["TM20 TA10 TS0 X1", "X2", "X3", "X4", "X5"], "I8=255")
     _run_to(rig, 260)
-    assert sorted(_by_n(rig, "line_calculated")) == [1, 2, 3]
+    assert sorted(rig.by_n("line_calculated")) == [1, 2, 3]
     rig.ok("Q")
     _settle(rig)
-    assert max(_by_n(rig, "move_end").values()) < 512
-    assert sorted(_by_n(rig, "line_calculated")) == [1, 2, 3]
-    assert sorted(_by_n(rig, "move_start")) == [1, 2, 3]
+    assert max(rig.by_n("move_end").values()) < 512
+    assert sorted(rig.by_n("line_calculated")) == [1, 2, 3]
+    assert sorted(rig.by_n("move_start")) == [1, 2, 3]
     assert rig.c.coord(1)["program"] == {"state": "stopped"}
 
 
@@ -291,7 +286,7 @@ def test_isx13_written_after_r_applies_to_the_first_rtis_calculation(rig):
     rig.c.load_lines(1, ["LINEAR ABS TM100 TA10 TS0 X1", "X2", "X3", "X4"])
     k_r = rig.cyc(rig.cmd("R I5113=10").t_done)
     rig.run_for(0.02)
-    assert _by_n(rig, "line_calculated") == {1: _next_rti(k_r), 2: _next_rti(k_r)}
+    assert rig.by_n("line_calculated") == {1: _next_rti(k_r), 2: _next_rti(k_r)}
 
 
 def test_i11_times_a_start_from_rest_not_a_line_arriving_during_motion(rig):
@@ -306,7 +301,7 @@ def test_i11_times_a_start_from_rest_not_a_line_arriving_during_motion(rig):
     rig.c.load_lines(1, ["TM20 X2"])
     _run_to(rig, 950)
     assert rig.c.coord(1)["program"] == {"state": "waiting"}
-    assert sorted(_by_n(rig, "move_end")) == [1, 2]
+    assert sorted(rig.by_n("move_end")) == [1, 2]
     rig.c.load_lines(1, ["X3"])
     _settle(rig)
     assert "error" not in rig.c.coord(1)["program"]
@@ -314,7 +309,7 @@ def test_i11_times_a_start_from_rest_not_a_line_arriving_during_motion(rig):
         {"cs": 1, "state": "waiting"}, {"cs": 1, "state": "running"},
         {"cs": 1, "state": "waiting"},
     ]  # fmt: skip
-    assert _by_n(rig, "line_calculated")[3] == 1024 < _by_n(rig, "move_start")[3]
+    assert rig.by_n("line_calculated")[3] == 1024 < rig.by_n("move_start")[3]
 
 
 # -- starting from rest ------------------------------------------------------------------------
@@ -327,7 +322,7 @@ def test_at_1_percent_override_the_first_move_starts_at_the_first_rti(rig):
     k_r = _states_at(rig)["running"]
     rig.run_for(0.05)
     assert rig.ok("%") == "1"
-    assert _by_n(rig, "move_start")[1] == _by_n(rig, "line_calculated")[1] == _next_rti(k_r)
+    assert rig.by_n("move_start")[1] == rig.by_n("line_calculated")[1] == _next_rti(k_r)
 
 
 def test_with_i11_0_the_first_move_starts_within_the_rti_that_calculates_it(rig):
@@ -340,8 +335,8 @@ def test_with_i11_0_the_first_move_starts_within_the_rti_that_calculates_it(rig)
     a = rig.c.terminal("A")  # answered one servo cycle later: at the RTI
     _settle(rig)
     assert rig.cyc(a.t_done) == k
-    assert _by_n(rig, "line_calculated") == _by_n(rig, "move_start") == {1: k}
-    assert _states_at(rig)["aborted"] == _by_n(rig, "move_end")[1] == k
+    assert rig.by_n("line_calculated") == rig.by_n("move_start") == {1: k}
+    assert _states_at(rig)["aborted"] == rig.by_n("move_end")[1] == k
 
 
 def test_an_i11_written_after_r_delays_the_first_move_from_the_rti_that_calculates_it(rig):
@@ -352,8 +347,8 @@ def test_an_i11_written_after_r_delays_the_first_move_from_the_rti_that_calculat
     rig.c.load_lines(1, ["TM100 TA10 TS0 X1"])
     k = _next_rti(rig.cyc(rig.cmd("R I11=50").t_done))
     _settle(rig)
-    assert _by_n(rig, "line_calculated")[1] == k
-    assert _by_n(rig, "move_start")[1] == k + math.ceil(rig.ms_cycles(50) - 1e-9)
+    assert rig.by_n("line_calculated")[1] == k
+    assert rig.by_n("move_start")[1] == k + math.ceil(rig.ms_cycles(50) - 1e-9)
 
 
 def test_feed_hold_during_the_i11_delay_keeps_the_first_move_from_starting(rig):
@@ -362,10 +357,10 @@ def test_feed_hold_during_the_i11_delay_keeps_the_first_move_from_starting(rig):
     _start(rig, ["TM100 TA10 TS0 X1"], "I5194=8388607", "I11=50")
     rig.ok("%0")
     rig.run_for(0.2)
-    assert 1 in _by_n(rig, "line_calculated") and _by_n(rig, "move_start") == {}
+    assert 1 in rig.by_n("line_calculated") and rig.by_n("move_start") == {}
     k = rig.cyc(rig.cmd("%100").t_done)
     _settle(rig)
-    assert _by_n(rig, "move_start") == {1: k}
+    assert rig.by_n("move_start") == {1: k}
 
 
 # -- program order ------------------------------------------------------------------------------
@@ -377,7 +372,7 @@ def test_a_constant_line_after_a_spline_series_and_a_circle_mode_word_runs_after
     centre: a straight move): the moves run in program order and X ends at 5."""
     _start(rig, ["SPLINE1 TM100 ABS X1", "X2", "CIRCLE1", "X5"])
     _settle(rig)
-    starts = _by_n(rig, "move_start")
+    starts = rig.by_n("move_start")
     assert sorted(starts, key=starts.__getitem__) == [1, 2, 4]
     assert rig.c.positions(1) == {"X": 5.0}
 
@@ -423,7 +418,7 @@ def test_tsrm_p98_the_x_motors_ixx16_does_not_slow_a_move_of_y_alone(rig):
     rig.ok("I217=1000")
     _start(rig, ["LINEAR ABS TM100 TA10 TS0 Y10"], "I116=0.1", "I216=1000")
     _settle(rig)
-    assert _by_n(rig, "move_end")[1] - _by_n(rig, "move_start")[1] == math.ceil(
+    assert rig.by_n("move_end")[1] - rig.by_n("move_start")[1] == math.ceil(
         rig.ms_cycles(110) - 1e-6
     )
 
@@ -440,10 +435,10 @@ def test_a_spline_point_waiting_through_a_feedrate_change_runs_at_the_new_rate(m
         _run_to(rig, 50)
         rig.c.load_lines(1, ["SPLINE1 TM100 X2"])
         _run_to(rig, 100)
-        assert 2 in _by_n(rig, "line_calculated") and 2 not in _by_n(rig, "move_start")
+        assert 2 in rig.by_n("line_calculated") and 2 not in rig.by_n("move_start")
         rig.ok(pct)
         _settle(rig)
-        durations.append(_by_n(rig, "move_end")[2] - _by_n(rig, "move_start")[2])
+        durations.append(rig.by_n("move_end")[2] - rig.by_n("move_start")[2])
     assert durations[1] == 2 * durations[0]
 
 
@@ -459,8 +454,8 @@ def test_s_does_not_calculate_a_line_arriving_during_its_step(rig):
     _run_to(rig, 50)
     rig.c.load_lines(1, ["X2"])
     _settle(rig)
-    assert sorted(_by_n(rig, "line_calculated")) == [1]
-    assert sorted(_by_n(rig, "move_start")) == [1]
+    assert sorted(rig.by_n("line_calculated")) == [1]
+    assert sorted(rig.by_n("move_start")) == [1]
     assert rig.c.coord(1)["program"] == {"state": "stopped"}
     assert rig.c.rotary(1)["lines_ahead"] == 1
 
@@ -483,10 +478,10 @@ def test_r_at_0_percent_calculates_the_first_move_and_starts_it_when_the_overrid
     it does not start; ``%100`` starts it at once."""
     _start(rig, ["TM100 TA10 TS0 X1"], "I5194=8388607", "%0")
     rig.run_for(0.1)
-    assert 1 in _by_n(rig, "line_calculated") and _by_n(rig, "move_start") == {}
+    assert 1 in rig.by_n("line_calculated") and rig.by_n("move_start") == {}
     k = rig.cyc(rig.cmd("%100").t_done)
     _settle(rig)
-    assert _by_n(rig, "move_start") == {1: k}
+    assert rig.by_n("move_start") == {1: k}
 
 
 @pytest.mark.parametrize("pct", ["%50", "%1"])
@@ -499,7 +494,7 @@ def test_a_feedrate_change_during_the_i11_delay_does_not_move_the_first_moves_st
     _run_to(rig, k_r + 20)
     rig.ok(pct)
     _settle(rig)
-    assert _by_n(rig, "move_start")[1] == k_r + math.ceil(rig.ms_cycles(50) - 1e-9)
+    assert rig.by_n("move_start")[1] == k_r + math.ceil(rig.ms_cycles(50) - 1e-9)
 
 
 def test_a_pset_after_the_first_move_keeps_the_i11_delay_of_that_move(rig):
@@ -509,7 +504,7 @@ def test_a_pset_after_the_first_move_keeps_the_i11_delay_of_that_move(rig):
     _start(rig, ["TM100 TA10 TS0 X1", "PSET X0"], "I11=50")
     k_r = _states_at(rig)["running"]
     _settle(rig)
-    assert _by_n(rig, "move_start")[1] == k_r + math.ceil(rig.ms_cycles(50) - 1e-9)
+    assert rig.by_n("move_start")[1] == k_r + math.ceil(rig.ms_cycles(50) - 1e-9)
 
 
 # -- constant lines ---------------------------------------------------------------------------
@@ -542,7 +537,7 @@ def test_inc_constant_lines_each_move_by_their_amount(rig):
     _start(rig, ["LINEAR INC TM100 TA10 TS0 X1", "X1", "X1"])
     _settle(rig)
     assert rig.c.positions(1) == {"X": 3.0}
-    assert sorted(_by_n(rig, "move_start")) == [1, 2, 3]
+    assert sorted(rig.by_n("move_start")) == [1, 2, 3]
 
 
 def test_a_run_time_error_in_calculation_aborts_the_program(rig):
@@ -554,7 +549,7 @@ def test_a_run_time_error_in_calculation_aborts_the_program(rig):
     _settle(rig)
     assert rig.c.coord(1)["program"] == {"state": "aborted", "error": "run_time_error"}
     assert _states_at(rig)["aborted"] == k
-    assert _by_n(rig, "move_start") == {}
+    assert rig.by_n("move_start") == {}
 
 
 def test_i11_shorter_than_the_wait_for_the_first_rti_is_a_run_time_error(rig):
@@ -566,7 +561,7 @@ def test_i11_shorter_than_the_wait_for_the_first_rti_is_a_run_time_error(rig):
     _settle(rig)
     assert rig.c.coord(1)["program"] == {"state": "aborted", "error": "run_time_error"}
     assert _states_at(rig)["aborted"] == k_r + math.ceil(rig.ms_cycles(10) - 1e-9) < 256
-    assert _by_n(rig, "line_calculated") == {} and _by_n(rig, "move_start") == {}
+    assert rig.by_n("line_calculated") == {} and rig.by_n("move_start") == {}
 
 
 # -- more on depth and on settings changed on a line of their own ---------------------------------
@@ -583,11 +578,11 @@ def test_with_isx13_0_two_calculated_ahead_a_line_waits_for_the_rti_after_the_ne
     def begin(rig: Rig) -> None:
         _start(rig, ["TM100 TA10 TS0 X1", "X2", "X3"], "I8=0")
 
-    rig, k_s = _twin(make_rig, begin, lambda ref: _by_n(ref, "move_start")[2])
+    rig, k_s = _twin(make_rig, begin, lambda ref: ref.by_n("move_start")[2])
     rig.c.load_lines(1, ["X4"])
     _settle(rig)
-    assert _by_n(rig, "move_start")[2] == k_s
-    assert _by_n(rig, "line_calculated")[4] == k_s + 1
+    assert rig.by_n("move_start")[2] == k_s
+    assert rig.by_n("line_calculated")[4] == k_s + 1
 
 
 def test_segmented_linear_a_line_arriving_with_nothing_ahead_is_calculated_at_the_next_rti(rig):
@@ -598,8 +593,8 @@ def test_segmented_linear_a_line_arriving_with_nothing_ahead_is_calculated_at_th
     _run_to(rig, 100)
     rig.c.load_lines(1, ["X2"])
     _settle(rig)
-    assert _by_n(rig, "line_calculated")[2] == _next_rti(100)
-    assert _by_n(rig, "move_start")[2] == _by_n(rig, "move_end")[1]
+    assert rig.by_n("line_calculated")[2] == _next_rti(100)
+    assert rig.by_n("move_start")[2] == rig.by_n("move_end")[1]
 
 
 def test_a_pvt_time_set_on_a_line_of_its_own_applies_to_the_next_constant_segment(rig):
@@ -607,7 +602,7 @@ def test_a_pvt_time_set_on_a_line_of_its_own_applies_to_the_next_constant_segmen
     between 100 ms segments: the next constant segment takes 50 ms (on servo cycles)."""
     _start(rig, ["ABS PVT100 X10:100", "X20:100", "X30:100", "PVT50", "X35:0"])
     _settle(rig)
-    starts, ends = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    starts, ends = rig.by_n("move_start"), rig.by_n("move_end")
     assert abs((ends[5] - starts[5]) - rig.ms_cycles(50)) <= 1
     assert abs((ends[3] - starts[3]) - rig.ms_cycles(100)) <= 1
 
@@ -617,7 +612,7 @@ def test_a_tm_set_on_a_line_of_its_own_applies_to_the_next_constant_move(rig):
     (blended, TA10): the next constant move takes 300 ms from its start to the next one's."""
     _start(rig, ["LINEAR ABS TM100 TA10 TS0 X1", "X2", "X3", "TM300", "X4", "X5"])
     _settle(rig)
-    starts = _by_n(rig, "move_start")
+    starts = rig.by_n("move_start")
     assert abs((starts[6] - starts[5]) - rig.ms_cycles(300)) <= 1
     assert abs((starts[3] - starts[2]) - rig.ms_cycles(100)) <= 1
 
@@ -630,6 +625,6 @@ def test_tsrm_p98_ixx16_slows_every_move_of_a_stream_of_constant_lines(rig):
     rig.ok("I117=1000")
     _start(rig, ["LINEAR ABS TM100 TA10 TS0 X10", "X20", "X30", "X40"], "I116=20")
     rig.run_until_idle(limit_s=5.0)
-    starts = _by_n(rig, "move_start")
+    starts = rig.by_n("move_start")
     for n in (2, 3):
         assert abs((starts[n + 1] - starts[n]) - rig.ms_cycles(500)) <= 1

@@ -14,10 +14,6 @@ def _states(rig):
     return [(k, f["state"]) for k, _, f in rig.events("program")]
 
 
-def _by_n(rig, type_):
-    return {f["n"]: k for k, _, f in rig.events(type_)}
-
-
 def _enter_x20_during_a_500ms_move(rig, after_r_s: float):
     """Run ``TM500 TA100 TS0 X10`` from a fresh rotary buffer, enter ``X20`` ``after_r_s`` after
     R, run to the end; the move_start and move_end cycles by line number."""
@@ -27,7 +23,7 @@ def _enter_x20_during_a_500ms_move(rig, after_r_s: float):
     rig.run_for(after_r_s)
     rig.c.load_lines(1, ["X20"])
     rig.run_until_idle()
-    return _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    return rig.by_n("move_start"), rig.by_n("move_end")
 
 
 def test_r_on_an_empty_rotary_buffer_waits_and_runs_the_first_line_when_it_arrives(rig):
@@ -42,7 +38,7 @@ def test_r_on_an_empty_rotary_buffer_waits_and_runs_the_first_line_when_it_arriv
     load = rig.cmd("TM100 TA10 TS0 X1")
     k_load = rig.cyc(load.t_done)
     rig.run_until_idle()
-    assert _by_n(rig, "move_start")[1] == next_rti(k_load)
+    assert rig.by_n("move_start")[1] == next_rti(k_load)
     assert _states(rig)[2] == (next_rti(k_load), "running")
 
 
@@ -53,14 +49,14 @@ def test_running_out_of_lines_is_waiting_not_an_error_and_more_lines_resume_with
     rig.c.load_lines(1, ["TM100 TA10 TS0 X1"])
     rig.ok("R")
     rig.run_for(1.0)
-    end1 = _by_n(rig, "move_end")[1]
+    end1 = rig.by_n("move_end")[1]
     assert _states(rig)[-1] == (end1, "waiting")
     assert rig.c.coord(1)["program"] == {"state": "waiting"}
     assert int(rig.ok("??")[:6], 16) & 1  # word 1 bit 0: still running a program
     k_load = rig.cyc(rig.c.now)
     rig.c.load_lines(1, ["X2"])
     rig.run_until_idle()
-    assert _by_n(rig, "move_start")[2] == next_rti(k_load)
+    assert rig.by_n("move_start")[2] == next_rti(k_load)
     assert [s for _, s in _states(rig)] == ["running", "waiting", "running", "waiting"]
 
 
@@ -73,11 +69,11 @@ def test_q_stops_after_the_moves_already_calculated(rig):
     q = rig.cmd("Q")
     k_q = rig.cyc(q.t_done)
     rig.run_until_idle()
-    calc = _by_n(rig, "line_calculated")
+    calc = rig.by_n("line_calculated")
     assert all(k <= k_q for k in calc.values())
-    started = sorted(_by_n(rig, "move_start"))
+    started = sorted(rig.by_n("move_start"))
     assert started == sorted(calc)  # every calculated move ran, nothing else
-    last_end = max(_by_n(rig, "move_end").values())
+    last_end = max(rig.by_n("move_end").values())
     assert _states(rig)[-1] == (last_end, "stopped")
     assert rig.ok("PR") == str(6 - len(calc))
 
@@ -106,9 +102,9 @@ def test_a_aborts_now_decelerates_and_discards_queued_synchronous_writes(rig):
     rig.run_until_idle()
     assert _states(rig)[-1] == (k_a, "aborted")
     # 100 units/s at 0.25 counts/ms² stops in 0.4 ms: the next servo cycle.
-    assert _by_n(rig, "move_end")[1] == k_a + math.ceil(0.4e-3 / rig.period)
+    assert rig.by_n("move_end")[1] == k_a + math.ceil(0.4e-3 / rig.period)
     assert rig.events("mvar") == []
-    assert sorted(_by_n(rig, "move_start")) == [1]
+    assert sorted(rig.by_n("move_start")) == [1]
     x = rig.c.positions(1)["X"]
     assert 0 < x < 100
     assert rig.c.rotary(1)["used_words"] == 0  # calculated-but-unexecuted lines discarded
@@ -123,7 +119,7 @@ def test_r_after_abort_continues_with_the_uncalculated_lines(rig):
     rig.run_for(0.05)
     rig.ok("R")
     rig.run_until_idle()
-    assert sorted(_by_n(rig, "move_start")) == [1, 4, 5]
+    assert sorted(rig.by_n("move_start")) == [1, 4, 5]
     assert rig.c.positions(1)["X"] == 5.0
 
 
@@ -156,7 +152,7 @@ def test_s_runs_one_move_then_stops(rig):
     rig.c.load_lines(1, ["TM100 TA10 TS0 X1", "X2"])
     rig.ok("S")
     rig.run_until_idle()
-    assert sorted(_by_n(rig, "move_start")) == [1]
+    assert sorted(rig.by_n("move_start")) == [1]
     assert _states(rig)[-1][1] == "stopped"
 
 
@@ -169,7 +165,7 @@ def test_close_does_not_stop_execution(rig):
     rig.ok("R")
     rig.ok("CLOSE")
     rig.run_until_idle()
-    assert sorted(_by_n(rig, "move_end")) == [1, 2]
+    assert sorted(rig.by_n("move_end")) == [1, 2]
 
 
 def test_executed_lines_free_their_words(rig):

@@ -12,10 +12,6 @@ import math
 import pytest
 
 
-def _by_n(rig, type_):
-    return {f["n"]: k for k, _, f in rig.events(type_)}
-
-
 def _run(rig, lines, **kw):
     rig.rotary_setup()
     for cmd in kw.get("setup", ()):
@@ -31,7 +27,7 @@ def _cyc_at_or_after(rig, t):
 def test_tsrm_p463_pvt_segments_abut_and_take_exactly_the_sum_of_their_times(rig):
     _run(rig, ["ABS PVT100 X10:100", "X20:100", "PVT50 X25:0", "DWELL0"])
     rig.run_until_idle()
-    start, end = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    start, end = rig.by_n("move_start"), rig.by_n("move_end")
     t0 = start[1] * rig.period
     assert end[1] == start[2] == _cyc_at_or_after(rig, t0 + 0.1)
     assert end[2] == start[3] == _cyc_at_or_after(rig, t0 + 0.2)
@@ -81,7 +77,7 @@ def test_tum_p339_pvt_is_calculated_one_move_ahead(rig):
     """Each segment start asks for the next; planning at the next RTI calculates one."""
     _run(rig, ["ABS PVT20"] + [f"X{i}:10" for i in range(1, 11)])
     rig.run_for(0.1)
-    start, calc = _by_n(rig, "move_start"), _by_n(rig, "line_calculated")
+    start, calc = rig.by_n("move_start"), rig.by_n("line_calculated")
     r = int(rig.c.vars.I(8)) + 1
     for n in (4, 5, 6):  # line n holds a segment; line n+1 the next one
         assert calc[n + 1] == (start[n] // r + 1) * r
@@ -103,15 +99,15 @@ def test_pvt_5ms_segments_stream_with_i8_0_without_error(make_rig):
     _run(rig, ["ABS PVT5"] + [f"X{i}:200" for i in range(1, 40)], setup=["I8=0"])
     rig.run_until_idle()
     assert all("error" not in f for _, _, f in rig.events("program"))
-    assert len(_by_n(rig, "move_end")) == 39
+    assert len(rig.by_n("move_end")) == 39
 
 
 def test_spec_11_1_a_sequence_ending_with_velocity_stops_at_the_end_point(rig):
     """[INF] run-out after a segment with v1 != 0: the axes stop at its end point."""
     _run(rig, ["ABS PVT100 X10:100"])
     rig.run_until_idle()
-    end = _by_n(rig, "move_end")[1]
-    assert end == _cyc_at_or_after(rig, _by_n(rig, "move_start")[1] * rig.period + 0.1)
+    end = rig.by_n("move_end")[1]
+    assert end == _cyc_at_or_after(rig, rig.by_n("move_start")[1] * rig.period + 0.1)
     assert rig.c.positions(1) == {"X": pytest.approx(10.0)}
     assert [f["state"] for _, _, f in rig.events("program")] == ["running", "waiting"]
 
@@ -126,7 +122,7 @@ def test_tsrm_p286_cs_status_word2_mode_bits_pvt_110(rig):
 def test_tsrm_p429_feedrate_override_stretches_a_pvt_segment(rig):
     _run(rig, ["ABS PVT100 X10:0"], setup=["I5194=8388607", "%50"])
     rig.run_until_idle()
-    start, end = _by_n(rig, "move_start")[1], _by_n(rig, "move_end")[1]
+    start, end = rig.by_n("move_start")[1], rig.by_n("move_end")[1]
     assert end == _cyc_at_or_after(rig, start * rig.period + 0.2)
 
 
@@ -157,5 +153,5 @@ def test_a_pvt_time_expression_out_of_range_at_calculation_is_a_run_time_error(r
     rig.run_until_idle()
     progs = [f for _, _, f in rig.events("program")]
     assert progs[-1] == {"cs": 1, "state": "aborted", "error": "run_time_error"}
-    assert _by_n(rig, "move_start") == {}
+    assert rig.by_n("move_start") == {}
 

@@ -14,10 +14,6 @@ import pytest
 from motionsim.sim.pmac import PmacController
 
 
-def _by_n(rig, type_):
-    return {f["n"]: k for k, _, f in rig.events(type_)}
-
-
 def _run(rig, lines, setup=()):
     rig.rotary_setup()
     for cmd in setup:
@@ -40,7 +36,7 @@ def test_tum_p290_n_points_take_n_plus_2_segment_times_with_the_added_pieces(rig
     last line's the added end segment (2T), the others T; 6T from first motion to rest."""
     _run(rig, ["ABS SPLINE1 TM100 X10", "X20", "X40", "X40"])
     rig.run_until_idle()
-    start, end = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    start, end = rig.by_n("move_start"), rig.by_n("move_end")
     t0 = start[1] * rig.period
     assert end[1] == start[2] == _cyc(rig, t0 + 0.2)
     assert end[2] == start[3] == _cyc(rig, t0 + 0.3)
@@ -53,7 +49,7 @@ def test_tum_p290_n_points_take_n_plus_2_segment_times_with_the_added_pieces(rig
 def test_tum_p290_a_single_point_is_three_segment_times(rig):
     _run(rig, ["ABS SPLINE1 TM50 X10"])
     rig.run_until_idle()
-    start, end = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    start, end = rig.by_n("move_start"), rig.by_n("move_end")
     assert end[1] == _cyc(rig, start[1] * rig.period + 0.15)
     assert rig.c.positions(1)["X"] == pytest.approx(10.0)
 
@@ -141,7 +137,7 @@ def test_tum_p290_spline2_segment_times_change_without_a_stop(rig):
     is the [INF] weighted slope, not 0."""
     _run(rig, ["ABS SPLINE2 TM100 X10", "X20", "TM50 X30", "X30"])
     rig.run_until_idle()
-    start, end = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    start, end = rig.by_n("move_start"), rig.by_n("move_end")
     t0 = start[1] * rig.period
     assert end[1] == start[2] == _cyc(rig, t0 + 0.2)
     assert end[2] == start[3] == _cyc(rig, t0 + 0.3)
@@ -168,7 +164,7 @@ def test_pum_p183_spline1_time_change_stops_and_restarts_the_series(rig):
     (its end segment, 4T1 in all) and the rest starts from rest (3 points: 5T2)."""
     _run(rig, ["ABS SPLINE1 TM100 X10", "X20", "TM50 X30", "X40", "X50"])
     rig.run_until_idle()
-    start, end = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    start, end = rig.by_n("move_start"), rig.by_n("move_end")
     t0 = start[1] * rig.period
     assert end[2] == start[3] == _cyc(rig, t0 + 0.4)
     assert end[5] == _cyc(rig, t0 + 0.4 + 0.25)
@@ -196,14 +192,14 @@ def test_tum_p339_spline_reads_one_line_further_ahead_than_linear(make_rig):
         _run(rig, [f"ABS {mode} TM100 X1"] + [f"X{i}" for i in range(2, 10)])
         rig.run_for(0.01)
         ahead[mode] = int(rig.ok("PR"))
-        assert len(_by_n(rig, "line_calculated")) == 9 - ahead[mode]
+        assert len(rig.by_n("line_calculated")) == 9 - ahead[mode]
     assert ahead == {"LINEAR": 6, "SPLINE1": 5}
 
 
 def test_tum_p339_after_each_move_start_planning_keeps_two_moves_and_the_next_point(rig):
     _run(rig, ["ABS SPLINE1 TM20"] + [f"X{i}" for i in range(1, 16)])
     rig.run_for(0.15)
-    start, calc = _by_n(rig, "move_start"), _by_n(rig, "line_calculated")
+    start, calc = rig.by_n("move_start"), rig.by_n("line_calculated")
     r = int(rig.c.vars.I(8)) + 1
     for n in (5, 6, 7):  # move n executing: moves n+1, n+2 calculated, point n+3 read
         assert calc[n + 3] == (start[n] // r + 1) * r
@@ -291,7 +287,7 @@ def test_spline_is_no_longer_refused_as_not_simulated(rig):
 def test_a_linear_move_ends_the_series_at_rest_before_it_starts(rig):
     _run(rig, ["ABS SPLINE1 TM100 X10", "X20", "LINEAR TA10 TS0 TM100 X0"])
     rig.run_until_idle()
-    start, end = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    start, end = rig.by_n("move_start"), rig.by_n("move_end")
     t0 = start[1] * rig.period
     assert end[2] == _cyc(rig, t0 + 0.4)  # 2 points: (2 + 2)·T
     assert start[3] == end[2]
@@ -304,7 +300,7 @@ def test_tsrm_p429_a_dwell_ends_the_series_and_holds_at_the_last_point(rig):
     assert rig.c.coord_system(1).current.n == 3  # the dwell
     assert rig.c.positions(1)["X"] == pytest.approx(20.0)
     rig.run_until_idle()
-    start, end = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    start, end = rig.by_n("move_start"), rig.by_n("move_end")
     t0 = start[1] * rig.period
     assert end[2] == start[3] == _cyc(rig, t0 + 0.4)
     assert end[4] == _cyc(rig, start[4] * rig.period + 0.3)  # a new single-point series: 3T
@@ -315,14 +311,14 @@ def test_spec_11_2_ixx16_does_not_limit_a_spline(rig):
     (N + 2)·T although it needs far more."""
     _run(rig, ["ABS SPLINE1 TM100 X10", "X20"], setup=["&1 #1->1000X", "I116=0.01"])
     rig.run_until_idle()
-    start, end = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    start, end = rig.by_n("move_start"), rig.by_n("move_end")
     assert end[2] == _cyc(rig, start[1] * rig.period + 0.4)
 
 
 def test_a_synchronous_write_lands_at_the_start_of_its_lines_spline_move(rig):
     _run(rig, ["ABS SPLINE1 TM100 X10", "M1==1 X20", "X30"])
     rig.run_until_idle()
-    start = _by_n(rig, "move_start")
+    start = rig.by_n("move_start")
     writes = [k for k, _, f in rig.events("mvar") if f["sync"]]
     # TUM p250: at the first RTI (every I8+1 = 3 cycles) at or after that move's start
     assert writes == [-(-start[2] // 3) * 3]
@@ -331,7 +327,7 @@ def test_a_synchronous_write_lands_at_the_start_of_its_lines_spline_move(rig):
 def test_feedrate_override_stretches_the_spline(rig):
     _run(rig, ["ABS SPLINE1 TM100 X10", "X20"], setup=["I5194=8388607", "%50"])
     rig.run_until_idle()
-    start, end = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    start, end = rig.by_n("move_start"), rig.by_n("move_end")
     assert end[2] == _cyc(rig, start[1] * rig.period + 0.8)
 
 
@@ -340,7 +336,7 @@ def test_quit_during_a_series_runs_the_waiting_point_to_rest(rig):
     rig.run_for(0.05)
     rig.ok("Q")
     rig.run_until_idle()
-    end = _by_n(rig, "move_end")
+    end = rig.by_n("move_end")
     assert _states(rig)[-1] == "stopped"
     last = max(end)
     assert rig.c.positions(1)["X"] == pytest.approx(10.0 * last)
@@ -374,7 +370,7 @@ def test_tum_p339_spline_segments_shorter_than_the_rti_can_follow_abort_with_a_r
         _run(rig, ["ABS SPLINE1 TM0.5"] + [f"X{i}" for i in range(1, 40)], setup=[f"I8={i8}"])
         rig.run_until_idle()
         assert [f for _, _, f in rig.events("program")][-1] == last
-    assert len(_by_n(rig, "move_end")) == 39
+    assert len(rig.by_n("move_end")) == 39
 
 
 def test_tsrm_p381_a_fixed_programs_spline_series_ends_with_the_program(rig):
@@ -384,7 +380,7 @@ def test_tsrm_p381_a_fixed_programs_spline_series_ends_with_the_program(rig):
                 "&1 B5 R"):  # fmt: skip
         rig.ok(cmd)
     rig.run_until_idle()
-    start, end = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    start, end = rig.by_n("move_start"), rig.by_n("move_end")
     assert sorted(end) == [2, 3, 4]
     assert end[4] == _cyc(rig, start[2] * rig.period + 0.25)  # (3 + 2) x 50 ms
     assert _states(rig) == ["running", "stopped"]
@@ -398,7 +394,7 @@ def test_single_step_runs_one_spline_move_and_stops_at_its_boundary(rig):
     rig.c.load_lines(1, ["ABS SPLINE1 TM50", "X10", "X20", "X30"])
     rig.ok("S")
     rig.run_until_idle()
-    start, end = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    start, end = rig.by_n("move_start"), rig.by_n("move_end")
     assert sorted(end) == [2] and end[2] == _cyc(rig, start[2] * rig.period + 0.1)
     assert rig.c.positions(1)["X"] == pytest.approx((0 + 4 * 10 + 20) / 6)
     assert _states(rig) == ["running", "stopped"]

@@ -18,10 +18,6 @@ import pytest
 MAX_RATE = "8388607"
 
 
-def _by_n(rig, type_):
-    return {f["n"]: k for k, _, f in rig.events(type_)}
-
-
 def _cycle_at_or_after(rig, t: float) -> int:
     return math.ceil(t / rig.period - 1e-6)
 
@@ -51,7 +47,7 @@ def test_percent_zero_before_r_holds_the_calculated_move_and_percent_100_starts_
     assert [f["state"] for _, _, f in rig.events("program")] == ["running"]
     k = rig.cyc(rig.cmd("%100").t_done)
     rig.run_until_idle()
-    assert _by_n(rig, "move_start") == {1: k}
+    assert rig.by_n("move_start") == {1: k}
     assert rig.c.positions(1)["X"] == pytest.approx(10.0)
 
 
@@ -79,7 +75,7 @@ def test_a_long_percent_zero_freeze_delays_the_move_end_by_exactly_the_time_froz
         else:
             frozen = 0
         rig.run_until_idle()
-        return _by_n(rig, "move_end")[1] - frozen, rig.c.positions(1)
+        return rig.by_n("move_end")[1] - frozen, rig.c.positions(1)
 
     assert run(True) == run(False)
 
@@ -128,14 +124,14 @@ def test_a_percent_change_moves_the_hand_off_to_the_stretched_start_of_the_next_
     rig.c.load_lines(1, ["TM1000 TA100 TS0 X1000", "TA400 X2000", "TA100 X3000"])
     rig.ok("R")
     rig.run_for(0.05)
-    k0 = _by_n(rig, "move_start")[1]
+    k0 = rig.by_n("move_start")[1]
     t0 = k0 * rig.period
     rig.run_for(0.3)
     t_c = rig.cyc(rig.cmd("%50").t_done) * rig.period
     rig.run_until_idle()
     b_end = _stretched(t_c, t0 + 0.05 + 1.0, 2.0)  # the first move's programmed end point
     k2 = _cycle_at_or_after(rig, b_end - 0.4)  # the second move's TA 400 ms at 50 %: 800 ms
-    assert _by_n(rig, "move_start")[2] == _by_n(rig, "move_end")[1] == k2
+    assert rig.by_n("move_start")[2] == rig.by_n("move_end")[1] == k2
     assert rig.c.positions(1)["X"] == pytest.approx(3000.0)
 
 
@@ -149,7 +145,7 @@ def test_segmented_mode_percent_change_then_a_line_before_deceleration_still_ble
     rig.c.load_lines(1, ["TM500 TA100 TS0 X10"])
     rig.ok("R")
     rig.run_for(0.05)
-    t0 = _by_n(rig, "move_start")[1] * rig.period
+    t0 = rig.by_n("move_start")[1] * rig.period
     rig.run_for(0.15)
     t_c = rig.cyc(rig.cmd("%50").t_done) * rig.period
     rig.run_for(0.2)
@@ -157,7 +153,7 @@ def test_segmented_mode_percent_change_then_a_line_before_deceleration_still_ble
     rig.run_until_idle()
     b_end = _stretched(t_c, t0 + 0.05 + 0.5, 2.0)
     k2 = _cycle_at_or_after(rig, b_end - 0.1)  # Ta 100 ms at 50 %: 200 ms, half of it
-    assert _by_n(rig, "move_start")[2] == _by_n(rig, "move_end")[1] == k2
+    assert rig.by_n("move_start")[2] == rig.by_n("move_end")[1] == k2
     assert [f["state"] for _, _, f in rig.events("program")] == ["running", "waiting"]
 
 
@@ -169,13 +165,13 @@ def test_pvt_percent_change_mid_segment_the_next_segment_starts_at_the_stretched
     rig.c.load_lines(1, ["PVT500 X50:100", "X100:0"])
     rig.ok("R")
     rig.run_for(0.05)
-    t0 = _by_n(rig, "move_start")[1] * rig.period
+    t0 = rig.by_n("move_start")[1] * rig.period
     rig.run_for(0.35)
     t_c = rig.cyc(rig.cmd("%50").t_done) * rig.period
     rig.run_until_idle()
     k2 = _cycle_at_or_after(rig, _stretched(t_c, t0 + 0.5, 2.0))
-    assert _by_n(rig, "move_start")[2] == _by_n(rig, "move_end")[1] == k2
-    assert _by_n(rig, "move_end")[2] == _cycle_at_or_after(rig, k2 * rig.period + 1.0)
+    assert rig.by_n("move_start")[2] == rig.by_n("move_end")[1] == k2
+    assert rig.by_n("move_end")[2] == _cycle_at_or_after(rig, k2 * rig.period + 1.0)
     assert rig.c.positions(1)["X"] == pytest.approx(100.0)
 
 
@@ -188,9 +184,9 @@ def test_spline_percent_change_the_closing_move_waits_for_the_stretched_end(rig)
     rig.c.load_lines(1, ["SPLINE1 TM200 X10", "X20", "X30"])
     rig.ok("R")
     rig.run_until_idle(0.05)
-    while 2 not in _by_n(rig, "move_start"):
+    while 2 not in rig.by_n("move_start"):
         rig.run_for(rig.period)
-    starts = _by_n(rig, "move_start")
+    starts = rig.by_n("move_start")
     t1 = starts[1] * rig.period
     # the first move is the added lead-in segment and its own: 400 ms, the second 200 ms
     assert starts[2] == _cycle_at_or_after(rig, t1 + 0.4)
@@ -198,5 +194,5 @@ def test_spline_percent_change_the_closing_move_waits_for_the_stretched_end(rig)
     t_c = rig.cyc(rig.cmd("%50").t_done) * rig.period
     rig.run_until_idle()
     k3 = _cycle_at_or_after(rig, _stretched(t_c, t1 + 0.6, 2.0))
-    assert _by_n(rig, "move_start")[3] == _by_n(rig, "move_end")[2] == k3
+    assert rig.by_n("move_start")[3] == rig.by_n("move_end")[2] == k3
     assert rig.c.positions(1)["X"] == pytest.approx(30.0)

@@ -10,10 +10,6 @@ import math
 import pytest
 
 
-def _by_n(rig, type_):
-    return {f["n"]: k for k, _, f in rig.events(type_)}
-
-
 def _setup(rig, *cmds):
     """X = motor 1, Y = motor 2; Ixx17 raised so only the limit under test acts."""
     rig.rotary_setup()
@@ -30,7 +26,7 @@ def _cycles(rig, s):
 
 
 def _duration(rig, n=None):
-    start, end = _by_n(rig, "move_start"), _by_n(rig, "move_end")
+    start, end = rig.by_n("move_start"), rig.by_n("move_end")
     n = n if n is not None else min(start)
     return (end[n] - start[n]) * rig.period
 
@@ -45,7 +41,7 @@ def test_tsrm_p98_a_linear_move_over_ixx16_is_slowed_for_all_motors_same_path(ri
     pos = rig.c.positions(1)
     assert pos["Y"] == pytest.approx(pos["X"] / 10)  # same straight path
     rig.run_until_idle()
-    start, end = _by_n(rig, "move_start")[1], _by_n(rig, "move_end")[1]
+    start, end = rig.by_n("move_start")[1], rig.by_n("move_end")[1]
     assert end - start == _cycles(rig, 0.510)
 
 
@@ -124,8 +120,8 @@ def test_tum_p341_rapid_is_a_lookahead_break_ending_in_a_stop(rig):
     rig.c.load_lines(1, ["RAPID ABS X1", "LINEAR TA10 TS0 TM50 X2"])
     rig.ok("R")
     rig.run_until_idle()
-    start, end, calc = _by_n(rig, "move_start"), _by_n(rig, "move_end"), _by_n(rig,
-                                                                               "line_calculated")
+    start, end = rig.by_n("move_start"), rig.by_n("move_end")
+    calc = rig.by_n("line_calculated")
     r = int(rig.c.vars.I(8)) + 1
     assert calc[2] == (end[1] // r + 1) * r  # calculated at the RTI after the RAPID ends
     assert start[2] == calc[2]
