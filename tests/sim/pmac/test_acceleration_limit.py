@@ -117,6 +117,23 @@ def test_psrm_p74_ixx17_is_computed_at_100_percent_feed_override(rig):
     assert _span(rig, 1) == _cycles(rig, 2 * 2 * math.sqrt(1000 / 0.05) / 1000)
 
 
+def test_psrm_p74_the_corner_velocity_change_is_also_taken_at_100_percent(make_rig):
+    """PSRM p75's corner (above) at %50: the corner's velocity change is that of the program
+    at 100 %, so the blend ramp and every interval of the corner take exactly twice as long as
+    at %100, not the ramp of the halved real velocities."""
+    spans = []
+    for pct in (100, 50):
+        rig = make_rig()
+        _setup(rig, "I117=0.25", "I217=0.25", f"%{pct}", scale=10000)
+        rig.run_for(1.0)  # the % slew (Isx94) has reached its value
+        _run(rig, ["INC LINEAR F10 TA200 TS0", "X20 Y20", "X-20 Y20"])
+        start, end = rig.by_n("move_start"), rig.by_n("move_end")
+        spans.append((start[3] - start[2], end[3] - start[3]))
+    (corner100, last100), (corner50, last50) = spans
+    assert corner50 == pytest.approx(2 * corner100, abs=2)
+    assert last50 == pytest.approx(2 * last100, abs=2)
+
+
 def test_s_curve_ramp_peak_acceleration_is_dv_over_ta_minus_ts(rig):
     """``[INF]`` (Delta Tau forum: pure S-curve peak acceleration = V/TS): TA0 TS50 (Ta = 100
     ms) to 10 counts/ms peaks at 0.2 counts/ms²; Ixx17 = 0.1 stretches the ramp to 200 ms."""

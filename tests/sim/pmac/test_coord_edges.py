@@ -79,3 +79,35 @@ def test_word2_bit12_is_clear_during_a_pvt_move(rig):
     rig.run_for(0.3)
     assert rig.c.coord(1)["program"]["line"] == 2
     assert _word2_bits(rig) == {4, 1}
+
+
+def test_q_during_the_last_calculated_move_stops_the_program_at_that_moves_end(rig):
+    """TUM p319 ``Q``: calculation stops, the moves already calculated are finished, and only
+    then is the program stopped. ``Q`` half-way through the only move: the ``stopped`` program
+    event comes at the move's ``move_end`` cycle, and the move reaches its end point."""
+    _start(rig, ["TM1000 TA10 TS0 X10"])
+    rig.run_for(0.5)
+    q_time = rig.c.env.now
+    rig.ok("Q")
+    rig.run_until_idle()
+    stopped = [k for k, _, f in rig.events("program") if f["state"] == "stopped"]
+    assert stopped == [rig.by_n("move_end")[1]]
+    assert stopped[0] * rig.period > q_time + 0.4
+    assert rig.c.positions(1) == {"X": 10.0}
+
+
+def test_r_while_the_program_waits_for_lines_leaves_it_waiting(rig):
+    """An ``R`` to a rotary program that has run out of lines (still running, waiting for
+    the host, PUM p213) changes nothing: no ``program`` event, the state stays ``waiting``,
+    and the next line sent runs."""
+    _start(rig, ["TM100 TA10 TS0 X1"])
+    rig.run_until_idle()
+    assert rig.c.coord(1)["program"]["state"] == "waiting"
+    since = rig.c.log.last_seq
+    rig.ok("R")
+    rig.run_for(0.05)
+    assert rig.events("program", since=since) == []
+    assert rig.c.coord(1)["program"]["state"] == "waiting"
+    rig.c.load_lines(1, ["X2"])
+    rig.run_until_idle()
+    assert rig.c.positions(1) == {"X": 2.0}

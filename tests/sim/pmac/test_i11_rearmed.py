@@ -45,3 +45,25 @@ def test_a_line_arriving_while_waiting_starts_its_delay_with_planning_already_du
     starts = {f["n"]: k for k, _, f in rig.events("move_start")}
     assert starts[3] == 950 + 384
     assert "error" not in rig.c.coord(1)["program"]
+
+
+def test_an_i11_changed_while_waiting_is_the_delay_of_the_line_that_arrives_next(rig):
+    """As above, but ``I11=100`` is typed at cycle 940 while the program waits: X3, arriving
+    at cycle 950 with calculation already due, starts under the I11 now in force, 100 ms
+    (226 cycles) after it arrived — cycle 1176, not 1334."""
+    for command in ("I8=255", "I11=170"):
+        rig.ok(command)
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["TM200 TA10 TS0 X1"])
+    rig.ok("R")
+    rig.c.env.run(until=600 * rig.period)
+    rig.c.load_lines(1, ["TM20 X2"])
+    rig.c.env.run(until=940 * rig.period)
+    assert rig.c.coord(1)["program"] == {"state": "waiting"}
+    rig.ok("I11=100")
+    rig.c.env.run(until=950 * rig.period)
+    rig.c.load_lines(1, ["X3"])
+    rig.run_until_idle(3.0)
+    starts = {f["n"]: k for k, _, f in rig.events("move_start")}
+    assert starts[3] == 950 + 226
+    assert "error" not in rig.c.coord(1)["program"]

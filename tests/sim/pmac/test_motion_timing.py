@@ -188,3 +188,44 @@ def test_isx92_disables_blending_and_lookahead(make_rig):
         assert ends[n] - starts[n] == ceil_cycles(rig, 110)  # every move from rest to rest
     for n in (2, 3):
         assert calc[n] == starts[n] == next_rti(ends[n - 1])
+
+
+def test_a_delay_lasts_at_least_the_ta_set_on_its_own_line(make_rig):
+    """TUM p341: DELAY is a zero-distance move of the given time, and a move lasts at least
+    its acceleration time (spec §9.1). With ``TA200`` on the DELAY's own line, ``DELAY100``
+    runs exactly as ``DELAY200`` (both last the 200-ms ramp), and longer than ``DELAY50``
+    under the TA10 of the line before."""
+    spans = {}
+    for line in ("TA200 DELAY100", "TA200 DELAY200", "DELAY50"):
+        rig = make_rig()
+        _run(rig, ["TM100 TA10 TS0 X1", line, "X2"])
+        spans[line] = rig.by_n("move_end")[2] - rig.by_n("move_start")[2]
+    assert spans["TA200 DELAY100"] == spans["TA200 DELAY200"] > spans["DELAY50"]
+
+
+@pytest.mark.parametrize(
+    ("lines", "end"),
+    [
+        (["TM100 TA10 TS0 X1", "DELAY100", "X2"], 2.0),
+        (["TM100 TA10 TS0 SPLINE1 X1", "X2", "X3"], 3.0),
+    ],
+    ids=["delay", "spline1"],
+)
+def test_isx92_makes_a_delay_and_each_spline_point_a_break_too(make_rig, lines, end):
+    """TSRM p190: Isx92 = 1 stops lookahead at every move — a DELAY (a move, TUM p341) and each
+    SPLINE1 point ``[INF]`` included: each line after the first is calculated only once the
+    move before it has ended, at the next RTI."""
+    rig = make_rig(i5192=1)
+    _run(rig, lines)
+    calc, ends = rig.by_n("line_calculated"), rig.by_n("move_end")
+    for n in (2, 3):
+        assert calc[n] == next_rti(ends[n - 1])
+    assert rig.c.positions(1) == {"X": pytest.approx(end)}
+
+
+def test_program_expressions_are_evaluated_at_calculation(rig):
+    """TUM p244: a motion program's axis words and variable numbers may be expressions, taken
+    when the line is calculated: ``P(P1)=7`` writes P3 (P1 = 3), ``X(P1*2)`` moves to 6."""
+    _run(rig, ["P1=3", "P(P1)=7 TM100 TA10 TS0 X(P1*2)"])
+    assert rig.ok("P3") == "7"
+    assert rig.c.positions(1) == {"X": pytest.approx(6.0)}
