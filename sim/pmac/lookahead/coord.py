@@ -171,6 +171,7 @@ class CoordSystem(Planning, Execution, TimeBase):
         """Re-read the CS I-variables (Isx13, Isx87, Isx88) after any I-variable change."""
         v, cs = self.vars, self.cs
         self._ver = v.version
+        self._fast = 0  # the short cut is re-derived from these settings at the next line
         self._isx13 = v.I(isx(cs, 13))
         la, isx20 = self._lookahead, int(v.I(isx(cs, 20)))
         segs = min(isx20, la.segments) if la is not None else 0

@@ -111,3 +111,19 @@ def test_r_while_the_program_waits_for_lines_leaves_it_waiting(rig):
     rig.c.load_lines(1, ["X2"])
     rig.run_until_idle()
     assert rig.c.positions(1) == {"X": 2.0}
+
+
+def test_q_calculates_no_further_line_the_calculated_moves_run_out(rig):
+    """TUM p319 ``Q``: no further line is calculated after it, though move starts keep asking
+    for calculation at their RTIs. Q during move 1 of five (moves 2 and 3 already calculated,
+    two ahead, TUM p339): moves 1-3 run, the program stops at X3, lines 4 and 5 wait
+    uncalculated."""
+    _start(rig, ["TM100 TA10 TS0 X1", "X2", "X3", "X4", "X5"])
+    rig.run_for(0.05)
+    assert sorted(rig.by_n("line_calculated")) == [1, 2, 3]
+    rig.ok("Q")
+    rig.run_until_idle()
+    assert sorted(rig.by_n("line_calculated")) == [1, 2, 3]
+    assert sorted(rig.by_n("move_end")) == [1, 2, 3]
+    assert rig.c.coord(1)["program"]["state"] == "stopped"
+    assert rig.c.positions(1) == {"X": 3.0}
