@@ -142,9 +142,11 @@ def test_s_curve_ramp_peak_acceleration_is_dv_over_ta_minus_ts(rig):
     assert _span(rig, 1) == _cycles(rig, 1.200)
 
 
-def test_tsrm_p98_segmentation_mode_without_special_lookahead_does_not_use_ixx17(rig):
-    """Isx13 > 0 and no special lookahead: the factory Ixx17 (0.015625) is not applied."""
-    _setup(rig, "I5113=10")
+@pytest.mark.parametrize("isx13", [1, 10])
+def test_tsrm_p98_segmentation_mode_without_special_lookahead_does_not_use_ixx17(rig, isx13):
+    """Isx13 > 0 (1 ms segments too) and no special lookahead: the factory Ixx17 (0.015625)
+    is not applied."""
+    _setup(rig, f"I5113={isx13}")
     _run(rig, ["LINEAR ABS TA10 TS0 TM100 X10"])
     assert _span(rig, 1) == pytest.approx(rig.ms_cycles(110), abs=1)
 
@@ -162,3 +164,29 @@ def test_an_axis_without_a_motor_has_no_acceleration_limit(rig):
     rig.rotary_setup()
     _run(rig, ["LINEAR ABS TA10 TS0 TM100 X1000"])
     assert _span(rig, 1) == pytest.approx(rig.ms_cycles(110), abs=1)
+
+
+def test_a_move_from_rest_after_the_program_ran_out_has_no_corner(rig):
+    """Ixx17 at a corner applies between blended LINEAR moves; a move from rest starts from
+    zero velocity. X10 runs, the program runs out of lines (waiting), then X0 arrives: it
+    starts from rest, so its ramp is that of X10's from rest (same distance and time), not a
+    reversal from X10's velocity (Ixx17 = 0.05 stretches both ramps alike)."""
+    _setup(rig, "I117=0.05")
+    _run(rig, ["LINEAR ABS TA10 TS0 TM1000 X10"])
+    assert rig.c.coord(1)["program"]["state"] == "waiting"
+    rig.c.load_lines(1, ["X0"])
+    rig.run_until_idle()
+    assert _span(rig, 2) == _span(rig, 1) == _cycles(rig, 1.200)
+
+
+def test_a_motor_of_another_coordinate_system_does_not_limit_this_ones_axis(rig):
+    """Ixx16 / Ixx17 are limits of the motors assigned to an axis *in that coordinate
+    system* (TUM p201: each CS has its own axis definitions). Motor 1 is X of CS 1 with a low
+    Ixx17; a program of CS 2 moving its own X (no motor) is not slowed."""
+    rig.ok("&1 #1->1000X")
+    rig.ok("I117=0.0001")
+    rig.rotary_setup(cs=2)
+    rig.c.load_lines(2, ["LINEAR ABS TA10 TS0 TM100 X4"])
+    rig.ok("&2 R")
+    rig.run_until_idle()
+    assert _span(rig, 1) == _cycles(rig, 0.110)
