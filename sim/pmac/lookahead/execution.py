@@ -31,9 +31,9 @@ Modelled (TUM p339-341, p250; PUM p213; spec §9.1-9.3):
   1.33 ms) abort on the third move; with I8 = 0, or 5 ms moves, planning keeps up. A line
   that arrived *after* the last planning is a run-out, not an error.
 * **Q** stops calculating: the moves already calculated run, the last ends in a stop, then
-  the program is ``stopped``. **A** stops at once: every axis decelerates at the motor abort
-  rate Ixx15 (motor 1's, cts/ms², one count = one axis unit ``[INF]``), calculated moves and
-  queued synchronous writes are discarded (their lines freed); uncalculated lines stay.
+  the program is ``stopped``. **A** stops at once: each axis decelerates at its motor's abort
+  rate Ixx15, not on the path (abort_stop.py), calculated moves and queued synchronous
+  writes are discarded (their lines freed); uncalculated lines stay.
   **S** runs one move, then ``stopped``.
 """
 
@@ -44,6 +44,7 @@ from heapq import heappush
 from typing import Any
 
 from motionsim.sim.pmac.expressions import pmac_and, pmac_or, pmac_xor
+from motionsim.sim.pmac.lookahead import abort_stop
 from motionsim.sim.pmac.lookahead.states import ABORTED, RUNNING, STOPPED
 from motionsim.sim.pmac.lookahead.sync_queue import segment_start
 from motionsim.sim.pmac.modes import BLENDS, DELAY, DWELL, LINEAR, PROFILES, SPLINE, Move
@@ -354,14 +355,22 @@ class Execution:
             return
         pos = self.positions(now)
         vel = self._velocities(m, now) if self.feed_override > 0 else {}
-        rate = self.vars.I(ixx(1, 15)) * 1e6  # cts/ms² -> units/s²
-        vmax = max((abs(v) for v in vel.values()), default=0.0)
-        t_stop = vmax / rate if rate > 0 else 0.0
-        stop = {a: pos[a] + vel.get(a, 0.0) * t_stop / 2 for a in pos}
-        self._abort = (now, t_stop, pos, vel)
+        self._abort = ramp = abort_stop.plan(now, pos, vel, self._abort_rate)
+        stop = ramp.end()
         self.calc_vel = {}
         self.calc_pos = dict(stop)
-        self._after(self.sched.servo_at_or_after(now + t_stop), lambda _e: self._abort_end(stop))
+        self._after(
+            self.sched.servo_at_or_after(now + ramp.t_stop), lambda _e: self._abort_end(stop)
+        )
+
+    def _abort_rate(self, axis: str) -> float:
+        """The abort deceleration of ``axis`` in units/s²: Ixx15 (cts/ms²) of its motors in
+        this CS over their counts per unit, the lowest; motor 1's at 1 count/unit without a
+        motor ``[INF]`` (abort_stop.py)."""
+        rates = [
+            self.vars.I(ixx(n, 15)) * 1e6 / abs(scale) for n, scale in self.motors_of(axis) if scale
+        ]
+        return min(rates) if rates else self.vars.I(ixx(1, 15)) * 1e6
 
     def _abort_end(self, stop: dict[str, float]) -> None:
         m = self.current
@@ -425,11 +434,7 @@ class Execution:
         if m is None:
             return dict(self.rest_pos)
         if self._abort is not None:
-            t0, t_stop, pos, vel = self._abort
-            tau = min(max(t - t0, 0.0), t_stop)
-            if t_stop <= 0:
-                return dict(pos)
-            return {a: pos[a] + vel.get(a, 0.0) * (tau - tau * tau / (2 * t_stop)) for a in pos}
+            return self._abort.positions(t)
         return PROFILES[m.kind].positions(m, t)
 
 

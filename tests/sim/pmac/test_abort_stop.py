@@ -1,0 +1,72 @@
+"""``A``: each motor decelerates to a stop at its own abort rate Ixx15, not along the
+programmed path (TUM p319; PSRM p73 Ixx15 in counts/ms²). Times in servo cycles."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+
+def _abort_during(rig, lines, after_s):
+    rig.rotary_setup()
+    rig.c.load_lines(1, lines)
+    rig.ok("R")
+    rig.run_for(after_s)
+    cs = rig.c.coord_system(1)
+    vel = cs._velocities(cs.current, rig.c.now)
+    reply = rig.cmd("A")
+    return rig.c.now, rig.c.positions(1), vel, rig.cyc(reply.t_done)
+
+
+def test_each_axis_stops_at_its_own_rate_so_the_slow_axis_stops_first(rig):
+    """No motors: every axis at motor 1's Ixx15, one count per unit ``[INF]``. I115 = 0.001
+    counts/ms² = 1000 units/s². X at 100 units/s stops after 100 ms and 5 units, Y at
+    10 units/s after 10 ms and 0.05 units: 20 ms after ``A`` Y is at rest, X still moving."""
+    rig.ok("I115=0.001")
+    t_a, pos, vel, k_a = _abort_during(rig, ["TM1000 TA10 TS0 X100 Y10"], 0.5)
+    assert vel == {"X": pytest.approx(100.0), "Y": pytest.approx(10.0)}
+    rig.run_for(0.02)
+    mid = rig.c.positions(1)
+    assert mid["Y"] == pytest.approx(pos["Y"] + 0.05)
+    assert mid["X"] < pos["X"] + 5 - 1e-3
+    assert mid["X"] - pos["X"] != pytest.approx(10 * (mid["Y"] - pos["Y"]))  # off the path
+    rig.run_until_idle()
+    assert rig.by_n("move_end")[1] == math.ceil((t_a + 0.1) / rig.period - 1e-6)
+    assert rig.c.positions(1) == {
+        "X": pytest.approx(pos["X"] + 5.0), "Y": pytest.approx(pos["Y"] + 0.05)
+    }
+
+
+def test_an_axis_decelerates_at_its_own_motors_ixx15_over_its_counts_per_unit(rig):
+    """``#1->1000X`` with I115 = 0.1 counts/ms² decelerates X at 100 units/s²; ``#2->100Y``
+    with I215 = 0.1 at 1000 units/s². X at 10 units/s stops after 100 ms (0.5 units), Y at
+    10 units/s after 10 ms (0.05 units)."""
+    for cmd in ("&1 #1->1000X", "&1 #2->100Y", "I115=0.1", "I215=0.1", "I116=1000",
+                "I216=1000", "I117=1000", "I217=1000"):
+        rig.ok(cmd)
+    t_a, pos, vel, _ = _abort_during(rig, ["TM1000 TA10 TS0 X10 Y10"], 0.5)
+    assert vel == {"X": pytest.approx(10.0), "Y": pytest.approx(10.0)}
+    rig.run_for(0.02)
+    assert rig.c.positions(1)["Y"] == pytest.approx(pos["Y"] + 0.05)
+    rig.run_until_idle()
+    assert rig.by_n("move_end")[1] == math.ceil((t_a + 0.1) / rig.period - 1e-6)
+    assert rig.c.positions(1) == {
+        "X": pytest.approx(pos["X"] + 0.5), "Y": pytest.approx(pos["Y"] + 0.05)
+    }
+
+
+def test_r_after_the_abort_stop_starts_from_where_the_axes_came_to_rest(rig):
+    """A line sent after the abort runs from the stop point: its move starts where X and Y
+    each came to rest, and ends at its programmed point."""
+    rig.ok("I115=0.001")
+    _, pos, _, _ = _abort_during(rig, ["TM1000 TA10 TS0 X100 Y10"], 0.5)
+    rig.run_until_idle()
+    rest = rig.c.positions(1)
+    assert rest == {"X": pytest.approx(pos["X"] + 5.0), "Y": pytest.approx(pos["Y"] + 0.05)}
+    rig.c.load_lines(1, ["X0 Y0"])
+    rig.ok("R")
+    rig.run_for(0.005)
+    assert rig.c.coord_system(1).current.start == rest
+    rig.run_until_idle()
+    assert rig.c.positions(1) == {"X": pytest.approx(0.0), "Y": pytest.approx(0.0)}
