@@ -128,3 +128,41 @@ def test_v_on_the_line_of_percent_zero_reports_the_velocity_of_the_last_servo_cy
     after = rig.cmd("#1V")
     assert rig.cyc(after.t_done) > rig.cyc(v.t_done)
     assert float(after.reply) == 0.0
+
+
+@pytest.mark.parametrize("pct", [0, 1])
+def test_a_dwell_ends_on_time_under_any_feed_override_and_the_next_move_waits_only_at_0(
+    rig, pct
+):
+    """TSRM p191: DWELL does not use the time base, moves do. ``%{pct}`` typed during a
+    2-s DWELL: the DWELL still ends 2 s after it began. At ``%1`` the next move starts then
+    (slowly), calculated at the first RTI after the DWELL break (every 3rd cycle); at ``%0``
+    the time base is frozen and it starts only when ``%100`` is typed."""
+    _start(rig, ["TM100 TA10 TS0 X1", "DWELL2000", "X2"])
+    rig.run_for(0.3)
+    rig.ok(f"%{pct}")
+    rig.run_for(2.5)
+    dwell_end = rig.by_n("move_end")[2]
+    assert dwell_end - rig.by_n("move_start")[2] == _cycles(rig, 2000)
+    starts = rig.by_n("move_start")
+    if pct:
+        assert starts[3] == (dwell_end // 3 + 1) * 3
+        return
+    assert 3 not in starts
+    rig.ok("%100")
+    k_raise = rig.cyc(rig.c.now)
+    rig.run_until_idle()
+    assert rig.by_n("move_start")[3] >= k_raise
+    assert rig.c.positions(1) == {"X": pytest.approx(2.0)}
+
+
+def test_at_1_percent_a_move_ending_in_a_stop_goes_on_to_the_calculated_dwell(rig):
+    """``%1`` stretches the time base 100-fold (TSRM p191) but does not stop it: the move
+    before a DWELL still comes to its stop, and the DWELL calculated with it (a break is
+    calculated itself, TUM p341) starts then, at that move's end cycle, ~190 s later."""
+    _start(rig, ["TM2000 TA10 TS0 X1", "DWELL10", "X2"])
+    rig.run_for(0.05)
+    rig.ok("%1")  # reached after the Isx94 slew, long before the move's end
+    rig.run_until_idle(400.0)
+    assert rig.by_n("move_start")[2] == rig.by_n("move_end")[1]
+    assert rig.c.positions(1) == {"X": pytest.approx(2.0)}
