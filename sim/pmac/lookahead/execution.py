@@ -13,7 +13,11 @@ Modelled (TUM p339-341, p250; PUM p213; spec §9.1-9.3):
   (and no calculation deadline missed, below) ends in a stop ``[INF]`` (without segmentation
   the blend must be known when the move starts); with Isx13 > 0 (segmentation mode) a move
   calculated before the current move's deceleration to a stop begins is blended in (seed 000
-  "blend into the new move without stopping"), otherwise it starts from rest.
+  "blend into the new move without stopping"), otherwise it starts from rest. The blend
+  ramp (clipped to ``2·(TM − Ta/2)``) is centred on the programmed point, so a next move
+  calculated in time with a ramp longer than the current move's deceleration is decided
+  at the start of that ramp; one calculated after that instant has its ramp shortened to
+  start at once ``[INF]``: the commanded path never jumps.
 * **The calculation deadline** (TUM p339: "If the program fails to keep ahead, and the time
   for the next move comes without the proper data in place for the trajectory generators,
   Turbo PMAC will abort the program and bring all motors in the coordinate system to a
@@ -183,16 +187,42 @@ class Execution:
     def _decision_at(self, m: Move) -> float:
         """Segmentation mode: where ``m``'s blend or stop is decided, the start of its
         deceleration, Ta/2 before its end -- earlier when the stop Ixx17 allows is longer
-        (the special lookahead plans the deceleration ahead, TSRM p98, p181)."""
-        ta = m.ta
-        if m.ta_stop:
-            ta = max(ta, m.ta_stop * self._scale)
+        (the special lookahead plans the deceleration ahead, TSRM p98, p181), and earlier
+        when the next move is already calculated with a longer (clipped) blend ramp, which
+        is centred on the programmed point too (spec §9.1) ``[INF]``."""
+        ta = self._stop_ta(m)
+        planned = self.planned
+        if planned and not self.single_step and BLENDS[m.kind][planned[0].kind]:
+            ta = max(ta, min(planned[0].ta, 2 * (m.tm - m.ta_in / 2)))
         return m.b_end - ta / 2
+
+    def _stop_ta(self, m: Move) -> float:
+        """``m``'s own deceleration ramp: its TA, or the longer stop Ixx17 allows."""
+        return max(m.ta, m.ta_stop * self._scale) if m.ta_stop else m.ta
+
+    def _successor_planned(self) -> None:
+        """Segmentation mode: the move after the executing one has just been calculated. If
+        its blend ramp begins before the decision point set at the move's start, the
+        decision moves to the start of that ramp."""
+        m = self.current
+        if (
+            m is None or self._decided is m or m.stopping or PROFILES[m.kind].breaks
+            or self.feed_override == 0
+        ):
+            return
+        sched = self.sched
+        t = sched.servo_at_or_after(self._decision_at(m))
+        if t < sched.servo_at_or_after(m.b_end - self._stop_ta(m) / 2):
+            self._after(t, self._decide_cb)
 
     def _blend_into(self, m: Move, nxt: Move) -> None:
         """``m`` blends into ``nxt``: ``nxt``'s ramp is clipped to ``2·(TM − Ta/2)`` of ``m``
-        (spec §9.1) and the hand-off is at the start of that ramp, on a servo cycle."""
-        lim = 2 * (m.tm - m.ta_in / 2)
+        (spec §9.1) and the hand-off is at the start of that ramp, on a servo cycle. A ramp
+        cannot begin before the blend is decided (segmentation mode decides at ``m``'s
+        deceleration point) -- more than the servo cycle its hand-off is rounded to: a
+        longer one (its move calculated late) is shortened to the time left to ``m``'s
+        programmed end, so the blend starts now ``[INF]``."""
+        lim = min(2 * (m.tm - m.ta_in / 2), 2 * (m.b_end - self._env._now + self._period))
         ta_n = nxt.ta if nxt.ta <= lim else max(0.0, lim)
         nxt.ta_in = ta_n
         self._after(self.sched.servo_at_or_after(m.b_end - ta_n / 2), self._handoff_cb)

@@ -204,6 +204,8 @@ class Planning:
                         return
                     self._fast = self._fast_kind()
                     rot.line_calculated(n)
+            if planned and self.current is not None and self._isx13 > 0:
+                self._successor_planned()  # (a longer blend ramp is decided earlier)
         if self.current is None and not planned and self.spline is not None:
             self._spline_close()  # from rest with no next point: the series is this much
         if self.current is None and not self._starting and self.feed_override > 0:

@@ -47,6 +47,18 @@ def test_segmentation_mode_clips_the_next_ta_to_twice_tm_less_half_ta_at_the_ble
     assert rig.c.positions(1, t_corner)["X"] == pytest.approx(10.0 - 50 * 0.180 / 8)
 
 
+def test_segmentation_mode_a_next_move_streamed_during_the_first_still_blends_centred(make_rig):
+    """As above, but ``TM200 TA190 X20`` is sent 5 ms into the first move (calculated at the
+    next RTI, before its 180-ms ramp must begin): the blend is the same, centred on X10."""
+    rig = make_rig(i5113=10)
+    _start(rig, ["TM100 TA20 TS0 X10"])
+    rig.run_for(0.005)
+    rig.c.load_lines(1, ["TM200 TA190 X20"])
+    t_corner = rig.by_n("move_start")[1] * rig.period + 0.010 + 0.100  # Ta/2 + TM
+    rig.c.env.run(until=t_corner + 0.001)
+    assert rig.c.positions(1, t_corner)["X"] == pytest.approx(10.0 - 50 * 0.180 / 8)
+
+
 def test_segmentation_mode_a_shorter_next_ta_starts_its_blend_half_that_ta_before_the_point(
     make_rig,
 ):
@@ -166,3 +178,28 @@ def test_at_1_percent_a_move_ending_in_a_stop_goes_on_to_the_calculated_dwell(ri
     rig.run_until_idle(400.0)
     assert rig.by_n("move_start")[2] == rig.by_n("move_end")[1]
     assert rig.c.positions(1) == {"X": pytest.approx(2.0)}
+
+
+@pytest.mark.parametrize("late_s", [None, 0.05])
+def test_segmentation_mode_a_longer_next_ta_never_sends_the_axis_back(make_rig, late_s):
+    """Isx13 = 10: the blend of ``TM100 TA20 X10`` into ``TM200 TA190 X20`` is clipped to
+    180 ms (above) and centred on X10, so it begins 80 ms before the first move's own
+    deceleration point: calculated one move ahead, the blend is decided there. Streamed
+    50 ms into the first move, after that instant, the ramp starts at once, shortened to the
+    time left ``[INF]``. Either way the commanded path is continuous — X never moves
+    backwards, never faster than the 100 units/s of the first move — and ends at 20."""
+    rig = make_rig(i5113=10)
+    lines = ["TM100 TA20 TS0 X10", "TM200 TA190 X20"]
+    _start(rig, lines if late_s is None else lines[:1])
+    if late_s is not None:
+        rig.run_for(late_s)
+        rig.c.load_lines(1, lines[1:])
+    xs = []
+    for _ in range(1400):  # every servo cycle for 0.62 s
+        rig.c.env.run(until=rig.c.env.now + rig.period)
+        xs.append(rig.c.positions(1).get("X", 0.0))
+    steps = [b - a for a, b in zip(xs, xs[1:], strict=False)]
+    assert min(steps) >= 0
+    assert max(steps) <= 100 * rig.period * (1 + 1e-6)
+    assert rig.by_n("move_start")[2] == rig.by_n("move_end")[1]
+    assert xs[-1] == pytest.approx(20.0)
