@@ -18,12 +18,13 @@ reads it):
 
 A DB whose module source is unchanged is resumed; ``--survivors`` re-tests only the survivors
 (after new tests), ``--retest-with`` only with the given new test files, ``--timeouts`` the
-mutants killed by their limit, ``--sample N`` a seeded sample of the pending ones, ``--fresh``
-starts over. Each module's results are also written to ``tools/mutation-results/<module>.json``
-(committed: a fresh clone's ``--tally`` reports them; a run on an unchanged source resumes from
-them, and one on an edited source carries over the results of mutants whose function's code
-is unchanged). Prints killed / survived per module and lists the survivors. A report, never a
-failure: the exit code is 0 unless the tooling itself failed.
+mutants killed by their limit (under 3x it), ``--sample N`` a seeded sample of the pending
+ones, ``--fresh`` starts over. Each module's results are also written to
+``tools/mutation-results/<module>.json`` (committed: a fresh clone's ``--tally`` reports them;
+a run on an unchanged source resumes from them, and one on an edited source carries over the
+results of mutants whose function's code is unchanged). Prints killed / survived per module and
+lists the survivors. A report, never a failure: the exit code is 0 unless the tooling itself
+failed.
 
     python tools/mutate.py                      # every module
     python tools/mutate.py sim/pmac/rotary.py   # one
@@ -60,6 +61,7 @@ from mutation_patch import changed_functions  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIG = ROOT / "tools" / "mutation.toml"
+TIMEOUT_RETEST = 3.0  # --timeouts: a timed-out mutant's limit, times its first one
 EQUIVALENTS = ROOT / "tools" / "mutation-equivalent"  # one <module stem>.toml a module
 RESULTS = ROOT / "tools" / "mutation-results"  # one <module stem>.json a module, committed
 WORK = ROOT / ".mutation"
@@ -307,9 +309,12 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
         if args.survivors:
             todo += [item for item, result in work_db.completed_work_items
                      if result.test_outcome == TestOutcome.SURVIVED]
+        timed_out: set[str] = set()  # re-tested under TIMEOUT_RETEST times their limit
         if args.timeouts:
-            todo += [item for item, result in work_db.completed_work_items
+            again = [item for item, result in work_db.completed_work_items
                      if result.test_outcome == TestOutcome.KILLED and result.output == "timeout"]
+            timed_out = {item.job_id for item in again}
+            todo += again
         if args.sample is not None and len(todo) > args.sample:
             # A seeded uniform sample: the rate of its mutants estimates the module's; a
             # later run (without --sample) tests the rest.
@@ -355,6 +360,8 @@ def run_module(module: str, tests: list[str], config: dict, args) -> Tally:
             order = by_speed if chosen is None else [t for t in by_speed if t in chosen]
             order = _killers_first(order, killers)
             limit = _limit(durations, order, overhead, args.timeout)
+            if item.job_id in timed_out:
+                limit *= TIMEOUT_RETEST
             patch = None if chosen is None else changed_functions(source, mutated, str(target))
             verdict = None
             if patch is not None:
@@ -585,7 +592,7 @@ def main() -> int:
     parser.add_argument("--retest-with", nargs="+", metavar="TESTFILE",
                         help="re-test the survivors with only these test files (new tests)")
     parser.add_argument("--timeouts", action="store_true",
-                        help="re-test mutants killed by their time limit (under a longer one)")
+                        help="re-test mutants killed by their time limit (under 3x that limit)")
     parser.add_argument("--report", type=Path, help="also write the report to this file")
     parser.add_argument("--tally", action="store_true",
                         help="run nothing: report the results already in the work DBs")

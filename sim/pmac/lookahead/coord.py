@@ -24,6 +24,7 @@ from motionsim.sim.pmac.variables import isx
 
 if TYPE_CHECKING:
     from motionsim.sim.pmac.controller import PmacController
+    from motionsim.sim.pmac.lookahead.abort_stop import AbortStop
     from motionsim.sim.pmac.lookahead_buffer import LookaheadBuffer
     from motionsim.sim.pmac.programs import ProgramRun
     from motionsim.sim.pmac.rotary import RotaryBuffer
@@ -77,7 +78,7 @@ class CoordSystem(Planning, Execution, TimeBase):
         self._handoff_cb = self._start_next  # the blend into the next move starts
         self._stop_end_cb = self._stop_end
         self._decide_cb = self._decide
-        self._abort: tuple[float, float, dict[str, float], dict[str, float]] | None = None
+        self._abort: AbortStop | None = None  # the A deceleration under way
         # Modal program state.
         self.mode = "LINEAR"
         self.time_mode = False
