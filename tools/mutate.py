@@ -503,10 +503,13 @@ def tally_rows(module: str, rows: list[dict], total: int, stale: bool, spent: di
             tally.killed += 1
             tally.timeouts += output == "timeout"
         elif r["test"] == "survived":
-            changed = [d for d in (r["diff"] or "").splitlines()
-                       if d.startswith("+") and not d.startswith("+++")]
+            diff = (r["diff"] or "").splitlines()
+            changed = [d for d in diff if d.startswith("+") and not d.startswith("+++")]
+            # the line as it was when the mutant ran (the file may have moved on since)
+            was = [d[1:] for d in diff if d.startswith("-") and not d.startswith("---")]
             line_no = r["line"]
-            source = source_lines[line_no - 1] if line_no <= len(source_lines) else ""
+            source = was[0] if was else (
+                source_lines[line_no - 1] if line_no <= len(source_lines) else "")
             if changed and _listed(equivalent, r["operator"], source, changed[0][1:], line_no):
                 tally.equivalent += 1
                 continue

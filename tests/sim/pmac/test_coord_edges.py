@@ -127,3 +127,11 @@ def test_q_calculates_no_further_line_the_calculated_moves_run_out(rig):
     assert sorted(rig.by_n("move_end")) == [1, 2, 3]
     assert rig.c.coord(1)["program"]["state"] == "stopped"
     assert rig.c.positions(1) == {"X": 3.0}
+
+
+def test_word2_bit12_is_clear_during_a_linear_move(rig):
+    """PSRM p195: bit 12 is the DWELL bit only; during a LINEAR move word 2 has no bit set
+    (mode 000, moving)."""
+    _start(rig, ["TM500 TA10 TS0 X5"])
+    rig.run_for(0.2)
+    assert _word2_bits(rig) == set()

@@ -159,6 +159,8 @@ def test_a_dwell_ends_on_time_under_any_feed_override_and_the_next_move_waits_on
     starts = rig.by_n("move_start")
     if pct:
         assert starts[3] == (dwell_end // 3 + 1) * 3
+        rig.run_until_idle(30.0)  # X2, calculated at %1, takes 100 x (100 + 10) ms
+        assert rig.by_n("move_end")[3] - starts[3] == _cycles(rig, 100 * 110)
         return
     assert 3 not in starts
     rig.ok("%100")

@@ -58,11 +58,16 @@ def test_1ms_moves_with_i8_2_abort_with_a_run_time_error_when_the_data_is_missin
 
 
 def test_run_time_error_sets_cs_status_word_2_bit_22_and_the_next_r_clears_it(rig):
-    """TSRM p286 / PSRM ``??``: word 2 bit 22 "run-time error"; ``R`` starts afresh."""
+    """TSRM p286 / PSRM ``??``: word 2 bit 22 "run-time error"; ``R`` starts afresh. At rest
+    after the error in LINEAR mode (mode bits 000), word 2 is bit 22, the at-rest bit 17 and
+    bit 16 (the rotary buffer is full: its uncalculated lines stay) and nothing else; word 3
+    is 0."""
     _start(rig, [HEADER] + [f"X{i}" for i in range(1, 30)])
     rig.run_until_idle()
-    word2 = int(rig.ok("??")[6:12], 16)
-    assert word2 & (1 << 22)
+    status = rig.ok("??")
+    assert rig.c.rotary(1)["full"]
+    assert int(status[6:12], 16) == 1 << 22 | 1 << 17 | 1 << 16
+    assert status[12:18] == "000000"
     rig.ok("I8=0")  # plan every servo cycle: now planning keeps up
     rig.ok("R")
     assert not int(rig.ok("??")[6:12], 16) & (1 << 22)

@@ -163,14 +163,16 @@ def test_incremental_mode(rig):
     assert rig.c.positions(1)["X"] == pytest.approx(10.0)
 
 
-def test_i11_delays_the_start_after_calculation(make_rig):
+@pytest.mark.parametrize("i11", [10, 2000])
+def test_i11_delays_the_start_after_calculation(make_rig, i11):
     """PSRM I11: "the delay from when the run signal is taken ... and when the first programmed
-    move starts"; the moves are calculated (at the first RTI) before that."""
-    rig = make_rig(i11=10)
+    move starts" (ms); the moves are calculated (at the first RTI) before that. 2000 ms is
+    4518 servo cycles to the cycle."""
+    rig = make_rig(i11=i11)
     _run(rig, ["TM100 TA10 TS0 X1", "X2"])
     calc, starts = rig.by_n("line_calculated"), rig.by_n("move_start")
     (k_r, _, _), *_ = rig.events("program")  # R taken: running
-    assert calc[1] == next_rti(k_r) < starts[1] == k_r + ceil_cycles(rig, 10)
+    assert calc[1] == next_rti(k_r) < starts[1] == k_r + ceil_cycles(rig, i11)
 
 
 def test_isx92_disables_blending_and_lookahead(make_rig):

@@ -158,14 +158,14 @@ def test_a_pvt_time_expression_out_of_range_at_calculation_is_a_run_time_error(r
 
 
 @pytest.mark.parametrize("isx89", ["5000", "0"])
-@pytest.mark.parametrize("lines", [["X20:0"], ["P1=1", "X20:0"]])
+@pytest.mark.parametrize("lines", [["X20:0"], ["X20"], ["P1=1", "X20:0"]])
 def test_a_segment_time_made_out_of_range_on_line_is_a_run_time_error_at_the_next_segment(
     rig, isx89, lines
 ):
     """The PVT segment time is Isx89 (TSRM p463, up to 4095.9998 ms): set out of range on-line
     while the program waits for lines, the next streamed segment cannot be calculated — a
     run-time error, as the same value programmed (above) — not a segment of no time. Also
-    after a line without a move (``P1=1``)."""
+    for a segment without a velocity word, and after a line without a move (``P1=1``)."""
     _run(rig, ["ABS PVT100 X10:0"])
     rig.run_until_idle()
     assert rig.c.coord(1)["program"]["state"] == "waiting"
