@@ -105,3 +105,33 @@ def test_at_0_percent_the_abort_stops_where_the_frozen_axes_stand(rig):
     rig.run_until_idle()
     assert rig.by_n("move_end")[1] == rig.cyc(reply.t_done)
     assert rig.c.positions(1)["X"] == x
+
+
+def test_a_during_the_i11_delay_discards_the_calculated_lines_and_frees_their_words(rig):
+    """``A`` with nothing moving yet (I11 = 500: lines 1-3 calculated at the first RTI, the
+    first move due 500 ms after ``R``): the calculated moves are discarded with their words
+    (TUM p319), the uncalculated lines stay; no move starts."""
+    rig.ok("I11=500")
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["TM100 TA10 TS0 X1", "X2", "X3", "X4", "X5"])
+    assert rig.c.rotary(1)["used_words"] == 8  # 4 words in line 1, one in each other
+    rig.ok("R")
+    rig.run_for(0.1)
+    assert sorted(rig.by_n("line_calculated")) == [1, 2, 3]
+    rig.ok("A")
+    rig.run_for(1.0)
+    assert rig.by_n("move_start") == {}
+    assert rig.c.rotary(1)["used_words"] == 2  # X4, X5
+    assert rig.c.coord(1)["program"]["state"] == "aborted"
+
+
+def test_a_during_the_i11_delay_of_a_fixed_program_stops_it(rig):
+    """The same with a fixed motion program (``B1``, no rotary buffer): aborted, no move."""
+    for cmd in ("I11=500", "OPEN PROG 1", "CLEAR", "TM100 TA10 TS0 X1", "X2", "CLOSE",
+                "&1 B1", "R"):
+        rig.ok(cmd)
+    rig.run_for(0.1)
+    rig.ok("A")
+    rig.run_for(1.0)
+    assert rig.by_n("move_start") == {}
+    assert rig.c.coord(1)["program"]["state"] == "aborted"

@@ -100,3 +100,23 @@ def test_an_unknown_control_character_answers_err003_changes_nothing_and_the_por
     assert rig.c.log.events()[n:] == []
     assert rig.ok("#1?") == rig.ok("#2?")
     assert rig.ok("I10") == "3713707"
+
+
+@pytest.mark.parametrize("start", ["R", "S"])
+def test_after_ctrl_k_the_cs_is_at_rest_and_r_runs_the_next_lines(rig, start):
+    """After CTRL-K (TUM p319) nothing of the killed run is left: ``??`` word 1 shows no
+    running / single-step / continuous-motion bits (only the TM-mode bit 3), and, with the
+    motors re-enabled (``J/``), an ``R`` calculates and runs new lines, including one in the
+    I11 delay before the first move (I11 = 50)."""
+    rig.ok("I11=50")
+    rig.rotary_setup()
+    rig.c.load_lines(1, ["TM1000 TA10 TS0 X1", "X2", "X3"])
+    rig.ok(start)
+    rig.run_for(0.3)
+    rig.ok("\x0b")
+    assert int(rig.ok("??")[:6], 16) == 1 << 3
+    rig.ok("#1J/")
+    rig.c.load_lines(1, ["TM100 X5"])
+    rig.ok("R")
+    rig.run_until_idle()
+    assert rig.c.positions(1)["X"] == pytest.approx(5.0)

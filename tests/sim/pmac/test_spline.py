@@ -46,11 +46,12 @@ def test_tum_p290_n_points_take_n_plus_2_segment_times_with_the_added_pieces(rig
     assert rig.c.positions(1) == {"X": pytest.approx(40.0)}
 
 
-def test_tum_p290_a_single_point_is_three_segment_times(rig):
-    _run(rig, ["ABS SPLINE1 TM50 X10"])
+@pytest.mark.parametrize("tm", [50, 1000])
+def test_tum_p290_a_single_point_is_three_segment_times(rig, tm):
+    _run(rig, [f"ABS SPLINE1 TM{tm} X10"])
     rig.run_until_idle()
     start, end = rig.by_n("move_start"), rig.by_n("move_end")
-    assert end[1] == _cyc(rig, start[1] * rig.period + 0.15)
+    assert end[1] == _cyc(rig, start[1] * rig.period + 3 * tm / 1000)
     assert rig.c.positions(1)["X"] == pytest.approx(10.0)
 
 
