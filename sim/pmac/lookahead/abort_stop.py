@@ -37,16 +37,17 @@ class AbortStop:
         return max(self.t_axis.values(), default=0.0)
 
     def positions(self, t: float) -> dict[str, float]:
-        """Commanded positions at ``t``: each axis on its own constant-deceleration ramp."""
+        """Commanded positions at ``t`` (before ``t0``: where ``A`` found them): each axis on
+        its own constant-deceleration ramp, then at rest."""
         out = {}
         tau_all = t - self.t0 if t > self.t0 else 0.0
         for a, p in self.pos.items():
-            t_a = self.t_axis.get(a, 0.0)
+            t_a = self.t_axis[a]
             if t_a <= 0.0:
                 out[a] = p
                 continue
             tau = tau_all if tau_all < t_a else t_a
-            out[a] = p + self.vel.get(a, 0.0) * (tau - tau * tau / (2.0 * t_a))
+            out[a] = p + self.vel[a] * (tau - tau * tau / (2.0 * t_a))
         return out
 
     def end(self) -> dict[str, float]:
@@ -58,14 +59,14 @@ def plan(
     t0: float, pos: Mapping[str, float], vel: Mapping[str, float],
     rate_of: Callable[[str], float],
 ) -> AbortStop:
-    """The stop of every axis in ``pos`` from velocity ``vel`` (units/s), ``rate_of(axis)``
-    giving its deceleration in units/s²."""
+    """The stop of every axis in ``pos`` from velocity ``vel`` (units/s; an axis missing from
+    it stands still), ``rate_of(axis)`` giving its deceleration in units/s²."""
+    v_axis = {a: vel.get(a, 0.0) for a in pos}
     t_axis = {}
-    for a in pos:
-        v = abs(vel.get(a, 0.0))
-        rate = rate_of(a) if v > 0.0 else 0.0
-        t_axis[a] = v / rate if rate > 0.0 else 0.0
-    return AbortStop(t0, dict(pos), {a: vel.get(a, 0.0) for a in pos}, t_axis)
+    for a, v in v_axis.items():
+        rate = rate_of(a)
+        t_axis[a] = abs(v) / rate if v and rate > 0.0 else 0.0
+    return AbortStop(t0, dict(pos), v_axis, t_axis)
 
 
 __all__ = ["AbortStop", "plan"]

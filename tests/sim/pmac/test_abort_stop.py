@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 import pytest
+from motionsim.sim.pmac.lookahead import abort_stop
 
 
 def _abort_during(rig, lines, after_s):
@@ -135,3 +136,35 @@ def test_a_during_the_i11_delay_of_a_fixed_program_stops_it(rig):
     rig.run_for(1.0)
     assert rig.by_n("move_start") == {}
     assert rig.c.coord(1)["program"]["state"] == "aborted"
+
+
+# -- the ramp itself (lookahead/abort_stop.py) ----------------------------------------------
+
+
+def _rates(**by_axis: float):
+    return lambda axis: by_axis[axis]
+
+
+def test_the_ramp_each_axis_decelerates_at_its_own_rate_then_stands():
+    """X at 10 units/s with 100 units/s² stops after 0.1 s and 0.5 units; Y at -2 units/s with
+    0.5 units/s² (a rate below 1) after 4 s and 4 units back; Z (not in ``vel``) and W (at
+    rest) stand. Before the abort instant the axes are where ``A`` found them."""
+    ramp = abort_stop.plan(1.0, {"Z": 3.0, "X": 0.0, "Y": 1.0, "W": 7.0}, {"X": 10.0, "Y": -2.0,
+                           "W": 0.0}, _rates(X=100.0, Y=0.5, Z=100.0, W=100.0))
+    assert ramp.t_axis == {"Z": 0.0, "X": pytest.approx(0.1), "Y": pytest.approx(4.0), "W": 0.0}
+    assert ramp.t_stop == pytest.approx(4.0)
+    assert ramp.positions(0.5) == {"Z": 3.0, "X": 0.0, "Y": 1.0, "W": 7.0}
+    mid = ramp.positions(1.05)  # X half-way: 10·0.05 − 100·0.05²/2
+    assert mid == {"Z": 3.0, "X": pytest.approx(0.375), "Y": pytest.approx(1.0 - 0.099375),
+                   "W": 7.0}
+    assert ramp.positions(3.0) == {"Z": 3.0, "X": pytest.approx(0.5), "Y": pytest.approx(-2.0),
+                                   "W": 7.0}
+    assert ramp.end() == {"Z": 3.0, "X": pytest.approx(0.5), "Y": pytest.approx(-3.0), "W": 7.0}
+
+
+def test_the_ramp_with_no_rate_or_no_axes_stops_at_once():
+    """Ixx15 <= 0 ("never 0", PSRM p73) stops the axis at once ``[INF]``; no axes: no time."""
+    ramp = abort_stop.plan(2.0, {"X": 1.0}, {"X": 5.0}, _rates(X=0.0))
+    assert ramp.t_axis == {"X": 0.0} and ramp.end() == {"X": 1.0}
+    assert abort_stop.plan(2.0, {"X": 1.0}, {"X": 5.0}, _rates(X=-3.0)).t_stop == 0.0
+    assert abort_stop.plan(2.0, {}, {}, _rates()).t_stop == 0.0
