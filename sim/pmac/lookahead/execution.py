@@ -188,12 +188,13 @@ class Execution:
         """Segmentation mode: where ``m``'s blend or stop is decided, the start of its
         deceleration, Ta/2 before its end -- earlier when the stop Ixx17 allows is longer
         (the special lookahead plans the deceleration ahead, TSRM p98, p181), and earlier
-        when the next move is already calculated with a longer (clipped) blend ramp, which
-        is centred on the programmed point too (spec §9.1) ``[INF]``."""
+        when the next move is already calculated with a longer blend ramp, which is centred
+        on the programmed point too (spec §9.1) ``[INF]``: deciding early is harmless, the
+        blend (clipped then, :meth:`_blend_into`) is the same."""
         ta = self._stop_ta(m)
         planned = self.planned
         if planned and not self.single_step and BLENDS[m.kind][planned[0].kind]:
-            ta = max(ta, min(planned[0].ta, 2 * (m.tm - m.ta_in / 2)))
+            ta = max(ta, planned[0].ta)
         return m.b_end - ta / 2
 
     def _stop_ta(self, m: Move) -> float:
@@ -201,19 +202,14 @@ class Execution:
         return max(m.ta, m.ta_stop * self._scale) if m.ta_stop else m.ta
 
     def _successor_planned(self) -> None:
-        """Segmentation mode: the move after the executing one has just been calculated. If
-        its blend ramp begins before the decision point set at the move's start, the
-        decision moves to the start of that ramp."""
+        """Segmentation mode: the move after the executing one (``current``, not yet decided)
+        has just been calculated: the decision moves to where its blend ramp begins, if that
+        is before the decision point set at the move's start (re-armed at the same instant
+        otherwise)."""
         m = self.current
-        if (
-            m is None or self._decided is m or m.stopping or PROFILES[m.kind].breaks
-            or self.feed_override == 0
-        ):
+        if self._decided is m or m.stopping or PROFILES[m.kind].breaks or self.feed_override == 0:
             return
-        sched = self.sched
-        t = sched.servo_at_or_after(self._decision_at(m))
-        if t < sched.servo_at_or_after(m.b_end - self._stop_ta(m) / 2):
-            self._after(t, self._decide_cb)
+        self._after(self.sched.servo_at_or_after(self._decision_at(m)), self._decide_cb)
 
     def _blend_into(self, m: Move, nxt: Move) -> None:
         """``m`` blends into ``nxt``: ``nxt``'s ramp is clipped to ``2·(TM − Ta/2)`` of ``m``
