@@ -34,16 +34,16 @@ def test_each_axis_stops_at_its_own_rate_so_the_slow_axis_stops_first(rig):
     assert mid["X"] - pos["X"] != pytest.approx(10 * (mid["Y"] - pos["Y"]))  # off the path
     rig.run_until_idle()
     assert rig.by_n("move_end")[1] == math.ceil((t_a + 0.1) / rig.period - 1e-6)
-    assert rig.c.positions(1) == {
-        "X": pytest.approx(pos["X"] + 5.0), "Y": pytest.approx(pos["Y"] + 0.05)
+    assert rig.c.positions(1) == {  # to 1e-9: the rate is Ixx15 x 10^6 exactly
+        "X": pytest.approx(pos["X"] + 5.0, abs=1e-9), "Y": pytest.approx(pos["Y"] + 0.05, abs=1e-9)
     }
 
 
 def test_an_axis_decelerates_at_its_own_motors_ixx15_over_its_counts_per_unit(rig):
-    """``#1->1000X`` with I115 = 0.1 counts/ms² decelerates X at 100 units/s²; ``#2->100Y``
-    with I215 = 0.1 at 1000 units/s². X at 10 units/s stops after 100 ms (0.5 units), Y at
-    10 units/s after 10 ms (0.05 units)."""
-    for cmd in ("&1 #1->1000X", "&1 #2->100Y", "I115=0.1", "I215=0.1", "I116=1000",
+    """``#1->300X`` with I115 = 0.1 counts/ms² decelerates X at 100 000 / 300 = 333.3
+    units/s²; ``#2->100Y`` with I215 = 0.1 at 1000 units/s². X at 10 units/s stops after 30 ms
+    (0.15 units), Y at 10 units/s after 10 ms (0.05 units)."""
+    for cmd in ("&1 #1->300X", "&1 #2->100Y", "I115=0.1", "I215=0.1", "I116=1000",
                 "I216=1000", "I117=1000", "I217=1000"):
         rig.ok(cmd)
     t_a, pos, vel, _ = _abort_during(rig, ["TM1000 TA10 TS0 X10 Y10"], 0.5)
@@ -51,9 +51,9 @@ def test_an_axis_decelerates_at_its_own_motors_ixx15_over_its_counts_per_unit(ri
     rig.run_for(0.02)
     assert rig.c.positions(1)["Y"] == pytest.approx(pos["Y"] + 0.05)
     rig.run_until_idle()
-    assert rig.by_n("move_end")[1] == math.ceil((t_a + 0.1) / rig.period - 1e-6)
+    assert rig.by_n("move_end")[1] == math.ceil((t_a + 0.03) / rig.period - 1e-6)
     assert rig.c.positions(1) == {
-        "X": pytest.approx(pos["X"] + 0.5), "Y": pytest.approx(pos["Y"] + 0.05)
+        "X": pytest.approx(pos["X"] + 0.15, abs=1e-9), "Y": pytest.approx(pos["Y"] + 0.05, abs=1e-9)
     }
 
 
