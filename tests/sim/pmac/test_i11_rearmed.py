@@ -26,31 +26,10 @@ def test_i11_set_to_0_while_waiting_drops_the_delay_an_earlier_r_armed(make_rig)
     assert k_start * rig.period < deadline + 3 * rig.period  # the RTI after the line
 
 
-def test_a_line_arriving_while_waiting_starts_its_delay_with_planning_already_due(rig):
-    """I8 = 255 (RTIs 256 cycles apart), I11 = 170 ms (384 cycles): X2 arrives during X1 and
-    runs after it, its start asking for calculation at the RTI of cycle 1024; X3 arrives while
-    the program waits (cycle 950). The sequence from rest starts at X3: it moves 384 cycles
-    after it arrived (cycle 1334), not 384 after that RTI (1408)."""
-    for command in ("I8=255", "I11=170"):
-        rig.ok(command)
-    rig.rotary_setup()
-    rig.c.load_lines(1, ["TM200 TA10 TS0 X1"])
-    rig.ok("R")
-    rig.c.env.run(until=600 * rig.period)
-    rig.c.load_lines(1, ["TM20 X2"])
-    rig.c.env.run(until=950 * rig.period)
-    assert rig.c.coord(1)["program"] == {"state": "waiting"}
-    rig.c.load_lines(1, ["X3"])
-    rig.run_until_idle(3.0)
-    starts = {f["n"]: k for k, _, f in rig.events("move_start")}
-    assert starts[3] == 950 + 384
-    assert "error" not in rig.c.coord(1)["program"]
-
-
-def test_an_i11_changed_while_waiting_is_the_delay_of_the_line_that_arrives_next(rig):
-    """As above, but ``I11=100`` is typed at cycle 940 while the program waits: X3, arriving
-    at cycle 950 with calculation already due, starts under the I11 now in force, 100 ms
-    (226 cycles) after it arrived — cycle 1176, not 1334."""
+def _x3_start(rig, before_x3: str | None = None) -> int:
+    """I8 = 255, I11 = 170; X1 runs, X2 arrives during it (cycle 600) and runs after it; the
+    program waits at cycle 940 (``before_x3`` typed then); X3 arrives at cycle 950, with
+    calculation already due. X3's ``move_start`` cycle."""
     for command in ("I8=255", "I11=170"):
         rig.ok(command)
     rig.rotary_setup()
@@ -60,10 +39,25 @@ def test_an_i11_changed_while_waiting_is_the_delay_of_the_line_that_arrives_next
     rig.c.load_lines(1, ["TM20 X2"])
     rig.c.env.run(until=940 * rig.period)
     assert rig.c.coord(1)["program"] == {"state": "waiting"}
-    rig.ok("I11=100")
+    if before_x3 is not None:
+        rig.ok(before_x3)
     rig.c.env.run(until=950 * rig.period)
     rig.c.load_lines(1, ["X3"])
     rig.run_until_idle(3.0)
-    starts = {f["n"]: k for k, _, f in rig.events("move_start")}
-    assert starts[3] == 950 + 226
     assert "error" not in rig.c.coord(1)["program"]
+    return rig.by_n("move_start")[3]
+
+
+def test_a_line_arriving_while_waiting_starts_its_delay_with_planning_already_due(rig):
+    """I8 = 255 (RTIs 256 cycles apart), I11 = 170 ms (384 cycles): X2 arrives during X1 and
+    runs after it, its start asking for calculation at the RTI of cycle 1024; X3 arrives while
+    the program waits (cycle 950). The sequence from rest starts at X3: it moves 384 cycles
+    after it arrived (cycle 1334), not 384 after that RTI (1408)."""
+    assert _x3_start(rig) == 950 + 384
+
+
+def test_an_i11_changed_while_waiting_is_the_delay_of_the_line_that_arrives_next(rig):
+    """As above, but ``I11=100`` is typed at cycle 940 while the program waits: X3, arriving
+    at cycle 950 with calculation already due, starts under the I11 now in force, 100 ms
+    (226 cycles) after it arrived — cycle 1176, not 1334."""
+    assert _x3_start(rig, "I11=100") == 950 + 226
