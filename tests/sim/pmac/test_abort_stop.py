@@ -73,17 +73,23 @@ def test_r_after_the_abort_stop_starts_from_where_the_axes_came_to_rest(rig):
     assert rig.c.positions(1) == {"X": pytest.approx(0.0), "Y": pytest.approx(0.0)}
 
 
-def test_the_abort_stop_starts_from_the_velocity_at_the_feed_override_in_force(rig):
-    """At ``%1`` X, programmed at 100 units/s, moves at 1 unit/s (TSRM p191); ``A`` stops it
-    from that velocity: at I115 = 0.00001 counts/ms² (10 units/s²) in 100 ms and 0.05 units.
-    At ``%0`` (time base frozen) nothing moves and ``A`` stops at once (below)."""
+def _slow_move_at(rig, pct: int) -> None:
+    """I115 = 0.00001 counts/ms²; X moving at 100 units/s, then ``%{pct}`` typed and reached
+    (the Isx94 slew is over after 2 s)."""
     rig.ok("I115=0.00001")
     rig.rotary_setup()
     rig.c.load_lines(1, ["TM100000 TA10 TS0 X10000"])
     rig.ok("R")
     rig.run_for(0.05)
-    rig.ok("%1")
-    rig.run_for(2.0)  # the Isx94 slew has reached 1 %
+    rig.ok(f"%{pct}")
+    rig.run_for(2.0)
+
+
+def test_the_abort_stop_starts_from_the_velocity_at_the_feed_override_in_force(rig):
+    """At ``%1`` X, programmed at 100 units/s, moves at 1 unit/s (TSRM p191); ``A`` stops it
+    from that velocity: at I115 = 0.00001 counts/ms² (10 units/s²) in 100 ms and 0.05 units.
+    At ``%0`` (time base frozen) nothing moves and ``A`` stops at once (below)."""
+    _slow_move_at(rig, 1)
     cs = rig.c.coord_system(1)
     assert cs._velocities(cs.current, rig.c.now)["X"] == pytest.approx(1.0)
     rig.ok("A")
@@ -94,13 +100,7 @@ def test_the_abort_stop_starts_from_the_velocity_at_the_feed_override_in_force(r
 
 
 def test_at_0_percent_the_abort_stops_where_the_frozen_axes_stand(rig):
-    rig.ok("I115=0.00001")
-    rig.rotary_setup()
-    rig.c.load_lines(1, ["TM100000 TA10 TS0 X10000"])
-    rig.ok("R")
-    rig.run_for(0.05)
-    rig.ok("%0")
-    rig.run_for(2.0)
+    _slow_move_at(rig, 0)
     x = rig.c.positions(1)["X"]
     reply = rig.cmd("A")
     rig.run_until_idle()
