@@ -59,7 +59,7 @@ cov: $(TEST_STAMP)
 	$(BIN)/coverage report
 
 # Mutation testing of the decision modules (tools/mutation.toml); slow: not part of `make test`.
-# `make mutate MODULES=sim/pmac/rotary.py` for one module.
+# `make mutate MODULES=sim/pmac/buffers/rotary.py` for one module.
 mutate: $(TEST_STAMP)
 	$(BIN)/python -m pip install -q -e '.[test,mutation]'
 	$(BIN)/python tools/mutate.py $(MUTATE_ARGS) $(MODULES)

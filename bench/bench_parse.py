@@ -21,7 +21,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from motionsim.sim.pmac.program import compile_line  # noqa: E402
+from motionsim.sim.pmac.buffers.program import compile_line  # noqa: E402
 
 from bench.results import write  # noqa: E402
 

@@ -53,7 +53,7 @@ def _parse_lines() -> tuple[str, ...]:
 
 
 def _parse() -> None:
-    from motionsim.sim.pmac.program import compile_line
+    from motionsim.sim.pmac.buffers.program import compile_line
 
     for text in _parse_lines():
         compile_line(text)

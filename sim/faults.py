@@ -9,7 +9,7 @@ Two faults act on the card itself rather than on the link to it (those live in
   that only waits for the next interrupt may wait for good ``[INF]`` (a model of an interrupt
   lost between the card and the host, not of a firmware bug);
 * **a stalled card** — for a window of simulated time the background gets no processor time
-  (:meth:`motionsim.sim.pmac.cpu.Processor.stall`): host commands queue unanswered, PLCs 1-31
+  (:meth:`motionsim.sim.pmac.tasks.cpu.Processor.stall`): host commands queue unanswered, PLCs 1-31
   do not scan and the watchdog is not reloaded, as when foreground tasks take the whole
   processor (TUM p236-237: the background runs only in the time the servo and RTI tasks
   leave).

@@ -27,7 +27,7 @@ lists the survivors. A report, never a failure: the exit code is 0 unless the to
 failed.
 
     python tools/mutate.py                      # every module
-    python tools/mutate.py sim/pmac/rotary.py   # one
+    python tools/mutate.py sim/pmac/buffers/rotary.py   # one
 """
 
 from __future__ import annotations

@@ -9,7 +9,7 @@ from __future__ import annotations
 from fastapi import APIRouter
 from motionsim.api.deps import HandleDep
 from motionsim.api.schemas.terminal import TerminalIn, TerminalOut, TerminalState
-from motionsim.sim.pmac.error_codes import meaning
+from motionsim.sim.pmac.card.error_codes import meaning
 
 router = APIRouter(tags=["terminal"])
 

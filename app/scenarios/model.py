@@ -646,7 +646,7 @@ def _plc_checks(
     """Each PLC program compiles (errors at the file line of the bad PLC line), and I5 lets
     every enabled PLC run."""
     from motionsim.sim.errors import ParseError
-    from motionsim.sim.pmac.plc import compile_plc
+    from motionsim.sim.pmac.tasks.plc import compile_plc
 
     out: list[tuple[tuple[Any, ...], str, int | None]] = []
     for cid, spec in s.controllers.items():

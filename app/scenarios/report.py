@@ -127,8 +127,8 @@ def _watchdog_episode(
     rti_s: float | None,
 ) -> Starvation:
     """The trip as an episode, with the PLC 0 / RTI arithmetic that explains it."""
-    from motionsim.sim.pmac.cpu import CpuCosts
-    from motionsim.sim.pmac.watchdog import DEFAULT_LIMIT_CYCLES
+    from motionsim.sim.pmac.tasks.cpu import CpuCosts
+    from motionsim.sim.pmac.tasks.watchdog import DEFAULT_LIMIT_CYCLES
 
     assert ct.trip is not None
     t_trip = ct.trip[0]

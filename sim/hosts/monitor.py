@@ -1,6 +1,6 @@
 """A scenario's instrument: the PMAC's processor load sampled into the event log.
 
-The processor-time model (:mod:`motionsim.sim.pmac.cpu`) reports its load on request only
+The processor-time model (:mod:`motionsim.sim.pmac.tasks.cpu`) reports its load on request only
 (``status()["cpu"]``: servo, RTI and background shares, the last background cycle's length).
 A run's metrics read the event log alone, so :class:`CpuMonitor` asks every ``period_s`` and
 appends a ``cpu_sample`` event — as a host polling the load would, but without going through

@@ -1,12 +1,19 @@
 """The Delta Tau Turbo PMAC kind: rotary program buffers, BREQ, lookahead, sync M-variables.
 
-Modules, one idea each: ``statements`` (typed statements), ``parser`` (text -> statements),
-``expressions`` (PMAC arithmetic), ``program`` (a stored line: ops and words), ``variables``
-(I/P/Q/M), ``rotary`` (the ring of words; BREQ is decided there and only there), ``motion``
-(move timing and profiles), ``lookahead`` (per-CS planning at RTIs and execution),
-``scheduler`` (servo / RTI instants), ``cpu`` (processor time: RTI, PLC 0, background
-cycle), ``watchdog``, ``plc`` (PLC programs), ``terminal`` (on-line command dispatch per
-port), ``controller`` (``PmacController``).
+Sub-packages, one concern each (``docs/DESIGN.md`` argues the grouping):
+
+* ``language`` — text to typed statements: parser, statements, expressions, the fast path,
+  the PLC parser;
+* ``card`` — variables, I-variable rules, factory defaults, M-variable definitions and card
+  memory, registers, ``SAVE`` / ``$$$``, error codes;
+* ``tasks`` — servo / RTI instants, the CPU model, the watchdog, PLC programs;
+* ``motor`` — servo-loop state, jog / home, the ``#n?`` status words;
+* ``buffers`` — rotary and fixed program buffers, stored lines, ``PC`` / ``PE``, the special
+  lookahead buffer, line numbering, move timing;
+* ``host`` — the command line of a port: dispatch, control characters, listings, the
+  not-simulated table;
+* ``lookahead`` (per-CS planning and execution) and ``modes`` (one module a move mode);
+* ``controller`` — ``PmacController``, which composes them.
 """
 
 from motionsim.sim.pmac.controller import LoadResult, PmacController

@@ -27,20 +27,21 @@ from motionsim.sim.bounds import FINITE, PMAC_CONFIG, PMAC_CPU_COST
 from motionsim.sim.controller import Controller, Port, Reply
 from motionsim.sim.errors import BufferFull, Conflict, Halted, InvalidValue, NotFound, ParseError
 from motionsim.sim.faults import CardFaults
-from motionsim.sim.pmac import card_commands, lookahead_buffer, registers
-from motionsim.sim.pmac import motor_statements as motor_st
-from motionsim.sim.pmac.cpu import CONFIG_KEYS as CPU_CONFIG_KEYS
-from motionsim.sim.pmac.cpu import Processor
+from motionsim.sim.pmac.buffers import lookahead_buffer
+from motionsim.sim.pmac.buffers.program import ProgramLine, compile_line
+from motionsim.sim.pmac.buffers.programs import MotionPrograms
+from motionsim.sim.pmac.buffers.rotary import RotaryBuffer
+from motionsim.sim.pmac.card import card_commands, registers
+from motionsim.sim.pmac.card.variables import N_CS, N_MOTORS, Variables, parse_name
+from motionsim.sim.pmac.host.terminal import Terminal
+from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.lookahead import CoordSystem
-from motionsim.sim.pmac.motor_status import motor_status_words
-from motionsim.sim.pmac.motors import Motor, MotorTable
-from motionsim.sim.pmac.plc import PlcTable
-from motionsim.sim.pmac.program import ProgramLine, compile_line
-from motionsim.sim.pmac.programs import MotionPrograms
-from motionsim.sim.pmac.rotary import RotaryBuffer
-from motionsim.sim.pmac.scheduler import Scheduler
-from motionsim.sim.pmac.terminal import Terminal
-from motionsim.sim.pmac.variables import N_CS, N_MOTORS, Variables, parse_name
+from motionsim.sim.pmac.motor.motor_status import motor_status_words
+from motionsim.sim.pmac.motor.motors import Motor, MotorTable
+from motionsim.sim.pmac.tasks.cpu import CONFIG_KEYS as CPU_CONFIG_KEYS
+from motionsim.sim.pmac.tasks.cpu import Processor
+from motionsim.sim.pmac.tasks.plc import PlcTable
+from motionsim.sim.pmac.tasks.scheduler import Scheduler
 from motionsim.sim.timing import pmac_servo_period_s
 
 MEMORY_WORDS = 65_536
@@ -331,7 +332,8 @@ class PmacController(Controller):
         self.programs.close(port)
 
     def open_program(self, n: int, port: Port) -> None:
-        """``OPEN PROG n`` (:mod:`motionsim.sim.pmac.programs`): ERR007 with any buffer open,
+        """``OPEN PROG n`` (:mod:`motionsim.sim.pmac.buffers.programs`): ERR007 with any buffer
+        open,
         ERR001 while any CS runs a program; afterwards every CS must be pointed again with
         ``B`` before it may run (TSRM p381)."""
         self._alive()
@@ -378,7 +380,7 @@ class PmacController(Controller):
         Every line is parsed and the batch sized before anything is stored. With
         ``first_seq`` the lines are numbered ``first_seq, first_seq+1, ...``; a line whose
         number was already stored with exactly this text is acknowledged and not stored
-        again (the rules: :mod:`motionsim.sim.pmac.line_numbers`).
+        again (the rules: :mod:`motionsim.sim.pmac.buffers.line_numbers`).
 
         Raises:
             NotFound: no such CS or no rotary buffer.
@@ -586,8 +588,8 @@ class PmacController(Controller):
         return self.motor_table[n]
 
     def motor_command(self, stmt: Any, n: int) -> None:
-        """An on-line motor command (:mod:`motionsim.sim.pmac.motor_statements`) for motor
-        ``n``; ERR001 while its CS runs a program (:mod:`motionsim.sim.pmac.motors`)."""
+        """An on-line motor command (:mod:`motionsim.sim.pmac.language.motor_statements`) for motor
+        ``n``; ERR001 while its CS runs a program (:mod:`motionsim.sim.pmac.motor.motors`)."""
         self._alive()
         m = self.motor(n)
         self.motor_table.check_free(n)
@@ -629,7 +631,7 @@ class PmacController(Controller):
 
     def set_motor_position(self, motor: int, counts: float) -> None:
         """Make motor ``motor``'s present position ``counts`` without motion: a write of its
-        actual-position register Mxx62 (:mod:`motionsim.sim.pmac.registers`), as a backup
+        actual-position register Mxx62 (:mod:`motionsim.sim.pmac.card.registers`), as a backup
         tool restores positions after CTRL-K. ``[INF]`` the position reference moves (like
         ``HMZ`` to a given value); the motor does not."""
         if 1 <= motor <= N_MOTORS:
@@ -637,7 +639,7 @@ class PmacController(Controller):
             m.profile = m.profile.shifted(counts - m.position(self.env.now))
 
     def motor_status(self, motor: int) -> tuple[int, int]:
-        """The two 24-bit words of ``#n?`` (:mod:`motionsim.sim.pmac.motor_status`)."""
+        """The two 24-bit words of ``#n?`` (:mod:`motionsim.sim.pmac.motor.motor_status`)."""
         m = self.motor(motor)
         axis = self._motor_axis(motor)
         cs = self.coord_systems[axis[0]] if axis is not None else None

@@ -1,10 +1,10 @@
-"""Every command of sim/pmac/not_simulated.py's table answers ``not_simulated`` on the REST
+"""Every command of sim/pmac/host/not_simulated.py's table answers ``not_simulated`` on the REST
 terminal, not ``parse_error`` — also when its parse fails mid-word or after ``&n`` / ``#n``."""
 
 from __future__ import annotations
 
 import pytest
-from motionsim.sim.pmac import not_simulated
+from motionsim.sim.pmac.host import not_simulated
 
 pytestmark = pytest.mark.anyio
 

@@ -12,22 +12,22 @@ from __future__ import annotations
 from collections import deque
 from typing import TYPE_CHECKING, Any
 
-from motionsim.sim.pmac import motion
+from motionsim.sim.pmac.buffers import motion
+from motionsim.sim.pmac.card.variables import isx
 from motionsim.sim.pmac.lookahead.execution import Execution
 from motionsim.sim.pmac.lookahead.planning import Planning
 from motionsim.sim.pmac.lookahead.states import IDLE, RUNNING, STOPPED, TRANSITIONS, WAITING
 from motionsim.sim.pmac.lookahead.sync_queue import SyncQueue
 from motionsim.sim.pmac.lookahead.timebase import TimeBase
 from motionsim.sim.pmac.modes import DWELL, Move, RunTimeError, pvt, spline
-from motionsim.sim.pmac.scheduler import Wake
-from motionsim.sim.pmac.variables import isx
+from motionsim.sim.pmac.tasks.scheduler import Wake
 
 if TYPE_CHECKING:
+    from motionsim.sim.pmac.buffers.lookahead_buffer import LookaheadBuffer
+    from motionsim.sim.pmac.buffers.programs import ProgramRun
+    from motionsim.sim.pmac.buffers.rotary import RotaryBuffer
     from motionsim.sim.pmac.controller import PmacController
     from motionsim.sim.pmac.lookahead.abort_stop import AbortStop
-    from motionsim.sim.pmac.lookahead_buffer import LookaheadBuffer
-    from motionsim.sim.pmac.programs import ProgramRun
-    from motionsim.sim.pmac.rotary import RotaryBuffer
 
 
 #: ``??`` word 2 move-mode bits (4, 1, 0): LINEAR 000, RAPID 010, CIRCLE1 001, CIRCLE2 011,
@@ -50,12 +50,12 @@ class CoordSystem(Planning, Execution, TimeBase):
         self._period = ctl.scheduler.period_s
         self._emit = ctl.log.emit
         self.rotary: RotaryBuffer | None = None
-        #: ``DEFINE LOOKAHEAD`` (:mod:`motionsim.sim.pmac.lookahead_buffer`); gone at reset.
+        #: ``DEFINE LOOKAHEAD`` (:mod:`motionsim.sim.pmac.buffers.lookahead_buffer`); gone at reset.
         self._lookahead: LookaheadBuffer | None = None
         #: The special lookahead's horizon, min(Isx20, segments) × Isx13 (s); 0 = not active.
         self._la_s = 0.0
         self.program: float | None = None  # B{n}; 0 = rotary
-        #: The fixed program being run (B{n}, n > 0), :mod:`motionsim.sim.pmac.programs`.
+        #: The fixed program being run (B{n}, n > 0), :mod:`motionsim.sim.pmac.buffers.programs`.
         self.fixed: ProgramRun | None = None
         self.state = IDLE
         self.planned: deque[Move] = deque()

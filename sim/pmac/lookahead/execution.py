@@ -47,14 +47,14 @@ import math
 from heapq import heappush
 from typing import Any
 
-from motionsim.sim.pmac.expressions import pmac_and, pmac_or, pmac_xor
+from motionsim.sim.pmac.card.variables import ixx
+from motionsim.sim.pmac.language.expressions import pmac_and, pmac_or, pmac_xor
 from motionsim.sim.pmac.lookahead import abort_stop
 from motionsim.sim.pmac.lookahead.states import ABORTED, RUNNING, STOPPED
 from motionsim.sim.pmac.lookahead.sync_queue import segment_start
 from motionsim.sim.pmac.modes import BLENDS, DELAY, DWELL, LINEAR, PROFILES, SPLINE, Move
 from motionsim.sim.pmac.modes.pset import PsetMove
-from motionsim.sim.pmac.scheduler import Wake, wake_at
-from motionsim.sim.pmac.variables import ixx
+from motionsim.sim.pmac.tasks.scheduler import Wake, wake_at
 from simpy.events import NORMAL
 
 #: Synchronous read-modify-write forms.

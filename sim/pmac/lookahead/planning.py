@@ -44,6 +44,18 @@ from __future__ import annotations
 
 from typing import Any
 
+from motionsim.sim.pmac.buffers.program import (
+    OP_ASSIGN,
+    OP_AXISMODE,
+    OP_DELAY,
+    OP_DWELL,
+    OP_MODAL,
+    OP_MODE,
+    OP_MOVE,
+    OP_PSET,
+    ProgramLine,
+)
+from motionsim.sim.pmac.card.variables import isx
 from motionsim.sim.pmac.lookahead.states import RUNNING, WAITING
 from motionsim.sim.pmac.modes import (
     LINEAR,
@@ -57,19 +69,7 @@ from motionsim.sim.pmac.modes import (
     rapid,
     spline,
 )
-from motionsim.sim.pmac.program import (
-    OP_ASSIGN,
-    OP_AXISMODE,
-    OP_DELAY,
-    OP_DWELL,
-    OP_MODAL,
-    OP_MODE,
-    OP_MOVE,
-    OP_PSET,
-    ProgramLine,
-)
-from motionsim.sim.pmac.scheduler import Wake, wake_at
-from motionsim.sim.pmac.variables import isx
+from motionsim.sim.pmac.tasks.scheduler import Wake, wake_at
 
 #: Modes calculated two moves ahead without segmentation (TUM p339: LINEAR, and CIRCLE, which
 #: then runs as LINEAR, TSRM p177); SPLINE needs two ahead always; PVT and RAPID one.

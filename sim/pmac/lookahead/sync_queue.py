@@ -42,7 +42,7 @@ from collections.abc import Callable
 from typing import Any
 
 import simpy
-from motionsim.sim.pmac.scheduler import Scheduler, Wake, wake_at
+from motionsim.sim.pmac.tasks.scheduler import Scheduler, Wake, wake_at
 
 #: One queued write: ``(M-variable number, operator, value)``.
 Write = tuple[int, str, float]

@@ -12,10 +12,10 @@ from __future__ import annotations
 
 from typing import Any
 
+from motionsim.sim.pmac.card.variables import isx
 from motionsim.sim.pmac.lookahead.states import RUNNING, WAITING
 from motionsim.sim.pmac.modes import DWELL, PROFILES, Move
-from motionsim.sim.pmac.scheduler import wake_at
-from motionsim.sim.pmac.variables import isx
+from motionsim.sim.pmac.tasks.scheduler import wake_at
 
 
 class TimeBase:

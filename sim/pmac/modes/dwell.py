@@ -8,7 +8,7 @@ LINEAR move.
 
 from __future__ import annotations
 
-from motionsim.sim.pmac import motion
+from motionsim.sim.pmac.buffers import motion
 from motionsim.sim.pmac.modes.linear import BlendedProfile
 from motionsim.sim.pmac.modes.move import DELAY, DWELL, Move, PlanContext, Profile
 

@@ -10,7 +10,7 @@ modelled, so no limit applies there. With Isx13 = 0 the acceleration limit Ixx17
 stretches the ramp into the move and the stop ramp, and can make the move longer
 (:mod:`.accel_limit`). The time is at least the acceleration time ``Ta = max(TA, 2·TS)``
 and is stretched by the ``%`` time base. The axes run at constant velocity between blend
-ramps centred on the programmed points (:func:`motionsim.sim.pmac.motion.position_at`);
+ramps centred on the programmed points (:func:`motionsim.sim.pmac.buffers.motion.position_at`);
 along an arc the chord is used ``[INF]``.
 """
 
@@ -18,10 +18,10 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-from motionsim.sim.pmac import motion
+from motionsim.sim.pmac.buffers import motion
+from motionsim.sim.pmac.card.variables import ixx
 from motionsim.sim.pmac.modes import accel_limit
 from motionsim.sim.pmac.modes.move import LINEAR, Move, PlanContext, Profile
-from motionsim.sim.pmac.variables import ixx
 
 
 def plan(

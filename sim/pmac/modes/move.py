@@ -12,7 +12,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, ClassVar, Protocol
 
 if TYPE_CHECKING:
-    from motionsim.sim.pmac.variables import Variables
+    from motionsim.sim.pmac.card.variables import Variables
 
 # Move kinds (index into :data:`motionsim.sim.pmac.modes.PROFILES`).
 LINEAR, DWELL, DELAY, RAPID, PVT, SPLINE = 0, 1, 2, 3, 4, 5

@@ -17,9 +17,10 @@ TSRM p98, p100-101; spec §11.3).
 
 from __future__ import annotations
 
-from motionsim.sim.pmac import jog, motion
+from motionsim.sim.pmac.buffers import motion
+from motionsim.sim.pmac.card.variables import ixx
 from motionsim.sim.pmac.modes.move import RAPID, Move, PlanContext, Profile
-from motionsim.sim.pmac.variables import ixx
+from motionsim.sim.pmac.motor import jog
 
 
 class RapidMove(Move):

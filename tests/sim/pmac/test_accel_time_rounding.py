@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 
 import pytest
-from motionsim.sim.pmac import motion
+from motionsim.sim.pmac.buffers import motion
 
 
 @pytest.mark.parametrize(

@@ -1,4 +1,4 @@
-"""``CLEAR ALL PLCS``: every PLC program buffer erased (sim/pmac/plc.py ``clear_all``)."""
+"""``CLEAR ALL PLCS``: every PLC program buffer erased (sim/pmac/tasks/plc.py ``clear_all``)."""
 
 from __future__ import annotations
 

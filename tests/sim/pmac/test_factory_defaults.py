@@ -12,13 +12,13 @@ import re
 from importlib.resources import files
 
 import pytest
-from motionsim.sim.pmac.factory import (
+from motionsim.sim.pmac.card.factory import (
     CARD_OVERRIDES,
     FACTORY,
     HEX_IVARS,
     MANUAL_OVERRIDES,
 )
-from motionsim.sim.pmac.variables import format_ivar
+from motionsim.sim.pmac.card.variables import format_ivar
 
 _LINE = re.compile(r"^;?\s*I(\d+)\s*=\s*(\S+)\s*$", re.IGNORECASE)
 

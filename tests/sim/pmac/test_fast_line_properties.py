@@ -1,6 +1,7 @@
 """The plain-line fast path compiles a rotary line exactly as the general parser does.
 
-``compile_line`` tries :func:`motionsim.sim.pmac.fast_line.fast_compile` first; these properties
+``compile_line`` tries :func:`motionsim.sim.pmac.language.fast_line.fast_compile` first; these
+properties
 pin that, for any line (plain words, whole-line assignments, anything else), the result
 (statements' expressions, operations, word count, planner short cuts) or the ``ParseError``
 (message, column, text, ERR003) is the one the general path ``parse_program_line`` +
@@ -12,9 +13,9 @@ from __future__ import annotations
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from motionsim.sim.errors import ParseError
-from motionsim.sim.pmac.fast_line import fast_compile
-from motionsim.sim.pmac.parser import parse_program_line
-from motionsim.sim.pmac.program import compile_line, compile_statements
+from motionsim.sim.pmac.buffers.program import compile_line, compile_statements
+from motionsim.sim.pmac.language.fast_line import fast_compile
+from motionsim.sim.pmac.language.parser import parse_program_line
 
 _WORDS = [
     "X", "Y", "Z", "A", "B", "C", "U", "V", "W", "I", "J", "K", "R", "F", "TA", "TS", "TM",

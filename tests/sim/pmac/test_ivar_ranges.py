@@ -7,8 +7,8 @@ of an I-variable goes through the same rule, so each path is pinned once.
 from __future__ import annotations
 
 import pytest
-from motionsim.sim.pmac.factory import FACTORY, default_i
-from motionsim.sim.pmac.ivar_ranges import RANGES, roll_over
+from motionsim.sim.pmac.card.factory import FACTORY, default_i
+from motionsim.sim.pmac.card.ivar_ranges import RANGES, roll_over
 
 
 def query(rig, name: str) -> str:

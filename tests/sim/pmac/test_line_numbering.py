@@ -1,6 +1,7 @@
 """``first_seq``: numbered rotary batches are stored exactly once, and never dropped silently.
 
-The rules are motionsim's (API.md "first_seq", sim/pmac/line_numbers.py): a resend of exactly
+The rules are motionsim's (API.md "first_seq", sim/pmac/buffers/line_numbers.py): a resend of
+exactly
 the stored lines is acknowledged (idempotent); a gap, a repeat with a different text, or a
 number out of range is refused with the expected next seq and changes nothing; DELETE ROT,
 reset and ``A`` start the numbering again.
@@ -10,7 +11,7 @@ from __future__ import annotations
 
 import pytest
 from motionsim.sim.errors import Conflict
-from motionsim.sim.pmac.line_numbers import HISTORY, MAX_SEQ
+from motionsim.sim.pmac.buffers.line_numbers import HISTORY, MAX_SEQ
 
 
 def _texts(rig) -> list[str]:

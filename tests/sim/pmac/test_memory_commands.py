@@ -1,5 +1,5 @@
 """``R[H]{address}[,{count}]`` and ``W{address},{value}...``: the card's memory from the host
-(sim/pmac/memory_commands.py), on the M-variable memory and its mapped registers."""
+(sim/pmac/card/memory_commands.py), on the M-variable memory and its mapped registers."""
 
 from __future__ import annotations
 

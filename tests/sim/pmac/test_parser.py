@@ -6,10 +6,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as hs
 from motionsim.sim.errors import ParseError
-from motionsim.sim.pmac import statements as st
-from motionsim.sim.pmac.parser import parse_line
-from motionsim.sim.pmac.program import compile_line
-from motionsim.sim.pmac.variables import Variables
+from motionsim.sim.pmac.buffers.program import compile_line
+from motionsim.sim.pmac.card.variables import Variables
+from motionsim.sim.pmac.language import statements as st
+from motionsim.sim.pmac.language.parser import parse_line
 
 
 def kinds(text, open_=False):

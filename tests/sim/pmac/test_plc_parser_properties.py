@@ -5,8 +5,8 @@ from __future__ import annotations
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from motionsim.sim.errors import ParseError
-from motionsim.sim.pmac.plc import compile_plc
-from motionsim.sim.pmac.plc_parser import parse_plc_line
+from motionsim.sim.pmac.language.plc_parser import parse_plc_line
+from motionsim.sim.pmac.tasks.plc import compile_plc
 
 _PIECES = st.sampled_from([
     "IF", "WHILE", "ELSE", "ENDIF", "ENDW", "AND", "OR", "(", ")", "P1", "M2", "=", "!=", ">",

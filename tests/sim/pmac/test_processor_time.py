@@ -1,4 +1,4 @@
-"""The processor-time model (sim/pmac/cpu.py) under the loads the manual names: move planning
+"""The processor-time model (sim/pmac/tasks/cpu.py) under the loads the manual names: move planning
 in the RTI (TUM p236, p376), a servo task that leaves nothing (TUM p238: an overloaded card
 stops communicating and trips its watchdog), and a host command answered at the end of the
 background cycle in progress (TUM p237). Costs are set in the config so the figures follow

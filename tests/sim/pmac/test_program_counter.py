@@ -1,10 +1,10 @@
 """``PC`` / ``PE``: the program and line offset the addressed CS's program counter points to
 (the line calculated next) and of the move executing, for fixed PROGs and the rotary buffer
-(sim/pmac/program_counter.py; reply ``P{prog}:{offset}`` [BK])."""
+(sim/pmac/buffers/program_counter.py; reply ``P{prog}:{offset}`` [BK])."""
 
 from __future__ import annotations
 
-from motionsim.sim.pmac.listing import entries
+from motionsim.sim.pmac.host.listing import entries
 
 from tests.sim.pmac.test_fixed_programs import load as load_prog
 

@@ -12,7 +12,7 @@ from types import SimpleNamespace
 
 import simpy
 from motionsim.sim.events import EventLog
-from motionsim.sim.pmac.rotary import RotaryBuffer
+from motionsim.sim.pmac.buffers.rotary import RotaryBuffer
 
 
 def _reopen(rig, i16: int, i17: int) -> tuple[bool, bool, list[bool]]:

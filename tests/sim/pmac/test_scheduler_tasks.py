@@ -3,14 +3,15 @@
 Seed 003: PLC 0 runs every RTI (every I8+1 servo cycles) as long as the previous RTI's tasks
 have finished; the background (one PLC 1-31 scan, housekeeping, a host command) gets what is
 left, so it cycles slower as PLC 0 grows, and the host's replies come later. Costs are
-:class:`motionsim.sim.pmac.cpu.CpuCosts` (3.3 µs per interpreted statement, 5 µs per scan, 20 µs per
+:class:`motionsim.sim.pmac.tasks.cpu.CpuCosts` (3.3 µs per interpreted statement, 5 µs per scan, 20
+µs per
 host command and per housekeeping pass).
 """
 
 from __future__ import annotations
 
 import pytest
-from motionsim.sim.pmac.cpu import CpuCosts
+from motionsim.sim.pmac.tasks.cpu import CpuCosts
 
 
 def plc0(rig, statements: int) -> None:

@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 
 import pytest
-from motionsim.sim.pmac.lookahead_buffer import LookaheadBuffer
+from motionsim.sim.pmac.buffers.lookahead_buffer import LookaheadBuffer
 
 
 def _err(rig, text):

@@ -1,0 +1,174 @@
+"""A stored program line: its statements compiled to operations, and its size in words.
+
+Words per line (seed 000: "each value in a program (e.g. X1250) takes one word"): we count
+**one word per command word**, with or without a value, and one more for a PVT axis word's
+velocity (``X10:5`` holds two values, ``[INF]``: no PVT figure is published) — ``X1250`` is
+one word, ``X10 Y20`` two, ``P1=P2+1`` one, ``LINEAR``, ``INC``, ``N10`` or ``SEND"..."`` one
+each. So the manual's four-axis line ``X1000 Y1200 Z1400 A1600`` takes 4 words and 100 of
+them 400. A line always takes at least one word. ``[INF]`` the manual does not say what a
+value-less word costs; one word is the simplest rule that agrees with its example.
+
+Operations (``ops``) are small tuples, in program order, executed by the coordinate system's
+move planning (:mod:`motionsim.sim.pmac.lookahead`). The axis words of a line (with its circle
+vector words) form **one move**, executed at the end of the line — or before a ``DWELL``/``DELAY``
+in the same line — after the line's modal settings (``X10 Y10 F5`` moves at F5, as in the manual's
+``&1 X10 Y10 F5`` example). Assignments keep their place relative to that move.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from motionsim.sim.pmac.language import statements as st
+from motionsim.sim.pmac.language.parser import parse_program_line
+
+# Operation codes (first element of each op tuple).
+OP_ASSIGN = 0  # (OP_ASSIGN, kind, index_expr, op, value_expr)
+OP_MODAL = 1  # (OP_MODAL, name, expr)
+OP_MODE = 2  # (OP_MODE, mode)
+OP_AXISMODE = 3  # (OP_AXISMODE, incremental, axes|None)
+OP_MOVE = 4  # (OP_MOVE, ((axis, expr), ...), ((vector, expr), ...), ((axis, vel_expr), ...))
+OP_DWELL = 5  # (OP_DWELL, expr)
+OP_DELAY = 6  # (OP_DELAY, expr)
+OP_PSET = 7  # (OP_PSET, ((axis, expr), ...))
+
+
+@dataclass(frozen=True, slots=True)
+class ProgramLine:
+    """One line of a motion program, parsed and compiled once."""
+
+    text: str
+    words: int
+    ops: tuple[tuple[Any, ...], ...]
+    moves: int  # number of motion operations (moves, dwells, delays)
+    #: ``((axis, value), ...)`` when the line is nothing but one move with constant axis
+    #: values (the common streamed line): planning takes a short cut for it.
+    simple: tuple[tuple[str, float], ...] | None = None
+    #: ``((axis, position, velocity), ...)`` when the line is one move with constant axis
+    #: values and constant (or no) PVT velocities: the PVT planning short cut.
+    simple_pvt: tuple[tuple[str, float, float], ...] | None = None
+
+    def __init__(
+        self, text: str, words: int, ops: tuple[tuple[Any, ...], ...], moves: int,
+        simple: tuple[tuple[str, float], ...] | None = None,
+        simple_pvt: tuple[tuple[str, float, float], ...] | None = None,
+    ) -> None:
+        # One per streamed line: the slots' own setters, not the generated frozen
+        # ``__init__``'s ``object.__setattr__`` per field (same object, still frozen).
+        _set_text(self, text)
+        _set_words(self, words)
+        _set_ops(self, ops)
+        _set_moves(self, moves)
+        _set_simple(self, simple)
+        _set_simple_pvt(self, simple_pvt)
+
+
+_set_text, _set_words, _set_ops, _set_moves, _set_simple, _set_simple_pvt = (
+    getattr(ProgramLine, name).__set__ for name in ProgramLine.__slots__)
+
+
+def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:
+    """Compile program statements (already parsed) into a :class:`ProgramLine`."""
+    ops: list[tuple[Any, ...]] = []
+    modal: list[tuple[Any, ...]] = []
+    axes: list[tuple[str, Any]] = []
+    vectors: list[tuple[str, Any]] = []
+    velocities: list[tuple[str, Any]] = []
+    moves = 0
+    words = len(stmts)
+
+    def flush() -> None:
+        nonlocal moves
+        ops.extend(modal)
+        modal.clear()
+        if axes or vectors:
+            ops.append((OP_MOVE, tuple(axes), tuple(vectors), tuple(velocities)))
+            moves += 1
+            axes.clear()
+            vectors.clear()
+            velocities.clear()
+
+    for s in stmts:
+        if isinstance(s, st.AxisWord):
+            axes.append((s.axis, s.value))
+            if s.velocity is not None:
+                velocities.append((s.axis, s.velocity))
+                words += 1  # position and velocity: two values, two words [INF]
+        elif isinstance(s, st.VectorWord):
+            vectors.append((s.name, s.value))
+        elif isinstance(s, st.Modal):
+            modal.append((OP_MODAL, s.name, s.value))
+        elif isinstance(s, st.MoveMode):
+            modal.append((OP_MODE, s.mode))
+        elif isinstance(s, st.PvtMode):
+            modal.append((OP_MODE, "PVT"))
+            modal.append((OP_MODAL, "TM", s.ms))  # the move-time register (I42 = 0)
+        elif isinstance(s, st.AxisMode):
+            modal.append((OP_AXISMODE, s.incremental, s.axes))
+        elif isinstance(s, st.Assign):
+            ops.append((OP_ASSIGN, s.target.kind, s.target.index, s.op, s.value))
+        elif isinstance(s, st.Dwell):
+            flush()
+            ops.append((OP_DWELL, s.ms))
+            moves += 1
+        elif isinstance(s, st.Delay):
+            flush()
+            ops.append((OP_DELAY, s.ms))
+            moves += 1
+        elif isinstance(s, st.PSet):
+            flush()
+            ops.append((OP_PSET, s.axes))
+            words += len(s.axes) - 1  # one word per value, like axis words [INF]
+        # Label, Message: stored, no action.
+    flush()
+    simple = None
+    if (
+        len(ops) == 1
+        and ops[0][0] == OP_MOVE
+        and not ops[0][2]
+        and not ops[0][3]
+        and all(e.const is not None for _, e in ops[0][1])
+    ):
+        simple = tuple((a, float(e.const)) for a, e in ops[0][1])
+    simple_pvt = None
+    if (
+        len(ops) == 1
+        and ops[0][0] == OP_MOVE
+        and not ops[0][2]
+        and all(e.const is not None for _, e in ops[0][1])
+        and all(e.const is not None for _, e in ops[0][3])
+    ):
+        vel = {a: float(e.const) for a, e in ops[0][3]}
+        simple_pvt = tuple((a, float(e.const), vel.get(a, 0.0)) for a, e in ops[0][1])
+    return ProgramLine(text, max(1, words), tuple(ops), moves, simple, simple_pvt)
+
+
+def compile_line(text: str) -> ProgramLine:
+    """Parse and compile one rotary-buffer line.
+
+    Raises:
+        sim.errors.ParseError: positioned (column), ERR003.
+    """
+    line = fast_compile(text)
+    if line is not None:
+        return line
+    return compile_statements(text, parse_program_line(text))
+
+
+# The plain-line fast path needs ProgramLine and the OP codes above (import cycle).
+from motionsim.sim.pmac.language.fast_line import fast_compile  # noqa: E402
+
+__all__ = [
+    "OP_ASSIGN",
+    "OP_AXISMODE",
+    "OP_DELAY",
+    "OP_DWELL",
+    "OP_MODAL",
+    "OP_MODE",
+    "OP_MOVE",
+    "OP_PSET",
+    "ProgramLine",
+    "compile_line",
+    "compile_statements",
+]

@@ -1,0 +1,239 @@
+"""A coordinate system's rotary program buffer, and the one place BREQ is decided.
+
+The rotary buffer is a ring of memory words (seed 000, TUM p337): the host loads program
+lines ahead of the executing point while earlier lines run, and executed lines give their
+words back, so a 600-word buffer streams any number of lines. Here it is two queues:
+
+* ``pending`` — lines stored but not yet worked through by move planning; their number is
+  ``lines_ahead``, what ``PR`` reports and what I16 / I17 are compared with (TSRM p46, p286);
+* ``calculated`` — lines planning has worked through whose words are not yet free (they are
+  released when execution starts the move of a later line: the move start in
+  :mod:`motionsim.sim.pmac.lookahead.execution` pops them).
+
+BREQ ("buffer request", seed 000 and spec §1.2), each edge a ``breq`` event:
+
+* a line sent takes BREQ low, at least momentarily; if fewer than I17 lines are then ahead it
+  goes high again at once — so every line loaded below I17 is a low→high pulse (two events at
+  the same ``t``), i.e. an interrupt to the host; at I17 or more ahead it stays low and the
+  "rotary buffer full" status bit (``??`` word 2 bit 16) is set;
+* after a line is calculated, fewer than I16 lines ahead sets BREQ high (and clears the bit);
+* ``OPEN ROT`` or a change of the host-addressed CS takes it low, then high if fewer than I17
+  lines are ahead (:meth:`RotaryBuffer.reevaluate`).
+
+A new buffer starts with BREQ low ``[INF]`` until one of those rules raises it; one defined
+through the REST rotary resource counts as entered with ``OPEN ROT`` (API.md), so it is
+re-evaluated at once and an empty buffer asks for lines.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Callable
+from typing import Any
+
+from motionsim.sim.events import EventLog
+from motionsim.sim.pmac.buffers.line_numbers import LineNumbering
+from motionsim.sim.pmac.buffers.program import ProgramLine
+
+
+class RotaryBuffer:
+    """The rotary buffer of coordinate system ``cs``, ``size_words`` long.
+
+    Args:
+        cs: coordinate system number.
+        size_words: size from ``DEFINE ROT``.
+        log: the controller's event log.
+        thresholds: returns ``(I16, I17)`` now (they may change at any time).
+        vars_: the variable store; its ``version`` tells when to call ``thresholds`` again.
+        faults: the card's :class:`motionsim.sim.faults.CardFaults` (a rising edge it says
+            is lost raises the level without a ``breq`` event or interrupt), or None.
+    """
+
+    __slots__ = (
+        "cs",
+        "size_words",
+        "used_words",
+        "pending",
+        "calculated",
+        "n_loaded",
+        "breq",
+        "full",
+        "numbering",
+        "_emit",
+        "_thresholds",
+        "_rise",
+        "_vars",
+        "_ver",
+        "_i16",
+        "_i17",
+        "_faults",
+    )
+
+    def __init__(
+        self,
+        cs: int,
+        size_words: int,
+        log: EventLog,
+        thresholds: Callable[[], tuple[float, float]],
+        vars_: Any,
+        faults: Any = None,
+    ) -> None:
+        self._faults = faults
+        self.cs = cs
+        self.size_words = size_words
+        self.used_words = 0
+        self.pending: deque[tuple[int, ProgramLine]] = deque()
+        self.calculated: deque[tuple[int, int]] = deque()
+        self.n_loaded = 0
+        self.breq = False
+        self.full = False
+        #: The host's ``first_seq`` numbering of the lines stored
+        # (sim/pmac/buffers/line_numbers.py).
+        self.numbering = LineNumbering()
+        self._emit = log.emit
+        self._thresholds = thresholds
+        self._rise: list[Callable[[], Any]] = []
+        self._vars = vars_
+        self._ver = -1
+        self._i16 = 5.0
+        self._i17 = 10.0
+
+    def _limits(self) -> None:
+        """Refresh the cached I16 / I17 (``vars_.version`` tells when they may have changed)."""
+        self._i16, self._i17 = self._thresholds()
+        self._ver = self._vars.version
+
+    # -- state ----------------------------------------------------------------------------
+
+    @property
+    def lines_ahead(self) -> int:
+        """Lines stored but not yet calculated (``PR``)."""
+        return len(self.pending)
+
+    @property
+    def free_words(self) -> int:
+        return self.size_words - self.used_words
+
+    def fits(self, words: int) -> bool:
+        return self.used_words + words <= self.size_words
+
+    def to_dict(self, open_: bool) -> dict[str, Any]:
+        """The API's ``Rotary`` shape."""
+        return {
+            "size_words": self.size_words,
+            "used_words": self.used_words,
+            "free_words": self.free_words,
+            "lines_ahead": len(self.pending),
+            "breq": self.breq,
+            "open": open_,
+            "full": self.full,
+        }
+
+    # -- BREQ -----------------------------------------------------------------------------
+
+    def _set(self, level: bool) -> None:
+        if level == self.breq:
+            return
+        self.breq = level
+        if level and self._lost():
+            return
+        self._emit("breq", cs=self.cs, level=level)
+        if level and self._rise:
+            waiters, self._rise = self._rise, []
+            for cb in waiters:
+                cb()
+
+    def _lost(self) -> bool:
+        """An injected fault takes this rising edge: the level is high, nobody is told."""
+        faults = self._faults
+        return faults is not None and faults.active and faults.lose_breq_rise(self.cs)
+
+    def on_rise(self, cb: Callable[[], Any]) -> None:
+        """Call ``cb()`` once, at the next rising edge of BREQ (a host's interrupt)."""
+        self._rise.append(cb)
+
+    def reevaluate(self) -> None:
+        """``OPEN ROT`` / addressed CS changed: low, then high if fewer than I17 ahead (seed
+        000). The full bit keeps its hysteresis (TSRM p286): set at I17 or more ahead,
+        cleared only below I16, so a re-evaluation between the two leaves it as it was."""
+        self._set(False)
+        i16, i17 = self._thresholds()
+        ahead = len(self.pending)
+        if ahead >= i17:
+            self.full = True
+        elif ahead < i16:
+            self.full = False
+        if ahead < i17:
+            self._set(True)
+
+    # -- loading and planning -------------------------------------------------------------
+
+    def store(self, line: ProgramLine) -> int:
+        """Store one line (the caller has checked :meth:`fits`); returns its number ``n``."""
+        n = self.n_loaded + 1
+        self.n_loaded = n
+        self.pending.append((n, line))
+        self.used_words += line.words
+        ahead = len(self.pending)
+        emit = self._emit
+        cs = self.cs
+        emit("line_loaded", cs=cs, n=n, text=line.text, words=line.words, lines_ahead=ahead)
+        if self.breq:
+            self.breq = False
+            emit("breq", cs=cs, level=False)
+        if self._ver != self._vars.version:
+            self._limits()
+        if ahead < self._i17:
+            self.breq = True  # the rising half of the pulse: an interrupt to the host
+            if self._faults is not None and self._lost():
+                return n  # the rise happened but was never signalled (an injected fault)
+            emit("breq", cs=cs, level=True)
+            if self._rise:
+                waiters, self._rise = self._rise, []
+                for cb in waiters:
+                    cb()
+        else:
+            self.full = True
+        return n
+
+    def take(self) -> tuple[int, ProgramLine] | None:
+        """The next line for move planning, or None when planning has caught up."""
+        if not self.pending:
+            return None
+        item = self.pending.popleft()
+        self.calculated.append((item[0], item[1].words))
+        return item
+
+    def take_simple(self) -> int:
+        """Take the next line when its calculation emits nothing (a plain move line) and
+        return its number: the ``line_calculated`` event and the I16 rule follow at once."""
+        pending = self.pending
+        n, line = pending.popleft()
+        self.calculated.append((n, line.words))
+        # = self.line_calculated(n), written out (the per-line path)
+        self._emit("line_calculated", cs=self.cs, n=n)
+        if self._ver != self._vars.version:
+            self._limits()
+        if len(pending) < self._i16:
+            self.full = False
+            if not self.breq:
+                self._set(True)
+        return n
+
+    def line_calculated(self, n: int) -> None:
+        """Planning has worked through line ``n``: the I16 rule."""
+        self._emit("line_calculated", cs=self.cs, n=n)
+        if self._ver != self._vars.version:
+            self._limits()
+        if len(self.pending) < self._i16:
+            self.full = False
+            if not self.breq:
+                self._set(True)
+
+    def free_calculated(self) -> None:
+        """Release every calculated line (motion stopped, or lookahead discarded by ``A``)."""
+        while self.calculated:
+            self.used_words -= self.calculated.popleft()[1]
+
+
+__all__ = ["RotaryBuffer"]

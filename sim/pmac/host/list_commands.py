@@ -1,0 +1,110 @@
+"""``LIST`` on-line commands: program listings in the card's format.
+
+Forms (spec pmac.md §11.8; the Turbo SRM LIST pages were not found, §11.12):
+
+* ``LIST PLC n[,start[,len]]`` — PLC 0..31 as entered (:mod:`motionsim.sim.pmac.host.listing`);
+* ``LIST PROG n[,start[,len]]`` (``PROGRAM``) — a fixed motion program, through the
+  controller's ``program_lines(n)`` when the fixed-program store provides it;
+* ``LIST ROT`` (``ROTARY``) — the lines of the addressed CS's rotary buffer not yet
+  calculated, without offsets and without the ``RET`` ``[INF]``;
+* ``LIST FORWARD`` / ``LIST INVERSE`` ``[,start,len]`` — the addressed CS's kinematic
+  programs; motionsim has none (``OPEN FORWARD`` is not simulated), so they are empty;
+* ``LIST GATHER`` — the gather buffer as 12-hex-digit words (DPC ``gather.py``); gathering
+  itself is not simulated, so a defined buffer lists no words.
+
+An empty or missing buffer, a start beyond the last line, a PLC number above 31: ERR003
+``[INF]`` (the end of dls-pmacanalyse's chunked read).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+from motionsim.sim.errors import Conflict, NotSimulated
+from motionsim.sim.pmac.host import listing
+
+if TYPE_CHECKING:
+    from motionsim.sim.controller import Port
+    from motionsim.sim.pmac.controller import PmacController
+
+#: Buffer words after LIST -> the buffer listed.
+_BUFFERS = {
+    "PLC": "PLC", "PROGRAM": "PROG", "PROG": "PROG", "ROTARY": "ROT", "ROT": "ROT",
+    "FORWARD": "FORWARD", "INVERSE": "INVERSE", "GATHER": "GATHER", "GAT": "GATHER",
+}  # fmt: skip
+_NUMBERED = ("PLC", "PROG")
+N_PLCS = 32
+
+
+@dataclass(frozen=True, slots=True)
+class ListBuffer:
+    """``LIST {buffer} [n][,start[,len]]``."""
+
+    buffer: str
+    number: int | None = None
+    start: int | None = None
+    length: int | None = None
+
+
+def parse(p: Any) -> ListBuffer:
+    """Read a LIST command after the ``LIST`` word from parser ``p`` (``motionsim.sim.pmac
+    .parser._Parser``)."""
+    tok = p.take()
+    buffer = _BUFFERS.get(tok[1]) if tok[0] == "word" else None
+    if buffer is None:
+        raise p.error("LIST what? (PLC, PROG, ROT, FORWARD, INVERSE, GATHER)", tok)
+    number = p.integer() if buffer in _NUMBERED else None
+    start = length = None
+    if p.at("op", ","):
+        p.take()
+        start = p.integer()
+        if p.at("op", ","):
+            p.take()
+            length = p.integer()
+    return ListBuffer(buffer, number, start, length)
+
+
+def _err(message: str) -> Conflict:
+    return Conflict(message, pmac_error="ERR003")
+
+
+def run(cmd: ListBuffer, ctl: PmacController, port: Port) -> list[str]:
+    """The reply lines of ``cmd``.
+
+    Raises:
+        Conflict: ERR003 — nothing to list there (see the module docstring).
+        NotSimulated: LIST PROG while fixed motion programs are not simulated.
+    """
+    buffer = cmd.buffer
+    if buffer == "ROT":
+        rot = ctl.coord_system(port.state["cs"]).rotary
+        if rot is None:
+            raise _err(f"CS {port.state['cs']} has no rotary buffer")
+        entries = listing.entries((line.text for _, line in rot.pending), end=None)
+        return listing.window(entries, cmd.start, cmd.length) or []
+    if buffer == "GATHER":
+        if ctl.gather_words is None:
+            raise _err("no gather buffer is defined (DEFINE GATHER)")
+        return []  # data gathering is not simulated: the buffer holds no samples
+    if buffer in ("FORWARD", "INVERSE"):
+        raise _err(f"CS {port.state['cs']} has no {buffer.lower()}-kinematic program")
+    assert cmd.number is not None
+    if buffer == "PLC":
+        if cmd.number >= N_PLCS:
+            raise _err(f"no PLC {cmd.number} (0..{N_PLCS - 1})")
+        program = ctl.plcs.plc(cmd.number).program
+        source = program.lines if program is not None else ()
+    else:
+        lines_of = getattr(ctl, "program_lines", None)
+        if lines_of is None:
+            raise NotSimulated("LIST PROG: fixed motion programs are not simulated",
+                               pmac_error="ERR003")
+        source = lines_of(cmd.number) or ()
+    out = listing.window(listing.entries(source), cmd.start, cmd.length) if source else None
+    if out is None:
+        raise _err(f"{buffer} {cmd.number}: nothing to list there")
+    return out
+
+
+__all__ = ["ListBuffer", "parse", "run"]

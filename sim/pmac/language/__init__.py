@@ -1,0 +1,7 @@
+"""The Turbo PMAC command language: text to typed statements.
+
+The lexer and parser of on-line commands and buffered lines (``parser``), the
+statements they build (``statements``, ``motor_statements``, ``plc_statements``),
+compiled arithmetic (``expressions``), the streamed-line fast path (``fast_line``) and
+the PLC program parser (``plc_parser``). Nothing here runs a statement.
+"""

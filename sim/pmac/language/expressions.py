@@ -1,0 +1,234 @@
+"""Turbo PMAC arithmetic, compiled once at parse time (spec §10, TUM p248, TSRM p486-489).
+
+An expression is compiled to a closure ``fn(vars, cs) -> float`` (``vars`` is the controller's
+:class:`motionsim.sim.pmac.card.variables.Variables`, ``cs`` the coordinate system whose Q bank is
+meant), so evaluating a stored line costs a few Python calls. A constant expression also keeps its
+value in ``Expr.const`` so the hot path can skip the call entirely.
+
+The manual's rules modelled here:
+
+* two priority levels only: ``* / % &`` above ``+ - | ^``; equal levels left to right;
+* unary minus negates; a unary plus is an error (TSRM p486);
+* ``/`` is floating point; dividing by zero saturates at ±2**47 (0/0 gives 0) and the program
+  goes on;
+* ``%`` truncates the quotient toward -inf: for a positive divisor n the result is in [0, n),
+  for a negative divisor n in [-|n|, |n|) (``11%-4`` = 3, ``-11%-4`` = -3); ``x%0`` = 0;
+* ``& | ^`` act bit by bit on the two's-complement fixed-point form, fractional bits included
+  (``0.5^0.875`` = 0.375, ``3^-3`` = -2); we keep 24 fractional bits;
+* functions ``SIN COS TAN ASIN ACOS ATAN ATAN2 LN EXP SQRT ABS INT`` (``INT`` toward -inf);
+  angles in degrees when I15 = 0 (default), radians when I15 = 1; ``ATAN2(y)`` takes its cosine
+  argument from Q0 of the coordinate system ``[INF]``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+Fn = Callable[[Any, int], float]
+
+#: Division by zero saturates here (TSRM p487).
+SATURATION = float(2**47)
+_FRAC = float(1 << 24)
+
+
+def pmac_div(a: float, b: float) -> float:
+    """Floating-point division with the controller's saturation at ±2**47."""
+    if b == 0:
+        return 0.0 if a == 0 else math.copysign(SATURATION, a)
+    return a / b
+
+
+def pmac_mod(a: float, n: float) -> float:
+    """The controller's modulo (TSRM p487): see the module docstring."""
+    if n == 0:
+        return 0.0
+    if n > 0:
+        return a - math.floor(a / n) * n
+    m = -n
+    r = a - math.floor(a / (2 * m)) * (2 * m)
+    return r - 2 * m if r >= m else r
+
+
+def _fixed(x: float) -> int:
+    return math.floor(x * _FRAC)
+
+
+def pmac_and(a: float, b: float) -> float:
+    return (_fixed(a) & _fixed(b)) / _FRAC
+
+
+def pmac_or(a: float, b: float) -> float:
+    return (_fixed(a) | _fixed(b)) / _FRAC
+
+
+def pmac_xor(a: float, b: float) -> float:
+    return (_fixed(a) ^ _fixed(b)) / _FRAC
+
+
+BINARY: dict[str, Callable[[float, float], float]] = {
+    "+": lambda a, b: a + b,
+    "-": lambda a, b: a - b,
+    "*": lambda a, b: a * b,
+    "/": pmac_div,
+    "%": pmac_mod,
+    "&": pmac_and,
+    "|": pmac_or,
+    "^": pmac_xor,
+}
+
+#: Operators of the higher priority level; the rest are the lower level.
+HIGH = frozenset("*/%&")
+LOW = frozenset("+-|^")
+
+
+def _deg(vars_: Any) -> bool:
+    return vars_.angles_in_degrees()
+
+
+def _sin(v: Any, x: float) -> float:
+    return math.sin(math.radians(x) if _deg(v) else x)
+
+
+def _cos(v: Any, x: float) -> float:
+    return math.cos(math.radians(x) if _deg(v) else x)
+
+
+def _tan(v: Any, x: float) -> float:
+    return math.tan(math.radians(x) if _deg(v) else x)
+
+
+def _inv(fn: Callable[[float], float]) -> Callable[[Any, float], float]:
+    def f(v: Any, x: float) -> float:
+        try:
+            r = fn(x)
+        except ValueError:
+            return 0.0
+        return math.degrees(r) if _deg(v) else r
+
+    return f
+
+
+def _safe(fn: Callable[[float], float]) -> Callable[[Any, float], float]:
+    def f(v: Any, x: float) -> float:
+        try:
+            return fn(x)
+        except (ValueError, OverflowError):
+            return 0.0
+
+    return f
+
+
+#: ``NAME(expr)`` functions: ``f(vars, x)``. ATAN2 is special-cased (needs Q0).
+FUNCTIONS: dict[str, Callable[[Any, float], float]] = {
+    "SIN": _sin,
+    "COS": _cos,
+    "TAN": _tan,
+    "ASIN": _inv(math.asin),
+    "ACOS": _inv(math.acos),
+    "ATAN": _inv(math.atan),
+    "LN": _safe(math.log),
+    "EXP": _safe(math.exp),
+    "SQRT": _safe(math.sqrt),
+    "ABS": lambda v, x: abs(x),
+    "INT": lambda v, x: float(math.floor(x)),
+    "ATAN2": lambda v, x: 0.0,  # replaced in compile_function
+}
+
+
+@dataclass(frozen=True, slots=True)
+class Expr:
+    """A compiled expression: ``text`` as written, ``const`` when it has no variables."""
+
+    text: str
+    fn: Fn = field(compare=False, repr=False)
+    const: float | None = None
+
+    def __init__(self, text: str, fn: Fn, const: float | None = None) -> None:
+        # Every streamed word builds one: the slots' own setters instead of the generated
+        # frozen ``__init__``'s ``object.__setattr__`` per field (a third cheaper; the object
+        # is the same and stays frozen).
+        _set_text(self, text)
+        _set_fn(self, fn)
+        _set_const(self, const)
+
+    def __call__(self, vars_: Any, cs: int) -> float:
+        return self.const if self.const is not None else self.fn(vars_, cs)
+
+
+_set_text = Expr.text.__set__  # type: ignore[attr-defined]
+_set_fn = Expr.fn.__set__  # type: ignore[attr-defined]
+_set_const = Expr.const.__set__  # type: ignore[attr-defined]
+
+
+def constant(value: float, text: str | None = None) -> Expr:
+    """An expression that is just a number."""
+    v = float(value)
+    return Expr(text if text is not None else repr(v), lambda _v, _c: v, v)
+
+
+def binary(op: str, left: Expr, right: Expr) -> Expr:
+    """``left op right``; folded when both sides are constant."""
+    f = BINARY[op]
+    text = f"{left.text}{op}{right.text}"
+    if left.const is not None and right.const is not None:
+        return constant(f(left.const, right.const), text)
+    lf, rf = left.fn, right.fn
+    return Expr(text, lambda v, c: f(lf(v, c), rf(v, c)))
+
+
+def negate(inner: Expr) -> Expr:
+    text = f"-{inner.text}"
+    if inner.const is not None:
+        return constant(-inner.const, text)
+    f = inner.fn
+    return Expr(text, lambda v, c: -f(v, c))
+
+
+def paren(inner: Expr) -> Expr:
+    return Expr(f"({inner.text})", inner.fn, inner.const)
+
+
+def variable(kind: str, index: Expr) -> Expr:
+    """A variable read ``I5``, ``P(P1+2)``; ``kind`` is one of I P Q M (upper case)."""
+    text = f"{kind}{index.text}"
+    if index.const is not None:
+        n = int(index.const)
+        return Expr(text, lambda v, c: v.read(kind, n, c))
+    f = index.fn
+    return Expr(text, lambda v, c: v.read(kind, int(f(v, c)), c))
+
+
+def function(name: str, arg: Expr) -> Expr:
+    """``NAME(arg)``."""
+    text = f"{name}({arg.text})"
+    af = arg.fn
+    if name == "ATAN2":
+
+        def atan2(v: Any, c: int) -> float:
+            r = math.atan2(af(v, c), v.read("Q", 0, c))
+            return math.degrees(r) if _deg(v) else r
+
+        return Expr(text, atan2)
+    f = FUNCTIONS[name]
+    return Expr(text, lambda v, c: f(v, af(v, c)))
+
+
+__all__ = [
+    "BINARY",
+    "FUNCTIONS",
+    "HIGH",
+    "LOW",
+    "SATURATION",
+    "Expr",
+    "binary",
+    "constant",
+    "function",
+    "negate",
+    "paren",
+    "pmac_div",
+    "pmac_mod",
+    "variable",
+]

@@ -1,0 +1,43 @@
+"""On-line commands for PLC programs (TSRM p271, p424; spec §9.5).
+
+They are parsed by :mod:`motionsim.sim.pmac.language.parser` with the other on-line commands and
+executed by
+the terminal through :class:`motionsim.sim.pmac.tasks.plc.PlcTable`. The statements *inside* a PLC
+program
+are in :mod:`motionsim.sim.pmac.language.plc_parser`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True, slots=True)
+class OpenPlc:
+    """``OPEN PLC n`` (0..31): open PLC ``n`` for entry on this port (ERR007 if any buffer is
+    already open)."""
+
+    n: int
+
+
+@dataclass(frozen=True, slots=True)
+class EnablePlc:
+    """``ENABLE PLC n[,n...]`` / ``ENABLE PLC n..m`` (``enable``) or the same with ``DISABLE``."""
+
+    numbers: tuple[int, ...]
+    enable: bool
+
+
+@dataclass(frozen=True, slots=True)
+class Clear:
+    """``CLEAR``: erase the contents of the open PLC buffer."""
+
+
+@dataclass(frozen=True, slots=True)
+class ClearAllPlcs:
+    """``CLEAR ALL PLCS``: erase every PLC program buffer (TSRM on-line commands ``[BK]``)."""
+
+
+N_PLCS = 32
+
+__all__ = ["N_PLCS", "Clear", "ClearAllPlcs", "EnablePlc", "OpenPlc"]
