@@ -26,6 +26,8 @@ import math
 from collections.abc import Awaitable, Callable, MutableMapping
 from typing import Any
 
+import anyio
+import anyio.to_thread
 from motionsim.app.settings import DEFAULT_MAX_BODY_BYTES
 from starlette.routing import Match
 
@@ -39,6 +41,11 @@ ASGIApp = Callable[[Scope, Receive, Send], Awaitable[None]]
 DRAIN_BYTES = 64 * 1024 * 1024
 #: Most wall seconds spent discarding an over-limit body before its 413.
 DRAIN_S = 10.0
+
+#: Bodies up to this size are checked on the event loop (a few ms at most); larger ones in
+#: one worker thread shared by all requests, so the loop keeps serving everyone meanwhile.
+INLINE_CHECK_BYTES = 64 * 1024
+_CHECKER = anyio.CapacityLimiter(1)
 
 #: Deepest nesting of arrays and objects accepted in a JSON body (no request needs more than 4).
 MAX_DEPTH = 32
@@ -216,7 +223,10 @@ class BodyGuard:
                                f"{method} bodies must be JSON: send 'Content-Type: "
                                f"application/json' (got {got})")
         if body and is_json(media):
-            check_json(body)
+            if len(body) <= INLINE_CHECK_BYTES:
+                check_json(body)
+            else:  # a large body's scan would hold the loop: one worker thread at a time
+                await anyio.to_thread.run_sync(check_json, body, limiter=_CHECKER)
         return body
 
 
