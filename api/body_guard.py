@@ -28,6 +28,7 @@ from typing import Any
 
 import anyio
 import anyio.to_thread
+from motionsim.api.off_loop import WORKER, without_gc
 from motionsim.app.settings import DEFAULT_MAX_BODY_BYTES
 from starlette.routing import Match
 
@@ -45,7 +46,6 @@ DRAIN_S = 10.0
 #: Bodies up to this size are checked on the event loop (a few ms at most); larger ones in
 #: one worker thread shared by all requests, so the loop keeps serving everyone meanwhile.
 INLINE_CHECK_BYTES = 64 * 1024
-_CHECKER = anyio.CapacityLimiter(1)
 
 #: Deepest nesting of arrays and objects accepted in a JSON body (no request needs more than 4).
 MAX_DEPTH = 32
@@ -226,7 +226,7 @@ class BodyGuard:
             if len(body) <= INLINE_CHECK_BYTES:
                 check_json(body)
             else:  # a large body's scan would hold the loop: one worker thread at a time
-                await anyio.to_thread.run_sync(check_json, body, limiter=_CHECKER)
+                await anyio.to_thread.run_sync(without_gc, check_json, body, limiter=WORKER)
         return body
 
 
