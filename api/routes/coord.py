@@ -18,7 +18,8 @@ from motionsim.sim.pmac import PmacController
 
 router = APIRouter(tags=["coord"])
 
-CS = Annotated[int, Path(description="coordinate system number, 1..16 (404 otherwise)")]
+CS = Annotated[int, Path(description="coordinate system number, 1..16 (404 otherwise)",
+                         json_schema_extra={"minimum": 1, "maximum": 16})]
 BASE = "/controllers/{controller_id}/coord/{cs}"
 
 

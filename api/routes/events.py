@@ -29,6 +29,7 @@ from motionsim.api.schemas.events import EventsPage, StreamQuery, stream_query
 from motionsim.app.bus import Cursor, epoch_message
 from motionsim.sim.controller import Controller
 from motionsim.sim.errors import InvalidValue, NotFound
+from pydantic import Field
 
 router = APIRouter(tags=["events"])
 
@@ -47,7 +48,9 @@ async def get_events(
     handle: HandleDep,
     since: Annotated[int, Query(ge=0, le=2**63 - 1,
                                 description="return events with seq > since")] = 0,
-    type: Annotated[list[str] | None, Query(description="only these types (repeatable)")] = None,
+    type: Annotated[list[Annotated[str, Field(min_length=1, max_length=64)]] | None, Query(
+        max_length=64, description="only these types (repeatable; each one the controller "
+                                   "emits, 422 otherwise)")] = None,
     limit: Annotated[int, Query(ge=1, le=100_000)] = 1000,
     epoch: Annotated[str | None, Query(
         max_length=64, description="the `epoch` of the page `since` came from; a different "

@@ -23,7 +23,8 @@ from motionsim.sim.pmac.tasks.plc import compile_plc
 router = APIRouter(tags=["plcs"])
 
 BASE = "/controllers/{controller_id}/plcs"
-N = Annotated[int, Path(description="PLC number 0..31")]
+N = Annotated[int, Path(description="PLC number 0..31 (404 otherwise)",
+                        json_schema_extra={"minimum": 0, "maximum": 31})]
 
 
 def _plcs(handle: ControllerHandle) -> Any:

@@ -21,13 +21,16 @@ from motionsim.sim.trio.parser import parse_program
 
 router = APIRouter(tags=["trio programs"])
 
-NameParam = Annotated[str, Path(min_length=1, max_length=32, description="program name")]
+NameParam = Annotated[str, Path(min_length=1, max_length=32, pattern=r"^[A-Za-z_][A-Za-z0-9_]*$",
+                                description="program name: a letter or _, then letters, "
+                                            "digits, _ (up to 32)")]
 MAX_PROGRAM_BYTES = 1_000_000
 
 _TEXT_BODY = {
     "requestBody": {
         "required": True,
-        "content": {"text/plain": {"schema": {"type": "string"}, "example": "MOVE(10) AXIS(0)\n"}},
+        "content": {"text/plain": {"schema": {"type": "string", "maxLength": 1_000_000},
+                                   "example": "MOVE(10) AXIS(0)\n"}},
     }
 }
 
