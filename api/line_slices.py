@@ -19,6 +19,7 @@ import contextlib
 import time
 from typing import Any
 
+from motionsim.api.off_loop import gc_paused
 from motionsim.app.clock import SLICE_S, loop_turns
 from motionsim.sim.errors import MotionSimError
 from motionsim.sim.pmac import controller as pmac_controller
@@ -34,14 +35,17 @@ async def precompile(texts: list[Any]) -> dict[str, ProgramLine]:
     cache = pmac_controller._LINE_CACHE
     out: dict[str, ProgramLine] = {}
     end = time.monotonic() + SLICE_S
-    for text in dict.fromkeys(t for t in texts if type(t) is str):
-        if text in cache or text in out or len(text) > pmac_controller.MAX_LINE_CHARS:
-            continue
-        with contextlib.suppress(MotionSimError):  # the controller reports it, positioned
-            out[text] = compile_line(text)
-        if time.monotonic() > end:
-            await loop_turns()
-            end = time.monotonic() + SLICE_S
+    # A full collection triggered by the objects parsing creates would hold the loop for
+    # longer than many slices (its cost grows with the heap): paused while this batch parses.
+    with gc_paused():
+        for text in dict.fromkeys(t for t in texts if type(t) is str):
+            if text in cache or text in out or len(text) > pmac_controller.MAX_LINE_CHARS:
+                continue
+            with contextlib.suppress(MotionSimError):  # the controller reports it, positioned
+                out[text] = compile_line(text)
+            if time.monotonic() > end:
+                await loop_turns()
+                end = time.monotonic() + SLICE_S
     return out
 
 

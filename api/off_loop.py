@@ -11,8 +11,10 @@ caller unchanged (422 ``parse_error``, line and column), and nothing is stored.
 
 from __future__ import annotations
 
+import contextlib
 import gc
-from collections.abc import Callable
+import threading
+from collections.abc import Callable, Iterator
 from typing import TypeVar
 
 import anyio
@@ -35,17 +37,38 @@ async def off_loop(fn: Callable[[str], T], text: str) -> T:
     return await anyio.to_thread.run_sync(without_gc, fn, text, limiter=WORKER)
 
 
-def without_gc(fn: Callable[[T_in], T], arg: T_in) -> T:
-    """``fn(arg)`` with the cyclic garbage collector paused: a full collection triggered by the
-    objects a large compile creates would hold the interpreter lock, hence the event loop, for
-    a few hundred milliseconds; what the compile drops is freed by reference counting."""
-    enabled = gc.isenabled()
-    gc.disable()
+_pauses = 0
+_pause_lock = threading.Lock()
+_state: dict[str, bool] = {}  # "enabled": whether the collector ran before the first pause
+
+
+@contextlib.contextmanager
+def gc_paused() -> Iterator[None]:
+    """The cyclic garbage collector paused while inside (nested and concurrent uses counted:
+    it runs again when the last one ends). A full collection triggered by the objects a large
+    parse creates would hold the interpreter lock, hence the event loop, for hundreds of
+    milliseconds (its cost grows with the heap); what the parse drops is freed by reference
+    counting, the rest is collected later."""
+    global _pauses
+    with _pause_lock:
+        _pauses += 1
+        if _pauses == 1:
+            was_enabled = gc.isenabled()
+            gc.disable()
+            _state["enabled"] = was_enabled
     try:
-        return fn(arg)
+        yield
     finally:
-        if enabled:
-            gc.enable()
+        with _pause_lock:
+            _pauses -= 1
+            if _pauses == 0 and _state.get("enabled", True):
+                gc.enable()
 
 
-__all__ = ["INLINE_BYTES", "WORKER", "off_loop", "without_gc"]
+def without_gc(fn: Callable[[T_in], T], arg: T_in) -> T:
+    """``fn(arg)`` inside :func:`gc_paused`."""
+    with gc_paused():
+        return fn(arg)
+
+
+__all__ = ["INLINE_BYTES", "WORKER", "gc_paused", "off_loop", "without_gc"]
