@@ -3,7 +3,10 @@
 An ASGI middleware (no per-request task, no buffering beyond the limit):
 
 * a body longer than ``max_body_bytes`` (``Content-Length`` or counted while it streams) is
-  413 ``body_too_large`` — the service never holds more than the limit for one request;
+  413 ``body_too_large`` — the service never holds more than the limit for one request. The
+  rest of the body is read and thrown away first (at most ``DRAIN_BYTES``, for at most
+  ``DRAIN_S``): a client that sends its whole body before reading (``requests``,
+  ``http.client``) then reads the 413 instead of a connection reset;
 * a ``POST`` / ``PATCH`` with a body, or with any ``Content-Type``, must say
   ``application/json`` (415 ``unsupported_media_type``, the message says so): an HTML form
   cannot post JSON across sites, so no state changes from a form (CSRF). ``PUT`` of a Trio
@@ -17,11 +20,15 @@ The body is then handed on unchanged; FastAPI parses it into the route's model.
 
 from __future__ import annotations
 
+import asyncio
 import json
 import math
 from collections.abc import Awaitable, Callable, MutableMapping
 from typing import Any
 
+import anyio
+import anyio.to_thread
+from motionsim.api.off_loop import WORKER, without_gc
 from motionsim.app.settings import DEFAULT_MAX_BODY_BYTES
 from starlette.routing import Match
 
@@ -30,6 +37,15 @@ Message = MutableMapping[str, Any]
 Receive = Callable[[], Awaitable[Message]]
 Send = Callable[[Message], Awaitable[None]]
 ASGIApp = Callable[[Scope, Receive, Send], Awaitable[None]]
+
+#: Most bytes of an over-limit body read and discarded before its 413 (beyond: 413, then close).
+DRAIN_BYTES = 64 * 1024 * 1024
+#: Most wall seconds spent discarding an over-limit body before its 413.
+DRAIN_S = 10.0
+
+#: Bodies up to this size are checked on the event loop (a few ms at most); larger ones in
+#: one worker thread shared by all requests, so the loop keeps serving everyone meanwhile.
+INLINE_CHECK_BYTES = 64 * 1024
 
 #: Deepest nesting of arrays and objects accepted in a JSON body (no request needs more than 4).
 MAX_DEPTH = 32
@@ -176,6 +192,8 @@ class BodyGuard:
         limit = self.max_body_bytes
         length = header(scope, b"content-length")
         if length is not None and length.strip().isdigit() and int(length) > limit:
+            if (header(scope, b"expect") or "").lower() != "100-continue":
+                await _discard(receive)  # (a client waiting for 100 Continue sent nothing)
             raise BodyRejected(413, "body_too_large",
                                f"request body of {int(length)} bytes is over the limit of "
                                f"{limit} bytes (setting max_body_bytes)", limit=limit)
@@ -188,6 +206,8 @@ class BodyGuard:
             chunk = message.get("body", b"")
             size += len(chunk)
             if size > limit:
+                if message.get("more_body", False):
+                    await _discard(receive)
                 raise BodyRejected(413, "body_too_large",
                                    f"request body is over the limit of {limit} bytes "
                                    "(setting max_body_bytes)", limit=limit)
@@ -203,8 +223,28 @@ class BodyGuard:
                                f"{method} bodies must be JSON: send 'Content-Type: "
                                f"application/json' (got {got})")
         if body and is_json(media):
-            check_json(body)
+            if len(body) <= INLINE_CHECK_BYTES:
+                check_json(body)
+            else:  # a large body's scan would hold the loop: one worker thread at a time
+                await anyio.to_thread.run_sync(without_gc, check_json, body, limiter=WORKER)
         return body
+
+
+async def _discard(receive: Receive) -> None:
+    """Read and drop the rest of a refused body (bounded by ``DRAIN_BYTES`` and ``DRAIN_S``),
+    so the client, done sending, reads the answer rather than a reset."""
+    dropped = 0
+    try:
+        async with asyncio.timeout(DRAIN_S):
+            while dropped <= DRAIN_BYTES:
+                message = await receive()
+                if message["type"] == "http.disconnect":
+                    return
+                dropped += len(message.get("body", b""))
+                if not message.get("more_body", False):
+                    return
+    except TimeoutError:
+        return
 
 
 async def _reply(send: Send, exc: BodyRejected) -> None:
@@ -222,5 +262,5 @@ async def send_error(send: Send, status: int, body: dict[str, Any], *, close: bo
     await send({"type": "http.response.body", "body": data})
 
 
-__all__ = ["DEFAULT_MAX_BODY_BYTES", "MAX_DEPTH", "BodyGuard", "BodyRejected", "check_json",
-           "header", "is_json", "media_type", "send_error"]
+__all__ = ["DEFAULT_MAX_BODY_BYTES", "DRAIN_BYTES", "DRAIN_S", "MAX_DEPTH", "BodyGuard",
+           "BodyRejected", "check_json", "header", "is_json", "media_type", "send_error"]

@@ -27,6 +27,7 @@ STATUS_BY_CODE: dict[str, int] = {
     "not_found": 404,
     "buffer_full": 409,
     "conflict": 409,
+    "controller_deleted": 410,
     "not_simulated": 501,
     "watchdog": 409,
     "parse_error": 422,

@@ -16,6 +16,7 @@ import logging
 from collections.abc import AsyncIterator, Callable
 from typing import Any, Final
 
+from motionsim.api.connection_table import ConnectionTable, current_connection
 from motionsim.app.fatal import exit_if_fatal
 from motionsim.app.faults import ReplyAction, faults_of, has_faults
 
@@ -177,9 +178,13 @@ async def read_chunk(reader: asyncio.StreamReader, limits: Any) -> bytes:
     try:
         # asyncio.timeout, not wait_for: no task is created per read (a round trip's cost)
         async with asyncio.timeout(limits.idle_timeout_s):
-            return await reader.read(65536)
+            data = await reader.read(65536)
     except TimeoutError:
         return b""
+    connection = current_connection()
+    if connection is not None:
+        connection.touch()
+    return data
 
 
 #: Replies a connection sends in a row before the event loop serves everyone else once.
@@ -229,23 +234,14 @@ async def serve_connection(
 
     unsubscribe = close_when_deleted(session.handle, writer)
     reading = asyncio.create_task(read_loop())
+    connection = current_connection()
+    working = connection.working if connection is not None else contextlib.nullcontext
     try:
         while True:
             await wake.wait()
             wake.clear()
-            answered = 0
-            async for out in session.replies():
-                answered += 1
-                if answered % FAIR_SHARE == 0:
-                    # A host pipelining many requests whose answers need no simulated time would
-                    # otherwise keep the loop to itself: everyone else gets a turn in between.
-                    await asyncio.sleep(0)
-                action, session.fault_action = session.fault_action, None
-                if action is not None:
-                    await _faulty_reply(action, out, writer)
-                    continue
-                writer.write(out)
-                await writer.drain()
+            with working():
+                await _send_replies(session, writer)
             ahead = 0
             caught_up.set()
             if session.codec.eof:
@@ -266,6 +262,23 @@ async def serve_connection(
         writer.close()
         with contextlib.suppress(Exception):
             await writer.wait_closed()
+
+
+async def _send_replies(session: WireSession, writer: asyncio.StreamWriter) -> None:
+    """Send the replies to everything the session has received so far."""
+    answered = 0
+    async for out in session.replies():
+        answered += 1
+        if answered % FAIR_SHARE == 0:
+            # A host pipelining many requests whose answers need no simulated time would
+            # otherwise keep the loop to itself: everyone else gets a turn in between.
+            await asyncio.sleep(0)
+        action, session.fault_action = session.fault_action, None
+        if action is not None:
+            await _faulty_reply(action, out, writer)
+            continue
+        writer.write(out)
+        await writer.drain()
 
 
 async def _faulty_reply(action: ReplyAction, out: bytes, writer: asyncio.StreamWriter) -> None:
@@ -300,21 +313,22 @@ async def start_server(
     limits: Any = None,
 ) -> asyncio.Server:
     """``asyncio.start_server`` whose connections end quietly when the server shuts down, with
-    at most ``limits.max_connections`` open at once (one more is closed at once)."""
+    at most ``limits.max_connections`` open at once: one more makes the connection idle the
+    longest close (:class:`motionsim.api.connection_table.ConnectionTable`); it is closed at
+    once only when every open one is in the middle of a command."""
     limits = limits if limits is not None else default_limits()
-    active = 0
+    table = ConnectionTable(limits.max_connections, f"{host}:{port}")
 
     async def on_connect(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
-        nonlocal active
-        if active >= limits.max_connections:
+        connection = table.admit(writer)
+        if connection is None:
             writer.close()
             return
-        active += 1
         try:
             with contextlib.suppress(asyncio.CancelledError):
                 await connect(reader, writer)
         finally:
-            active -= 1
+            table.release(connection)
 
     return await asyncio.start_server(on_connect, host, port)
 

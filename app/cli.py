@@ -191,6 +191,7 @@ def serve(
 async def _serve(app: Any, settings: Any, sock: socket.socket, recorder: Any) -> int:
     """Start the protocol listeners, then serve HTTP on ``sock``; the exit code."""
     import uvicorn
+    from motionsim.app.http_server import uvicorn_config
     from motionsim.app.listeners import ListenerError, start_listeners
 
     app.state.ready = False
@@ -204,8 +205,7 @@ async def _serve(app: Any, settings: Any, sock: socket.socket, recorder: Any) ->
         return 1
     app.state.listeners.extend(listener.server for listener in listeners)
     app.state.ready = True
-    config = uvicorn.Config(app, log_level="warning", ws_per_message_deflate=False,
-                            lifespan="on", timeout_graceful_shutdown=2)
+    config = uvicorn_config(app, settings, graceful_s=2)
     server = uvicorn.Server(config)
     host = f"[{settings.host}]" if ":" in settings.host else settings.host
     print(f"motionsim listening http://{host}:{settings.port}", flush=True)

@@ -40,14 +40,14 @@ class EmbeddedService:
     def start(self, timeout: float = 20.0) -> EmbeddedService:
         import uvicorn
         from motionsim.api.main import create_app
+        from motionsim.app.http_server import uvicorn_config
 
         sock = bind_tcp(self.settings.host, self.settings.port)
         self.port = sock.getsockname()[1]
         self.settings = self.settings.model_copy(update={"port": self.port})
         self.url = f"http://{self.settings.host}:{self.port}"
         self.app = create_app(self.settings)
-        config = uvicorn.Config(self.app, log_level="warning", ws_per_message_deflate=False,
-                                lifespan="on", timeout_graceful_shutdown=1)
+        config = uvicorn_config(self.app, self.settings, graceful_s=1)
         self._server = uvicorn.Server(config)
 
         async def main() -> None:

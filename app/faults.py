@@ -14,20 +14,22 @@ field named, and nothing changes) added to the controller's :class:`FaultTable` 
   ``duration_ms`` of simulated time), ``breq_lost`` (a rising BREQ edge not signalled).
 
 Command faults pick commands by ``match`` (a regular expression searched in the command line,
-case-insensitive; every command if omitted): the ``nth`` matching command and the ones after
-it are hit, each with ``probability``, ``count`` times at most. Draws come from the fault's own
-``random.Random(seed)``, made only for commands it may hit, so the same commands and seed hit
-the same ones. Every injection is a ``fault`` event (``fault`` = the fault's id, ``kind``, and
-``command`` / ``cs`` / ``start_s`` and ``end_s``) at the simulated instant it happens.
+case-insensitive, by the linear-time matcher of :mod:`motionsim.app.fault_match`: a pattern
+that needs backtracking is refused; every command if omitted): the ``nth`` matching command
+and the ones after it are hit, each with ``probability``, ``count`` times at most. Draws come
+from the fault's own ``random.Random(seed)``, made only for commands it may hit, so the same
+commands and seed hit the same ones. Every injection is a ``fault`` event (``fault`` = the
+fault's id, ``kind``, and ``command`` / ``cs`` / ``start_s`` and ``end_s``) at the simulated
+instant it happens.
 """
 
 from __future__ import annotations
 
-import re
 import weakref
 from dataclasses import dataclass
 from typing import Annotated, Any, Literal
 
+from motionsim.app.fault_match import CommandPattern
 from motionsim.sim.errors import InvalidValue, NotFound
 from motionsim.sim.faults import EdgeLoss, Selector
 from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, field_validator
@@ -44,8 +46,10 @@ class _Spec(BaseModel):
 
 class _CommandSpec(_Spec):
     match: str | None = Field(None, min_length=1, max_length=200,
-                              description="regular expression searched in the command line "
-                                          "(case-insensitive); every command if omitted")
+                              description="regular expression (RE2 syntax: no back-references "
+                                          "or look-around) searched in the command line "
+                                          "(case-insensitive) in linear time; every "
+                                          "command if omitted")
     nth: int = Field(1, ge=1, le=10**9, description="the first matching command hit")
     count: int | None = Field(1, ge=1, le=10**9, description="most injections (null: no limit)")
     probability: float = Field(1.0, gt=0.0, le=1.0, allow_inf_nan=False,
@@ -55,10 +59,7 @@ class _CommandSpec(_Spec):
     @classmethod
     def _compiles(cls, value: str | None) -> str | None:
         if value is not None:
-            try:
-                re.compile(value)
-            except re.error as exc:
-                raise ValueError(f"not a regular expression: {exc}") from None
+            CommandPattern(value)
         return value
 
 
@@ -134,7 +135,7 @@ class _CommandFault:
     def __init__(self, id: str, spec: Any) -> None:
         self.id = id
         self.spec = spec
-        self.pattern = re.compile(spec.match, re.IGNORECASE) if spec.match else None
+        self.pattern = CommandPattern(spec.match) if spec.match else None
         self.select = Selector(spec.nth, spec.count, spec.probability, spec.seed)
 
     def hits(self, command: str) -> bool:

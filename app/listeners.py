@@ -66,7 +66,9 @@ class ConnectionLimits:
     """What one TCP protocol listener allows (settings ``tcp_max_connections``,
     ``tcp_idle_timeout_s``).
 
-    ``max_connections``: connections open at once; one more is closed at once.
+    ``max_connections``: connections open at once; one more closes the connection idle the
+    longest (:mod:`motionsim.api.connection_table`), or is itself closed when every open one
+    is in the middle of a command.
     ``idle_timeout_s``: a connection that sends nothing this long is closed.
     ``read_ahead_bytes``: input a connection may send ahead of the replies it has been given;
     beyond it the server stops reading (TCP flow control holds the host back) [INF].

@@ -13,6 +13,10 @@ Lines to ``FILE``::
 ``t`` is the controller's simulated time, ``wall`` the Unix time; ``data`` is the bytes as a
 latin-1 string (every byte value maps to one character, so it round-trips exactly and stays
 readable). ``app/replay.py`` reads the file back and replays it against a fresh controller.
+
+Each line is flushed as it is written, so a crash (``kill -9``) leaves every record written
+before it, at most a last line cut short, and no ``close`` for the sessions open then — a
+request in flight has its ``in`` record and no ``out``. The replay accepts such a transcript.
 """
 
 from __future__ import annotations
@@ -112,14 +116,23 @@ def rotate(path: Path, keep: int = KEEP) -> None:
 
 
 def read_transcript(path: str | Path) -> Iterator[Record]:
-    """The records of a transcript, in order."""
-    with Path(path).open(encoding="utf-8") as f:
+    """The records of a transcript, in order.
+
+    A process killed while writing (``kill -9``, a power cut) can leave its last line cut
+    short, without its newline: that line is skipped and a record of kind ``"truncated"``
+    (``fields``: ``line``, the line number) ends the iteration instead. Anything else that is
+    not JSON is an error naming the line.
+    """
+    with Path(path).open(encoding="utf-8", errors="replace") as f:
         for n, line in enumerate(f, 1):
             if not line.strip():
                 continue
             try:
                 obj = json.loads(line)
             except json.JSONDecodeError as exc:
+                if not line.endswith("\n"):  # the last line, cut short by the crash
+                    yield Record("truncated", fields={"line": n})
+                    return
                 raise ValueError(f"{path}:{n}: not JSON: {exc.msg}") from None
             kind = obj.pop("kind", None)
             if kind not in ("header", "open", "in", "out", "close"):

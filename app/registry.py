@@ -28,6 +28,7 @@ from motionsim.app.clock import (
 )
 from motionsim.app.faults import faults_of, has_faults
 from motionsim.app.host_paced import DEFAULT_HOLDER, HostPacedClock
+from motionsim.app.inflight import InFlight
 from motionsim.app.kinds import kind_class
 from motionsim.sim.controller import Controller, Port, Reply
 from motionsim.sim.errors import Conflict, InvalidValue, NotFound
@@ -85,6 +86,8 @@ class ControllerHandle:
         self.clock = clock
         self.realtime_reply_cap_s = REALTIME_REPLY_CAP_S
         self.closed = False
+        #: The calls waiting on this controller's simulation (cancelled when it is deleted).
+        self.inflight = InFlight(id)
         self._on_close: list[Callable[[], None]] = []
         #: The event loop that owns this controller (its clock task, its routes).
         self.loop: asyncio.AbstractEventLoop | None = None
@@ -106,7 +109,8 @@ class ControllerHandle:
         simulated, in slices that give the loop a turn; on a host-paced clock this is part of
         the caller's action, and holders due meanwhile act at its end); a realtime clock awaits
         it (at most ``realtime_reply_cap_s`` wall). A reply still not done is returned pending;
-        the kind emits ``terminal_reply`` when it completes.
+        the kind emits ``terminal_reply`` when it completes. Deleting the controller meanwhile
+        ends the wait with :class:`~motionsim.app.inflight.ControllerDeleted`.
         """
         self.ensure_running()
         port = port if port is not None else self.controller.rest_port
@@ -140,7 +144,7 @@ class ControllerHandle:
         reply.add_done_callback(_done)
         cap = min(self.realtime_reply_cap_s, wait_s / clock.factor)
         with contextlib.suppress(TimeoutError):
-            await asyncio.wait_for(done, timeout=cap)
+            await self.inflight.run(asyncio.wait_for(done, timeout=cap))
         return _answered(reply)
 
     async def run_until_reply(self, reply: Reply, max_s: float) -> None:
@@ -149,12 +153,15 @@ class ControllerHandle:
         clock = self.clock
         if isinstance(clock, RealtimeClock):
             raise Conflict("a realtime clock is not stepped by its callers")
-        await drain_async(reply_steps(clock.env, reply, max_s, clock.slice_s))
+        await self.inflight.run(drain_async(reply_steps(clock.env, reply, max_s, clock.slice_s)))
 
     async def advance(self, seconds: float, holder: str | None = None) -> None:
         """Virtual: run forward by ``seconds`` (in slices). Host-paced: holder ``holder``
         (default ``main``) waits ``seconds`` of simulated time while the other holders act.
-        Realtime: 409 ``conflict``."""
+        Realtime: 409 ``conflict``. Deleting the controller meanwhile ends it (410)."""
+        await self.inflight.run(self._advance(seconds, holder))
+
+    async def _advance(self, seconds: float, holder: str | None) -> None:
         clock = self.clock
         if isinstance(clock, VirtualClock):
             await clock.advance_async(seconds)
@@ -183,14 +190,25 @@ class ControllerHandle:
 
     async def run_until_outcome(self, pattern: Mapping[str, Any], timeout_s: float,
                                 holder: str | None = None) -> tuple[Event | None, str]:
-        """:meth:`run_until` with how it ended: ``matched``, ``timeout`` (simulated),
-        ``wall_timeout`` or (host-paced) ``released``."""
+        """:meth:`run_until` with how it ended: ``matched``, ``timeout`` (``timeout_s`` of
+        simulated time passed), ``wall_timeout`` (``RUN_UNTIL_WALL_CAP_S`` of wall time passed
+        first) or (host-paced) ``released``. Deleting the controller meanwhile ends it (410)."""
+        return await self.inflight.run(self._run_until_outcome(pattern, timeout_s, holder))
+
+    async def _run_until_outcome(self, pattern: Mapping[str, Any], timeout_s: float,
+                                 holder: str | None) -> tuple[Event | None, str]:
         clock = self.clock
         log = self.controller.log
         if isinstance(clock, VirtualClock):
+            start = clock.env.now
             found = await clock.run_until_async(log, pattern, timeout_s,
                                                 wall_budget_s=RUN_UNTIL_WALL_CAP_S)
-            return found, "matched" if found is not None else "timeout"
+            if found is not None:
+                return found, "matched"
+            # a simulated time-out leaves the clock at start + timeout_s; the wall budget
+            # stops it where it got to, short of that
+            reached = clock.env.now >= start + float(timeout_s) - 1e-9
+            return None, "timeout" if reached else "wall_timeout"
         if isinstance(clock, HostPacedClock):
             return await clock.wait(holder or DEFAULT_HOLDER, pattern, timeout_s,
                                     wall_timeout_s=RUN_UNTIL_WALL_CAP_S)
@@ -321,8 +339,10 @@ class ControllerHandle:
         return cancel
 
     async def close(self) -> None:
-        """Stop the clock's task; tell subscribers (WebSockets) the controller is gone."""
+        """End the calls waiting on it (410), stop the clock's task, tell subscribers
+        (WebSockets, TCP connections) the controller is gone."""
         self.closed = True
+        await self.inflight.close()
         callbacks, self._on_close = self._on_close, []
         for callback in callbacks:
             callback()

@@ -8,6 +8,12 @@ each recorded input: advances that controller's clock to the input's simulated t
 backwards), feeds the bytes, and collects the answers. Each session's answers must equal the
 recorded ones byte for byte; the first difference is reported with its offset.
 
+A transcript cut by a crash (the service killed while a request was in flight) replays too:
+a session with no ``close`` record is *incomplete*; its complete exchanges must match (the
+answers recorded are a prefix of the replayed ones), and the replay's extra answer to the
+request that was in flight is reported, not counted as a difference. A last line cut short is
+skipped and reported.
+
 Transcripts recorded on a realtime clock replay the inputs at the simulated instants they
 arrived, so answers that depend on timing (``PR``, a locked Trio prompt) come out the same
 as long as the recording did not depend on wall-clock jitter finer than those instants.
@@ -35,9 +41,19 @@ class SessionResult:
     controller: str
     expected: bytes = b""
     got: bytes = b""
+    #: A ``close`` record ended the session (False: the recording stopped while it was open).
+    closed: bool = False
+
+    @property
+    def incomplete(self) -> bool:
+        """The recording ended with the session open (a crash): only its complete exchanges,
+        the answers recorded, are compared."""
+        return not self.closed
 
     @property
     def ok(self) -> bool:
+        if self.incomplete:
+            return self.got[: len(self.expected)] == self.expected
         return self.expected == self.got
 
     @property
@@ -45,6 +61,12 @@ class SessionResult:
         """Byte offset of the first difference, or None when equal."""
         if self.ok:
             return None
+        if self.incomplete:
+            expected, got = self.expected, self.got[: len(self.expected)]
+            for i, (a, b) in enumerate(zip(expected, got, strict=False)):
+                if a != b:
+                    return i
+            return len(got)
         for i, (a, b) in enumerate(zip(self.expected, self.got, strict=False)):
             if a != b:
                 return i
@@ -52,6 +74,12 @@ class SessionResult:
 
     def describe(self) -> str:
         head = f"session {self.session} ({self.protocol} on {self.controller})"
+        if self.ok and self.incomplete:
+            extra = len(self.got) - len(self.expected)
+            last = (f"the last request was in flight (the replay answers it with {extra} "
+                    "bytes never recorded)" if extra else "no request was in flight")
+            return (f"{head}: incomplete (the recording ended with the session open): "
+                    f"{len(self.expected)} bytes of complete exchanges match; {last}")
         if self.ok:
             return f"{head}: {len(self.got)} bytes match"
         i = self.first_difference or 0
@@ -63,6 +91,8 @@ class SessionResult:
 @dataclass
 class ReplayResult:
     sessions: list[SessionResult] = field(default_factory=list)
+    #: Line number of a last line cut short by a crash (skipped), or None.
+    truncated_line: int | None = None
 
     @property
     def ok(self) -> bool:
@@ -119,6 +149,9 @@ async def replay(path: str | Path) -> ReplayResult:
     try:
         for rec in read_transcript(path):
             fields = dict(rec.fields or {})
+            if rec.kind == "truncated":
+                result.truncated_line = fields.get("line")
+                break
             if rec.kind == "header":
                 for cid, spec in fields.get("controllers", {}).items():
                     registry.add(spec.get("kind", cid), cid, clock="virtual",
@@ -145,6 +178,7 @@ async def replay(path: str | Path) -> ReplayResult:
             if rec.kind == "in":
                 rep.feed(rec.data)
             else:  # close
+                res.closed = True
                 rep.feed(b"")
             await _settle(list(live.values()))
         await _settle(list(live.values()))
@@ -166,8 +200,12 @@ def _advance(handle: Any, t: float, virtual: type) -> None:
 def main(path: str | Path) -> int:
     """Replay ``path``, print one line per session; exit status 0 when every session matches."""
     result = asyncio.run(replay(path))
+    if result.truncated_line is not None:
+        print(f"note line {result.truncated_line} was cut short (the recording process was "
+              "killed while writing it) and is skipped")
     for s in result.sessions:
-        print(("ok   " if s.ok else "FAIL ") + s.describe())
+        mark = "FAIL " if not s.ok else ("cut  " if s.incomplete else "ok   ")
+        print(mark + s.describe())
     print(f"{sum(s.ok for s in result.sessions)}/{len(result.sessions)} sessions match")
     return 0 if result.ok else 1
 

@@ -100,6 +100,20 @@ class Settings(BaseSettings):
     tcp_idle_timeout_s: float = Field(
         600.0, gt=0, le=86_400, allow_inf_nan=False,
         description="a TCP protocol connection that sends nothing this long is closed")
+    http_max_connections: int = Field(
+        800, ge=1, le=100_000,
+        description="HTTP + WebSocket connections open at once; one more is answered 503 and "
+                    "closed (keep it under the process's file-descriptor limit)")
+    http_header_timeout_s: float = Field(
+        10.0, gt=0, le=3600, allow_inf_nan=False,
+        description="a request whose headers are not complete this long after the connection "
+                    "opened (or the previous response) is answered 408 and closed")
+    http_max_header_bytes: int = Field(
+        16 * 1024, ge=1024, le=1 << 20,
+        description="largest request line + headers (431 and closed above)")
+    http_keep_alive_s: int = Field(
+        5, ge=1, le=3600, description="an idle HTTP connection between requests is closed "
+                                      "after this long (uvicorn timeout_keep_alive)")
     # -- web safety ----------------------------------------------------------------------
     allowed_hosts: Annotated[list[str], NoDecode] = Field(
         default_factory=list,

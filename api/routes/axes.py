@@ -22,7 +22,9 @@ from motionsim.sim.errors import BufferFull, NotFound
 
 router = APIRouter(tags=["trio axes"])
 
-AxisParam = Annotated[int, Path(ge=0, description="axis number, from 0")]
+AxisParam = Annotated[int, Path(ge=0, description="axis number, from 0 (404 beyond the "
+                                                  "controller's axes)",
+                                json_schema_extra={"maximum": 63})]
 
 
 def trio_of(handle: ControllerHandle) -> Any:

@@ -10,6 +10,7 @@ from typing import Annotated, Any
 
 from fastapi import APIRouter, Path, Response
 from motionsim.api.deps import HandleDep
+from motionsim.api.line_slices import load_compiled, precompile
 from motionsim.api.schemas.coord import CoordPublic, LinesAccepted, LinesIn, RotaryIn, RotaryPublic
 from motionsim.app.registry import ControllerHandle
 from motionsim.sim.errors import NotFound
@@ -17,7 +18,8 @@ from motionsim.sim.pmac import PmacController
 
 router = APIRouter(tags=["coord"])
 
-CS = Annotated[int, Path(description="coordinate system number, 1..16 (404 otherwise)")]
+CS = Annotated[int, Path(description="coordinate system number, 1..16 (404 otherwise)",
+                         json_schema_extra={"minimum": 1, "maximum": 16})]
 BASE = "/controllers/{controller_id}/coord/{cs}"
 
 
@@ -57,9 +59,12 @@ def delete_rotary(handle: HandleDep, cs: CS) -> Response:
 
 
 @router.post(BASE + "/rotary/lines", response_model=LinesAccepted)
-def post_lines(handle: HandleDep, cs: CS, body: LinesIn) -> dict[str, Any]:
-    """Store a batch atomically (409 ``buffer_full`` / 422 ``parse_error``, nothing stored)."""
-    result = handle.apply(_pmac(handle).load_lines, cs, body.lines, body.first_seq)
+async def post_lines(handle: HandleDep, cs: CS, body: LinesIn) -> dict[str, Any]:
+    """Store a batch atomically (409 ``buffer_full`` / 422 ``parse_error``, nothing stored);
+    at most ``MAX_BATCH_LINES`` lines, parsed in slices that let other clients be served."""
+    ctl = _pmac(handle)
+    compiled = await precompile(body.lines)
+    result = handle.apply(load_compiled, ctl, cs, body.lines, body.first_seq, compiled)
     return result._asdict()
 
 

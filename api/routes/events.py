@@ -10,9 +10,11 @@ continues. Its first message is ``{"type": "epoch", ...}`` (the log's incarnatio
 
 A WebSocket that cannot be served is accepted and then closed with a code and a reason a real
 client sees (a close before the handshake would reach it as a bare HTTP 403): 4404 unknown
-controller, 4422 bad query (``since`` < 0, an unknown event type: preceded by one
-``{"type": "error", "code": "validation_error", "message", "valid": [...]}`` message, since a
-close reason holds only 123 bytes), 4410 the controller was deleted while streaming.
+controller, 4422 bad query (``since`` not an integer >= 0 — ``abc``, ``1.5`` —, ``batch``
+not a boolean, an unknown event type: preceded by one ``{"type": "error", "code":
+"validation_error", "message", "field", ...}`` message, since a close reason holds only 123
+bytes), 4410 the controller was deleted while streaming. The query is validated by the route
+itself after the handshake, never by FastAPI before it (which would refuse with HTTP 403).
 """
 
 from __future__ import annotations
@@ -23,10 +25,11 @@ from typing import Annotated
 
 from fastapi import APIRouter, Query, WebSocket, WebSocketDisconnect
 from motionsim.api.deps import HandleDep
-from motionsim.api.schemas.events import EventsPage
+from motionsim.api.schemas.events import EventsPage, StreamQuery, stream_query
 from motionsim.app.bus import Cursor, epoch_message
 from motionsim.sim.controller import Controller
 from motionsim.sim.errors import InvalidValue, NotFound
+from pydantic import Field
 
 router = APIRouter(tags=["events"])
 
@@ -45,7 +48,9 @@ async def get_events(
     handle: HandleDep,
     since: Annotated[int, Query(ge=0, le=2**63 - 1,
                                 description="return events with seq > since")] = 0,
-    type: Annotated[list[str] | None, Query(description="only these types (repeatable)")] = None,
+    type: Annotated[list[Annotated[str, Field(min_length=1, max_length=64)]] | None, Query(
+        max_length=64, description="only these types (repeatable; each one the controller "
+                                   "emits, 422 otherwise)")] = None,
     limit: Annotated[int, Query(ge=1, le=100_000)] = 1000,
     epoch: Annotated[str | None, Query(
         max_length=64, description="the `epoch` of the page `since` came from; a different "
@@ -77,27 +82,20 @@ def check_types(controller: Controller, types: list[str] | None) -> None:
 
 
 @router.websocket("/controllers/{controller_id}/events")
-async def stream_events(
-    websocket: WebSocket,
-    controller_id: str,
-    since: int = 0,
-    type: Annotated[list[str] | None, Query()] = None,
-    batch: bool = False,
-    epoch: str | None = None,
-) -> None:
-    """``batch=true`` (an extension): each message is a JSON array of the events (and gaps)
-    read together, up to 256 — for high event rates, where messages per second, not bytes,
-    are the limit. ``epoch``: the log epoch ``since`` belongs to (a stale one: ``reset``)."""
+async def stream_events(websocket: WebSocket, controller_id: str) -> None:
+    """Query (:class:`motionsim.api.schemas.events.StreamQuery`): ``since``, ``type``
+    (repeatable), ``batch=true`` (an extension: each message is a JSON array of the events and
+    gaps read together, up to 256 — for high event rates, where messages per second, not bytes,
+    are the limit), ``epoch`` (the log epoch ``since`` belongs to; a stale one: ``reset``)."""
     await websocket.accept()
     try:
         handle = websocket.app.state.registry.get(controller_id)
     except NotFound as exc:
         await websocket.close(code=CLOSE_NOT_FOUND, reason=_reason(exc.message))
         return
-    if since < 0:
-        await websocket.close(code=CLOSE_BAD_QUERY, reason="since must be >= 0")
-        return
     try:
+        query: StreamQuery = stream_query(websocket.query_params)
+        since, type, batch, epoch = query.since, query.type, query.batch, query.epoch
         check_types(handle.controller, type)
     except InvalidValue as exc:
         # the close reason holds only 123 bytes: the whole error (every valid type) goes first

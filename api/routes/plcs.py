@@ -14,14 +14,17 @@ from typing import Annotated, Any
 
 from fastapi import APIRouter, Path
 from motionsim.api.deps import HandleDep
+from motionsim.api.off_loop import off_loop
 from motionsim.api.schemas.plcs import PlcDetail, PlcList, PlcProgramIn
 from motionsim.app.registry import ControllerHandle
 from motionsim.sim.errors import Halted, NotFound
+from motionsim.sim.pmac.tasks.plc import compile_plc
 
 router = APIRouter(tags=["plcs"])
 
 BASE = "/controllers/{controller_id}/plcs"
-N = Annotated[int, Path(description="PLC number 0..31")]
+N = Annotated[int, Path(description="PLC number 0..31 (404 otherwise)",
+                        json_schema_extra={"minimum": 0, "maximum": 31})]
 
 
 def _plcs(handle: ControllerHandle) -> Any:
@@ -55,10 +58,11 @@ async def get_plc(handle: HandleDep, n: N) -> dict[str, Any]:
 async def put_plc(handle: HandleDep, n: N, body: PlcProgramIn) -> dict[str, Any]:
     """Replace PLC ``n``'s program (like OPEN PLC n CLEAR ... CLOSE, all or nothing)."""
     plcs = _plcs(handle)
+    program = await off_loop(compile_plc, body.text)  # seconds for a large PLC: off the loop
 
     def load() -> dict[str, Any]:
         _running(handle)
-        plcs.load(n, body.text)
+        plcs.load(n, body.text, program)
         return plcs.describe(n)
 
     return handle.apply(load)

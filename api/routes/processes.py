@@ -20,6 +20,8 @@ def list_processes(handle: HandleDep) -> list[dict]:
 
 @router.post("/controllers/{controller_id}/processes/{process}/stop", response_model=ProcessOut)
 def stop_process(
-    handle: HandleDep, process: Annotated[int, Path(ge=1, description="process number")]
+    handle: HandleDep,
+    process: Annotated[int, Path(ge=1, le=32, description="process number, 1..the "
+                                                          "controller's (at most 32)")],
 ) -> dict:
     return handle.apply(trio_of(handle).stop_process, process)

@@ -12,19 +12,25 @@ from typing import Annotated
 from fastapi import APIRouter, Path, Request, Response
 from fastapi.responses import PlainTextResponse
 from motionsim.api.deps import HandleDep
+from motionsim.api.off_loop import off_loop
 from motionsim.api.routes.axes import trio_of
 from motionsim.api.schemas.programs import ProgramList, ProgramStored, RunIn, RunOut
 from motionsim.sim.errors import InvalidValue
+from motionsim.sim.trio.compiler import Code, compile_program
+from motionsim.sim.trio.parser import parse_program
 
 router = APIRouter(tags=["trio programs"])
 
-NameParam = Annotated[str, Path(min_length=1, max_length=32, description="program name")]
+NameParam = Annotated[str, Path(min_length=1, max_length=32, pattern=r"^[A-Za-z_][A-Za-z0-9_]*$",
+                                description="program name: a letter or _, then letters, "
+                                            "digits, _ (up to 32)")]
 MAX_PROGRAM_BYTES = 1_000_000
 
 _TEXT_BODY = {
     "requestBody": {
         "required": True,
-        "content": {"text/plain": {"schema": {"type": "string"}, "example": "MOVE(10) AXIS(0)\n"}},
+        "content": {"text/plain": {"schema": {"type": "string", "maxLength": 1_000_000},
+                                   "example": "MOVE(10) AXIS(0)\n"}},
     }
 }
 
@@ -32,6 +38,11 @@ _TEXT_BODY = {
 @router.get("/controllers/{controller_id}/programs", response_model=ProgramList)
 def list_programs(handle: HandleDep) -> dict:
     return {"programs": handle.apply(trio_of(handle).program_names)}
+
+
+def _compile(text: str) -> Code:
+    """What the controller stores for ``text`` (pure: parse and compile)."""
+    return compile_program(parse_program(text))
 
 
 @router.put(
@@ -49,7 +60,9 @@ async def put_program(handle: HandleDep, name: NameParam, request: Request) -> d
     except UnicodeDecodeError as exc:
         raise InvalidValue(f"program text is not UTF-8 (byte {exc.start})", field="body") from None
     ctrl = trio_of(handle)
-    handle.apply(ctrl.store_program, name, text)
+    # compiling a large text takes seconds: off the loop; an empty one is refused by the store
+    code = await off_loop(_compile, text) if text.strip() else None
+    handle.apply(ctrl.store_program, name, text, code)
     return {"name": name.upper(), "lines": len(text.splitlines())}
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from motionsim.api.schemas.common import Int
+from motionsim.api.schemas.common import int_in
 from motionsim.sim.bounds import TRIO_DISTANCE, TRIO_RATE
 from pydantic import BaseModel, ConfigDict, Field
 
@@ -62,8 +62,8 @@ class MoveIn(BaseModel):
     type: MoveType
     args: list[Distance] = Field(default_factory=list, max_length=16,
                                  description="distances / positions, user units")
-    process: Int | None = Field(None, ge=0, description="issuing process (default 0, the "
-                                                        "command line)")
+    process: int_in(0, 32) | None = Field(  # type: ignore[valid-type]
+        None, description="issuing process (default 0, the command line; at most 32)")
 
 
 class MovePlaced(BaseModel):

@@ -98,7 +98,8 @@ class EventPattern(BaseModel):
     model_config = ConfigDict(extra="allow", json_schema_extra={
         "examples": [{"type": "breq", "cs": 1, "level": True}]})
 
-    type: str
+    type: str = Field(min_length=1, max_length=64,
+                      description="an event type the controller emits (422 otherwise)")
 
     def as_pattern(self) -> dict[str, Any]:
         return {"type": self.type, **(self.model_extra or {})}

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Annotated, Any
 
+from annotated_types import Ge, Le
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
 
 
@@ -17,6 +18,13 @@ def _integral(value: Any) -> Any:
 
 #: An ``int`` body field in a strict model: integral numbers only, never a bool or a string.
 Int = Annotated[int, BeforeValidator(_integral)]
+
+
+def int_in(low: int, high: int | None = None) -> Any:
+    """:data:`Int` within ``low..high``, published in the schema as ``minimum`` / ``maximum``
+    (bounds given after the validator would reach ``/openapi.json`` as unknown keywords)."""
+    bounds: list[Any] = [Ge(low)] + ([Le(high)] if high is not None else [])
+    return Annotated[int, *bounds, BeforeValidator(_integral)]
 
 
 class ErrorBody(BaseModel):
@@ -63,4 +71,4 @@ ERROR_RESPONSES: dict[int | str, dict] = {
           "description": "bad field or program text (`validation_error`, `parse_error`)"},
 }
 
-__all__ = ["ERROR_RESPONSES", "ErrorBody", "Health", "Int", "ServiceInfo"]
+__all__ = ["ERROR_RESPONSES", "ErrorBody", "Health", "Int", "ServiceInfo", "int_in"]

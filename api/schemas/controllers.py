@@ -36,7 +36,8 @@ class ControllerIn(BaseModel):
 
     id: str | None = Field(None, pattern=r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$",
                            description="default: kind + a number")
-    kind: str = Field(description="an installed kind: pmac, trio, ...")
+    kind: str = Field(min_length=1, max_length=64,
+                      description="an installed kind: pmac, trio, ... (422 otherwise)")
     clock: ClockIn = Field(default_factory=ClockIn)
     config: dict[str, Any] = Field(default_factory=dict, description=CONFIG_DOC)
 

@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Annotated, Literal
 
-from motionsim.api.schemas.common import Int
+from motionsim.api.line_slices import MAX_BATCH_LINES
+from motionsim.api.schemas.common import Int, int_in
 from pydantic import BaseModel, ConfigDict, Field
 
 
@@ -55,9 +56,13 @@ class LinesIn(BaseModel):
 
     model_config = ConfigDict(extra="forbid", strict=True)
 
-    lines: list[str] = Field(description="program lines, e.g. ['X10 Y20', 'M1==1']")
-    first_seq: Int | None = Field(
-        None, ge=0, description="the client's number of lines[0]: a resend of exactly the "
+    lines: list[Annotated[str, Field(json_schema_extra={"maxLength": 255})]] = Field(
+        max_length=MAX_BATCH_LINES,
+        description=f"program lines, e.g. ['X10 Y20', 'M1==1']; at most {MAX_BATCH_LINES} "
+                    "per batch (422 naming `lines` above), each at most 255 characters")
+    first_seq: Annotated[int_in(0), Field(  # type: ignore[valid-type]
+        json_schema_extra={"maximum": 2**53 - 1})] | None = Field(
+        None, description="the client's number of lines[0]: a resend of exactly the "
         "stored lines is acknowledged, a gap / different text / number beyond 2^53-1 is 409 "
         "`conflict` with `expected_seq` (API.md)")
 

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
-from pydantic import BaseModel, ConfigDict, Field
+from typing import Any
+
+from motionsim.sim.errors import InvalidValue
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 
 class EventOut(BaseModel):
@@ -50,4 +53,35 @@ class EventsPage(BaseModel):
                                    "beginning of this log")
 
 
-__all__ = ["EventOut", "EventsPage", "GapOut", "ResetOut"]
+class StreamQuery(BaseModel):
+    """The WebSocket's query, validated after the handshake (a bad one: close 4422)."""
+
+    model_config = ConfigDict(extra="ignore")
+
+    since: int = Field(0, ge=0, le=2**63 - 1, description="send events with seq > since")
+    type: list[str] | None = Field(None, description="only these types (repeatable)")
+    batch: bool = Field(False, description="each message a JSON array of events")
+    epoch: str | None = Field(None, max_length=64, description="the epoch `since` came from")
+
+
+def stream_query(params: Any) -> StreamQuery:
+    """:class:`StreamQuery` from a ``QueryParams`` (``type`` repeatable, the rest single).
+
+    Raises:
+        InvalidValue: naming the first bad field and what was wrong with it.
+    """
+    data: dict[str, Any] = {k: params.get(k) for k in ("since", "batch", "epoch") if k in params}
+    if "type" in params:
+        data["type"] = params.getlist("type")
+    try:
+        return StreamQuery.model_validate(data)
+    except ValidationError as exc:
+        error = exc.errors()[0]
+        field = ".".join(str(p) for p in error["loc"]) or "query"
+        if field == "since" and error["type"] == "greater_than_equal":
+            raise InvalidValue("since must be >= 0", field=field) from None  # (as before)
+        raise InvalidValue(f"query field {field!r}: {error['msg']} "
+                           f"(got {str(error.get('input'))[:40]!r})", field=field) from None
+
+
+__all__ = ["EventOut", "EventsPage", "GapOut", "ResetOut", "StreamQuery", "stream_query"]

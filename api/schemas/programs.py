@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from motionsim.api.schemas.common import Int
+from motionsim.api.schemas.common import int_in
 from pydantic import BaseModel, ConfigDict, Field
 
 
@@ -18,7 +18,9 @@ class ProgramList(BaseModel):
 class RunIn(BaseModel):
     model_config = ConfigDict(extra="forbid", strict=True)
 
-    process: Int | None = Field(None, ge=1, description="default: the highest free process")
+    process: int_in(1, 32) | None = Field(  # type: ignore[valid-type]
+        None, description="1..the controller's processes (at most 32; 422 beyond); default: "
+                          "the highest free process")
 
 
 class RunOut(BaseModel):

@@ -28,7 +28,9 @@ class VariablesIn(RootModel[dict[str, StrictFloat]]):
     request in the order given."""
 
     root: dict[str, StrictFloat] = Field(min_length=1, max_length=MAX_BULK,
-                                   examples=[{"I16": 5, "I17": 10, "P1": 2.5}])
+                                         examples=[{"I16": 5, "I17": 10, "P1": 2.5}],
+                                         json_schema_extra={"propertyNames": {
+                                             "minLength": 1, "maxLength": 64}})
 
     @field_validator("root")
     @classmethod

@@ -258,15 +258,17 @@ class TrioController(Controller):
             raise NotFound(f"no program {key}", field="name")
         return key
 
-    def store_program(self, name: str, text: str) -> None:
-        """Parse and compile ``text`` and store it; a parse error changes nothing."""
+    def store_program(self, name: str, text: str, code: Any = None) -> None:
+        """Parse and compile ``text`` and store it; a parse error changes nothing. ``code``:
+        ``compile_program(parse_program(text))`` already done (off the event loop), or None."""
         key = self._name(name)
         if not text.strip():
             raise InvalidValue(
                 f"program {key}: the text is empty (a program needs at least one line)",
                 field="body",
             )
-        code = compile_program(parse_program(text))
+        if code is None:
+            code = compile_program(parse_program(text))
         self.programs[key] = (text, code)
 
     def program(self, name: str) -> str:

@@ -89,7 +89,7 @@ def test_no_ghost_controllers_after_delete_and_recreate():
                 time.sleep(0.05)
 
 
-def test_a_tcp_listener_caps_its_connections_and_drops_idle_ones(tmp_path):
+def test_a_tcp_listener_caps_its_connections_evicting_the_idlest_and_drops_idle_ones(tmp_path):
     config = _config(tmp_path, tcp_max_connections=2, tcp_idle_timeout_s=1.0)
     with motionsim_serve("--pmac-port", "auto", "--trio-port", "0", "--config", config) as svc:
         port = svc.listening["pmac"]
@@ -98,9 +98,11 @@ def test_a_tcp_listener_caps_its_connections_and_drops_idle_ones(tmp_path):
         assert _pmac_ask(first, "I16").endswith(b"\x06")
         assert _pmac_ask(second, "I16").endswith(b"\x06")
         third = socket.create_connection(("127.0.0.1", port), timeout=10)
-        assert _closed(third, 5.0), "a third connection was accepted beyond the cap of 2"
+        assert _pmac_ask(third, "I16").endswith(b"\x06"), "the newcomer is served"
+        assert _closed(first, 5.0), "the connection idle the longest made room"
+        assert _pmac_ask(second, "I16").endswith(b"\x06")
         t0 = time.monotonic()
-        assert _closed(first, 10.0) and _closed(second, 10.0)
+        assert _closed(second, 10.0) and _closed(third, 10.0)
         assert time.monotonic() - t0 < 8.0
         with socket.create_connection(("127.0.0.1", port), timeout=10) as again:
             assert _pmac_ask(again, "I16").endswith(b"\x06")  # the slots were freed

@@ -97,3 +97,24 @@ def test_the_token_guards_rest_and_websocket_of_a_served_instance():
         assert code == 4401
         with _ws(s, "/controllers/pmac/events?token=t0k") as ws:
             assert json.loads(ws.recv(timeout=10))["type"] == "epoch"
+
+
+@pytest.mark.parametrize("query,field", [("since=abc", "since"), ("since=1.5", "since"),
+                                         ("batch=maybe", "batch"),
+                                         ("since=99999999999999999999", "since"),
+                                         ("epoch=" + "e" * 65, "epoch")])
+def test_a_query_fastapi_would_refuse_before_the_handshake_is_closed_4422(svc, query, field):
+    """Issue 23, item 5: accepted, then closed 4422 with a reason naming the field — not an
+    HTTP 403 at the handshake (which reads as the Origin refusal)."""
+    with _ws(svc, f"/controllers/pmac/events?{query}") as ws:
+        code, reason, messages = _close_of(ws)
+    assert code == 4422
+    assert reason.startswith(f"query field {field!r}:")
+    (error,) = messages
+    assert (error["type"], error["code"], error["field"]) == ("error", "validation_error", field)
+
+
+def test_a_good_query_still_streams(svc):
+    with _ws(svc, "/controllers/pmac/events?since=0&batch=true&type=breq") as ws:
+        first = json.loads(ws.recv(timeout=10))
+    assert isinstance(first, list) and first[0]["type"] == "epoch"

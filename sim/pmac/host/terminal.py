@@ -161,7 +161,8 @@ class Terminal:
         left to right, TSRM p259; spec §2.3 ``[INF]``): ``I10 nonsense`` answers I10's value,
         then the error. A malformed line changes nothing: if anything before the failing
         command would act (``P1=5 P2=(3``) nothing runs ``[INF]`` — a real card may already
-        have acted on it, a simulator keeps bad input harmless.
+        have acted on it, a simulator keeps bad input harmless. A buffer this line opened is
+        closed again when the line ends in an error.
         """
         self.detail = None
         try:
@@ -170,6 +171,10 @@ class Terminal:
         except ParseError as e:
             stmts, failed = self._before(text, open_, e), e
         reply, error = self._execute(text, stmts, port)
+        if error is not None and not open_ and self.ctl.buffer_holder is port:
+            # [INF] a line that opened a buffer and then failed (``OPEN ROT CLEAR CLOSE``)
+            # leaves it closed, as its CLOSE meant: later lines are not stored by surprise
+            self.ctl.close_buffers(port)
         if error is None and failed is not None:
             error = failed.pmac_error or "ERR003"
             name = not_simulated.which(text, failed.details.get("column", 1),

@@ -334,8 +334,9 @@ class PlcTable:
             if self.ctl.buffer_holder is port:
                 self.ctl.buffer_holder = None
 
-    def load(self, n: int, text: str) -> None:
+    def load(self, n: int, text: str, program: Any = None) -> None:
         """Replace PLC ``n``'s program with ``text`` at once (REST); all or nothing.
+        ``program``: ``compile_plc(text)`` already done (off the event loop), or None.
 
         Raises:
             NotFound: no PLC ``n``.
@@ -345,7 +346,7 @@ class PlcTable:
         plc = self.plc(n)
         if self.editing() == n:
             raise Conflict(f"PLC {n} is open for entry", pmac_error="ERR007")
-        program = compile_plc(text)
+        program = compile_plc(text) if program is None else program
         plc.program = program if program.ops else None
         plc.pc = 0
 

@@ -1,0 +1,64 @@
+"""Rotary-buffer batches parsed in slices, so a large batch never holds the event loop.
+
+Parsing a program line costs from microseconds (``X1``) to milliseconds (a 255-character line
+of expressions); a batch of thousands of them parsed in one go would stop ``/health``, the
+TCP ports and every other client for seconds. :func:`precompile` parses the batch's distinct
+texts here, at most ``SLICE_S`` of wall time at a stretch with the event loop served in
+between (the clock's own slicing, :mod:`motionsim.app.clock`); :func:`load_compiled` then
+hands the compiled lines to the controller's line cache (a memo of the pure
+``compile_line``) and stores the batch in one step at the current instant, all or nothing as
+before — the controller only looks its lines up. A line that does not parse is left to the
+controller, which reports it with its ``index`` as before.
+
+Lines per batch are bounded (``MAX_BATCH_LINES``, 422 naming ``lines`` with the limit).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import time
+from typing import Any
+
+from motionsim.api.off_loop import gc_paused
+from motionsim.app.clock import SLICE_S, loop_turns
+from motionsim.sim.errors import MotionSimError
+from motionsim.sim.pmac import controller as pmac_controller
+from motionsim.sim.pmac.buffers.program import ProgramLine, compile_line
+
+#: Most lines in one ``POST .../rotary/lines`` batch [INF: no manual limit; the largest rotary
+#: buffer, 65 536 words, holds a few thousand typical lines, and a host streams in batches].
+MAX_BATCH_LINES = 4096
+
+
+async def precompile(texts: list[Any]) -> dict[str, ProgramLine]:
+    """The compiled form of each distinct text not yet cached, parsed in slices."""
+    cache = pmac_controller._LINE_CACHE
+    out: dict[str, ProgramLine] = {}
+    end = time.monotonic() + SLICE_S
+    # A full collection triggered by the objects parsing creates would hold the loop for
+    # longer than many slices (its cost grows with the heap): paused while this batch parses.
+    with gc_paused():
+        for text in dict.fromkeys(t for t in texts if type(t) is str):
+            if text in cache or text in out or len(text) > pmac_controller.MAX_LINE_CHARS:
+                continue
+            with contextlib.suppress(MotionSimError):  # the controller reports it, positioned
+                out[text] = compile_line(text)
+            if time.monotonic() > end:
+                await loop_turns()
+                end = time.monotonic() + SLICE_S
+    return out
+
+
+def load_compiled(ctl: Any, cs: int, lines: list[str], first_seq: int | None,
+                  compiled: dict[str, ProgramLine]) -> Any:
+    """``ctl.load_lines`` with ``compiled`` in the line cache first (one synchronous step,
+    so nothing can evict them in between)."""
+    cache = pmac_controller._LINE_CACHE
+    if compiled:
+        if len(cache) + len(compiled) > pmac_controller._LINE_CACHE_SIZE:
+            cache.clear()
+        cache.update(compiled)
+    return ctl.load_lines(cs, lines, first_seq)
+
+
+__all__ = ["MAX_BATCH_LINES", "load_compiled", "precompile"]

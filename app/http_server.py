@@ -1,0 +1,25 @@
+"""The ``uvicorn.Config`` both ``motionsim serve`` and the embedded service run HTTP with."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from motionsim.app.settings import Settings
+
+
+def uvicorn_config(app: Any, settings: Settings, *, graceful_s: float) -> Any:
+    """A ``uvicorn.Config`` for ``app`` with the HTTP port's limits from ``settings``
+    (:mod:`motionsim.api.http_limits`)."""
+    import uvicorn
+    from motionsim.api.http_limits import HttpLimits, uvicorn_limits
+
+    limits = HttpLimits(max_connections=settings.http_max_connections,
+                        header_timeout_s=settings.http_header_timeout_s,
+                        max_header_bytes=settings.http_max_header_bytes,
+                        keep_alive_s=settings.http_keep_alive_s)
+    return uvicorn.Config(app, log_level="warning", ws_per_message_deflate=False,
+                          lifespan="on", timeout_graceful_shutdown=graceful_s,
+                          **uvicorn_limits(limits))
+
+
+__all__ = ["uvicorn_config"]

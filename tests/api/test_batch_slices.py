@@ -1,0 +1,86 @@
+"""A rotary batch is bounded and parsed in slices (issue 23, item 1).
+
+``lines`` holds at most ``MAX_BATCH_LINES`` (422 naming ``lines`` and the limit, nothing
+stored); a batch of long expression lines — seconds of parsing — lets ``/health`` and another
+controller be served while it is parsed, and is then stored all or nothing as before.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import gc
+
+import pytest
+from motionsim.api.line_slices import MAX_BATCH_LINES
+
+pytestmark = pytest.mark.anyio
+
+LONG = "X{i} " + " ".join(f"P{j}=P{j}+{{i}}" for j in range(20))
+
+
+async def _rotary(api, words: int = 65_536) -> None:
+    r = await api.put("/controllers/p/coord/1/rotary", json={"size_words": words})
+    assert r.status_code == 200, r.text
+
+
+async def test_a_batch_over_the_line_limit_is_422_naming_lines_and_the_limit(pmac_api):
+    await _rotary(pmac_api)
+    r = await pmac_api.post("/controllers/p/coord/1/rotary/lines",
+                            json={"lines": ["X1"] * (MAX_BATCH_LINES + 1)})
+    assert r.status_code == 422
+    body = r.json()
+    assert body["field"] == "lines" and str(MAX_BATCH_LINES) in body["message"]
+    rotary = (await pmac_api.get("/controllers/p/coord/1")).json()["rotary"]
+    assert rotary["used_words"] == 0
+
+
+async def test_a_batch_at_the_limit_is_stored(pmac_api):
+    await _rotary(pmac_api)
+    r = await pmac_api.post("/controllers/p/coord/1/rotary/lines",
+                            json={"lines": [f"X{i}" for i in range(MAX_BATCH_LINES)]})
+    assert r.status_code == 200, r.text
+    assert r.json()["stored"] == MAX_BATCH_LINES
+
+
+async def test_health_is_served_while_a_long_batch_is_parsed(pmac_api):
+    """Seconds of parsing (400 lines of 20 expressions each): the loop is never held for more
+    than a fraction of that — a ticker's longest gap stays far below the parse time."""
+    await _rotary(pmac_api)
+    lines = [LONG.format(i=i) for i in range(400)]
+    gaps: list[float] = []
+
+    async def ticker() -> None:
+        loop = asyncio.get_running_loop()
+        last = loop.time()
+        while True:
+            await asyncio.sleep(0.005)
+            now = loop.time()
+            gaps.append(now - last)
+            last = now
+
+    gc.collect()
+    gc.freeze()  # the test process's own heap (earlier tests) is not what is measured
+    ticking = asyncio.ensure_future(ticker())
+    try:
+        store = asyncio.ensure_future(pmac_api.post("/controllers/p/coord/1/rotary/lines",
+                                                    json={"lines": lines}))
+        await asyncio.sleep(0.05)
+        health = await pmac_api.get("/health")
+        assert health.status_code == 200
+        r = await store
+    finally:
+        ticking.cancel()
+        gc.unfreeze()
+    assert r.status_code == 200 and r.json()["stored"] == 400
+    assert len(gaps) > 20 and max(gaps) < 0.5
+
+
+async def test_a_bad_line_in_a_sliced_batch_is_reported_with_its_index(pmac_api):
+    await _rotary(pmac_api)
+    lines = [LONG.format(i=i) for i in range(50)]
+    lines[37] = "X1 P1=(3"
+    r = await pmac_api.post("/controllers/p/coord/1/rotary/lines", json={"lines": lines})
+    assert r.status_code == 422
+    assert r.json()["code"] == "parse_error" and r.json()["index"] == 37
+    rotary = (await pmac_api.get("/controllers/p/coord/1")).json()["rotary"]
+    assert rotary["used_words"] == 0
