@@ -226,6 +226,52 @@ def replay(
         raise typer.Exit(code)
 
 
+@cli.command()
+def check(
+    files: Annotated[list[Path], typer.Argument(
+        metavar="FILE...", exists=True, dir_okay=False, readable=True,
+        help="PMAC files (.pmc, .pmac, .plc ...; #define/#include expanded by the .pmc "
+             "preprocessor) or Trio BASIC programs (.bas).")],
+    kind: Annotated[str | None, typer.Option(
+        metavar="pmac|trio", help="Controller kind [default: trio for .bas, else pmac].")
+    ] = None,
+    model: Annotated[str | None, typer.Option(
+        metavar="MODEL",
+        help="Trio model (series2, mc2xx, mc4xx); the PMAC is a Turbo PMAC.")] = None,
+    include: Annotated[list[Path] | None, typer.Option(
+        "--include", "-I", metavar="DIR", help="Search DIR for #include files. Repeatable.")
+    ] = None,
+    format_: Annotated[str, typer.Option(
+        "--format", metavar="text|json", help="text: FILE:LINE:COLUMN: ...; json: a list of "
+        "findings (file, line, column, severity, code, message, text).")] = "text",
+) -> None:
+    """Load each file into a fresh simulated card and print every line it would refuse
+    (FILE:LINE:COLUMN: error: ERRnnn meaning) and every valid line motionsim does not simulate
+    (warning). Exit status 1 when there is an error, 2 when a file cannot be checked."""
+    import json
+
+    from motionsim.app.check import check_file
+    from motionsim.sim.errors import MotionSimError
+
+    if kind is not None and kind not in ("pmac", "trio"):
+        raise typer.BadParameter("must be 'pmac' or 'trio'", param_hint="--kind")
+    if format_ not in ("text", "json"):
+        raise typer.BadParameter("must be 'text' or 'json'", param_hint="--format")
+    findings = []
+    for path in files:
+        try:
+            findings += check_file(path, kind, model, include or ())
+        except (OSError, ValueError, MotionSimError) as exc:
+            raise _fail(f"{path}: {exc}", 2) from None
+    if format_ == "json":
+        typer.echo(json.dumps([f.to_dict() for f in findings], indent=1))
+    else:
+        for finding in findings:
+            typer.echo(str(finding))
+    if any(f.severity == "error" for f in findings):
+        raise typer.Exit(1)
+
+
 # What-if scenarios: `motionsim run` and `motionsim sweep` (app/scenarios/cli.py).
 from motionsim.app.scenarios.cli import register as _register_scenarios  # noqa: E402
 
