@@ -120,17 +120,21 @@ def serve(
     """
     import logging
 
-    from motionsim.app.settings import build_settings, load_config_file
+    from motionsim.app.settings import build_settings
 
     logging.basicConfig(level=logging.WARNING, format="motionsim: %(message)s")
 
     if clock is not None and clock not in ("realtime", "virtual", "host-paced"):
         raise typer.BadParameter("must be 'realtime', 'virtual' or 'host-paced'",
                                  param_hint="--clock")
+    from motionsim.app.config_file import ConfigFileError, read_config, where
+
     try:
-        file_data = load_config_file(config) if config else {}
-    except (OSError, ValueError) as exc:
-        raise _fail(f"cannot read {config}: {exc}", 2) from None
+        file_data, lines = read_config(config) if config else ({}, {})
+    except ConfigFileError as exc:
+        typer.echo(str(exc), err=True)  # FILE:LINE:COLUMN: what
+        raise typer.Exit(2) from None
+    as_written = dict(file_data)
     overrides: dict[str, Any] = {
         "host": host, "port": port,
         "pmac_port": _protocol_port(pmac_port, "--pmac-port"),
@@ -154,8 +158,13 @@ def serve(
     try:
         settings = build_settings(None, **file_data)
     except ValidationError as exc:
-        errors = "; ".join(f"{'.'.join(map(str, e['loc']))}: {e['msg']}" for e in exc.errors())
-        raise _fail(f"invalid settings: {errors}", 2) from None
+        from motionsim.app.config_file import dotted
+
+        for e in exc.errors():
+            place = where(config, as_written, lines, e["loc"]) if config else None
+            typer.echo(f"{place or 'motionsim: invalid settings'}: {dotted(e['loc'])}: "
+                       f"{e['msg']}", err=True)
+        raise typer.Exit(2) from None
 
     from motionsim.app.sockets import bind_tcp
 
