@@ -281,6 +281,27 @@ def check(
         raise typer.Exit(1)
 
 
+@cli.command()
+def examples(
+    dest: Annotated[Path, typer.Argument(
+        metavar="DIR", help="Folder to copy the examples into.")] = Path("motionsim-examples"),
+    force: Annotated[bool, typer.Option(
+        "--force", help="Copy into DIR even if it already has files (same names replaced).")
+    ] = False,
+) -> None:
+    """Copy the examples shipped with motionsim (scenarios, PMAC and Trio programs, host and
+    pytest examples; README.md lists them) into DIR, so an installed motionsim has them too."""
+    import shutil
+    from importlib.resources import as_file, files
+
+    if dest.exists() and any(dest.iterdir()) and not force:
+        raise _fail(f"{dest} is not empty; choose another folder or pass --force", 2)
+    with as_file(files("motionsim.examples")) as src:
+        shutil.copytree(src, dest, dirs_exist_ok=True,
+                        ignore=shutil.ignore_patterns("__pycache__", "*.pyc", "__init__.py"))
+    typer.echo(f"copied the examples to {dest}; start with {dest / 'README.md'}")
+
+
 # What-if scenarios: `motionsim run` and `motionsim sweep` (app/scenarios/cli.py).
 from motionsim.app.scenarios.cli import register as _register_scenarios  # noqa: E402
 

@@ -218,7 +218,9 @@ def sweep_command(
         try:
             from distributed import Client
         except ImportError:
-            msg = "--scheduler needs dask[distributed]: pip install 'motionsim[cluster]'"
+            msg = ("--scheduler needs dask[distributed]: pip install 'dask[distributed]' "
+                   "(or install motionsim with its cluster extra: pip install '.[cluster]' "
+                   "from a checkout)")
             raise _fail(msg) from None
         client = Client(scheduler)
     console = Console(stderr=True)
