@@ -182,6 +182,10 @@ def serve(
         app = create_app(settings)
     except (MotionSimError, ImportError) as exc:
         sock.close()
+        place = _config_key_place(config, as_written, lines, exc) if config else None
+        if place is not None:
+            typer.echo(f"{place}: {exc}", err=True)
+            raise typer.Exit(2) from None
         raise _fail(f"cannot start: {exc}", 2) from None
 
     recorder = None
@@ -195,6 +199,22 @@ def serve(
         recorder.close()
     if code:
         raise typer.Exit(code)
+
+
+def _config_key_place(config: Path, data: dict[str, Any], lines: Any,
+                      exc: BaseException) -> str | None:
+    """``FILE:LINE: controllers[i].config.KEY`` of the controller config key a kind refused
+    (its error names the key as ``field``), when the settings file has it."""
+    from motionsim.app.config_file import dotted, where
+
+    key = getattr(exc, "details", {}).get("field")
+    for i, spec in enumerate(data.get("controllers") or []):
+        if isinstance(spec, dict) and isinstance(spec.get("config"), dict) \
+                and key in spec["config"]:
+            loc = ("controllers", i, "config", key)
+            place = where(config, data, lines, loc)
+            return f"{place}: {dotted(loc)}" if place else None
+    return None
 
 
 async def _serve(app: Any, settings: Any, sock: socket.socket, recorder: Any) -> int:

@@ -89,17 +89,20 @@ def episodes(client: Any, id: str, *, cs: int | None = None,
     return found, traces
 
 
-def assert_fed(client: Any, id: str, cs: int | None = None, *,
+def assert_fed(client: Any, id: str | None = None, cs: int | None = None, *,
                total_lines: Mapping[int, int] | None = None,
                allow: Sequence[str] = ALLOWED) -> None:
     """Fail unless controller ``id`` (coordinate system ``cs``, default all) never starved.
 
     Args:
-        client: a :class:`motionsim.app.client.MotionSimClient` (the ``motionsim`` fixture).
+        client: a :class:`motionsim.app.client.MotionSimClient` (the ``motionsim`` fixture),
+            or a fixture's controller (``motionsim_pmac``: then no ``id``).
         total_lines: per coordinate system, the lines the host meant to send: a program that
             ran dry before all of them were loaded starved even if the host then stopped.
         allow: episode kinds that do not fail (default: lookahead breaks at DWELL / RAPID).
     """
+    if id is None:  # a bound controller (pytest_plugin.Controller)
+        client, id = client.client, client.id
     found, traces = episodes(client, id, cs=cs, total_lines=total_lines)
     bad = [s for s in found if s.kind not in allow]
     if bad:

@@ -33,7 +33,7 @@ def test_a_fresh_pmac_for_this_test(motionsim_pmac):
     motionsim_pmac.set_variable("I16", 5)
     motionsim_pmac.set_variable("I17", 10)
     stream(motionsim_pmac, lines=60)
-    assert_fed(motionsim_pmac.client, motionsim_pmac.id, cs=1, total_lines={1: 60})
+    assert_fed(motionsim_pmac, cs=1, total_lines={1: 60})   # else: when, where and why
 
 
 def test_another_fresh_pmac_sees_factory_defaults(motionsim_pmac):

@@ -69,7 +69,8 @@ def test_an_unknown_pmac_config_key_lists_the_known_ones(tmp_path):
     result = _invoke("serve", "--config", str(path), "--port", "0")
     assert result.exit_code == 2
     message = result.stderr.strip()
-    assert "unknown PMAC config key 'bogus'; known: " in message
+    assert message.startswith(f"{path}:2: controllers[0].config.bogus: unknown PMAC config key "
+                              "'bogus'; known: ")
     for key in ("servo_hz", "i8", "i10", "background_cycles", "i0 .. i8191"):
         assert key in message
 

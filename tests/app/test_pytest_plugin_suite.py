@@ -116,7 +116,7 @@ SLOW_HOST = """
                 pmac.run(1)
             pmac.run_until("breq", 5.0, cs=1, level=True)
             pmac.advance(REACTION_S)
-        assert_fed(pmac.client, pmac.id, cs=1, total_lines={1: 40})
+        assert_fed(pmac, cs=1, total_lines={1: 40})
 """
 
 
