@@ -100,8 +100,46 @@ def pmac_source(path: Path, include: Sequence[Path] = ()) -> list[SourceLine]:
     except ImportError:
         raise ValueError(f"{path} uses #define/#include: the .pmc preprocessor is needed "
                          "(pip install dls-pmaclib)") from None
-    expanded = ClsPmacParser([str(p) for p in include]).parse(str(path), debug=True) or []
+    import logging
+
+    quiet = logging.getLogger("dls_pmaclib")  # a missing include is our finding, not its log
+    level, quiet.level = quiet.level, logging.ERROR
+    try:
+        expanded = ClsPmacParser([str(p) for p in include]).parse(str(path), debug=True) or []
+    finally:
+        quiet.setLevel(level)
     return list(_mapped(expanded, path))
+
+
+_INCLUDE = re.compile(r"^#(?:include|INCLUDE)\b\s*(.*?)\s*$")
+
+
+def missing_includes(path: Path, include: Sequence[Path] = (),
+                     seen: set[Path] | None = None) -> list[Finding]:
+    """``#include`` lines whose file is in none of the folders the preprocessor searches
+    (the including file's folder, then ``include``): it leaves them out without a word, so
+    they are errors here, at their line."""
+    seen = seen if seen is not None else set()
+    if path.resolve() in seen:
+        return []
+    seen.add(path.resolve())
+    found: list[Finding] = []
+    lines = path.read_text(encoding="utf-8", errors="replace").splitlines()
+    for n, line in enumerate(lines, 1):
+        m = _INCLUDE.match(line.split(";")[0])
+        if not m:
+            continue
+        name = m[1].strip(' "\r')
+        folders = [path.parent, *include]
+        target = next((f / name for f in folders if (f / name).exists()), None)
+        if target is None:
+            found.append(Finding(str(path), n, line.find(name) + 1, "error", "include",
+                                 f"cannot find {name!r} (searched "
+                                 f"{', '.join(str(f) for f in folders)}; -I DIR adds a folder)",
+                                 line))
+        else:
+            found += missing_includes(target, include, seen)
+    return found
 
 
 def _mapped(expanded: list[str], top: Path) -> Iterator[SourceLine]:
@@ -217,7 +255,8 @@ def check_file(path: Path, kind: str | None = None, model: str | None = None,
     ctl = _new_controller(kind, model)
     if kind == "trio":
         return check_trio(path, ctl)
-    return check_pmac(pmac_source(path, include), ctl)
+    missing = missing_includes(path, include)
+    return missing + check_pmac(pmac_source(path, include), ctl)
 
 
 __all__ = ["Finding", "SourceLine", "check_file", "check_pmac", "check_trio", "kind_of",

@@ -159,3 +159,17 @@ def test_kind_option_overrides_the_suffix(tmp_path, kind):
     path = tmp_path / "prog.txt"
     path.write_text("MOVE(10)\n" if kind == "trio" else "P1=1\n")
     assert _run("--kind", kind, str(path)).exit_code == 0
+
+
+def test_a_missing_include_is_an_error_at_its_line_and_dash_i_finds_it(tmp_path):
+    """The preprocessor leaves a missing ``#include`` out with only a log line; check
+    reports it at the include's line, and ``-I DIR`` adds a folder to search."""
+    top = tmp_path / "axis.pmc"
+    top.write_text('; axis set-up\n#include "gains.pmc"\nP1=1\n')
+    result = _run(str(top))
+    assert result.exit_code == 1
+    assert result.output.startswith(f"{top}:2:11: error: include cannot find 'gains.pmc'")
+    lib = tmp_path / "lib"
+    lib.mkdir()
+    (lib / "gains.pmc").write_text("I130=1000\n")
+    assert _run("-I", str(lib), str(top)).exit_code == 0
