@@ -100,6 +100,9 @@ def test_starved_shading_reads_at_100_percent(browser, streamed):
 
 def test_labels_are_drawn_above_the_traces_with_a_halo(browser, streamed):
     b = browser
+    caught_up(b, streamed, PMAC)
+    b.page.wait_for_selector(f'[data-controller="{PMAC}"] #cs-1 svg text.level-text.i17',
+                             state="attached")   # I16 / I17 come with the page's first poll
     order = b.page.eval_on_selector(
         f'[data-controller="{PMAC}"] #cs-1 svg[data-role=rotary-chart]',
         """svg => [...svg.children].map((el) => el.getAttribute('class') || el.tagName)""")
@@ -128,3 +131,25 @@ def test_ticks_are_round_values_and_the_time_axis_names_its_unit(browser, stream
     assert round(t_step / 10 ** int(f"{t_step:e}".split("e")[1]), 9) in (1, 2, 5)
     assert all(round(t / t_step, 6) == round(t / t_step) for t in times)
     assert b.page.text_content(f"{svg} [data-role=time-unit]") == "t (s)"
+
+
+def test_a_trio_axis_counts_and_times_its_stalls(browser, ms):
+    """TN20-16: axis 0 stalls while its process waits behind axis 1's move; its row says how
+    often and for how long in all (the stalled intervals of the page's own model)."""
+    from tests.browser.scenario import run_tn20
+
+    b = browser
+    run_tn20(ms, "tn", seconds=0.3)
+    b.page.wait_for_selector('[data-tab="tn"]')
+    select(b, "tn")
+    caught_up(b, ms, "tn")
+    b.page.wait_for_timeout(700)
+    text = b.page.text_content('[data-controller="tn"] [data-axis="0"] [data-role=stalled]')
+    m = re.fullmatch(r"stalled (\d+)× (\d+\.\d{3}) s", text)
+    assert m and int(m[1]) >= 1 and float(m[2]) > 0.05, text
+    spans = b.page.evaluate("""() => {
+        const a = window.motionsimDashboard.controllers.get('tn').model.axes.get(0);
+        return [a.stalls, a.stalledTotal(0.3)]; }""")
+    assert spans[0] == int(m[1]) and abs(spans[1] - float(m[2])) < 1e-3
+    axis1 = b.page.text_content('[data-controller="tn"] [data-axis="1"] [data-role=stalled]')
+    assert axis1 == "stalled 0× 0.000 s"

@@ -50,7 +50,8 @@ class CoordSystem {
       this.starvations++;
       this.starvedSince = t;
     } else if (!on && this.starvedSince !== null) {
-      this.starvedS += t - this.starvedSince;
+      if (t > this.starvedSince) this.starvedS += t - this.starvedSince;
+      else this.starvations--;          // lines arrived at the instant it ran out: no starvation
       this.starvedSince = null;
     }
   }
@@ -74,6 +75,25 @@ class Axis {
     this.pbProcess = null;
     this.lanes = { mtype: new Steps(0), ntype: new Steps(0), pb: new Steps(0) };
     this.stalled = new Intervals();     // idle while a process waits to load a move for it
+    this.stalls = 0;                    // every stall since the log began (exact)
+    this.stalledS = 0;
+    this.stalledSince = null;
+  }
+
+  setStalled(t, on) {
+    this.stalled.set(t, on);
+    if (on && this.stalledSince === null) {
+      this.stalls++;
+      this.stalledSince = t;
+    } else if (!on && this.stalledSince !== null) {
+      if (t > this.stalledSince) this.stalledS += t - this.stalledSince;
+      else this.stalls--;               // over at the instant it began: no stall
+      this.stalledSince = null;
+    }
+  }
+
+  stalledTotal(t) {
+    return this.stalledS + (this.stalledSince === null ? 0 : Math.max(0, t - this.stalledSince));
   }
 }
 
@@ -165,7 +185,7 @@ export class ControllerModel {
     if (handler) handler(this, e);
     if (STALL_INPUTS.has(e.type)) {
       const stalled = stalledAxes(this);
-      for (const [n, a] of this.axes) a.stalled.set(e.t, stalled.has(n));
+      for (const [n, a] of this.axes) a.setStalled(e.t, stalled.has(n));
     }
   }
 
