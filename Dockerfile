@@ -1,9 +1,9 @@
 # motionsim: the simulation service in a slim image, run as a non-root user.
 #   docker build -t motionsim .
-#   docker run --rm -p 8000:8000 -p 1025:1025 -p 2323:2323 motionsim
+#   docker run --rm -p 127.0.0.1:8000:8000 -p 127.0.0.1:1025:1025 -p 127.0.0.1:2323:2323 motionsim
 # Ports come from the environment (MOTIONSIM_PORT, MOTIONSIM_PMAC_PORT, MOTIONSIM_TRIO_PORT);
 # the HEALTHCHECK reads MOTIONSIM_PORT too, so change the port there:
-#   docker run --rm -e MOTIONSIM_PORT=9000 -p 9000:9000 motionsim
+#   docker run --rm -e MOTIONSIM_PORT=9000 -p 127.0.0.1:9000:9000 motionsim
 # The working directory /opt/motionsim belongs to that user: `motionsim run ... --out DIR` and
 # `motionsim serve --record FILE` write there (or into a mounted volume).
 FROM python:3.11-slim
@@ -18,13 +18,21 @@ ENV PYTHONDONTWRITEBYTECODE=1 \
 RUN useradd --create-home --uid 10001 --shell /usr/sbin/nologin motionsim
 
 WORKDIR /opt/motionsim
-COPY pyproject.toml README.md ./
+# Dependencies first, in a layer of their own: it is rebuilt only when pyproject.toml changes,
+# so editing the source re-installs motionsim alone (no re-download of FastAPI, numpy, ...).
+COPY pyproject.toml ./
+RUN python -c "import tomllib; t = tomllib.load(open('pyproject.toml', 'rb')); \
+print('\n'.join(t['build-system']['requires'] + t['project']['dependencies']))" \
+    > /tmp/requirements.txt \
+    && pip install -r /tmp/requirements.txt \
+    && rm /tmp/requirements.txt
+COPY README.md ./
 COPY motionsim ./motionsim
 COPY sim ./sim
 COPY app ./app
 COPY api ./api
 COPY examples ./examples
-RUN pip install . \
+RUN pip install --no-deps --no-build-isolation . \
     && rm -rf build ./*.egg-info \
     && chown -R motionsim:motionsim /opt/motionsim
 

@@ -120,17 +120,21 @@ def serve(
     """
     import logging
 
-    from motionsim.app.settings import build_settings, load_config_file
+    from motionsim.app.settings import build_settings
 
     logging.basicConfig(level=logging.WARNING, format="motionsim: %(message)s")
 
     if clock is not None and clock not in ("realtime", "virtual", "host-paced"):
         raise typer.BadParameter("must be 'realtime', 'virtual' or 'host-paced'",
                                  param_hint="--clock")
+    from motionsim.app.config_file import ConfigFileError, read_config, where
+
     try:
-        file_data = load_config_file(config) if config else {}
-    except (OSError, ValueError) as exc:
-        raise _fail(f"cannot read {config}: {exc}", 2) from None
+        file_data, lines = read_config(config) if config else ({}, {})
+    except ConfigFileError as exc:
+        typer.echo(str(exc), err=True)  # FILE:LINE:COLUMN: what
+        raise typer.Exit(2) from None
+    as_written = dict(file_data)
     overrides: dict[str, Any] = {
         "host": host, "port": port,
         "pmac_port": _protocol_port(pmac_port, "--pmac-port"),
@@ -154,8 +158,13 @@ def serve(
     try:
         settings = build_settings(None, **file_data)
     except ValidationError as exc:
-        errors = "; ".join(f"{'.'.join(map(str, e['loc']))}: {e['msg']}" for e in exc.errors())
-        raise _fail(f"invalid settings: {errors}", 2) from None
+        from motionsim.app.config_file import dotted
+
+        for e in exc.errors():
+            place = where(config, as_written, lines, e["loc"]) if config else None
+            typer.echo(f"{place or 'motionsim: invalid settings'}: {dotted(e['loc'])}: "
+                       f"{e['msg']}", err=True)
+        raise typer.Exit(2) from None
 
     from motionsim.app.sockets import bind_tcp
 
@@ -173,6 +182,10 @@ def serve(
         app = create_app(settings)
     except (MotionSimError, ImportError) as exc:
         sock.close()
+        place = _config_key_place(config, as_written, lines, exc) if config else None
+        if place is not None:
+            typer.echo(f"{place}: {exc}", err=True)
+            raise typer.Exit(2) from None
         raise _fail(f"cannot start: {exc}", 2) from None
 
     recorder = None
@@ -186,6 +199,22 @@ def serve(
         recorder.close()
     if code:
         raise typer.Exit(code)
+
+
+def _config_key_place(config: Path, data: dict[str, Any], lines: Any,
+                      exc: BaseException) -> str | None:
+    """``FILE:LINE: controllers[i].config.KEY`` of the controller config key a kind refused
+    (its error names the key as ``field``), when the settings file has it."""
+    from motionsim.app.config_file import dotted, where
+
+    key = getattr(exc, "details", {}).get("field")
+    for i, spec in enumerate(data.get("controllers") or []):
+        if isinstance(spec, dict) and isinstance(spec.get("config"), dict) \
+                and key in spec["config"]:
+            loc = ("controllers", i, "config", key)
+            place = where(config, data, lines, loc)
+            return f"{place}: {dotted(loc)}" if place else None
+    return None
 
 
 async def _serve(app: Any, settings: Any, sock: socket.socket, recorder: Any) -> int:
@@ -224,6 +253,73 @@ def replay(
     code = replay_main(file)
     if code:
         raise typer.Exit(code)
+
+
+@cli.command()
+def check(
+    files: Annotated[list[Path], typer.Argument(
+        metavar="FILE...", exists=True, dir_okay=False, readable=True,
+        help="PMAC files (.pmc, .pmac, .plc ...; #define/#include expanded by the .pmc "
+             "preprocessor) or Trio BASIC programs (.bas).")],
+    kind: Annotated[str | None, typer.Option(
+        metavar="pmac|trio", help="Controller kind [default: trio for .bas, else pmac].")
+    ] = None,
+    model: Annotated[str | None, typer.Option(
+        metavar="MODEL",
+        help="Trio model (series2, mc2xx, mc4xx); the PMAC is a Turbo PMAC.")] = None,
+    include: Annotated[list[Path] | None, typer.Option(
+        "--include", "-I", metavar="DIR", help="Search DIR for #include files. Repeatable.")
+    ] = None,
+    format_: Annotated[str, typer.Option(
+        "--format", metavar="text|json", help="text: FILE:LINE:COLUMN: ...; json: a list of "
+        "findings (file, line, column, severity, code, message, text).")] = "text",
+) -> None:
+    """Load each file into a fresh simulated card and print every line it would refuse
+    (FILE:LINE:COLUMN: error: ERRnnn meaning) and every valid line motionsim does not simulate
+    (warning). Exit status 1 when there is an error, 2 when a file cannot be checked."""
+    import json
+
+    from motionsim.app.check import check_file
+    from motionsim.sim.errors import MotionSimError
+
+    if kind is not None and kind not in ("pmac", "trio"):
+        raise typer.BadParameter("must be 'pmac' or 'trio'", param_hint="--kind")
+    if format_ not in ("text", "json"):
+        raise typer.BadParameter("must be 'text' or 'json'", param_hint="--format")
+    findings = []
+    for path in files:
+        try:
+            findings += check_file(path, kind, model, include or ())
+        except (OSError, ValueError, MotionSimError) as exc:
+            raise _fail(f"{path}: {exc}", 2) from None
+    if format_ == "json":
+        typer.echo(json.dumps([f.to_dict() for f in findings], indent=1))
+    else:
+        for finding in findings:
+            typer.echo(str(finding))
+    if any(f.severity == "error" for f in findings):
+        raise typer.Exit(1)
+
+
+@cli.command()
+def examples(
+    dest: Annotated[Path, typer.Argument(
+        metavar="DIR", help="Folder to copy the examples into.")] = Path("motionsim-examples"),
+    force: Annotated[bool, typer.Option(
+        "--force", help="Copy into DIR even if it already has files (same names replaced).")
+    ] = False,
+) -> None:
+    """Copy the examples shipped with motionsim (scenarios, PMAC and Trio programs, host and
+    pytest examples; README.md lists them) into DIR, so an installed motionsim has them too."""
+    import shutil
+    from importlib.resources import as_file, files
+
+    if dest.exists() and any(dest.iterdir()) and not force:
+        raise _fail(f"{dest} is not empty; choose another folder or pass --force", 2)
+    with as_file(files("motionsim.examples")) as src:
+        shutil.copytree(src, dest, dirs_exist_ok=True,
+                        ignore=shutil.ignore_patterns("__pycache__", "*.pyc", "__init__.py"))
+    typer.echo(f"copied the examples to {dest}; start with {dest / 'README.md'}")
 
 
 # What-if scenarios: `motionsim run` and `motionsim sweep` (app/scenarios/cli.py).

@@ -58,9 +58,22 @@ class Clock:
 
 @dataclass(frozen=True, slots=True)
 class TerminalReply:
+    """``reply``, ``error`` (``ERR003`` ...), ``pending``; with an error, the PMAC's
+    ``error_meaning`` and a ``detail`` (what and where); ``not_simulated`` for a valid command
+    motionsim does not simulate; Trio ``output`` lines. Fields this client does not know are
+    ignored, so a newer server does not break it."""
+
     reply: str
     error: str | None
     pending: bool
+    error_meaning: str | None = None
+    not_simulated: bool = False
+    detail: str | None = None
+    output: list[str] = field(default_factory=list)
+
+    @classmethod
+    def from_json(cls, body: Mapping[str, Any]) -> TerminalReply:
+        return cls(**{k: v for k, v in body.items() if k in cls.__dataclass_fields__})
 
 
 @dataclass(frozen=True, slots=True)
@@ -349,8 +362,8 @@ class MotionSimClient:
     # -- terminal and variables --------------------------------------------------------------
 
     def terminal(self, id: str, command: str) -> TerminalReply:
-        return TerminalReply(**self.request("POST", f"/controllers/{id}/terminal",
-                                            json={"command": command}))
+        return TerminalReply.from_json(self.request("POST", f"/controllers/{id}/terminal",
+                                                    json={"command": command}))
 
     def terminal_state(self, id: str) -> dict[str, Any]:
         return self.request("GET", f"/controllers/{id}/terminal")

@@ -531,7 +531,9 @@ class RealtimeClock(DrivenClock):
         if not self.behind and lag > self.lag_report_s:
             self.behind = True
             self._report(lag)
-            log.warning("realtime clock behind by %.3f s (factor %g)", lag, self.factor)
+            who = f"controller {self.log.controller}" if self.log is not None else "a controller"
+            log.warning("%s: realtime clock behind by %.3f s (factor %g)", who, lag,
+                        self.factor)
         elif self.behind and lag < self.lag_report_s / 5:
             self.behind = False
             self._report(lag)

@@ -29,14 +29,99 @@ controllers' TCP protocols on free ports::
     def motionsim_settings():
         from motionsim.app.settings import Settings
         return Settings(port=0, clock={"mode": "virtual"}, pmac_port="auto", trio_port="auto")
+
+**Scaling to a suite.** A service start costs a second or more, so a suite shares one:
+
+- ``motionsim_server`` (session scope) serves once per session, with no controllers of its
+  own; ``--motionsim-url URL`` (or ``MOTIONSIM_URL``) points it at a server already running
+  instead, e.g. ``docker compose up motionsim``, and the same tests run there.
+- ``motionsim_pmac`` / ``motionsim_trio``: a fresh controller of that kind on it for each
+  test (virtual clock, deleted after the test), as a :class:`Controller`: the client's methods
+  with the controller's id already given (``motionsim_pmac.advance(0.5)``).
+- ``motionsim_controllers``: a factory for several controllers, of any kinds and clocks,
+  ``motionsim_controllers("trio", config={...})``; ``motionsim_services``: a factory for
+  extra services of their own settings, stopped after the test.
+
+**Failures that explain themselves.** :func:`assert_fed` fails with each starvation's
+instant, line, lines ahead and diagnosed cause (the scenario runner's diagnosis); when a test
+using these fixtures fails, the tail of each of its controllers' event logs is added to the
+report (section ``motionsim events``) with the path of the whole log (JSON Lines).
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+import functools
+import json
+import os
+import re
+import uuid
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import pytest
+from motionsim.app.scenarios.fed import assert_fed
+
+#: Environment variable naming an external server (the ``--motionsim-url`` option wins).
+URL_ENV = "MOTIONSIM_URL"
+#: Events shown in the report of a failed test (the whole log goes to a file).
+REPORT_TAIL = 40
+_WATCHED = pytest.StashKey[list[tuple[Any, "str | None"]]]()
+_LOG_DIR = pytest.StashKey[Callable[[], Path]]()
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    group = parser.getgroup("motionsim")
+    group.addoption(
+        "--motionsim-url", metavar="URL", default=None,
+        help=f"Run the session-scoped motionsim fixtures against this running server instead "
+             f"of serving one (env {URL_ENV}).")
+
+
+@dataclass(slots=True)
+class Server:
+    """A motionsim service the tests share: ``url``, ``ports`` (protocol -> TCP port of the
+    listeners it started; empty for an external server), ``external``."""
+
+    url: str
+    ports: dict[str, int] = field(default_factory=dict)
+    external: bool = False
+
+    def client(self) -> Any:
+        """A new :class:`motionsim.app.client.MotionSimClient` for this server."""
+        from motionsim.app.client import MotionSimClient
+
+        client = MotionSimClient(self.url)
+        client.ports = dict(self.ports)
+        return client
+
+
+class Controller:
+    """One controller of a shared service: ``id``, ``kind``, ``client``, ``url``; every
+    client method is available with the id already given (``ctl.terminal("#1J+")`` is
+    ``client.terminal(ctl.id, "#1J+")``)."""
+
+    def __init__(self, client: Any, id: str, kind: str) -> None:
+        self.client = client
+        self.id = id
+        self.kind = kind
+        self.url = client.url
+
+    def __getattr__(self, name: str) -> Any:
+        method = getattr(self.client, name)
+        return functools.partial(method, self.id) if callable(method) else method
+
+    def __repr__(self) -> str:
+        return f"<motionsim {self.kind} controller {self.id!r} at {self.url}>"
+
+
+def _watch(request: pytest.FixtureRequest, client: Any, id: str | None) -> None:
+    """Attach controller ``id`` (None: every controller of the client's service) to the
+    report of the running test should it fail."""
+    request.node.stash.setdefault(_WATCHED, []).append((client, id))
+    factory = request.getfixturevalue("tmp_path_factory")
+    request.node.stash[_LOG_DIR] = lambda: factory.mktemp("motionsim-events", numbered=True)
 
 
 @pytest.fixture
@@ -48,7 +133,7 @@ def motionsim_settings() -> Any:
 
 
 @pytest.fixture
-def motionsim(motionsim_settings: Any) -> Iterator[Any]:
+def motionsim(request: pytest.FixtureRequest, motionsim_settings: Any) -> Iterator[Any]:
     """A served motionsim (virtual clock, free port) and a client for it."""
     from motionsim.app.client import MotionSimClient
     from motionsim.app.embedded import EmbeddedService
@@ -57,6 +142,7 @@ def motionsim(motionsim_settings: Any) -> Iterator[Any]:
     service = EmbeddedService(settings).start()
     client = MotionSimClient(service.url)
     client.ports = dict(service.ports)
+    _watch(request, client, None)
     try:
         yield client
     finally:
@@ -76,3 +162,161 @@ def _release_hosts(client: Any) -> None:
                     client.release(controller["id"], holder["name"])
     except Exception:  # the service may already be gone (a test that stopped it)
         pass
+
+
+# -- a service per session, a controller per test ---------------------------------------------
+
+
+@pytest.fixture(scope="session")
+def motionsim_session_settings() -> Any:
+    """What ``motionsim_server`` serves (override it in your conftest.py, session scope):
+    by default no controllers (each test makes its own) and no TCP protocol listeners."""
+    from motionsim.app.settings import Settings
+
+    return Settings(port=0, clock={"mode": "virtual"}, controllers=[], pmac_port=0,
+                    trio_port=0)
+
+
+@pytest.fixture(scope="session")
+def motionsim_server(request: pytest.FixtureRequest,
+                     motionsim_session_settings: Any) -> Iterator[Server]:
+    """One service for the whole session; or the ``--motionsim-url`` / ``MOTIONSIM_URL`` one."""
+    url = request.config.getoption("motionsim_url") or os.environ.get(URL_ENV)
+    if url:
+        server = Server(url.rstrip("/"), external=True)
+        try:
+            with server.client() as client:
+                healthy = client.health()
+        except Exception as exc:  # refused, unresolvable, timed out: all the same to the user
+            pytest.exit(f"--motionsim-url {url}: cannot reach it ({exc})", returncode=3)
+        if not healthy:
+            pytest.exit(f"--motionsim-url {url}: GET /health is not ok", returncode=3)
+        yield server
+        return
+    from motionsim.app.embedded import EmbeddedService
+
+    settings = motionsim_session_settings.model_copy(update={"host": "127.0.0.1", "port": 0})
+    service = EmbeddedService(settings).start()
+    try:
+        yield Server(service.url, dict(service.ports))
+    finally:
+        service.stop()
+
+
+def _test_id(request: pytest.FixtureRequest) -> str:
+    """A controller id naming the test (as the dashboard shows it), unique on a shared server."""
+    stem = re.sub(r"[^A-Za-z0-9_.-]+", "-", request.node.name).strip("-.")[:48] or "t"
+    return f"{stem}-{uuid.uuid4().hex[:6]}"
+
+
+@pytest.fixture
+def motionsim_controllers(request: pytest.FixtureRequest,
+                          motionsim_server: Server) -> Iterator[Callable[..., Controller]]:
+    """A factory: ``make(kind="pmac", *, id=None, clock="virtual", factor=1.0, config=None,
+    server=None)`` creates a controller (on ``server``, default the session's) and returns
+    it as a :class:`Controller`; every one is deleted after the test."""
+    made: list[Controller] = []
+    clients: dict[str, Any] = {}
+
+    def make(kind: str = "pmac", *, id: str | None = None, clock: str = "virtual",
+             factor: float = 1.0, config: dict[str, Any] | None = None,
+             server: Server | None = None) -> Controller:
+        srv = server or motionsim_server
+        if srv.url not in clients:
+            clients[srv.url] = srv.client()
+        client = clients[srv.url]
+        body = client.create_controller(kind, id=id or _test_id(request), clock=clock,
+                                        factor=factor, config=config)
+        ctl = Controller(client, body["id"], kind)
+        made.append(ctl)
+        _watch(request, client, ctl.id)
+        return ctl
+
+    try:
+        yield make
+    finally:
+        for ctl in made:
+            _delete(ctl)
+        for client in clients.values():
+            client.close()
+
+
+def _delete(ctl: Controller) -> None:
+    from motionsim.app.client import MotionSimHTTPError
+
+    try:
+        for holder in ctl.clock().holders or ():
+            ctl.release(holder["name"])
+        ctl.delete_controller()
+    except (MotionSimHTTPError, OSError):  # already deleted by the test, or server gone
+        pass
+
+
+@pytest.fixture
+def motionsim_pmac(motionsim_controllers: Callable[..., Controller]) -> Controller:
+    """A fresh PMAC (virtual clock, factory defaults) on the session's service."""
+    return motionsim_controllers("pmac")
+
+
+@pytest.fixture
+def motionsim_trio(motionsim_controllers: Callable[..., Controller]) -> Controller:
+    """A fresh Trio Motion Coordinator (virtual clock) on the session's service."""
+    return motionsim_controllers("trio")
+
+
+@pytest.fixture
+def motionsim_services() -> Iterator[Callable[..., Server]]:
+    """A factory: ``start(settings=None)`` serves another motionsim (default: the
+    ``motionsim_session_settings`` defaults) on a free port; each is stopped after the test."""
+    from motionsim.app.embedded import EmbeddedService
+    from motionsim.app.settings import Settings
+
+    started: list[Any] = []
+
+    def start(settings: Any = None) -> Server:
+        base = settings if settings is not None else Settings(
+            clock={"mode": "virtual"}, controllers=[], pmac_port=0, trio_port=0)
+        service = EmbeddedService(base.model_copy(update={"host": "127.0.0.1", "port": 0}))
+        started.append(service.start())
+        return Server(service.url, dict(service.ports))
+
+    try:
+        yield start
+    finally:
+        for service in started:
+            service.stop()
+
+
+# -- the event log of a failed test in its report ---------------------------------------------
+
+
+@pytest.hookimpl(wrapper=True, tryfirst=True)
+def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo[None]) -> Any:
+    report = yield
+    watched = item.stash.get(_WATCHED, None)
+    if report.when == "call" and report.failed and watched:
+        for title, text in _event_sections(watched, item.stash[_LOG_DIR]):
+            report.sections.append((title, text))
+    return report
+
+
+def _event_sections(watched: list[tuple[Any, str | None]],
+                    log_dir: Callable[[], Path]) -> Iterator[tuple[str, str]]:
+    """Per watched controller: the last events and where the whole log was written."""
+    folder: Path | None = None
+    for client, only in watched:
+        try:
+            ids = [only] if only is not None else [c["id"] for c in client.controllers()]
+            for id in ids:
+                events = client.all_events(id)
+                folder = folder or log_dir()
+                path = folder / f"{id}.jsonl"
+                path.write_text("".join(json.dumps(e) + "\n" for e in events), encoding="utf-8")
+                tail = [json.dumps(e) for e in events[-REPORT_TAIL:]]
+                yield (f"motionsim events: {id} (last {len(tail)} of {len(events)})",
+                       "\n".join([*tail, f"whole log: {path}"]))
+        except Exception as exc:  # the service may be gone; the failure itself still shows
+            yield ("motionsim events", f"could not read the event log: {exc}")
+
+
+__all__ = ["Controller", "Server", "assert_fed"]

@@ -6,7 +6,11 @@ stays fast.
 
 from __future__ import annotations
 
+import contextlib
+import json
 import sys
+import time
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -28,6 +32,9 @@ def run_command(
         metavar="START:END", help="Plot only this span of simulated seconds, e.g. 0.2:0.5 "
         "[default: the whole run, plus a zoom on the first refill cycles].")] = None,
     open_: Annotated[bool, typer.Option("--open", help="Show the plots when done.")] = False,
+    force: Annotated[bool, typer.Option(
+        "--force", help="Write into an --out folder that holds another scenario's run.")
+    ] = False,
     realtime: Annotated[bool, typer.Option(
         "--realtime", help="Play it on a running server (wall-clock time) instead.")] = False,
     server: Annotated[str, typer.Option(help="Server for --realtime.")] = "http://127.0.0.1:8000",
@@ -38,6 +45,7 @@ def run_command(
     from motionsim.app.scenarios.errors import ScenarioError
     from motionsim.app.scenarios.model import load_scenario, parse_scenario
 
+    wall0 = time.perf_counter()
     span = None
     if window is not None:
         from motionsim.app.scenarios.plots import parse_window
@@ -67,12 +75,16 @@ def run_command(
     from motionsim.app.scenarios.runner import run
     from motionsim.app.scenarios.summary import print_summary
 
+    out_dir = out or Path("out") / scn.name
+    replacing = _previous_run(out_dir, scn.name, force)
     try:
-        result = run(scn)
+        with _progress(f"run {scn.name}", "simulated s") as advance:
+            result = run(scn, progress=advance)
     except ScenarioError as exc:
         raise _fail(str(exc)) from None
     rep = report(result)
-    out_dir = out or Path("out") / scn.name
+    if replacing:
+        typer.echo(f"motionsim: replacing the earlier run of {scn.name} in {out_dir}", err=True)
     try:
         paths = write_outputs(result, rep, out_dir, plots=plots, window=span)
     except OSError as exc:
@@ -82,18 +94,72 @@ def run_command(
         typer.echo(f"motionsim: --window starts after the run ended ({result.t_end:.3f} s)",
                    err=True)
     typer.echo(
-        f"simulated {result.t_end:.3f} s in {result.wall_s:.3f} s wall "
-        f"({result.stopped_by}); wrote {len(paths)} files to {out_dir}"
+        f"simulated {result.t_end:.3f} s in {time.perf_counter() - wall0:.3f} s wall "
+        f"({result.stopped_by}; the simulation itself {result.wall_s:.3f} s); "
+        f"wrote {len(paths)} files to {out_dir}"
     )
     if open_ and plots:
-        _show([p for n, p in paths.items() if n.endswith(".png")])
+        _show([p for n, p in paths.items() if n.endswith(".png")], out_dir)
 
 
-def _show(pngs: list[Path]) -> None:
+#: What a folder holds once a run was written into it (``metrics.json`` names the scenario).
+_RUN_MARKER = "metrics.json"
+
+
+def _previous_run(out_dir: Path, name: str, force: bool) -> bool:
+    """Whether ``out_dir`` holds an earlier run of scenario ``name`` (to be replaced, which
+    the command then says). A run of another scenario there is refused unless ``force``:
+    two runs never overwrite each other silently."""
+    marker = out_dir / _RUN_MARKER
+    if not marker.is_file():
+        return False
+    try:
+        earlier = json.loads(marker.read_text(encoding="utf-8")).get("scenario")
+    except (OSError, ValueError, AttributeError):
+        earlier = None
+    if earlier != name and not force:
+        raise _fail(f"{out_dir} holds a run of scenario {earlier or '(unknown)'!s}; "
+                    f"choose another --out, or pass --force to overwrite it")
+    return True
+
+
+@contextlib.contextmanager
+def _progress(what: str, unit: str) -> Iterator[Callable[[float, float], None]]:
+    """A Rich progress bar on the terminal (stderr); nothing when stderr is not a terminal."""
+    from rich.console import Console
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    console = Console(stderr=True)
+    with Progress(
+        TextColumn("{task.description}"), BarColumn(),
+        TextColumn("{task.completed:.3f} / {task.total:.3f} " + unit), TimeElapsedColumn(),
+        console=console, transient=True, disable=not console.is_terminal,
+    ) as bar:  # fmt: skip
+        task = bar.add_task(what, total=1.0)  # the real total comes with the first report
+
+        def advance(done: float, total: float) -> None:
+            bar.update(task, completed=done, total=total)
+
+        yield advance
+
+
+def _show(pngs: list[Path], out_dir: Path) -> None:
+    """Open the plots in the desktop's viewer; with no display, say where they are."""
+    import os
     import webbrowser
 
-    for p in pngs:
-        webbrowser.open(p.resolve().as_uri())
+    has_display = sys.platform in ("darwin", "win32") or any(
+        os.environ.get(v) for v in ("DISPLAY", "WAYLAND_DISPLAY"))
+    opened = False
+    if has_display:
+        try:
+            opened = all(webbrowser.open(p.resolve().as_uri()) for p in pngs)
+        except webbrowser.Error:
+            opened = False
+    if not opened:
+        listed = "\n".join(f"  {p}" for p in pngs)
+        typer.echo(f"motionsim: --open: no display to show the plots on; they are in "
+                   f"{out_dir.resolve()}:\n{listed}", err=True)
 
 
 def sweep_command(
@@ -128,11 +194,13 @@ def sweep_command(
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeRemainingColumn
 
+    wall0 = time.perf_counter()
     try:
         scn = load_scenario(scenario)
         raw = sw.portable_raw(scn)
         params = sw.make_params(raw, grid)
     except ScenarioError as exc:
+        exc.file = exc.file or str(scenario)  # a grid error is about this file's fields
         raise _fail(str(exc)) from None
     if replicates < 1:
         raise _fail("--replicates must be >= 1")
@@ -150,14 +218,16 @@ def sweep_command(
         try:
             from distributed import Client
         except ImportError:
-            msg = "--scheduler needs dask[distributed]: pip install 'motionsim[cluster]'"
+            msg = ("--scheduler needs dask[distributed]: pip install 'dask[distributed]' "
+                   "(or install motionsim with its cluster extra: pip install '.[cluster]' "
+                   "from a checkout)")
             raise _fail(msg) from None
         client = Client(scheduler)
     console = Console(stderr=True)
     try:
         with Progress(
             "[progress.description]{task.description}", BarColumn(), MofNCompleteColumn(),
-            TimeRemainingColumn(), console=console,
+            TimeRemainingColumn(), console=console, disable=not console.is_terminal,
         ) as bar:  # fmt: skip
             task = bar.add_task(f"sweep {scn.name}", total=len(runs))
             rows = sw.sweep(
@@ -171,8 +241,10 @@ def sweep_command(
             client.close()
     columns = sorted({k for r in rows for k in r if not r.get("error")})
     if any(not r.get("error") for r in rows) and metric not in columns:
-        raise _fail(f"no metric {metric!r}; columns: {', '.join(columns)}")
+        raise _fail(f"{scenario}: no metric {metric!r}; columns: {', '.join(columns)}")
     out_dir = out or Path("out") / f"{scn.name}-sweep"
+    if (out_dir / "sweep.csv").is_file():
+        typer.echo(f"motionsim: replacing the earlier sweep in {out_dir}", err=True)
     out_dir.mkdir(parents=True, exist_ok=True)
     (out_dir / "sweep.csv").write_text(sw.rows_csv(rows), encoding="utf-8")
     wrote = ["sweep.csv"]
@@ -183,7 +255,8 @@ def sweep_command(
     wrote.append("heatmap.png")
     _print_rows(rows, params, metric, console=Console())
     errors = [r for r in rows if r.get("error")]
-    typer.echo(f"{len(rows)} runs; wrote {', '.join(wrote)} to {out_dir}")
+    typer.echo(f"{len(rows)} runs in {time.perf_counter() - wall0:.3f} s wall; "
+               f"wrote {', '.join(wrote)} to {out_dir}")
     if errors:
         raise _fail(f"{len(errors)} runs failed; first: {errors[0]['error']}", 1)
 

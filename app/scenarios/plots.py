@@ -209,8 +209,12 @@ def _card_marks(events: list[Any]) -> list[tuple[float, str, dict[str, Any]]]:
 
 def plot_trio(
     events: list[Any], *, t_end: float, starvations: list[dict[str, Any]], title: str, path: Path,
-    window: Window | None = None,
+    window: Window | None = None, moves: dict[int, dict[str, Any]] | None = None,
 ) -> Path:
+    """Per axis the MTYPE lane (one bar per move, from its ``move_start`` to its ``move_end``:
+    back-to-back moves stay separate bars), NTYPE and the process buffer; each axis labelled
+    with the moves it executed (``moves``: the report's per-axis ``moves_done`` and
+    ``moves_planned``), so a run that skipped moves cannot pass for one that made them."""
     axes, _ = trio_traces(events)
     t0, t1 = window if window is not None else (0.0, max(t_end, 1e-6))
     ends = [e.t for e in events if e.type == "move_end"]
@@ -225,9 +229,14 @@ def plot_trio(
             ("NTYPE", [(t, nt) for t, _, nt in a.states], "tab:cyan"),
             ("process buffer", a.pbuf, "tab:gray"),
         ]
-        for lane, (_label, series, color) in enumerate(lanes):
-            bars = _busy_bars(series, t_end)
-            row.broken_barh(bars, (2 - lane - 0.4, 0.8), color=color)
+        for lane, (label, series, color) in enumerate(lanes):
+            if lane == 0:
+                bars = _move_bars(events, axis, t_end)
+                row.broken_barh(bars, (2 - lane - 0.4, 0.8), facecolor=color,
+                                edgecolor="white", linewidth=1.5, gid=label)
+            else:
+                row.broken_barh(_busy_bars(series, t_end), (2 - lane - 0.4, 0.8), color=color,
+                                gid=label)
         if not lanes_seen:
             lanes_seen = [Patch(color=color, label=f"{label} occupied")
                           for label, _, color in lanes]
@@ -240,7 +249,10 @@ def plot_trio(
         row.set_yticks([2, 1, 0])
         row.set_yticklabels([lb for lb, _, _ in lanes], fontsize=8)
         row.set_ylim(-0.6, 2.6)
-        row.set_ylabel(f"axis {axis}")
+        done, planned = _moves_of(axis, a.moves_done, moves)
+        short = planned is not None and done < planned
+        row.set_ylabel(f"axis {axis}\n{done}" + (f" of {planned}" if planned is not None else "")
+                       + " moves", color="tab:red" if short else "black", fontsize=9)
     extra = list(lanes_seen)
     if shaded:
         extra.append(Patch(color="tab:red", alpha=0.25, label=_SHADE_LABEL["axis_blocked"]))
@@ -255,6 +267,29 @@ def plot_trio(
     fig.savefig(path)
     plt.close(fig)
     return path
+
+
+def _moves_of(axis: int, done: int, moves: dict[int, dict[str, Any]] | None
+              ) -> tuple[int, int | None]:
+    """(moves executed, moves planned or None) for an axis's label."""
+    row = (moves or {}).get(axis) or (moves or {}).get(str(axis)) or {}  # type: ignore[call-overload]
+    return int(row.get("moves_done", done)), row.get("moves_planned")
+
+
+def _move_bars(events: list[Any], axis: int, t_end: float) -> list[tuple[float, float]]:
+    """One (start, length) per move of ``axis``: its ``move_start`` to its ``move_end``."""
+    bars, since = [], None
+    for e in events:
+        if e.fields.get("axis") != axis:
+            continue
+        if e.type == "move_start":
+            since = e.t
+        elif e.type == "move_end" and since is not None:
+            bars.append((since, max(e.t - since, 1e-9)))
+            since = None
+    if since is not None:
+        bars.append((since, max(t_end - since, 1e-9)))
+    return bars
 
 
 def _busy_bars(series: list[tuple[float, int]], t_end: float) -> list[tuple[float, float]]:
@@ -299,7 +334,7 @@ def plot_run(result: RunResult, rep: dict[str, Any], out_dir: Path,
             paths[name] = plot_trio(
                 events, t_end=result.t_end, starvations=starv,
                 title=f"{scn.name}: {cid} MTYPE / NTYPE / process buffer", path=out_dir / name,
-                window=window,
+                window=window, moves=rep["controllers"][cid].get("axes"),
             )  # fmt: skip
     return paths
 

@@ -193,9 +193,14 @@ def run_point(
         for part in path[:-1]:
             cur = cur[part]
         cur[path[-1]] = point[name]
-    base_seed = int(data.get("seed", 0) or 0)
-    data["seed"] = base_seed if same_seed else run_seed(base_seed, point)
     row: dict[str, Any] = dict(point)
+    try:
+        base_seed = int(data.get("seed", 0) or 0)
+    except (TypeError, ValueError):
+        row["seed"] = data.get("seed")
+        row["error"] = f"{file or '<scenario>'}: seed: {data.get('seed')!r} is not an integer"
+        return row
+    data["seed"] = base_seed if same_seed else run_seed(base_seed, point)
     row["seed"] = data["seed"]
     try:
         scn = parse_scenario(data, file=file, base_dir=Path(base_dir) if base_dir else None)

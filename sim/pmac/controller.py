@@ -115,7 +115,9 @@ class PmacController(Controller):
                     raise InvalidValue(f"no I-variable {key}", field=key)
                 FINITE.check(value, key)
             else:
-                raise InvalidValue(f"unknown PMAC config key {key!r}", field=key)
+                known = ", ".join(sorted([*PMAC_CONFIG, *CPU_CONFIG_KEYS]))
+                raise InvalidValue(f"unknown PMAC config key {key!r}; known: {known} and "
+                                   "i0 .. i8191 (I-variables)", field=key)
 
     def _power_on(self) -> None:
         self.vars.reset()

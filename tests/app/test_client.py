@@ -95,3 +95,14 @@ def test_client_raises_the_error_body(motionsim):
     assert (exc.value.status, exc.value.code) == (404, "not_found")
     assert exc.value.body["code"] == exc.value.code
     assert "DEFINE ROT" in exc.value.body["message"]
+
+
+def test_tsrm_i6_a_refused_command_reaches_the_client_with_its_meaning(motionsim):
+    """An ``ERRnnn`` answer carries the SRM meaning and the detail (the body's extra fields
+    used to make the client raise ``TypeError``); a not-simulated command says so."""
+    bad = motionsim.terminal("pmac", "X10")
+    assert (bad.error, bad.error_meaning) == ("ERR005",
+                                              "command allowed only with a buffer open")
+    unsimulated = motionsim.terminal("pmac", "PMATCH")
+    assert (unsimulated.error, unsimulated.not_simulated) == ("ERR003", True)
+    assert "PMATCH" in unsimulated.detail

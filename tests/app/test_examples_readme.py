@@ -43,3 +43,39 @@ def test_trio_readme_session_runs_from_the_repo_root_and_shows_the_tn20_stall(mo
     assert blocked, "the TN20 program never waited at a move line"
     # the VR table written in one request is what the program moved by
     assert motionsim.http.get("/controllers/t/variables/VR%28150%29").json()["value"] == 200
+
+
+def test_pmac_readme_session_runs_after_make_run_on_a_virtual_controller_of_its_own(
+        pmac_and_trio_realtime):
+    """``make run`` serves ``pmac`` and ``trio`` on a realtime clock: the README's session
+    makes its own virtual-clock controller, so ``clock/advance`` is not refused (409)."""
+    served = pmac_and_trio_realtime
+    script = _shell_block(ROOT / "examples" / "pmac" / "README.md")
+    assert "http://127.0.0.1:8000" in script
+    out = subprocess.run(["bash", "-euo", "pipefail", "-c",
+                          script.replace("http://127.0.0.1:8000", served.url)],
+                         cwd=ROOT, capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    docs = _json_documents(out.stdout)
+    assert all("code" not in d for d in docs if isinstance(d, dict)), docs  # no error bodies
+    events = docs[-1]["events"]
+    starts = {e["n"]: e["t"] for e in events if e["type"] == "move_start"}
+    (write,) = [e for e in events if e["type"] == "mvar"]
+    assert write["sync"] is True and write["name"] == "M1"
+    # TUM p250: the synchronous write lands at the first RTI at or after the move to X20 starts
+    assert starts[3] <= write["t"] < starts[3] + 0.002
+    assert served.client.clock("pmac").mode == "realtime"  # make run's own controller untouched
+
+
+@pytest.fixture
+def pmac_and_trio_realtime():
+    """What ``make run`` serves: the default controllers on a realtime clock."""
+    from types import SimpleNamespace
+
+    from motionsim.app.client import MotionSimClient
+    from motionsim.app.embedded import EmbeddedService
+    from motionsim.app.settings import Settings
+
+    with EmbeddedService(Settings(port=0, pmac_port=0, trio_port=0)) as service, \
+            MotionSimClient(service.url) as client:
+        yield SimpleNamespace(url=service.url, client=client)

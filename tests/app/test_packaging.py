@@ -25,7 +25,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 SETUPTOOLS_WARNING = re.compile(r"Setuptools\w*Warning|BuildBackendWarning|_DeprecatedConfig")
 LAYERS = {"motionsim": "motionsim", "motionsim.sim": "sim", "motionsim.app": "app",
-          "motionsim.api": "api"}
+          "motionsim.api": "api", "motionsim.examples": "examples"}
 
 USER_TEST = '''
 from app.main import greet          # the user's own app/, not motionsim's
@@ -140,3 +140,14 @@ def test_the_wheel_in_a_fresh_venv_beside_a_project_with_its_own_app_api_and_sim
     assert module.returncode == 0, module.stderr
     assert module.stdout.strip().endswith("0.1.0")
 
+    # the examples ship: copied out of the installed package, a scenario runs from the copy
+    copied = tmp_path / "my-examples"
+    out = subprocess.run([str(venv / "bin" / "motionsim"), "examples", str(copied)], cwd=project,
+                         env=env, capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert (copied / "README.md").is_file() and not list(copied.rglob("__init__.py"))
+    ran = subprocess.run([str(venv / "bin" / "motionsim"), "run",
+                          str(copied / "scenarios" / "m1_sync.yaml"), "--no-plots", "--out",
+                          str(tmp_path / "run")], cwd=project, env=env, capture_output=True,
+                         text=True, timeout=120)
+    assert ran.returncode == 0, ran.stderr

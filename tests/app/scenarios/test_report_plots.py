@@ -135,3 +135,39 @@ def test_an_unknown_sweep_metric_is_refused_with_the_columns(tmp_path):
         "--metric", "nope", "--out", str(tmp_path / "o")])
     assert res.exit_code == 2
     assert "no metric 'nope'" in res.output and "slow.time_starved_s" in res.output
+
+
+def test_the_trio_figure_draws_each_move_as_its_own_bar_and_counts_moves_per_axis(
+        tmp_path, figures):
+    """Back-to-back moves on axis 1 (move_end, the next move_start one servo period later)
+    are separate MTYPE bars; each axis's label says how many of its planned moves ran, in red
+    when some did not (TN20's fix, as written, skips moves whose NTYPE is busy)."""
+    result, rep = run_example("tn20_stall_and_fix.yaml")
+    plot_run(result, rep, tmp_path)
+    for name in ("stall", "fix"):
+        fig = next(f for f in figures if f": {name} " in f.axes[0].get_title())
+        for ax, (axis, m) in zip(fig.axes, sorted(rep["controllers"][name]["axes"].items()),
+                                 strict=True):
+            (mtype,) = [c for c in ax.collections if c.get_gid() == "MTYPE"]
+            assert len(mtype.get_paths()) == m["moves_done"]
+            label = ax.get_ylabel()
+            assert label == f"axis {axis}\n{m['moves_done']} of {m['moves_planned']} moves"
+            short = m["moves_done"] < m["moves_planned"]
+            assert (ax.yaxis.label.get_color() == "tab:red") is short
+    fix = rep["controllers"]["fix"]["axes"]
+    assert any(m["moves_done"] < m["moves_planned"] for m in fix.values())
+    stall = rep["controllers"]["stall"]["axes"]
+    assert [m["moves_done"] for m in stall.values()] == [6, 6]
+
+
+def test_scenario_comments_state_the_values_they_describe():
+    """rotary_breq.yaml's header gives each host's BREQ latency and jitter: the same numbers
+    as its hosts."""
+    import yaml
+
+    path = EXAMPLES / "rotary_breq.yaml"
+    text = path.read_text()
+    header = " ".join(line.lstrip("# ") for line in text.splitlines() if line.startswith("#"))
+    for host in yaml.safe_load(text)["hosts"]:
+        lat = host["latency"]
+        assert f"{lat['ms']:g} ms ± {lat['jitter_ms']:g} ms" in header, host["name"]

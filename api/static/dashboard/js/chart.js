@@ -79,12 +79,30 @@ export function timeTicks(ax, count = 6) {
   return out;
 }
 
+/** The time grid; with `labels`, the ticks' values and the axis' unit ("t (s)", simulated
+ *  seconds) left of the first tick, in the margin. */
 export function drawTimeGrid(g, ax, top, bottom, labels = true) {
   for (const [x, label] of timeTicks(ax)) {
     g.appendChild(svg("line", { x1: x, x2: x, y1: top, y2: bottom, class: "grid" }));
-    const anchor = x > ax.x1 - 12 ? "end" : "mid";
+    const anchor = x > ax.x1 - 12 ? "end" : x < ax.x0 + 12 ? "start" : "mid";
     if (labels) g.appendChild(svg("text", { x, y: bottom + 12, class: `tick ${anchor}` }, label));
   }
+  if (labels) {
+    g.appendChild(svg("text", { x: ax.x0 - 6, y: bottom + 12, class: "axis-unit end",
+                                "data-role": "time-unit" }, "t (s)"));
+  }
+}
+
+/** Round value ticks from 0 to at least `max`: a step of 1, 2 or 5 × 10^k giving about
+ *  `count` intervals; the last tick is the axis' top. */
+export function valueTicks(max, count = 4) {
+  const raw = Math.max(max, 1e-9) / count;
+  const mag = 10 ** Math.floor(Math.log10(raw));
+  const step = [1, 2, 5, 10].map((m) => m * mag).find((s) => s >= raw - 1e-12);
+  const top = Math.ceil(max / step - 1e-9) * step;
+  const out = [];
+  for (let i = 0; i * step <= top + 1e-9; i++) out.push(Number((i * step).toPrecision(12)));
+  return out;
 }
 
 /** Shaded intervals; one that starts inside the last one drawn (a pixel wide at least)

@@ -36,16 +36,20 @@ export class ClockPanel {
     this.msg = h("span", { class: "error" });
     this.el = h("section", { class: "card clock" },
       h("h3", {}, "Clock"),
-      h("div", { class: "clock-line" }, "t = ", this.time, " s · ", this.mode, " · ", this.paused),
+      h("div", { class: "clock-line" }, "simulated time ", this.time, " s · ", this.mode, " · ",
+        this.paused),
       h("div", { class: "controls" }, this.pause, " ", this.seconds, " s ", this.advance, " ",
         this.factor, " × ", this.setFactor, " ", this.switchMode),
       this.msg);
   }
 
-  render() {
+  /** `now`: the simulated time the page shows everywhere (the charts' right edge): the
+   *  clock's last polled time, run on in wall time × factor for a running realtime clock,
+   *  and never behind the last event received. */
+  render(now) {
     const c = this.ctl.snap.clock;
     if (!c) return;
-    this.time.textContent = fmt(c.t, 4);
+    this.time.textContent = fmt(now ?? c.t, 4);
     const lag = c.lag_s !== undefined && c.lag_s !== null ? `, lag ${fmt(c.lag_s, 3)} s` : "";
     this.mode.textContent = `${c.mode}, factor ${fmt(c.factor, 2)}${lag}${c.behind ? " (behind)" : ""}`;
     this.paused.textContent = c.paused ? "paused" : "running";

@@ -3,7 +3,7 @@
 // FPS times a second, however fast its events arrive. Only the public API is used.
 
 import { ClockPanel } from "./clock.js";
-import { fill, fmt, h } from "./dom.js";
+import { fill, h } from "./dom.js";
 import { ControllerModel } from "./model.js";
 import { PmacView } from "./pmac_view.js";
 import { HISTORY_S, MAX_HELD, MAX_POINTS } from "./series.js";
@@ -16,7 +16,11 @@ const POLL_MS = 500;
 const SPANS = [["fit", "all held"], ["0.1", "0.1 s"], ["0.5", "0.5 s"], ["2", "2 s"],
                ["10", "10 s"], ["60", "60 s"]];
 
-const token = new URLSearchParams(location.search).get("token");
+const query = new URLSearchParams(location.search);
+const token = query.get("token");
+// Deep link: /dashboard?controller=ID or /dashboard#ID opens that controller's tab (as soon
+// as it exists); the page keeps #ID in its address, so the address names the tab shown.
+let wanted = query.get("controller") || decodeURIComponent(location.hash.slice(1)) || null;
 const $ = (id) => document.getElementById(id);
 const controllers = new Map();
 let selected = null;
@@ -62,8 +66,12 @@ function remove(id) {
   if (selected === id) selected = controllers.keys().next().value ?? null;
 }
 
-function select(id) {
+function select(id, byUser = false) {
+  if (byUser) wanted = null;           // the user's click wins over the link
   selected = id;
+  if (id !== null && decodeURIComponent(location.hash.slice(1)) !== id) {
+    history.replaceState(null, "", `${location.pathname}${location.search}#${encodeURIComponent(id)}`);
+  }
   fill($("main"), controllers.get(id)?.el ?? h("p", { class: "hint" }, "No controller: create one above."));
   pollNow();
   schedule();
@@ -76,7 +84,7 @@ function tabs() {
   tabsKey = key;
   fill($("tabs"), [...controllers.values()].map((c) =>
     h("span", { class: `tab${c.id === selected ? " on" : ""}`, "data-tab": c.id },
-      h("button", { class: "pick", onclick: () => select(c.id) }, c.id, " ",
+      h("button", { class: "pick", onclick: () => select(c.id, true) }, c.id, " ",
         h("small", {}, c.kind), c.stream.state === "live" ? null : h("small", { class: "warn" },
                                                                      ` ${c.stream.state}`)),
       h("button", { class: "del", title: `delete controller ${c.id}`, "data-delete": c.id,
@@ -102,7 +110,7 @@ async function create(ev) {
     $("create-msg").textContent = "";
     form.cid.value = "";
     await pollNow();
-    select(c.id);
+    select(c.id, true);
   } catch (e) {
     $("create-msg").textContent = e.message;
   }
@@ -125,7 +133,12 @@ async function pollList() {
     ctl.snap.clockWall = performance.now();
     if (info.coord) ctl.snap.coordStates = info.coord;
   }
-  if (selected === null || !controllers.has(selected)) select(controllers.keys().next().value ?? null);
+  if (wanted !== null && controllers.has(wanted)) {
+    if (selected !== wanted) select(wanted);
+    wanted = null;
+  } else if (selected === null || !controllers.has(selected)) {
+    select(controllers.keys().next().value ?? null);
+  }
 }
 
 async function pollDetail(ctl) {
@@ -204,11 +217,12 @@ function window_(ctl) {
   if (c && c.mode === "realtime" && !c.paused && ctl.snap.clockWall !== undefined) {
     tClock += ((performance.now() - ctl.snap.clockWall) / 1000) * c.factor;
   }
-  const t1 = Math.max(ctl.model.t, tClock, 1e-3);
+  const now = Math.max(ctl.model.t, tClock);
+  const t1 = Math.max(now, 1e-3);
   const first = ctl.model.tFirst ?? 0;
   const t0 = span === "fit" ? Math.max(Math.min(first, t1 - 1e-3), t1 - HISTORY_S)
                             : t1 - Number(span);
-  return { t0, t1 };
+  return { t0, t1, now };
 }
 
 function render() {
@@ -225,14 +239,16 @@ function render() {
   ctl.status.dataset.state = s.state;
   ctl.status.dataset.epoch = s.epoch ?? "";
   ctl.status.dataset.resets = s.resets;
+  ctl.status.dataset.modelT = m.t;     // the last event's time (the clock card shows "now")
   ctl.status.textContent =
     `${ctl.id} (${ctl.kind}) · stream ${s.state} · seq ${m.lastSeq}` +
     (s.epoch !== null ? ` · epoch ${s.epoch}` : "") + (s.resets ? ` · ${s.resets} resets` : "") +
     (s.error ? ` · ${s.error}` : "") +
     ` · ${m.received} events · ${m.gaps.length ? `${m.gaps.length} gaps` : "no gaps"}` +
-    ` · ${s.reconnects} reconnects · model t = ${fmt(m.t)} s`;
-  ctl.clock.render();
-  ctl.view.render(window_(ctl));
+    ` · ${s.reconnects} reconnects`;
+  const win = window_(ctl);
+  ctl.clock.render(win.now);
+  ctl.view.render(win);
   ctl.terminal.render();
   stats.renders++;
   const c = ctl.snap.clock;
@@ -246,6 +262,13 @@ function start() {
   $("span").addEventListener("change", (ev) => { span = ev.target.value; schedule(); });
   $("create").addEventListener("submit", create);
   window.addEventListener("resize", schedule);
+  window.addEventListener("hashchange", () => {
+    const id = decodeURIComponent(location.hash.slice(1));
+    if (id && id !== selected) {
+      wanted = id;
+      pollNow();
+    }
+  });
   pollNow();
   setInterval(pollNow, POLL_MS);
 }

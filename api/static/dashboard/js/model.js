@@ -32,6 +32,28 @@ class CoordSystem {
     this.aheadSeries = new Steps(0);
     this.breqSeries = new Steps(0);
     this.starved = new Intervals();     // program state "waiting": ran out of rotary lines
+    // every starvation since the log began (exact; the drawn intervals are bounded):
+    this.starvations = 0;               // how many times the program ran out of lines
+    this.starvedS = 0;                  // their total length, closed ones
+    this.starvedSince = null;           // start of the one under way
+    this.writes = new Marks();          // [t, lines]: host writes (lines loaded at one instant)
+  }
+
+  /** Total starved time up to `t` (the open starvation counted to `t`). */
+  starvedTotal(t) {
+    return this.starvedS + (this.starvedSince === null ? 0 : Math.max(0, t - this.starvedSince));
+  }
+
+  setStarved(t, on) {
+    this.starved.set(t, on);
+    if (on && this.starvedSince === null) {
+      this.starvations++;
+      this.starvedSince = t;
+    } else if (!on && this.starvedSince !== null) {
+      if (t > this.starvedSince) this.starvedS += t - this.starvedSince;
+      else this.starvations--;          // lines arrived at the instant it ran out: no starvation
+      this.starvedSince = null;
+    }
   }
 
   setAhead(t, n) {
@@ -53,6 +75,25 @@ class Axis {
     this.pbProcess = null;
     this.lanes = { mtype: new Steps(0), ntype: new Steps(0), pb: new Steps(0) };
     this.stalled = new Intervals();     // idle while a process waits to load a move for it
+    this.stalls = 0;                    // every stall since the log began (exact)
+    this.stalledS = 0;
+    this.stalledSince = null;
+  }
+
+  setStalled(t, on) {
+    this.stalled.set(t, on);
+    if (on && this.stalledSince === null) {
+      this.stalls++;
+      this.stalledSince = t;
+    } else if (!on && this.stalledSince !== null) {
+      if (t > this.stalledSince) this.stalledS += t - this.stalledSince;
+      else this.stalls--;               // over at the instant it began: no stall
+      this.stalledSince = null;
+    }
+  }
+
+  stalledTotal(t) {
+    return this.stalledS + (this.stalledSince === null ? 0 : Math.max(0, t - this.stalledSince));
   }
 }
 
@@ -144,7 +185,7 @@ export class ControllerModel {
     if (handler) handler(this, e);
     if (STALL_INPUTS.has(e.type)) {
       const stalled = stalledAxes(this);
-      for (const [n, a] of this.axes) a.stalled.set(e.t, stalled.has(n));
+      for (const [n, a] of this.axes) a.setStalled(e.t, stalled.has(n));
     }
   }
 
@@ -154,6 +195,7 @@ export class ControllerModel {
       c.aheadSeries.prune(tmin);
       c.breqSeries.prune(tmin);
       c.starved.prune(tmin);
+      c.writes.prune(tmin);
     }
     for (const a of this.axes.values()) {
       for (const s of Object.values(a.lanes)) s.prune(tmin);
@@ -188,6 +230,9 @@ const HANDLERS = {
     c.lines.set(e.n, { n: e.n, text: e.text, words: e.words, state: "loaded" });
     while (c.lines.size > LAST_LINES) c.lines.delete(c.lines.keys().next().value);
     c.setAhead(e.t, e.lines_ahead);
+    const last = c.writes.items[c.writes.items.length - 1];
+    if (last && last[0] === e.t) last[1]++;          // the same write: one more line
+    else c.writes.push(e.t, 1);
   },
   line_calculated(m, e) {
     const c = m.cs(e.cs);
@@ -225,7 +270,7 @@ const HANDLERS = {
     if (e.cs !== undefined) {
       const c = m.cs(e.cs);
       c.program = { state: e.state, line: e.line ?? null, error: e.error ?? null };
-      c.starved.set(e.t, e.state === "waiting");
+      c.setStarved(e.t, e.state === "waiting");
       if (e.error) c.errors.push({ t: e.t, state: e.state, error: e.error });
       if (c.errors.length > 20) c.errors.shift();
       if (e.state !== "running" && e.state !== "waiting") c.executing = null;

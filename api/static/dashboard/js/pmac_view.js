@@ -6,10 +6,10 @@
 // is a low→high pulse), the program's `waiting` (ran out of lines) shaded, and the
 // synchronous M-variable writes as marks on the same time axis (TSRM p46, p286; TUM p337).
 
-import { drawTimeGrid, shade, stepPath, svg, TimeAxis } from "./chart.js";
+import { drawTimeGrid, shade, stepPath, svg, TimeAxis, valueTicks } from "./chart.js";
 import { fill, fmt, h, widthOf } from "./dom.js";
 
-const LEFT = 40, RIGHT = 10, TOP = 14, PLOT_H = 130, GAP = 12, BREQ_H = 22;
+const LEFT = 40, RIGHT = 10, TOP = 14, PLOT_H = 130, GAP = 12, BREQ_H = 22, WRITE_H = 7;
 const LINES_SHOWN = 14;
 
 export class PmacView {
@@ -38,8 +38,8 @@ export class PmacView {
     const key = (cls, text) => h("span", { class: `key ${cls}` }, h("i"), text);
     const legend = h("div", { class: "legend" }, key("ahead", "lines ahead (PR)"),
                      key("i16", "I16: BREQ on below"), key("i17", "I17: BREQ off at"),
-                     key("breq", "BREQ"), key("starved", "waiting (out of lines)"),
-                     key("sync", "sync M write"));
+                     key("breq", "BREQ"), key("starved", "starved (program waiting for lines)"),
+                     key("write", "host write"), key("sync", "sync M write"));
     const lines = h("table", { class: "lines" });
     const el = h("section", { class: "card cs", "data-cs": n, id: `cs-${n}` },
                  head, h("div", { class: "cs-body" }, h("div", {}, chart, legend), h("div", { class: "lines-box" }, lines)));
@@ -64,6 +64,7 @@ export class PmacView {
   }
 
   renderCs(n, card, win) {
+    const starvedS = this.ctl.model.cs(n).starvedTotal(win.t1);
     const { model, snap } = this.ctl;
     const c = model.cs(n);
     const rest = (snap.coords || {})[n] || {};
@@ -80,6 +81,10 @@ export class PmacView {
       kv("BREQ", c.breq ? "high" : "low", "breq", c.breq ? "on" : "off"),
       kv("I16", fmt(snap.i16), "i16"), kv("I17", fmt(snap.i17), "i17"),
       feed !== undefined ? kv("feed", `${fmt(feed, 1)} %`, "feed") : null,
+      h("span", { class: `kv starved-tally${c.starvations ? " hot" : ""}`,
+                  title: "times the program ran out of rotary lines, and for how long in all" },
+        "starved ", h("b", { "data-role": "starved-count" }, `${c.starvations}×`), " ",
+        h("b", { "data-role": "starved-total" }, `${starvedS.toFixed(3)} s`)),
       rot ? kv("rotary", `${rot.used_words}/${rot.size_words} words${rot.open ? ", open" : ""}`,
                "rotary") : h("span", { class: "kv muted" }, "no rotary buffer"),
       prog.error ? h("span", { class: "error", "data-role": "error" }, `run-time error: ${prog.error}`)
@@ -98,24 +103,35 @@ export class PmacView {
     let ymax = Math.max(4, (snap.i17 ?? 0) + 2, c.linesAhead + 1);
     const s = c.aheadSeries;
     for (let i = s.indexAt(win.t0); i < s.t.length; i++) ymax = Math.max(ymax, s.v[i] + 1);
-    ymax = Math.ceil(ymax);
-    const y = (v) => bottom - (v / ymax) * PLOT_H;
+    const ticks = valueTicks(ymax, 4);
+    ymax = ticks[ticks.length - 1];
+    const plotBottom = bottom - WRITE_H;             // host writes are marked beneath the plot
+    const y = (v) => plotBottom - (v / ymax) * (PLOT_H - WRITE_H);
     const g = svg("svg", { width, height, class: "chart", "data-role": "rotary-chart" });
     drawTimeGrid(g, ax, TOP, breqBottom);
     shade(g, c.starved, ax, TOP, breqBottom, "starved");
-    for (const v of [0, Math.round(ymax / 2), ymax]) {
-      g.appendChild(svg("text", { x: LEFT - 5, y: y(v) + 4, class: "tick end" }, String(v)));
+    for (const v of ticks) {
+      g.appendChild(svg("line", { x1: LEFT, x2: width - RIGHT, y1: y(v), y2: y(v), class: "grid" }));
+      g.appendChild(svg("text", { x: LEFT - 5, y: y(v) + 4, class: "tick end", "data-tick": v },
+                        String(v)));
     }
-    g.appendChild(svg("text", { x: 4, y: TOP - 4, class: "axis-label" }, "lines ahead"));
+    const levels = [];
     for (const [name, level] of [["i16", snap.i16], ["i17", snap.i17]]) {
       if (level === undefined || level === null) continue;
       g.appendChild(svg("line", { x1: LEFT, x2: width - RIGHT, y1: y(level), y2: y(level),
                                   class: `level ${name}`, "data-level": level }));
-      g.appendChild(svg("text", { x: width - RIGHT - 4, y: y(level) - 3, class: `level-text end ${name}` },
-                        `${name.toUpperCase()} = ${level}`));
+      levels.push([name, level]);
     }
     g.appendChild(svg("path", { d: stepPath(s, ax, y), class: "trace ahead",
                                 "data-role": "lines-ahead-trace" }));
+    this.writeMarks(g, c, ax, plotBottom, bottom);
+    // labels last, on a white halo: no trace is drawn over them
+    g.appendChild(svg("text", { x: 4, y: TOP - 4, class: "axis-label" }, "lines ahead"));
+    for (const [name, level] of levels) {
+      g.appendChild(svg("text", { x: width - RIGHT - 4, y: y(level) - 3,
+                                  class: `level-text end ${name}` },
+                        `${name.toUpperCase()} = ${level}`));
+    }
     let markedAt = -Infinity;            // one mark a pixel column: the first write in it
     for (const [t, label, cs] of model.syncM.items) {
       if (t < win.t0 || t > win.t1 || (cs !== undefined && cs !== c.cs)) continue;
@@ -133,6 +149,22 @@ export class PmacView {
     g.appendChild(svg("path", { d: stepPath(c.breqSeries, ax, by), class: "trace breq",
                                 "data-role": "breq-trace" }));
     box.replaceChildren(g);
+  }
+
+  /** One mark a pixel column for the host's writes (lines loaded at one instant), in the
+   *  strip beneath the plot; its title says when and how many lines. */
+  writeMarks(g, c, ax, top, bottom) {
+    let markedAt = -Infinity;
+    for (const [t, lines] of c.writes.items) {
+      if (t < ax.t0 || t > ax.t1) continue;
+      const x = ax.x(t);
+      if (x - markedAt < 1) continue;
+      markedAt = x;
+      const mark = svg("line", { x1: x, x2: x, y1: top + 1, y2: bottom, class: "host-write",
+                                 "data-t": t });
+      mark.appendChild(svg("title", {}, `t = ${fmt(t)} s: host wrote ${lines} line(s)`));
+      g.appendChild(mark);
+    }
   }
 
   lineTable(table, c) {

@@ -10,7 +10,7 @@ import { drawTimeGrid, lane, shade, svg, TimeAxis } from "./chart.js";
 import { fill, fmt, h, widthOf } from "./dom.js";
 import { mtypeName, stalledAxes, waitsFor } from "./model.js";
 
-const LEFT = 118, RIGHT = 10, LANE_H = 16, ROW_GAP = 10;
+const LEFT = 190, RIGHT = 10, LANE_H = 16, ROW_GAP = 10;  // LEFT: name, DPOS, stalls, lane
 const LANES = [["mtype", "MTYPE"], ["ntype", "NTYPE"], ["pb", "process buf"]];
 
 export class TrioView {
@@ -67,6 +67,9 @@ export class TrioView {
       row.appendChild(svg("text", { x: 4, y: y + 12, class: "axis-name" }, `axis ${n}`));
       row.appendChild(svg("text", { x: 4, y: y + 28, class: "axis-sub", "data-role": "dpos" },
                           `DPOS ${fmt(dpos, 3)}`));
+      row.appendChild(svg("text", { x: 4, y: y + 42, class: `axis-sub${a.stalls ? " hot" : ""}`,
+                                    "data-role": "stalled" },
+                          `stalled ${a.stalls}× ${a.stalledTotal(win.t1).toFixed(3)} s`));
       for (const [key, label] of LANES) {
         row.appendChild(svg("rect", { x: LEFT, y, width: ax.x1 - LEFT, height: LANE_H - 2,
                                       class: "lane-bg" }));
