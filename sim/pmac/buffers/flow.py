@@ -48,7 +48,8 @@ STRUCTURAL = "ERR009"
 
 
 def _error(message: str, line: ProgramLine, column: int) -> ParseError:
-    return ParseError(message, column=column, text=line.text, pmac_error=STRUCTURAL)
+    return ParseError(f"{message} (column {column})", column=column, text=line.text,
+                      pmac_error=STRUCTURAL)
 
 
 @dataclass

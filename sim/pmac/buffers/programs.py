@@ -132,7 +132,7 @@ class ProgramRun:
         self.interrupt: str | None = None
         self.halted = False  # STOP: R resumes at the next line
         self.failed = False  # a run-time error
-        self.in_block = False  # between BLOCKSTART and BLOCKSTOP
+        self._block = False  # between BLOCKSTART and BLOCKSTOP
 
     # -- where it is ------------------------------------------------------------------------
 
@@ -143,6 +143,15 @@ class ProgramRun:
 
     def has_next(self) -> bool:
         return not (self.halted or self.finished)
+
+    @property
+    def in_block(self) -> bool:
+        """Inside a BLOCKSTART ... BLOCKSTOP block with more of it to calculate: a step
+        (``S``) goes on calculating (TSRM p182)."""
+        if not self._block:
+            return False
+        instrs = self._code.instrs
+        return not (self._pc < len(instrs) and instrs[self._pc][0] == I_BLOCKSTOP)
 
     def resume(self) -> None:
         """``R`` / ``S`` after ``STOP``: go on at the next line."""
@@ -286,9 +295,9 @@ class ProgramRun:
         if kind == I_WAIT:
             return "wait"
         if kind == I_BLOCKSTART:
-            self.in_block = True
+            self._block = True
         elif kind == I_BLOCKSTOP:
-            self.in_block = False
+            self._block = False
         return None
 
     def _read(self, letters: tuple[str, ...]) -> None:
