@@ -330,6 +330,7 @@ class MotionPrograms:
         self._structure = Structure(dry=True)
         #: Compiled code per program: (code, what is left open or None); dropped on edit.
         self._code: dict[int, tuple[Code, str | None]] = {}
+        self._words = 0  # buffer words of every program, kept as lines come and go
 
     def editing(self, port: Port | None = None) -> int | None:
         """The program open for entry (on ``port`` if given), or None."""
@@ -360,11 +361,13 @@ class MotionPrograms:
         trial.feed(line)
         self._structure = trial
         self.programs[self._edit[1]].append(line)
+        self._words += line.words
         self._code.pop(self._edit[1], None)
 
     def clear(self) -> None:
         """``CLEAR``: empty the open program."""
         assert self._edit is not None
+        self._words -= sum(line.words for line in self.programs[self._edit[1]])
         self.programs[self._edit[1]] = []
         self._structure = Structure(dry=True)
         self._code.pop(self._edit[1], None)
@@ -396,7 +399,7 @@ class MotionPrograms:
 
     def words(self) -> int:
         """Buffer memory the programs take."""
-        return sum(line.words for lines in self.programs.values() for line in lines)
+        return self._words
 
     def run_of(
         self, cs: int, n: int, emit: Callable[..., Any], vars_: Any = None
