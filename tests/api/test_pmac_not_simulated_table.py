@@ -17,6 +17,7 @@ LETTER_EXAMPLES = {
     "CLEAR ALL": ["CLEAR ALL"],
     "compiled PLCs (PLCC)": ["ENABLE PLCC 1"],
     "BLKSTART": ["BLKSTART"],
+    "G/T/D-code subprogram calls": ["G01"],
 }
 TABLE_EXAMPLES = keywords.examples()
 

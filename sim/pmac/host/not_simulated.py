@@ -29,6 +29,7 @@ _LETTER_COMMANDS: Final[tuple[tuple[str, str], ...]] = (
     (r"CLEAR\s*ALL(?!\s*PLCS)", "CLEAR ALL"),
     (r"PLCC", "compiled PLCs (PLCC)"),
     (r"BLKSTART", "BLKSTART"),
+    (r"[GTD]\s*\d", "G/T/D-code subprogram calls"),
 )
 #: (pattern at the failing column, what to call it): the keyword table's not-simulated
 #: rows and objects (:func:`motionsim.sim.pmac.language.keywords.not_simulated`), then the

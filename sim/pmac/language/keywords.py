@@ -164,6 +164,17 @@ TABLE: Final[tuple[Keyword, ...]] = (
     _ns("FRAX", where="program", example="FRAX(X,Y)"),
     _ns("NORMAL", where="program", example="NORMAL K-1"),
     _ns("DISPLAY", where="program", example='DISPLAY "HELLO"'),
+    _ns("NOFRAX", where="program"),
+    _ns("FRAX2", where="program", example="FRAX2(X,Y)"),
+    _ns("NOFRAX2", where="program"),
+    _ns("TINIT", where="program"),
+    _ns("ADIS", where="program", example="ADIS10"),
+    _ns("IDIS", where="program", example="IDIS10"),
+    _ns("AROT", where="program", example="AROT10"),
+    _ns("IROT", where="program", example="IROT10"),
+    _ns("LOCK", example="LOCK4,P1"),
+    _ns("UNLOCK", example="UNLOCK4"),
+    _ns("SETPHASE", example="SETPHASE1"),
 )
 
 #: Object words (second words of a command) the lexer must know.
