@@ -218,7 +218,7 @@ def not_simulated() -> list[tuple[str, str]]:
     """(pattern, name) of every valid command word or command + object that is not
     simulated, for :mod:`motionsim.sim.pmac.host.not_simulated`."""
     out: list[tuple[str, str]] = []
-    for k in TABLE:
+    for k in sorted(TABLE, key=lambda k: -max(map(len, k.spellings))):  # FRAX2 before FRAX
         spell = "|".join(r"\s*".join(s.split(" ")) for s in k.spellings)
         if not k.simulated:
             out.append((rf"(?:{spell})(?![A-Z])", k.name))
