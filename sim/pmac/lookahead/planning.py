@@ -150,10 +150,8 @@ class Planning:
         if self._ver != vars_.version:
             self._refresh()
         stepping = self.single_step
-        if stepping:
-            target = 0 if (self.current is not None or planned) else 1
-        else:
-            target = self._depth()
+        # a step calculates one move; otherwise the depth
+        target = (0 if self.current is not None or planned else 1) if stepping else self._depth()
         if rot is not None:
             self._seen_n = rot.n_loaded
             pending = rot.pending
