@@ -69,6 +69,8 @@ from motionsim.sim.pmac.buffers.program import ProgramLine
 N_PROGRAMS = 32767
 
 
+#: Above any line number of any program (see ``ProgramRun.n_loaded``).
+N_LINES_MAX = 1 << 30
 #: GOSUB / CALL nesting (PUM p165, PMAC(1); [INF] Turbo the same).
 MAX_NESTING = 15
 #: Instructions followed in one pass without reaching a move: a guard, never reached by a
@@ -124,7 +126,10 @@ class ProgramRun:
         self._stack: list[tuple[Code, int, int, tuple[tuple[str, float], ...]]] = []
         self._args: tuple[tuple[str, float], ...] = ()
         self._jumps = 0
-        self.n_loaded = len(programs.programs.get(number, ()))
+        #: Every line of a fixed program is in memory from the start (of this program or one
+        #: it CALLs), so planning always "had its chance" at the next line (the deadline
+        #: rule of :mod:`motionsim.sim.pmac.lookahead.execution`).
+        self.n_loaded = N_LINES_MAX
         self.calculated: deque[tuple[int, int]] = deque()  # always empty: nothing is freed
         self.pending = _Pending(self)
         #: Why the last :meth:`take` returned None: "suspend" (double jump-back), "wait",
