@@ -32,6 +32,7 @@ from motionsim.sim.pmac.buffers.program import ProgramLine, compile_line
 from motionsim.sim.pmac.buffers.programs import MotionPrograms
 from motionsim.sim.pmac.buffers.rotary import RotaryBuffer
 from motionsim.sim.pmac.card import card_commands, registers
+from motionsim.sim.pmac.card.timers import CountdownTimers
 from motionsim.sim.pmac.card.variables import N_CS, N_MOTORS, Variables, parse_name
 from motionsim.sim.pmac.host.terminal import Terminal
 from motionsim.sim.pmac.language import motor_statements as motor_st
@@ -129,6 +130,8 @@ class PmacController(Controller):
             self.scheduler = Scheduler(self.env, period, lambda: int(self.vars.I(8)) + 1)
             self.background = Processor(self, int(self.config.get("background_cycles", 1)))
             self._terminal = Terminal(self)
+            clock = self.scheduler.clock
+            self.vars.timers = CountdownTimers(lambda: clock.index(self.env.now))
         self.halted = False  # the watchdog tripped (sim.pmac.watchdog); until reset
         self.plcs = PlcTable(self)
         self.background.power_on()
