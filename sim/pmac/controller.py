@@ -202,16 +202,17 @@ class PmacController(Controller):
         self.background.submit(job)
         return reply
 
-    def submit_program_command(self, text: str) -> None:
+    def submit_program_command(self, text: str, cs: int = 1, motor: int = 1) -> None:
         """``CMD"text"`` from a PLC: queued for the background command interpreter.
 
-        Runs on a port of its own whose addressing starts at motor 1 / CS 1 for every command
-        (non-modal, TSRM p422); replies and errors go nowhere (no host asked) ``[INF]``.
+        Runs on a port of its own whose addressing starts at the PLC's ``ADDRESS`` (motor 1 /
+        CS 1 unless set) for every command (non-modal, TSRM p422); replies and errors go
+        nowhere (no host asked) ``[INF]``.
         """
         port = self.plcs._cmd_port
 
         def job() -> None:
-            port.state.update(cs=1, motor=1)
+            port.state.update(cs=cs, motor=motor)
             self._terminal.execute(text, port)
 
         self.background.submit(job)

@@ -561,10 +561,19 @@ class _Parser:
     def _i_vector(self) -> bool:
         """With a buffer open, ``I100`` is a vector word unless it is an assignment."""
         tok = self.peek()
-        if tok is not None and tok[0] == "num":
-            nxt = self.peek(1)
-            return not (nxt is not None and nxt[0] == "op" and nxt[1] in _ASSIGN_OPS)
-        return True
+        k = 1
+        if tok is not None and tok[0] == "op" and tok[1] == "(":  # I({expr})= (TUM p243)
+            depth = 0
+            for k in range(len(self.toks) - self.i):
+                t = self.peek(k)
+                depth += (t[1] == "(") - (t[1] == ")") if t[0] == "op" else 0  # type: ignore[index]
+                if depth == 0:
+                    break
+            k += 1
+        elif tok is None or tok[0] != "num":
+            return True
+        nxt = self.peek(k)
+        return not (nxt is not None and nxt[0] == "op" and nxt[1] in _ASSIGN_OPS)
 
     def value_const(self, tok: Token) -> float:
         v = self.value()

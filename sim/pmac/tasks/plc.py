@@ -34,12 +34,14 @@ What is modelled (seed 003; TUM p237, p253, p376; TSRM p39, p381, p422-424; spec
 
 from __future__ import annotations
 
+from collections import deque
 from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from motionsim.sim.controller import Port
 from motionsim.sim.errors import Conflict, NotFound, ParseError
+from motionsim.sim.pmac.language import plc_idioms as idioms
 from motionsim.sim.pmac.language import plc_parser as pp
 from motionsim.sim.pmac.language import plc_statements as plc_st
 from motionsim.sim.pmac.language import statements as st
@@ -56,6 +58,7 @@ OP_ENDWHILE = 4  # (OP_ENDWHILE, pc_of_while)     ends the scan
 OP_CMD = 5  # (OP_CMD, text)
 OP_SEND = 6  # (OP_SEND, text)
 OP_ENABLE = 7  # (OP_ENABLE, numbers, enable)
+OP_ADDRESS = 8  # (OP_ADDRESS, "#" or "&", n)
 
 
 class StructureError(Exception):
@@ -156,10 +159,14 @@ class _Builder:
             _, pc, _, _ = stack.pop()
             ops.append([OP_ENDWHILE, pc])
             ops[pc][2] = len(ops)
-        elif t is pp.Cmd:
+        elif t is pp.Cmd or t is idioms.Command:
             ops.append([OP_CMD, s.text])
         elif t is pp.Send:
-            ops.append([OP_SEND, s.text])
+            ops.append([OP_SEND, s.text, ""])
+        elif t is idioms.SendText:
+            ops.append([OP_SEND, s.text, s.port])
+        elif t is idioms.Address:
+            ops.append([OP_ADDRESS, s.kind, s.n])
         elif t is plc_st.EnablePlc:
             ops.append([OP_ENABLE, s.numbers, s.enable])
         else:  # pragma: no cover - parse_plc_line returns only the types above
@@ -210,7 +217,7 @@ class Plc:
     """One PLC program slot and its run state."""
 
     __slots__ = ("n", "program", "enabled", "pc", "scans", "last_scan_t", "last_statements",
-                 "last_send")
+                 "last_send", "cs", "motor")
 
     def __init__(self, n: int) -> None:
         self.n = n
@@ -221,6 +228,9 @@ class Plc:
         self.last_scan_t: float | None = None
         self.last_statements = 0
         self.last_send: str | None = None
+        #: The program's own addressing (``ADDRESS&n`` / ``ADDRESS#n``), default &1 #1.
+        self.cs = 1
+        self.motor = 1
 
     def to_dict(self, permitted: bool, editing: bool) -> dict[str, Any]:
         if editing:
@@ -250,6 +260,8 @@ class PlcTable:
         self._edit: tuple[Port, int, _Builder, list[str]] | None = None
         self._rr = 0  # background round robin: the last PLC scanned
         self._cmd_port = Port("plc-cmd")
+        #: Lines sent by ``SEND`` statements, oldest first: ``(plc, port letter, text)``.
+        self.sent: deque[tuple[int, str, str]] = deque(maxlen=256)
 
     # -- entry ----------------------------------------------------------------------------
 
@@ -425,30 +437,37 @@ class PlcTable:
         pc = plc.pc
         end = len(ops)
         count = 0
-        cmds: list[str] = []
+        cmds: list[tuple[str, int, int]] = []
         while pc < end:
             op = ops[pc]
             code = op[0]
             count += 1
+            cs = plc.cs
             if code == OP_SET:
                 idx = op[2]
-                k = int(idx.const if idx.const is not None else idx.fn(vars_, 1))
-                vars_.write(op[1], k, op[3](vars_, 1), 1)
+                k = int(idx.const if idx.const is not None else idx.fn(vars_, cs))
+                vars_.write(op[1], k, op[3](vars_, cs), cs)
                 pc += 1
             elif code == OP_IF:
-                pc = pc + 1 if op[1](vars_, 1) else op[2]
+                pc = pc + 1 if op[1](vars_, cs) else op[2]
             elif code == OP_JUMP:
                 pc = op[1]
             elif code == OP_WHILE:
-                pc = pc + 1 if op[1](vars_, 1) else op[2]
+                pc = pc + 1 if op[1](vars_, cs) else op[2]
             elif code == OP_ENDWHILE:
                 pc = op[1]
                 break
             elif code == OP_CMD:
-                cmds.append(op[1])
+                cmds.append((op[1], cs, plc.motor))
                 pc += 1
             elif code == OP_SEND:
-                plc.last_send = op[1]
+                self._send(plc, op[1], op[2])
+                pc += 1
+            elif code == OP_ADDRESS:
+                if op[1] == "&":
+                    plc.cs = op[2]
+                else:
+                    plc.motor = op[2]
                 pc += 1
             else:  # OP_ENABLE
                 self.set_enabled(op[1], op[2])  # its own DISABLE: the scan still ends
@@ -460,9 +479,16 @@ class PlcTable:
         plc.scans += 1
         plc.last_scan_t = self.ctl.env.now
         plc.last_statements = count
-        for text in cmds:
-            self.ctl.submit_program_command(text)
+        for text, cs, motor in cmds:
+            self.ctl.submit_program_command(text, cs, motor)
         return count
+
+    def _send(self, plc: Plc, text: str, port: str) -> None:
+        """``SEND{port}"text"``: the PLC's ``last_send``, a ``plc_send`` event and the
+        controller's host output (:meth:`PmacController.host_output`)."""
+        plc.last_send = text
+        self.sent.append((plc.n, port, text))
+        self.ctl.log.emit("plc_send", plc=plc.n, port=port or "host", text=text)
 
     def _item(self, p: Plc, i5: int, editing: int | None) -> dict[str, Any]:
         """``p``'s API shape: its state as I5, entry and the watchdog make it."""
