@@ -32,6 +32,7 @@ from motionsim.sim.pmac.buffers.program import ProgramLine, compile_line
 from motionsim.sim.pmac.buffers.programs import MotionPrograms
 from motionsim.sim.pmac.buffers.rotary import RotaryBuffer
 from motionsim.sim.pmac.card import card_commands, registers
+from motionsim.sim.pmac.card.macro_station import MacroStations
 from motionsim.sim.pmac.card.timers import CountdownTimers
 from motionsim.sim.pmac.card.variables import N_CS, N_MOTORS, Variables, parse_name
 from motionsim.sim.pmac.host.terminal import Terminal
@@ -95,6 +96,8 @@ class PmacController(Controller):
         self._check_config(self.config)
         self.vars = Variables(self._m_written)
         self.flash = card_commands.Flash()  # what SAVE stored; survives resets
+        #: MACRO stations' variables (no ring simulated); separate hardware, kept on reset.
+        self.macro_stations = MacroStations()
         #: Injected faults inside the card (sim.faults); they outlive a reset.
         self.card_faults = CardFaults(self.log.emit)
         self._power_on()

@@ -12,7 +12,6 @@ pytestmark = pytest.mark.anyio
 EXAMPLES = {
     r"OPEN\s*(FORWARD|FWD|INVERSE|INV)\b": ["OPEN FORWARD", "&1OPEN INVERSE"],
     r"OPEN\s*(BINARY\s*)?ROT": ["OPEN BINARY ROT"],
-    r"MS\s*\d|MSR|MSW|MSSAVE|MSCLRERR|MSDATE|MACRO": ["MS0,I910", "MSSAVE0"],
     r"(DEFINE|DEF)\s*(CCBUF|COMP|TCOMP|BLCOMP|UBUFFER|UBUF)": ["DEFINE UBUFFER 1000",
                                                                  "&1DEFINE CCBUF 10"],
     r"(DELETE|DEL)\s*(CCBUF|COMP|TCOMP|BLCOMP|PLCC|TEMPS|ALL)": ["DELETE ALL", "&1DEL CCBUF"],

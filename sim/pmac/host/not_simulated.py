@@ -21,7 +21,6 @@ from typing import Final
 _COMMANDS: Final[tuple[tuple[str, str], ...]] = (
     (r"OPEN\s*(FORWARD|FWD|INVERSE|INV)\b", "OPEN FORWARD/INVERSE (kinematic programs)"),
     (r"OPEN\s*(BINARY\s*)?ROT", "OPEN BINARY ROT"),
-    (r"MS\s*\d|MSR|MSW|MSSAVE|MSCLRERR|MSDATE|MACRO", "MACRO station commands (MS...)"),
     (r"(DEFINE|DEF)\s*(CCBUF|COMP|TCOMP|BLCOMP|UBUFFER|UBUF)", "DEFINE of that buffer"),
     (r"(DELETE|DEL)\s*(CCBUF|COMP|TCOMP|BLCOMP|PLCC|TEMPS|ALL)",
      "DELETE of that buffer"),

@@ -251,6 +251,10 @@ class Terminal:
     def _online(self, stmt: Any, port: Port, out: list[str]) -> None:
         ctl = self.ctl
         state = port.state
+        run = getattr(stmt, "run_online", None)
+        if run is not None:  # a command family that runs itself (MACRO stations, ranges...)
+            run(ctl, state, out)
+            return
         t = type(stmt)
         if t is st.AddressCS:
             if stmt.cs is None:

@@ -28,7 +28,7 @@ from typing import Any
 
 from motionsim.sim.errors import ParseError
 from motionsim.sim.pmac.buffers.program_counter import ProgramCounter
-from motionsim.sim.pmac.card import card_commands, memory_commands, mvar_defs
+from motionsim.sim.pmac.card import card_commands, macro_station, memory_commands, mvar_defs
 from motionsim.sim.pmac.host import list_commands
 from motionsim.sim.pmac.language import expressions as ex
 from motionsim.sim.pmac.language import motor_statements as motor_st
@@ -531,6 +531,10 @@ class _Parser:
             m = self.match_text(memory_commands.WRITE_HEAD)
             if m is not None:
                 return memory_commands.parse_write(self, m)
+        elif word == "M":
+            m = self.match_text(macro_station.HEAD)
+            if m is not None:
+                return macro_station.parse(m, self.text)
         return None
 
     def pset_axes(self) -> tuple[tuple[str, ex.Expr], ...]:

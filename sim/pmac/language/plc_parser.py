@@ -255,6 +255,8 @@ def _segment(text: str, start: int, end: int) -> list[Any]:
             if stmt.synchronous:
                 raise _error("synchronous assignment is for motion programs", col, text)
             out.append(Set(stmt.target.kind, stmt.target.index, stmt.value))
+        elif getattr(stmt, "run_online", None) is not None and getattr(stmt, "in_program", True):
+            out.append(stmt)  # a family that runs itself (MSR / MSW...)
         elif isinstance(stmt, st.Message):
             out.append(Cmd(stmt.text) if stmt.kind == "CMD" else Send(stmt.text))
         else:
