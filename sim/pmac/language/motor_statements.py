@@ -60,6 +60,20 @@ class MotorGroup:
 MOTOR_TYPES = (Jog, Home, Kill, OpenLoop, Enable)
 
 
+@dataclass(frozen=True, slots=True)
+class HomeList:
+    """``HOME{n}[,{n}...]`` / ``HOMEZ{n}..{m}`` (``HM``, ``HMZ``): the program form with a motor
+    list (TSRM ``HOME{list}`` program command ``[BK]``); each listed motor homes as ``#nHM``
+    would. Accepted on-line too ``[INF]``."""
+
+    motors: tuple[int, ...]
+    zero: bool = False
+
+    def run_online(self, ctl: Any, state: dict[str, Any], out: list[str]) -> None:
+        for n in self.motors:
+            ctl.motor_command(Home(self.zero), n)
+
+
 def is_jog(parser: Any) -> bool:
     """Is the token after a ``J`` one that makes it a jog (rather than a vector word)?"""
     tok = parser.peek()
@@ -87,6 +101,7 @@ def parse_jog(parser: Any) -> Jog:
 
 __all__ = [
     "MOTOR_TYPES",
+    "HomeList",
     "Enable",
     "Home",
     "Jog",

@@ -33,6 +33,7 @@ from motionsim.sim.pmac.host import list_commands
 from motionsim.sim.pmac.language import expressions as ex
 from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.language import plc_statements as plc_st
+from motionsim.sim.pmac.language import ranges
 from motionsim.sim.pmac.language import statements as st
 
 _WORDS = [
@@ -400,7 +401,10 @@ class _Parser:
         if word in ("DELAY", "DLY"):
             return st.Delay(self.value())
         if word in ("HM", "HOME", "HMZ", "HOMEZ"):
-            return motor_st.Home(zero=word in ("HMZ", "HOMEZ"))
+            zero = word in ("HMZ", "HOMEZ")
+            if self.at("num"):
+                return motor_st.HomeList(self.number_list(1, 32, "motor"), zero)
+            return motor_st.Home(zero=zero)
         if word in ("VERSION", "VER"):
             return st.Query("VER")
         if word in ("CID", "CPU", "VID", "TYPE", "SIZE", "PR"):
@@ -429,6 +433,28 @@ class _Parser:
         if n >= plc_st.N_PLCS:
             raise self.error(f"no PLC {n} (0..{plc_st.N_PLCS - 1})", tok)
         return n
+
+    def number_list(self, lo: int, hi: int, what: str) -> tuple[int, ...]:
+        """``{n}[,{n}...]`` or ``{n}..{m}``, each in ``lo..hi`` (motor lists: ``HOMEZ1,2,3``)."""
+        def one() -> int:
+            tok = self.peek()
+            n = self.integer()
+            if not lo <= n <= hi:
+                raise self.error(f"no {what} {n} ({lo}..{hi})", tok)
+            return n
+
+        out = [one()]
+        if self.at("op", ".."):
+            self.take()
+            tok = self.peek()
+            last = one()
+            if last < out[0]:
+                raise self.error(f"bad {what} range", tok)
+            return tuple(range(out[0], last + 1))
+        while self.at("op", ","):
+            self.take()
+            out.append(one())
+        return tuple(out)
 
     def plc_list(self) -> tuple[int, ...]:
         """``PLC n[,n...]`` or ``PLC n..m`` after ENABLE / DISABLE."""
@@ -601,6 +627,8 @@ class _Parser:
             self.i += 1
             n = self._const_index(index, op)
             return self.m_definition(n, n, op)
+        if index.const is None and not self.open:
+            return ranges.IndirectQuery(kind, index)  # P(P1+10)
         first = self._const_index(index, op)
         if op is not None and op[0] == "op" and op[1] == "..":
             self.i += 1
@@ -614,7 +642,7 @@ class _Parser:
                     raise self.error("=* is for I-variables only")
                 self.i += 2
                 return st.VarDefault(first, last)
-            return st.VarQuery(kind, first, last=last)
+            return self.range_value(kind, first, last, None, 1)
         if op is not None and op[0] == "op" and op[1] == ",":
             self.i += 1
             count = self.integer()
@@ -622,8 +650,22 @@ class _Parser:
             if self.at("op", ","):
                 self.take()
                 step = self.integer()
-            return st.VarQuery(kind, first, count=count, step=step)
+            if first + step * (count - 1) > 8191:
+                raise self.error("variable range goes past 8191", self.toks[self.i - 1])
+            return self.range_value(kind, first, None, count, step)
         return st.VarQuery(kind, first)
+
+    def range_value(self, kind: str, first: int, last: int | None, count: int | None,
+                    step: int) -> Any:
+        """After a range ``{a}..{b}`` / ``{n},{count},{step}``: ``={expr}`` assigns them all
+        (:mod:`.ranges`), else the query."""
+        if self.at("op", "="):
+            self.take()
+            return ranges.RangeAssign(kind, ranges.numbers(first, last, count, step),
+                                      self.expression())
+        if last is not None:
+            return st.VarQuery(kind, first, last=last)
+        return st.VarQuery(kind, first, count=count, step=step)
 
     def m_definition(self, first: int, last: int, arrow: Token) -> Any:
         """After ``M{n}[..{m}]->``: a definition written right after the arrow
