@@ -36,6 +36,7 @@ from motionsim.sim.pmac.card.macro_station import MacroStations
 from motionsim.sim.pmac.card.timers import CountdownTimers
 from motionsim.sim.pmac.card.variables import N_CS, N_MOTORS, Variables, parse_name
 from motionsim.sim.pmac.host.terminal import Terminal
+from motionsim.sim.pmac.language import axis_definitions
 from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.lookahead import CoordSystem
 from motionsim.sim.pmac.motor.motor_status import motor_status_words
@@ -150,6 +151,7 @@ class PmacController(Controller):
             self.scheduler, self.vars, self.log.emit, self._motor_axis, self._axis_position,
             self._cs_running,
         )  # fmt: skip
+        self.motor_table.base_of = self._motor_base
 
     def _alive(self) -> None:
         """Refuse anything that acts on the card once the watchdog has tripped (TSRM p57: it
@@ -577,10 +579,23 @@ class PmacController(Controller):
         have = self.motors.get(motor)
         if have is None:
             return None
-        cs, definition = have
-        axis = definition[-1]
-        scale = float(definition[:-1]) if len(definition) > 1 else 1.0
-        return cs, axis, scale
+        terms = axis_definitions.lookup(have[1]).terms
+        if not terms:
+            return None  # #n->I: positioned by the kinematic programs
+        return have[0], terms[0][0], terms[0][1]
+
+    def _motor_base(self, motor: int, t: float) -> float:
+        """Motor ``motor``'s position from its CS axes (counts): the sum of its definition's
+        terms (``#6->-29.1X+100000Y``). The constant offset is reported, not added ``[INF]``:
+        axis positions here start where the motors are, so adding it would move the motor."""
+        have = self.motors.get(motor)
+        if have is None:
+            return 0.0
+        terms = axis_definitions.lookup(have[1]).terms
+        if len(terms) == 1:
+            return self.coord_systems[have[0]].positions(t).get(terms[0][0], 0.0) * terms[0][1]
+        pos = self.coord_systems[have[0]].positions(t) if terms else {}
+        return sum(pos.get(a, 0.0) * s for a, s in terms)
 
     def _axis_position(self, cs: int, axis: str, t: float) -> float:
         return self.coord_systems[cs].positions(t).get(axis, 0.0)

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from motionsim.sim.pmac.language import statements as st
+from motionsim.sim.pmac.language.axis_definitions import Frax
 from motionsim.sim.pmac.language.parser import parse_program_line
 
 # Operation codes (first element of each op tuple).
@@ -32,6 +33,7 @@ OP_MOVE = 4  # (OP_MOVE, ((axis, expr), ...), ((vector, expr), ...), ((axis, vel
 OP_DWELL = 5  # (OP_DWELL, expr)
 OP_DELAY = 6  # (OP_DELAY, expr)
 OP_PSET = 7  # (OP_PSET, ((axis, expr), ...))
+OP_FRAX = 8  # (OP_FRAX, axes)
 
 
 @dataclass(frozen=True, slots=True)
@@ -106,6 +108,8 @@ def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:
             modal.append((OP_MODAL, "TM", s.ms))  # the move-time register (I42 = 0)
         elif isinstance(s, st.AxisMode):
             modal.append((OP_AXISMODE, s.incremental, s.axes))
+        elif isinstance(s, Frax):
+            modal.append((OP_FRAX, s.axes))
         elif isinstance(s, st.Assign):
             ops.append((OP_ASSIGN, s.target.kind, s.target.index, s.op, s.value))
         elif isinstance(s, st.Dwell):
@@ -167,6 +171,7 @@ __all__ = [
     "OP_MODAL",
     "OP_MODE",
     "OP_MOVE",
+    "OP_FRAX",
     "OP_PSET",
     "ProgramLine",
     "compile_line",

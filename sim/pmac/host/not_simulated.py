@@ -24,7 +24,6 @@ _COMMANDS: Final[tuple[tuple[str, str], ...]] = (
     (r"(DEFINE|DEF)\s*(CCBUF|COMP|TCOMP|BLCOMP|UBUFFER|UBUF)", "DEFINE of that buffer"),
     (r"(DELETE|DEL)\s*(CCBUF|COMP|TCOMP|BLCOMP|PLCC|TEMPS|ALL)",
      "DELETE of that buffer"),
-    (r"UNDEFINE|UNDEF", "UNDEFINE (coordinate-system definitions)"),
     (r"PASSWORD", "PASSWORD"),
     (r"PMATCH", "PMATCH"),
     (r"ENABLE\s*PLCC|ENA\s*PLCC|DISABLE\s*PLCC|DIS\s*PLCC|PLCC", "compiled PLCs (PLCC)"),

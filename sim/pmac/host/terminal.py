@@ -285,8 +285,6 @@ class Terminal:
             if not 0 <= stmt.group < N_MOTORS // 8:
                 raise CommandError("ERR003")
             state["group"] = stmt.group
-        elif t is st.AxisDefinition:
-            self._axis_definition(stmt, port, out)
         elif t is st.DefineRotary:
             ctl.define_rotary(state["cs"], stmt.words)
         elif t is st.DeleteRotary:
@@ -370,23 +368,6 @@ class Terminal:
             ctl.programs.clear()
         else:  # pragma: no cover - every parsed statement type is handled above
             raise CommandError("ERR003")
-
-    def _axis_definition(self, stmt: st.AxisDefinition, port: Port, out: list[str]) -> None:
-        ctl = self.ctl
-        if not 1 <= stmt.motor <= N_MOTORS:
-            raise CommandError("ERR003")
-        cs = port.state["cs"]
-        have = ctl.motors.get(stmt.motor)
-        if stmt.definition is None:
-            out.append(have[1] if have is not None and have[0] == cs else "0")
-            return
-        if stmt.definition == "0":
-            if have is not None and have[0] == cs:
-                del ctl.motors[stmt.motor]
-            return
-        if have is not None and have[0] != cs:
-            raise CommandError("ERR003")
-        ctl.motors[stmt.motor] = (cs, stmt.definition)
 
     def _query(self, what: str, port: Port) -> str:
         ctl = self.ctl

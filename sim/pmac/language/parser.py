@@ -30,10 +30,10 @@ from motionsim.sim.errors import ParseError
 from motionsim.sim.pmac.buffers.program_counter import ProgramCounter
 from motionsim.sim.pmac.card import card_commands, macro_station, memory_commands, mvar_defs
 from motionsim.sim.pmac.host import list_commands
+from motionsim.sim.pmac.language import axis_definitions, ranges
 from motionsim.sim.pmac.language import expressions as ex
 from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.language import plc_statements as plc_st
-from motionsim.sim.pmac.language import ranges
 from motionsim.sim.pmac.language import statements as st
 
 _WORDS = [
@@ -45,7 +45,7 @@ _WORDS = [
     "ENABLE", "DISABLE", "ENA", "DIS", "PLCC", "PLC", "CLEAR",
     "HOMEZ", "HOME", "HMZ", "HM",
     "LIST", "PROGRAM", "PROG", "FORWARD", "INVERSE", "SAVE", "MFLUSH", "PSET", "LOOKAHEAD",
-    "LOOK",
+    "LOOK", "FRAX",
 ]  # fmt: skip
 _WORDS.sort(key=len, reverse=True)
 
@@ -289,8 +289,7 @@ class _Parser:
                 return st.AddressMotor(None)
             motor = self.integer()
             if self.at("op", "->"):
-                self.take()
-                return st.AxisDefinition(motor, self.axis_definition())
+                return self.axis_definition(motor, self.take())
             return st.AddressMotor(motor)
         if word in ("?", "??", "???"):
             return st.Query(word)
@@ -306,19 +305,16 @@ class _Parser:
             return st.Query("%")
         raise self.error(f"unexpected {word!r}", tok)
 
-    def axis_definition(self) -> str | None:
-        scale = ""
-        if self.at("num"):
-            scale = self.take()[1]
-        tok = self.peek()
-        if tok is not None and tok[0] == "word" and len(tok[1]) == 1 and tok[1] in st.AXES:
+    def axis_definition(self, motor: int, arrow: Token) -> Any:
+        """After ``#{n}->``: a definition or the query (:mod:`.axis_definitions`)."""
+        try:
+            definition, end = axis_definitions.parse(self.text, arrow[3])
+        except ParseError as e:
+            e.statement_start = arrow[2]  # type: ignore[attr-defined]
+            raise
+        while self.i < len(self.toks) and self.toks[self.i][2] < end:
             self.i += 1
-            return f"{scale}{tok[1]}"
-        if scale:
-            if float(scale) == 0:
-                return "0"
-            raise self.error("expected an axis letter after the scale factor")
-        return None
+        return axis_definitions.AxisDefinition(motor, definition)
 
     def word_statement(self, tok: Token) -> Any:
         word = tok[1]
@@ -392,6 +388,8 @@ class _Parser:
             return st.PvtMode(self.pvt_time())
         if word == "PSET":
             return st.PSet(self.pset_axes())
+        if word == "FRAX":
+            return axis_definitions.Frax(self.axis_list() or ("X", "Y", "Z"))
         if word in ("INC", "ABS"):
             return st.AxisMode(word == "INC", self.axis_list())
         if word in ("TA", "TS", "TM"):
@@ -557,6 +555,10 @@ class _Parser:
             m = self.match_text(memory_commands.WRITE_HEAD)
             if m is not None:
                 return memory_commands.parse_write(self, m)
+        elif word == "U":
+            m = self.match_text(axis_definitions.UNDEFINE_HEAD)
+            if m is not None:
+                return axis_definitions.Undefine(bool(m.group("all")))
         elif word == "M":
             m = self.match_text(macro_station.HEAD)
             if m is not None:
