@@ -33,7 +33,7 @@ from typing import Any
 
 from motionsim.sim.events import EventLog
 from motionsim.sim.pmac.buffers.line_numbers import LineNumbering
-from motionsim.sim.pmac.buffers.program import ProgramLine
+from motionsim.sim.pmac.buffers.program import ProgramLine, rotary_check
 
 
 class RotaryBuffer:
@@ -48,6 +48,11 @@ class RotaryBuffer:
         faults: the card's :class:`motionsim.sim.faults.CardFaults` (a rising edge it says
             is lost raises the level without a ``breq`` event or interrupt), or None.
     """
+
+    #: The planning interface of a program run (:class:`.programs.ProgramRun`): a rotary
+    #: buffer never interrupts a calculation pass and has no BLOCKSTART.
+    interrupt: str | None = None
+    in_block = False
 
     __slots__ = (
         "cs",
@@ -169,7 +174,13 @@ class RotaryBuffer:
     # -- loading and planning -------------------------------------------------------------
 
     def store(self, line: ProgramLine) -> int:
-        """Store one line (the caller has checked :meth:`fits`); returns its number ``n``."""
+        """Store one line (the caller has checked :meth:`fits`); returns its number ``n``.
+
+        Raises:
+            NotSimulated: a control-flow line (:func:`.program.rotary_check`); not stored.
+        """
+        if line.flow is not None:
+            rotary_check(line)
         n = self.n_loaded + 1
         self.n_loaded = n
         self.pending.append((n, line))

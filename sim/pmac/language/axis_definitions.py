@@ -33,8 +33,6 @@ _NUMBER = r"(?:\d+\.?\d*|\.\d+)"
 _TERM = re.compile(rf"\s*(?P<sign>[+-])?\s*(?P<scale>{_NUMBER})?\s*(?P<axis>[XYZABCUVW])?",
                    re.IGNORECASE)
 _INVERSE = re.compile(r"\s*I(?![A-Za-z0-9])", re.IGNORECASE)
-#: What may follow ``UNDEFINE``: ``ALL``.
-UNDEFINE_HEAD = re.compile(r"\s*N\s*DEF(?:INE)?(?P<all>\s*ALL)?(?![A-Za-z])", re.IGNORECASE)
 _TRIPLETS = ("XYZ", "UVW")
 
 
@@ -173,6 +171,20 @@ class Frax:
     axes: tuple[str, ...]
 
 
+def undefine_word(p: Any, tok: tuple[str, str, int, int]) -> Undefine:
+    """Keyword-table builder: ``UNDEFINE [ALL]``."""
+    nxt = p.peek()
+    if nxt is not None and nxt[0] == "word" and nxt[1] == "ALL":
+        p.i += 1
+        return Undefine(True)
+    return Undefine(False)
+
+
+def frax_word(p: Any, tok: tuple[str, str, int, int]) -> Frax:
+    """Keyword-table builder: ``FRAX[({axes})]`` (no list: X, Y, Z)."""
+    return Frax(p.axis_list() or ("X", "Y", "Z"))
+
+
 def motor_terms(ctl: Any, motor: int) -> tuple[int, AxisDef] | None:
     """``(cs, definition)`` of ``motor``, or None."""
     have = ctl.motors.get(motor)
@@ -181,5 +193,5 @@ def motor_terms(ctl: Any, motor: int) -> tuple[int, AxisDef] | None:
     return have[0], lookup(have[1])
 
 
-__all__ = ["UNDEFINE_HEAD", "AxisDef", "AxisDefinition", "Frax", "Undefine", "lookup",
-           "motor_terms", "parse"]
+__all__ = ["AxisDef", "AxisDefinition", "Frax", "Undefine", "frax_word",
+           "lookup", "motor_terms", "parse", "undefine_word"]

@@ -58,6 +58,8 @@ class MotorGroup:
 
 
 MOTOR_TYPES = (Jog, Home, Kill, OpenLoop, Enable)
+#: Motors a list may name (Turbo PMAC: 32).
+N_MOTORS_LIST = 32
 
 
 @dataclass(frozen=True, slots=True)
@@ -111,3 +113,12 @@ __all__ = [
     "is_jog",
     "parse_jog",
 ]
+
+
+def home_word(p: Any, tok: tuple[str, str, int, int]) -> Home | HomeList:
+    """Keyword-table builder: ``HM`` / ``HMZ`` (addressed motor) or, with a motor list,
+    ``HOMEZ1,2,3`` / ``HOME1..4``."""
+    zero = tok[1] in ("HMZ", "HOMEZ")
+    if p.at("num"):
+        return HomeList(p.number_list(1, N_MOTORS_LIST, "motor"), zero)
+    return Home(zero=zero)

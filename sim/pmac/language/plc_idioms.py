@@ -19,6 +19,7 @@ from __future__ import annotations
 import re
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 from motionsim.sim.errors import ParseError
 
@@ -120,4 +121,27 @@ def build(word: str, text: str, pos: int) -> tuple[object, int]:
     raise _error(f"unknown PLC keyword {word!r}", pos + 1, text)  # pragma: no cover
 
 
-__all__ = ["IDIOMS", "PATTERN", "Address", "Command", "SendText", "build"]
+def message_word(p: Any, tok: tuple[str, str, int, int]) -> Any:
+    """Keyword-table builder for a motion-program line: ``CMD``/``SEND`` with any port letter
+    become a stored message (motion programs store them, they take no action there ``[INF]``);
+    ``CMD^{letter}`` stores the control character."""
+    from motionsim.sim.pmac.language import statements as st  # statements imports this module
+
+    word = tok[1]
+    stmt, end = build(word, p.text, tok[3])
+    p.skip_to(end)
+    kind = "SEND" if word.startswith("SEND") else "CMD"
+    return st.Message(kind, stmt.text)  # type: ignore[attr-defined]
+
+
+def address_word(p: Any, tok: tuple[str, str, int, int]) -> Any:
+    """Keyword-table builder: ``ADDRESS#n`` / ``ADDRESS&n`` in a motion program."""
+    stmt, end = build(tok[1], p.text, tok[3])
+    p.skip_to(end)
+    return stmt
+
+
+__all__ = [
+    "IDIOMS", "PATTERN", "Address", "Command", "SendText", "address_word", "build",
+    "message_word",
+]  # fmt: skip

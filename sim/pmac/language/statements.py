@@ -17,6 +17,8 @@ from dataclasses import dataclass
 
 from motionsim.sim.pmac.language.axis_definitions import AxisDefinition, Frax
 from motionsim.sim.pmac.language.expressions import Expr
+from motionsim.sim.pmac.language.flow_statements import FLOW_TYPES
+from motionsim.sim.pmac.language.plc_idioms import Address
 
 # -- on-line commands -------------------------------------------------------------------------
 
@@ -329,6 +331,7 @@ ProgramStatement = (
 #: Statement types that are program statements (stored when a buffer is open).
 PROGRAM_TYPES = (
     Frax,
+    Address,
     Assign,
     MoveMode,
     PvtMode,
@@ -341,6 +344,7 @@ PROGRAM_TYPES = (
     PSet,
     Label,
     Message,
+    *FLOW_TYPES,
 )
 
 AXES = "XYZABCUVW"

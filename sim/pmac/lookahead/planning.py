@@ -150,7 +150,8 @@ class Planning:
         vars_ = self.vars
         if self._ver != vars_.version:
             self._refresh()
-        if self.single_step:
+        stepping = self.single_step
+        if stepping:
             target = 0 if (self.current is not None or planned) else 1
         else:  # the depth, as in lines_arrived
             mode = self.mode
@@ -163,7 +164,11 @@ class Planning:
             # (_short_of_horizon is False unless the special lookahead is active: _la_s > 0)
             while (
                 pending
-                and (len(planned) < target or (self._la_s > 0 and self._short_of_horizon()))
+                and (
+                    len(planned) < target
+                    or (self._la_s > 0 and self._short_of_horizon())
+                    or (stepping and rot.in_block)  # S runs on to BLOCKSTOP (TSRM p182)
+                )
                 and not self.blocked
             ):
                 line = pending[0][1]
@@ -196,7 +201,10 @@ class Planning:
                         self.sync_pending = []
                     planned.append(move)
                 else:
-                    n, line = rot.take()  # type: ignore[misc]
+                    taken = rot.take()
+                    if taken is None:
+                        break  # control flow ends this pass (rot.interrupt says why)
+                    n, line = taken
                     try:
                         self._calculate(n, line)
                     except RunTimeError:
@@ -205,6 +213,8 @@ class Planning:
                         return
                     self._fast = self._fast_kind()
                     rot.line_calculated(n)
+            if rot.interrupt is not None and self._flow_interrupt(rot):
+                return
             if planned and self.current is not None and self._isx13 > 0:
                 self._successor_planned()  # (a longer blend ramp is decided earlier)
         if self.current is None and not planned and self.spline is not None:
@@ -226,6 +236,23 @@ class Planning:
                     self._start_next()
             elif self.state == RUNNING:
                 self._ran_out()
+
+    def _flow_interrupt(self, rot: Any) -> bool:
+        """A fixed program's control flow ended the pass (:mod:`..buffers.programs`): a
+        run-time error aborts; ``WAIT`` or the double-jump-back rule with a move calculated
+        or executing lets that move come to a stop before calculation resumes (TUM p341;
+        ``[INF]`` for WAIT), and from rest calculation resumes at the next RTI. True when
+        the planning pass is over."""
+        why, rot.interrupt = rot.interrupt, None
+        if why == "error":
+            self.abort("run_time_error")
+            return True
+        if why == "suspend" or why == "wait":
+            if self.current is None and not self.planned:
+                self._plan_at_rti_after(self._env._now)
+                return True
+            self.blocked = True
+        return False
 
     def _fast_kind(self) -> int:
         """Which planning short cut the next constant line may take: ``_FAST_LINEAR`` (time
