@@ -14,7 +14,6 @@ pytestmark = pytest.mark.anyio
 LETTER_EXAMPLES = {
     "LIST PE / LIST PC": ["&1LIST PC", "&1 LIST PE"],
     "CLEAR ALL": ["CLEAR ALL"],
-    "compiled PLCs (PLCC)": ["ENABLE PLCC 1"],
     "BLKSTART": ["BLKSTART"],
 }
 TABLE_EXAMPLES = keywords.examples()

@@ -26,7 +26,6 @@ from motionsim.sim.pmac.language import keywords
 _LETTER_COMMANDS: Final[tuple[tuple[str, str], ...]] = (
     (r"LIST\s*(PE|PC)\b", "LIST PE / LIST PC"),
     (r"CLEAR\s*ALL(?!\s*PLCS)", "CLEAR ALL"),
-    (r"PLCC", "compiled PLCs (PLCC)"),
     (r"BLKSTART", "BLKSTART"),
 )
 #: (pattern at the failing column, what to call it): the keyword table's not-simulated

@@ -43,7 +43,7 @@ from motionsim.sim.pmac.language.parser import parse_line
 if TYPE_CHECKING:
     from motionsim.sim.pmac.controller import PmacController
 
-_OPEN_PLC = re.compile(r"OPEN\s*PLC\s*\d+", re.IGNORECASE)
+_OPEN_PLC = re.compile(r"OPEN\s*PLCC?\s*\d+", re.IGNORECASE)
 
 VERSION = "1.947  "
 CARD_ID = "603382"
@@ -358,10 +358,10 @@ class Terminal:
         elif t is plc_st.ClearAllPlcs:
             ctl.plcs.clear_all()
         elif t is plc_st.OpenPlc:
-            ctl.plcs.open(stmt.n, port)
+            ctl.plcs.open(stmt.n, port, stmt.compiled)
             return
         elif t is plc_st.EnablePlc:
-            ctl.plcs.set_enabled(stmt.numbers, stmt.enable)
+            ctl.plcs.set_enabled(stmt.numbers, stmt.enable, stmt.compiled)
         elif t is plc_st.Clear:
             if ctl.programs.editing(port) is None:
                 raise CommandError("ERR005")  # CLEAR needs an open buffer [INF]

@@ -90,7 +90,7 @@ TABLE: Final[tuple[Keyword, ...]] = (
         "TCOMP": False, "BLCOMP": False, "PLCC": False, "TEMPS": False, "ALL": False},
        example="DELETE ALL"),
     _k("OPEN", builds=f"{_P}:open_", where="online", objects={
-        "ROTARY": True, "PROGRAM": True, "PLC": True, "PLCC": False, "FORWARD": False,
+        "ROTARY": True, "PROGRAM": True, "PLC": True, "PLCC": True, "FORWARD": False,
         "INVERSE": False, "BINARY": False}, example="OPEN FORWARD"),
     _k("CLOSE", builds=f"{_P}:close"),
     _k("CLEAR", builds=f"{_P}:clear"),
@@ -100,10 +100,8 @@ TABLE: Final[tuple[Keyword, ...]] = (
         "BLCOMP": False, "CCBUF": False, "LOOKAHEAD": False}, example="LIST LDS"),
     _k("MFLUSH", builds=f"{_P}:mflush", where="online"),
     _k("SAVE", builds=f"{_P}:save", where="online"),
-    _k("ENABLE", "ENA", builds=f"{_P}:enable",
-       objects={"PLC": True, "PLCC": False}, example="ENABLE PLCC 1"),
-    _k("DISABLE", "DIS", builds=f"{_P}:enable",
-       objects={"PLC": True, "PLCC": False}, example="DISABLE PLCC 2"),
+    _k("ENABLE", "ENA", builds=f"{_P}:enable", objects={"PLC": True, "PLCC": True}),
+    _k("DISABLE", "DIS", builds=f"{_P}:enable", objects={"PLC": True, "PLCC": True}),
     # reports
     _k("VERSION", "VER", builds=f"{_P}:query", where="online"),
     _k("CID", builds=f"{_P}:query", where="online"),

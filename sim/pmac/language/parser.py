@@ -377,9 +377,7 @@ class _Parser:
     def plc_list(self) -> tuple[int, ...]:
         """``PLC n[,n...]`` or ``PLC n..m`` after ENABLE / DISABLE."""
         what = self.take()
-        if what[1] == "PLCC":
-            raise self.not_simulated("compiled PLCs (PLCC)", self.toks[self.i - 2])
-        if what[1] != "PLC":
+        if what[1] not in ("PLC", "PLCC"):
             raise self.error("expected PLC", what)
         first = self.plc_number()
         if self.at("op", ".."):

@@ -57,7 +57,7 @@ OP_WHILE = 3  # (OP_WHILE, cond, pc_after_endwhile)
 OP_ENDWHILE = 4  # (OP_ENDWHILE, pc_of_while)     ends the scan
 OP_CMD = 5  # (OP_CMD, text)
 OP_SEND = 6  # (OP_SEND, text)
-OP_ENABLE = 7  # (OP_ENABLE, numbers, enable)
+OP_ENABLE = 7  # (OP_ENABLE, numbers, enable, compiled)
 OP_ADDRESS = 8  # (OP_ADDRESS, "#" or "&", n)
 OP_RUN = 9  # (OP_RUN, statement): a family statement with run_online(ctl, state, out)
 
@@ -169,7 +169,7 @@ class _Builder:
         elif t is idioms.Address:
             ops.append([OP_ADDRESS, s.kind, s.n])
         elif t is plc_st.EnablePlc:
-            ops.append([OP_ENABLE, s.numbers, s.enable])
+            ops.append([OP_ENABLE, s.numbers, s.enable, s.compiled])
         elif getattr(s, "run_online", None) is not None:
             ops.append([OP_RUN, s])
         else:  # pragma: no cover - parse_plc_line returns only the types above
@@ -260,6 +260,9 @@ class PlcTable:
     def __init__(self, ctl: PmacController) -> None:
         self.ctl = ctl
         self.plcs = [Plc(n) for n in range(plc_st.N_PLCS)]
+        #: Compiled PLCs 0..31 (``OPEN PLCC n``): the source a host downloads, run as compiled.
+        self.compiled = [Plc(n) for n in range(plc_st.N_PLCS)]
+        self._edit_table = self.plcs  # the table the open PLC belongs to
         self._edit: tuple[Port, int, _Builder, list[str]] | None = None
         self._rr = 0  # background round robin: the last PLC scanned
         self._cmd_port = Port("plc-cmd")
@@ -275,13 +278,15 @@ class PlcTable:
             return None
         return e[1]
 
-    def open(self, n: int, port: Port) -> None:
-        """``OPEN PLC n``."""
+    def open(self, n: int, port: Port, compiled: bool = False) -> None:
+        """``OPEN PLC n`` (``OPEN PLCC n`` with ``compiled``)."""
         ctl = self.ctl
         if ctl.buffer_holder is not None:
             raise Conflict("another buffer is open: CLOSE first", pmac_error="ERR007")
-        plc = self.plcs[n]
-        self.set_enabled((n,), False)
+        table = self.compiled if compiled else self.plcs
+        plc = table[n]
+        self.set_enabled((n,), False, compiled)
+        self._edit_table = table
         b = _Builder()
         lines: list[str] = []
         if plc.program is not None:
@@ -328,8 +333,8 @@ class PlcTable:
                 except StructureError:
                     self._edit = (port, n, trial, lines)
                     return "", "ERR009", None
-                self.plcs[n].program = program if program.ops else None
-                self.plcs[n].pc = 0
+                self._edit_table[n].program = program if program.ops else None
+                self._edit_table[n].pc = 0
                 self._edit = None
                 self.ctl.buffer_holder = None
                 return "", None, text[col - 1 + len("CLOSE") :]
@@ -385,19 +390,25 @@ class PlcTable:
 
     # -- enable / disable -----------------------------------------------------------------
 
-    def set_enabled(self, numbers: Iterable[int], enable: bool) -> None:
-        """``ENABLE PLC`` / ``DISABLE PLC``: ``plc`` events for PLCs whose state changes."""
+    def set_enabled(self, numbers: Iterable[int], enable: bool, compiled: bool = False) -> None:
+        """``ENABLE PLC`` / ``DISABLE PLC``: ``plc`` events for PLCs whose state changes
+        (``ENABLE PLCC`` / ``DISABLE PLCC``: the same with ``compiled=True`` in the event)."""
         changed = False
+        table = self.compiled if compiled else self.plcs
+        extra = {"compiled": True} if compiled else {}
         for n in numbers:
-            plc = self.plc(n)
-            if enable and (plc.program is None or self.editing() == n):
+            self.plc(n)  # NotFound outside 0..31
+            plc = table[n]
+            if enable and (plc.program is None
+                           or (self.editing() == n and self._edit_table is table)):
                 continue
             if plc.enabled != enable:
                 plc.enabled = enable
                 if not enable:
                     plc.pc = 0
                 changed = True
-                self.ctl.log.emit("plc", plc=n, state="enabled" if enable else "disabled")
+                self.ctl.log.emit("plc", plc=n, state="enabled" if enable else "disabled",
+                                  **extra)
         if changed:
             self.ctl.background.poke()
 
@@ -414,7 +425,19 @@ class PlcTable:
     def any_background(self) -> bool:
         if not self.i5() & 2:
             return False
-        return any(p.enabled for p in self.plcs[1:])
+        return any(p.enabled for p in self.plcs[1:]) or any(p.enabled for p in self.compiled[1:])
+
+    def foreground_compiled(self) -> Plc | None:
+        """PLCC 0 if it is enabled and I5 permits foreground PLCs (it runs after PLC 0)."""
+        p = self.compiled[0]
+        return p if p.enabled and self.i5() & 1 else None
+
+    def background_compiled(self) -> list[Plc]:
+        """The enabled PLCCs 1-31, low to high: one scan of each between two interpreted-PLC
+        scans (PUM-V p238; spec §9.5), if I5 permits."""
+        if not self.i5() & 2:
+            return []
+        return [p for p in self.compiled[1:] if p.enabled]
 
     def next_background(self) -> Plc | None:
         """The next enabled PLC 1-31 in turn (one per background cycle), if I5 permits."""
@@ -476,7 +499,7 @@ class PlcTable:
                 op[1].run_online(self.ctl, {"cs": cs, "motor": plc.motor}, [])
                 pc += 1
             else:  # OP_ENABLE
-                self.set_enabled(op[1], op[2])  # its own DISABLE: the scan still ends
+                self.set_enabled(op[1], op[2], op[3])  # its own DISABLE: the scan still ends
                 pc += 1
         else:
             pc = 0
