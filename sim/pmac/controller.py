@@ -135,7 +135,10 @@ class PmacController(Controller):
             self.background = Processor(self, int(self.config.get("background_cycles", 1)))
             self._terminal = Terminal(self)
             clock = self.scheduler.clock
-            self.vars.timers = CountdownTimers(lambda: clock.index(self.env.now))
+            self.vars.timers = CountdownTimers(
+                lambda: clock.index(self.env.now),
+                lambda n, v: self.log.emit("timer", var=f"I{n}", value=v),
+            )
         self.halted = False  # the watchdog tripped (sim.pmac.watchdog); until reset
         self.plcs = PlcTable(self)
         self.background.power_on()

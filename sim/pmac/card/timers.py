@@ -7,6 +7,8 @@ down from the written value; it goes on below zero and stops at -8,388,608 (no r
 
 Nothing runs per servo cycle here: a write remembers the servo cycle it happened on, and a
 read computes ``written - cycles elapsed`` ``[INF]`` (spec §12.3 allows the lazy form).
+Each write is a ``timer`` event (``var`` "I5111", ``value`` in servo cycles), so a wait's
+start is on the event log.
 The written value is rounded to an integer (a 24-bit register) ``[INF]``; so the idiom
 ``I5111=100*8388608/I10`` + ``WHILE (I5111>0) ENDWHILE`` waits ceil(100 ms / servo period)
 cycles.
@@ -35,10 +37,13 @@ class CountdownTimers:
 
     Args:
         servo_cycle: the current servo-cycle index of the controller's clock.
+        on_write: called ``(n, value)`` after each write (the controller's ``timer`` event).
     """
 
-    def __init__(self, servo_cycle: Callable[[], int]) -> None:
+    def __init__(self, servo_cycle: Callable[[], int],
+                 on_write: Callable[[int, float], None] | None = None) -> None:
         self._servo_cycle = servo_cycle
+        self._on_write = on_write
         self._written: dict[int, tuple[int, int]] = {}  # n -> (value, cycle)
 
     def clear(self) -> None:
@@ -48,6 +53,8 @@ class CountdownTimers:
         """I{n}=value: remember it with the current cycle; the stored (integer) value."""
         v = int(max(FLOOR, min(CEILING, math.floor(value + 0.5))))
         self._written[n] = (v, self._servo_cycle())
+        if self._on_write is not None:
+            self._on_write(n, float(v))
         return float(v)
 
     def read(self, n: int, active: bool) -> float | None:
