@@ -23,8 +23,10 @@ from typing import Any
 from motionsim.sim.errors import NotSimulated
 from motionsim.sim.pmac.language import statements as st
 from motionsim.sim.pmac.language.axis_definitions import Frax
+from motionsim.sim.pmac.language.expressions import constant
 from motionsim.sim.pmac.language.flow_statements import FLOW_TYPES
 from motionsim.sim.pmac.language.parser import parse_program_line
+from motionsim.sim.pmac.language.ranges import RangeAssign
 
 # Operation codes (first element of each op tuple).
 OP_ASSIGN = 0  # (OP_ASSIGN, kind, index_expr, op, value_expr)
@@ -121,6 +123,8 @@ def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:
             modal.append((OP_AXISMODE, s.incremental, s.axes))
         elif isinstance(s, Frax):
             modal.append((OP_FRAX, s.axes))
+        elif isinstance(s, RangeAssign):  # one assignment per variable of the range
+            ops.extend((OP_ASSIGN, s.kind, constant(float(n)), "=", s.value) for n in s.numbers)
         elif isinstance(s, st.Assign):
             ops.append((OP_ASSIGN, s.target.kind, s.target.index, s.op, s.value))
         elif isinstance(s, st.Dwell):

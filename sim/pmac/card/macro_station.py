@@ -70,6 +70,12 @@ class StationCommand:
     value: float | None = None
     local: tuple[str, int] | None = None
 
+    @property
+    def program_form(self) -> bool:
+        """MSR / MSW are also motion-program statements, not simulated there (an open motion
+        buffer answers not_simulated rather than running them at once)."""
+        return self.op in ("copy_in", "copy_out")
+
     def run_online(self, ctl: Any, state: dict[str, Any], out: list[str]) -> None:
         """Execute on-line (the terminal's hook); a data line goes to ``out``."""
         reply = ctl.macro_stations.execute(self, ctl.vars, state["cs"])

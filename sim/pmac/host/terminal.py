@@ -28,7 +28,7 @@ import re
 from typing import TYPE_CHECKING, Any
 
 from motionsim.sim.controller import Port
-from motionsim.sim.errors import MotionSimError, ParseError
+from motionsim.sim.errors import MotionSimError, NotSimulated, ParseError
 from motionsim.sim.pmac.buffers import program_counter
 from motionsim.sim.pmac.buffers.program import compile_statements
 from motionsim.sim.pmac.card import card_commands, memory_commands, mvar_defs
@@ -212,7 +212,11 @@ class Terminal:
                     if isinstance(stmt, st.Assign) and not stmt.synchronous:
                         self._assign_now(stmt, port)
                         continue
-                    raise CommandError("ERR005")
+                    if getattr(stmt, "run_online", None) is None:
+                        raise CommandError("ERR005")
+                elif ctl.buffer_holder is port and getattr(stmt, "program_form", False):
+                    raise NotSimulated(f"{type(stmt).__name__} in a motion program",
+                                       pmac_error="ERR003")
                 self._store(text, group, port)
                 self._online(stmt, port, out)
             self._store(text, group, port)

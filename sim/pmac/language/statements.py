@@ -19,6 +19,7 @@ from motionsim.sim.pmac.language.axis_definitions import AxisDefinition, Frax
 from motionsim.sim.pmac.language.expressions import Expr
 from motionsim.sim.pmac.language.flow_statements import FLOW_TYPES
 from motionsim.sim.pmac.language.plc_idioms import Address
+from motionsim.sim.pmac.language.ranges import RangeAssign
 
 # -- on-line commands -------------------------------------------------------------------------
 
@@ -332,6 +333,7 @@ ProgramStatement = (
 PROGRAM_TYPES = (
     Frax,
     Address,
+    RangeAssign,
     Assign,
     MoveMode,
     PvtMode,

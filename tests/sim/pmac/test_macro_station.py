@@ -62,3 +62,14 @@ def test_out_of_range_node_or_variable_is_err003_and_stores_nothing(rig, line, c
     reply = rig.cmd(line)
     assert reply.error == "ERR003"
     assert rig.c.macro_stations.variables == {}
+
+
+def test_tsrm_p366_msr_in_a_motion_program_is_not_simulated_and_not_run(rig):
+    port = rig.c.open_port("h")
+    rig.ok("MS0,I910=3")
+    rig.ok("OPEN PROG 2 CLEAR", port)
+    assert rig.cmd("MSR0,I910,P1", port).error == "ERR003"
+    assert rig.c._terminal.detail[0] == "not_simulated"
+    assert rig.ok("MS0,I910", port) == "3"  # the on-line read still answers
+    rig.ok("CLOSE", port)
+    assert rig.ok("P1") == "0"

@@ -87,3 +87,18 @@ def test_tsrm_home_with_a_motor_list_homes_each_motor(rig):
     starts = [f["motor"] for _, _, f in rig.events("jog") if f["command"] == "HM"]
     assert starts == [1, 2]
     assert rig.cmd("HOMEZ1,33").error == "ERR003"
+
+
+def test_spec_12_4_range_assignment_in_a_motion_program_runs_with_the_program(rig):
+    """Stored in a PROG (not executed at entry), listed back, executed when the program runs."""
+    port = rig.c.open_port("h")
+    rig.ok("&1 #1->X", port)
+    rig.ok("OPEN PROG 7 CLEAR", port)
+    rig.ok("P10..12=5 Q70,3,10=P10+1", port)
+    rig.ok("X1", port)
+    rig.ok("CLOSE", port)
+    assert rig.ok("P10") == "0"
+    assert rig.ok("LIST PROG 7").split("\r")[0] == "P10..12=5Q70,3,10=P10+1"
+    rig.ok("&1 B7 R")
+    rig.run_until_idle()
+    assert rig.ok("P10..12 Q70 Q80 Q90 Q71").split("\r") == ["5"] * 3 + ["6"] * 3 + ["0"]
