@@ -15,6 +15,7 @@ LETTER_EXAMPLES = {
     "LIST PE / LIST PC": ["&1LIST PC", "&1 LIST PE"],
     "CLEAR ALL": ["CLEAR ALL"],
     "BLKSTART": ["BLKSTART"],
+    "G/T/D-code subprogram calls": ["G01"],
 }
 TABLE_EXAMPLES = keywords.examples()
 

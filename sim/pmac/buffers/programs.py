@@ -69,6 +69,8 @@ from motionsim.sim.pmac.buffers.program import ProgramLine
 N_PROGRAMS = 32767
 
 
+#: Above any line number of any program (see ``ProgramRun.n_loaded``).
+N_LINES_MAX = 1 << 30
 #: GOSUB / CALL nesting (PUM p165, PMAC(1); [INF] Turbo the same).
 MAX_NESTING = 15
 #: Instructions followed in one pass without reaching a move: a guard, never reached by a
@@ -124,7 +126,10 @@ class ProgramRun:
         self._stack: list[tuple[Code, int, int, tuple[tuple[str, float], ...]]] = []
         self._args: tuple[tuple[str, float], ...] = ()
         self._jumps = 0
-        self.n_loaded = len(programs.programs.get(number, ()))
+        #: Every line of a fixed program is in memory from the start (of this program or one
+        #: it CALLs), so planning always "had its chance" at the next line (the deadline
+        #: rule of :mod:`motionsim.sim.pmac.lookahead.execution`).
+        self.n_loaded = N_LINES_MAX
         self.calculated: deque[tuple[int, int]] = deque()  # always empty: nothing is freed
         self.pending = _Pending(self)
         #: Why the last :meth:`take` returned None: "suspend" (double jump-back), "wait",
@@ -330,6 +335,7 @@ class MotionPrograms:
         self._structure = Structure(dry=True)
         #: Compiled code per program: (code, what is left open or None); dropped on edit.
         self._code: dict[int, tuple[Code, str | None]] = {}
+        self._words = 0  # buffer words of every program, kept as lines come and go
 
     def editing(self, port: Port | None = None) -> int | None:
         """The program open for entry (on ``port`` if given), or None."""
@@ -360,11 +366,13 @@ class MotionPrograms:
         trial.feed(line)
         self._structure = trial
         self.programs[self._edit[1]].append(line)
+        self._words += line.words
         self._code.pop(self._edit[1], None)
 
     def clear(self) -> None:
         """``CLEAR``: empty the open program."""
         assert self._edit is not None
+        self._words -= sum(line.words for line in self.programs[self._edit[1]])
         self.programs[self._edit[1]] = []
         self._structure = Structure(dry=True)
         self._code.pop(self._edit[1], None)
@@ -396,7 +404,7 @@ class MotionPrograms:
 
     def words(self) -> int:
         """Buffer memory the programs take."""
-        return sum(line.words for lines in self.programs.values() for line in lines)
+        return self._words
 
     def run_of(
         self, cs: int, n: int, emit: Callable[..., Any], vars_: Any = None

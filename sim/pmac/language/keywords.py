@@ -170,6 +170,17 @@ TABLE: Final[tuple[Keyword, ...]] = (
     _ns("TSELECT", where="program", example="TSELECT1"),
     _ns("NORMAL", where="program", example="NORMAL K-1"),
     _ns("DISPLAY", where="program", example='DISPLAY "HELLO"'),
+    _ns("NOFRAX", where="program"),
+    _ns("FRAX2", where="program", example="FRAX2(X,Y)"),
+    _ns("NOFRAX2", where="program"),
+    _ns("TINIT", where="program"),
+    _ns("ADIS", where="program", example="ADIS10"),
+    _ns("IDIS", where="program", example="IDIS10"),
+    _ns("AROT", where="program", example="AROT10"),
+    _ns("IROT", where="program", example="IROT10"),
+    _ns("LOCK", example="LOCK4,P1"),
+    _ns("UNLOCK", example="UNLOCK4"),
+    _ns("SETPHASE", example="SETPHASE1"),
 )
 
 #: Object words (second words of a command) the lexer must know.
@@ -213,7 +224,7 @@ def not_simulated() -> list[tuple[str, str]]:
     """(pattern, name) of every valid command word or command + object that is not
     simulated, for :mod:`motionsim.sim.pmac.host.not_simulated`."""
     out: list[tuple[str, str]] = []
-    for k in TABLE:
+    for k in sorted(TABLE, key=lambda k: -max(map(len, k.spellings))):  # FRAX2 before FRAX
         spell = "|".join(r"\s*".join(s.split(" ")) for s in k.spellings)
         if not k.simulated:
             out.append((rf"(?:{spell})(?![A-Z])", k.name))

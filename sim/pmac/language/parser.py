@@ -57,6 +57,9 @@ _PC_PE = re.compile(r"([CE])(?![A-Za-z0-9(])", re.IGNORECASE)
 _CLEAR_ALL_PLCS = re.compile(r"\s*ALL\s*PLCS(?![A-Za-z])", re.IGNORECASE)
 _CLEAR_ALL = re.compile(r"\s*ALL(?![A-Za-z])", re.IGNORECASE)
 _VARS = frozenset("IPQM")
+#: ``G{n}``, ``T{n}``, ``D{n}`` in a motion program: calls of PROG 1000, 1002, 1003 (PUM
+#: p165, spec §12.1), not simulated.
+_CODE_CALLS = frozenset("GTD")
 _ASSIGN_OPS = frozenset(["=", "==", "&=", "|=", "^="])
 _ERR = "ERR003"
 
@@ -455,6 +458,8 @@ class _Parser:
             return st.Modal("F", self.value())
         if word in ("N", "O"):
             return st.Label(word, self.integer())
+        if word in _CODE_CALLS and self.open:
+            raise self.not_simulated(f"{word}-code subprogram call", tok)
         raise self.error(f"unrecognised command {word!r}", tok)
 
     def online_letter(self, word: str) -> Any:
