@@ -48,7 +48,9 @@ EVENT_FIELDS: dict[str, tuple[str, ...]] = {
     "process": ("process", "state", "line", "blocked_on", "error"),
     "terminal": ("locked",),
     "terminal_reply": ("command", "reply", "error"),
-    "plc": ("plc", "state"),
+    "plc": ("plc", "state"),  # PMAC: ``compiled: True`` too for a PLCC
+    "plc_send": ("plc", "port", "text"),  # PMAC: a PLC's SEND"..." line (port S/P/R/A/host)
+    "timer": ("var", "value"),  # PMAC: an Isx11/Isx12 countdown timer was written (cycles)
     "rti_overrun": ("over_s",),
     "watchdog": ("reason",),
     "reset": (),

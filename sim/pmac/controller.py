@@ -32,8 +32,11 @@ from motionsim.sim.pmac.buffers.program import ProgramLine, compile_line
 from motionsim.sim.pmac.buffers.programs import MotionPrograms
 from motionsim.sim.pmac.buffers.rotary import RotaryBuffer
 from motionsim.sim.pmac.card import card_commands, registers
+from motionsim.sim.pmac.card.macro_station import MacroStations
+from motionsim.sim.pmac.card.timers import CountdownTimers
 from motionsim.sim.pmac.card.variables import N_CS, N_MOTORS, Variables, parse_name
 from motionsim.sim.pmac.host.terminal import Terminal
+from motionsim.sim.pmac.language import axis_definitions
 from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.lookahead import CoordSystem
 from motionsim.sim.pmac.motor.motor_status import motor_status_words
@@ -94,6 +97,8 @@ class PmacController(Controller):
         self._check_config(self.config)
         self.vars = Variables(self._m_written)
         self.flash = card_commands.Flash()  # what SAVE stored; survives resets
+        #: MACRO stations' variables (no ring simulated); separate hardware, kept on reset.
+        self.macro_stations = MacroStations()
         #: Injected faults inside the card (sim.faults); they outlive a reset.
         self.card_faults = CardFaults(self.log.emit)
         self._power_on()
@@ -131,6 +136,11 @@ class PmacController(Controller):
             self.scheduler = Scheduler(self.env, period, lambda: int(self.vars.I(8)) + 1)
             self.background = Processor(self, int(self.config.get("background_cycles", 1)))
             self._terminal = Terminal(self)
+            clock = self.scheduler.clock
+            self.vars.timers = CountdownTimers(
+                lambda: clock.index(self.env.now),
+                lambda n, v: self.log.emit("timer", var=f"I{n}", value=v),
+            )
         self.halted = False  # the watchdog tripped (sim.pmac.watchdog); until reset
         self.plcs = PlcTable(self)
         self.background.power_on()
@@ -146,6 +156,7 @@ class PmacController(Controller):
             self.scheduler, self.vars, self.log.emit, self._motor_axis, self._axis_position,
             self._cs_running,
         )  # fmt: skip
+        self.motor_table.base_of = self._motor_base
 
     def _alive(self) -> None:
         """Refuse anything that acts on the card once the watchdog has tripped (TSRM p57: it
@@ -201,16 +212,17 @@ class PmacController(Controller):
         self.background.submit(job)
         return reply
 
-    def submit_program_command(self, text: str) -> None:
+    def submit_program_command(self, text: str, cs: int = 1, motor: int = 1) -> None:
         """``CMD"text"`` from a PLC: queued for the background command interpreter.
 
-        Runs on a port of its own whose addressing starts at motor 1 / CS 1 for every command
-        (non-modal, TSRM p422); replies and errors go nowhere (no host asked) ``[INF]``.
+        Runs on a port of its own whose addressing starts at the PLC's ``ADDRESS`` (motor 1 /
+        CS 1 unless set) for every command (non-modal, TSRM p422); replies and errors go
+        nowhere (no host asked) ``[INF]``.
         """
         port = self.plcs._cmd_port
 
         def job() -> None:
-            port.state.update(cs=1, motor=1)
+            port.state.update(cs=cs, motor=motor)
             self._terminal.execute(text, port)
 
         self.background.submit(job)
@@ -574,10 +586,23 @@ class PmacController(Controller):
         have = self.motors.get(motor)
         if have is None:
             return None
-        cs, definition = have
-        axis = definition[-1]
-        scale = float(definition[:-1]) if len(definition) > 1 else 1.0
-        return cs, axis, scale
+        terms = axis_definitions.lookup(have[1]).terms
+        if not terms:
+            return None  # #n->I: positioned by the kinematic programs
+        return have[0], terms[0][0], terms[0][1]
+
+    def _motor_base(self, motor: int, t: float) -> float:
+        """Motor ``motor``'s position from its CS axes (counts): the sum of its definition's
+        terms (``#6->-29.1X+100000Y``). The constant offset is reported, not added ``[INF]``:
+        axis positions here start where the motors are, so adding it would move the motor."""
+        have = self.motors.get(motor)
+        if have is None:
+            return 0.0
+        terms = axis_definitions.lookup(have[1]).terms
+        if len(terms) == 1:
+            return self.coord_systems[have[0]].positions(t).get(terms[0][0], 0.0) * terms[0][1]
+        pos = self.coord_systems[have[0]].positions(t) if terms else {}
+        return sum(pos.get(a, 0.0) * s for a, s in terms)
 
     def _axis_position(self, cs: int, axis: str, t: float) -> float:
         return self.coord_systems[cs].positions(t).get(axis, 0.0)

@@ -12,10 +12,8 @@ pytestmark = pytest.mark.anyio
 
 #: One valid Turbo PMAC command per letter-command pattern.
 LETTER_EXAMPLES = {
-    "MACRO station commands (MS...)": ["MS0,I910", "MSSAVE0"],
     "LIST PE / LIST PC": ["&1LIST PC", "&1 LIST PE"],
     "CLEAR ALL": ["CLEAR ALL"],
-    "compiled PLCs (PLCC)": ["ENABLE PLCC 1"],
     "BLKSTART": ["BLKSTART"],
     "G/T/D-code subprogram calls": ["G01"],
 }

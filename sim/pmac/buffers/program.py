@@ -22,8 +22,11 @@ from typing import Any
 
 from motionsim.sim.errors import NotSimulated
 from motionsim.sim.pmac.language import statements as st
+from motionsim.sim.pmac.language.axis_definitions import Frax
+from motionsim.sim.pmac.language.expressions import constant
 from motionsim.sim.pmac.language.flow_statements import FLOW_TYPES
 from motionsim.sim.pmac.language.parser import parse_program_line
+from motionsim.sim.pmac.language.ranges import RangeAssign
 
 # Operation codes (first element of each op tuple).
 OP_ASSIGN = 0  # (OP_ASSIGN, kind, index_expr, op, value_expr)
@@ -34,6 +37,7 @@ OP_MOVE = 4  # (OP_MOVE, ((axis, expr), ...), ((vector, expr), ...), ((axis, vel
 OP_DWELL = 5  # (OP_DWELL, expr)
 OP_DELAY = 6  # (OP_DELAY, expr)
 OP_PSET = 7  # (OP_PSET, ((axis, expr), ...))
+OP_FRAX = 8  # (OP_FRAX, axes)
 
 #: Statements that make a line a control-flow line (:attr:`ProgramLine.flow`).
 _MARKS = (st.Label, *FLOW_TYPES)
@@ -117,6 +121,10 @@ def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:
             modal.append((OP_MODAL, "TM", s.ms))  # the move-time register (I42 = 0)
         elif isinstance(s, st.AxisMode):
             modal.append((OP_AXISMODE, s.incremental, s.axes))
+        elif isinstance(s, Frax):
+            modal.append((OP_FRAX, s.axes))
+        elif isinstance(s, RangeAssign):  # one assignment per variable of the range
+            ops.extend((OP_ASSIGN, s.kind, constant(float(n)), "=", s.value) for n in s.numbers)
         elif isinstance(s, st.Assign):
             ops.append((OP_ASSIGN, s.target.kind, s.target.index, s.op, s.value))
         elif isinstance(s, st.Dwell):
@@ -203,6 +211,7 @@ __all__ = [
     "OP_MODAL",
     "OP_MODE",
     "OP_MOVE",
+    "OP_FRAX",
     "OP_PSET",
     "ProgramLine",
     "compile_line",

@@ -25,6 +25,7 @@ from motionsim.sim.errors import NotFound
 from motionsim.sim.pmac.card.factory import HEX_IVARS, default_i
 from motionsim.sim.pmac.card.ivar_ranges import locked, roll_over
 from motionsim.sim.pmac.card.mvars import MVariables
+from motionsim.sim.pmac.card.timers import TIMER_NUMBERS, CountdownTimers, timer_cs
 
 N_VARS = 8192
 N_CS = 16
@@ -81,6 +82,8 @@ class Variables:
         #: M-variable definitions and the memory they point into.
         self.mvars = MVariables()
         self._on_m_write = on_m_write
+        #: The Isx11/Isx12 countdown timers, once the controller gives them its servo clock.
+        self.timers: CountdownTimers | None = None
         #: Bumped on every I-variable change, so users may cache derived settings.
         self.version = 0
         self.reset()
@@ -93,10 +96,16 @@ class Variables:
         self.q.clear()
         self.m.clear()
         self.mvars.clear()
+        if self.timers is not None:
+            self.timers.clear()
 
     # -- reading --------------------------------------------------------------------------
 
     def I(self, n: int) -> float:  # noqa: E743, N802 - the controller's own name
+        if n in TIMER_NUMBERS and self.timers is not None:
+            t = self.timers.read(n, timer_cs(n) <= self.I(68) + 1)
+            if t is not None:
+                return t
         v = self.i.get(n)
         return default_i(n) if v is None else v
 
@@ -135,6 +144,8 @@ class Variables:
                 value = self.mvars.write(d, value)
             self._on_m_write(n, value, sync)
         elif not locked(n, self.I(41)):
+            if n in TIMER_NUMBERS and self.timers is not None:
+                value = self.timers.write(n, value)
             self.i[n] = roll_over(n, value)
             self.version += 1
 

@@ -24,10 +24,8 @@ from motionsim.sim.pmac.language import keywords
 #: Valid commands the keyword table cannot hold as words (the lexer would split them into
 #: letters that start other commands: ``MS``, ``LIST PE``); (pattern, what to call it).
 _LETTER_COMMANDS: Final[tuple[tuple[str, str], ...]] = (
-    (r"MS\s*\d|MSR|MSW|MSSAVE|MSCLRERR|MSDATE|MACRO", "MACRO station commands (MS...)"),
     (r"LIST\s*(PE|PC)\b", "LIST PE / LIST PC"),
     (r"CLEAR\s*ALL(?!\s*PLCS)", "CLEAR ALL"),
-    (r"PLCC", "compiled PLCs (PLCC)"),
     (r"BLKSTART", "BLKSTART"),
     (r"[GTD]\s*\d", "G/T/D-code subprogram calls"),
 )

@@ -28,7 +28,7 @@ import re
 from typing import TYPE_CHECKING, Any
 
 from motionsim.sim.controller import Port
-from motionsim.sim.errors import MotionSimError, ParseError
+from motionsim.sim.errors import MotionSimError, NotSimulated, ParseError
 from motionsim.sim.pmac.buffers import program_counter
 from motionsim.sim.pmac.buffers.program import compile_statements
 from motionsim.sim.pmac.card import card_commands, memory_commands, mvar_defs
@@ -43,7 +43,7 @@ from motionsim.sim.pmac.language.parser import parse_line
 if TYPE_CHECKING:
     from motionsim.sim.pmac.controller import PmacController
 
-_OPEN_PLC = re.compile(r"OPEN\s*PLC\s*\d+", re.IGNORECASE)
+_OPEN_PLC = re.compile(r"OPEN\s*PLCC?\s*\d+", re.IGNORECASE)
 
 VERSION = "1.947  "
 CARD_ID = "603382"
@@ -217,7 +217,11 @@ class Terminal:
                     if isinstance(stmt, st.Assign) and not stmt.synchronous:
                         self._assign_now(stmt, port)
                         continue
-                    raise CommandError("ERR005")
+                    if getattr(stmt, "run_online", None) is None:
+                        raise CommandError("ERR005")
+                elif ctl.buffer_holder is port and getattr(stmt, "program_form", False):
+                    raise NotSimulated(f"{type(stmt).__name__} in a motion program",
+                                       pmac_error="ERR003")
                 self._store(text, group, port)
                 self._online(stmt, port, out)
             self._store(text, group, port)
@@ -256,6 +260,10 @@ class Terminal:
     def _online(self, stmt: Any, port: Port, out: list[str]) -> None:
         ctl = self.ctl
         state = port.state
+        run = getattr(stmt, "run_online", None)
+        if run is not None:  # a command family that runs itself (MACRO stations, ranges...)
+            run(ctl, state, out)
+            return
         t = type(stmt)
         if t is st.AddressCS:
             if stmt.cs is None:
@@ -286,8 +294,6 @@ class Terminal:
             if not 0 <= stmt.group < N_MOTORS // 8:
                 raise CommandError("ERR003")
             state["group"] = stmt.group
-        elif t is st.AxisDefinition:
-            self._axis_definition(stmt, port, out)
         elif t is st.DefineRotary:
             ctl.define_rotary(state["cs"], stmt.words)
         elif t is st.DeleteRotary:
@@ -361,33 +367,16 @@ class Terminal:
         elif t is plc_st.ClearAllPlcs:
             ctl.plcs.clear_all()
         elif t is plc_st.OpenPlc:
-            ctl.plcs.open(stmt.n, port)
+            ctl.plcs.open(stmt.n, port, stmt.compiled)
             return
         elif t is plc_st.EnablePlc:
-            ctl.plcs.set_enabled(stmt.numbers, stmt.enable)
+            ctl.plcs.set_enabled(stmt.numbers, stmt.enable, stmt.compiled)
         elif t is plc_st.Clear:
             if ctl.programs.editing(port) is None:
                 raise CommandError("ERR005")  # CLEAR needs an open buffer [INF]
             ctl.programs.clear()
         else:  # pragma: no cover - every parsed statement type is handled above
             raise CommandError("ERR003")
-
-    def _axis_definition(self, stmt: st.AxisDefinition, port: Port, out: list[str]) -> None:
-        ctl = self.ctl
-        if not 1 <= stmt.motor <= N_MOTORS:
-            raise CommandError("ERR003")
-        cs = port.state["cs"]
-        have = ctl.motors.get(stmt.motor)
-        if stmt.definition is None:
-            out.append(have[1] if have is not None and have[0] == cs else "0")
-            return
-        if stmt.definition == "0":
-            if have is not None and have[0] == cs:
-                del ctl.motors[stmt.motor]
-            return
-        if have is not None and have[0] != cs:
-            raise CommandError("ERR003")
-        ctl.motors[stmt.motor] = (cs, stmt.definition)
 
     def _query(self, what: str, port: Port) -> str:
         ctl = self.ctl

@@ -32,6 +32,10 @@ Builder = Callable[[Any, tuple[str, str, int, int]], Any]
 #: Modules of the parser's own words (``builds`` without a module names one of these).
 _P = "motionsim.sim.pmac.language.online_words"
 _F = "motionsim.sim.pmac.language.flow_words"
+#: Command families in modules of their own (issue 26 items 2, 4, 5).
+_AX = "motionsim.sim.pmac.language.axis_definitions"
+_ID = "motionsim.sim.pmac.language.plc_idioms"
+_MS = "motionsim.sim.pmac.language.motor_statements"
 
 
 @dataclass(frozen=True)
@@ -86,7 +90,7 @@ TABLE: Final[tuple[Keyword, ...]] = (
         "TCOMP": False, "BLCOMP": False, "PLCC": False, "TEMPS": False, "ALL": False},
        example="DELETE ALL"),
     _k("OPEN", builds=f"{_P}:open_", where="online", objects={
-        "ROTARY": True, "PROGRAM": True, "PLC": True, "PLCC": False, "FORWARD": False,
+        "ROTARY": True, "PROGRAM": True, "PLC": True, "PLCC": True, "FORWARD": False,
         "INVERSE": False, "BINARY": False}, example="OPEN FORWARD"),
     _k("CLOSE", builds=f"{_P}:close"),
     _k("CLEAR", builds=f"{_P}:clear"),
@@ -96,10 +100,8 @@ TABLE: Final[tuple[Keyword, ...]] = (
         "BLCOMP": False, "CCBUF": False, "LOOKAHEAD": False}, example="LIST LDS"),
     _k("MFLUSH", builds=f"{_P}:mflush", where="online"),
     _k("SAVE", builds=f"{_P}:save", where="online"),
-    _k("ENABLE", "ENA", builds=f"{_P}:enable",
-       objects={"PLC": True, "PLCC": False}, example="ENABLE PLCC 1"),
-    _k("DISABLE", "DIS", builds=f"{_P}:enable",
-       objects={"PLC": True, "PLCC": False}, example="DISABLE PLCC 2"),
+    _k("ENABLE", "ENA", builds=f"{_P}:enable", objects={"PLC": True, "PLCC": True}),
+    _k("DISABLE", "DIS", builds=f"{_P}:enable", objects={"PLC": True, "PLCC": True}),
     # reports
     _k("VERSION", "VER", builds=f"{_P}:query", where="online"),
     _k("CID", builds=f"{_P}:query", where="online"),
@@ -109,8 +111,8 @@ TABLE: Final[tuple[Keyword, ...]] = (
     _k("SIZE", builds=f"{_P}:query", where="online"),
     _k("PR", builds=f"{_P}:query", where="online"),
     # motors
-    _k("HOME", "HM", builds=f"{_P}:home", where="online"),
-    _k("HOMEZ", "HMZ", builds=f"{_P}:home", where="online"),
+    _k("HOME", "HM", builds=f"{_MS}:home_word"),
+    _k("HOMEZ", "HMZ", builds=f"{_MS}:home_word"),
     # motion-program statements (TSRM p425-480)
     _k("LINEAR", "LIN", builds=f"{_P}:move_mode", where="program"),
     _k("RAPID", "RPD", builds=f"{_P}:move_mode", where="program"),
@@ -125,8 +127,14 @@ TABLE: Final[tuple[Keyword, ...]] = (
     _k("TM", builds=f"{_P}:modal", where="program"),
     _k("DWELL", "DWE", builds=f"{_P}:dwell", where="program"),
     _k("DELAY", "DLY", builds=f"{_P}:delay", where="program"),
-    _k("SEND", builds=f"{_P}:message", where="program"),
-    _k("CMD", builds=f"{_P}:message", where="program"),
+    _k("SEND", "SENDS", "SENDP", "SENDR", "SENDA", builds=f"{_ID}:message_word",
+       where="program"),
+    _k("COMMAND", "CMD", "COMMANDS", "CMDS", "COMMANDP", "CMDP", "COMMANDR", "CMDR",
+       "COMMANDA", "CMDA", builds=f"{_ID}:message_word", where="program"),
+    _k("ADDRESS", "ADR", builds=f"{_ID}:address_word", where="program"),
+    # axis definitions (spec §12.5)
+    _k("UNDEFINE", "UNDEF", builds=f"{_AX}:undefine_word", where="online"),
+    _k("FRAX", builds=f"{_AX}:frax_word", where="program"),
     # control flow (spec §12.1): flow_words
     _k("IF", builds=f"{_F}:if_", where="program"),
     _k("ELSE", builds=f"{_F}:else_", where="program"),
@@ -143,7 +151,6 @@ TABLE: Final[tuple[Keyword, ...]] = (
     _k("BLOCKSTART", builds=f"{_F}:block_start", where="program"),
     _k("BLOCKSTOP", builds=f"{_F}:block_stop", where="program"),
     # valid, not simulated (TSRM on-line and program command lists)
-    _ns("UNDEFINE", "UNDEF", example="&1UNDEFINE"),
     _ns("PASSWORD", example="PASSWORD=SECRET"),
     _ns("PMATCH", example="&1PMATCH"),
     _ns("CHECKSUM"),
@@ -161,7 +168,6 @@ TABLE: Final[tuple[Keyword, ...]] = (
     _ns("ENDGATHER", "ENDG"),
     _ns("PRELUDE", where="program", example="PRELUDE1 CALL10"),
     _ns("TSELECT", where="program", example="TSELECT1"),
-    _ns("FRAX", where="program", example="FRAX(X,Y)"),
     _ns("NORMAL", where="program", example="NORMAL K-1"),
     _ns("DISPLAY", where="program", example='DISPLAY "HELLO"'),
     _ns("NOFRAX", where="program"),

@@ -58,6 +58,24 @@ class MotorGroup:
 
 
 MOTOR_TYPES = (Jog, Home, Kill, OpenLoop, Enable)
+#: Motors a list may name (Turbo PMAC: 32).
+N_MOTORS_LIST = 32
+
+
+@dataclass(frozen=True, slots=True)
+class HomeList:
+    """``HOME{n}[,{n}...]`` / ``HOMEZ{n}..{m}`` (``HM``, ``HMZ``): the program form with a motor
+    list (TSRM ``HOME{list}`` program command ``[BK]``); each listed motor homes as ``#nHM``
+    would. Accepted on-line too ``[INF]``."""
+
+    motors: tuple[int, ...]
+    zero: bool = False
+    #: ``HOME{list}`` in a motion program is a program statement, not simulated there.
+    program_form = True
+
+    def run_online(self, ctl: Any, state: dict[str, Any], out: list[str]) -> None:
+        for n in self.motors:
+            ctl.motor_command(Home(self.zero), n)
 
 
 def is_jog(parser: Any) -> bool:
@@ -87,6 +105,7 @@ def parse_jog(parser: Any) -> Jog:
 
 __all__ = [
     "MOTOR_TYPES",
+    "HomeList",
     "Enable",
     "Home",
     "Jog",
@@ -96,3 +115,12 @@ __all__ = [
     "is_jog",
     "parse_jog",
 ]
+
+
+def home_word(p: Any, tok: tuple[str, str, int, int]) -> Home | HomeList:
+    """Keyword-table builder: ``HM`` / ``HMZ`` (addressed motor) or, with a motor list,
+    ``HOMEZ1,2,3`` / ``HOME1..4``."""
+    zero = tok[1] in ("HMZ", "HOMEZ")
+    if p.at("num"):
+        return HomeList(p.number_list(1, N_MOTORS_LIST, "motor"), zero)
+    return Home(zero=zero)

@@ -59,8 +59,8 @@ def open_(p: Any, tok: Token) -> Any:
     name, _ = _object(p, "OPEN", tok)
     if name == "ROTARY":
         return st.OpenRotary()
-    if name == "PLC":
-        return plc_st.OpenPlc(p.plc_number())
+    if name in ("PLC", "PLCC"):
+        return plc_st.OpenPlc(p.plc_number(), compiled=name == "PLCC")
     num = p.peek()
     n = p.integer()
     if not 1 <= n <= 32767:
@@ -95,7 +95,9 @@ def save(p: Any, tok: Token) -> Any:
 
 
 def enable(p: Any, tok: Token) -> Any:
-    return plc_st.EnablePlc(p.plc_list(), tok[1] in ("ENABLE", "ENA"))
+    nxt = p.peek()
+    compiled = nxt is not None and nxt[1] == "PLCC"
+    return plc_st.EnablePlc(p.plc_list(), tok[1] in ("ENABLE", "ENA"), compiled)
 
 
 def query(p: Any, tok: Token) -> Any:

@@ -28,9 +28,9 @@ from typing import Any
 
 from motionsim.sim.errors import ParseError
 from motionsim.sim.pmac.buffers.program_counter import ProgramCounter
-from motionsim.sim.pmac.card import card_commands, memory_commands, mvar_defs
+from motionsim.sim.pmac.card import card_commands, macro_station, memory_commands, mvar_defs
+from motionsim.sim.pmac.language import axis_definitions, keywords, ranges
 from motionsim.sim.pmac.language import expressions as ex
-from motionsim.sim.pmac.language import keywords
 from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.language import plc_statements as plc_st
 from motionsim.sim.pmac.language import statements as st
@@ -126,6 +126,12 @@ class _Parser:
     def at(self, kind: str, text: str | None = None) -> bool:
         tok = self.peek()
         return tok is not None and tok[0] == kind and (text is None or tok[1] == text)
+
+    def skip_to(self, end: int) -> None:
+        """Take every token that starts before character ``end`` (a family module parsed the
+        text itself)."""
+        while self.i < len(self.toks) and self.toks[self.i][2] < end:
+            self.i += 1
 
     def match_text(self, pattern: re.Pattern[str]) -> re.Match[str] | None:
         """Match ``pattern`` on the text right after the last token taken; on a match, the
@@ -283,8 +289,7 @@ class _Parser:
                 return st.AddressMotor(None)
             motor = self.integer()
             if self.at("op", "->"):
-                self.take()
-                return st.AxisDefinition(motor, self.axis_definition())
+                return self.axis_definition(motor, self.take())
             return st.AddressMotor(motor)
         if word in ("?", "??", "???"):
             return st.Query(word)
@@ -300,19 +305,16 @@ class _Parser:
             return st.Query("%")
         raise self.error(f"unexpected {word!r}", tok)
 
-    def axis_definition(self) -> str | None:
-        scale = ""
-        if self.at("num"):
-            scale = self.take()[1]
-        tok = self.peek()
-        if tok is not None and tok[0] == "word" and len(tok[1]) == 1 and tok[1] in st.AXES:
+    def axis_definition(self, motor: int, arrow: Token) -> Any:
+        """After ``#{n}->``: a definition or the query (:mod:`.axis_definitions`)."""
+        try:
+            definition, end = axis_definitions.parse(self.text, arrow[3])
+        except ParseError as e:
+            e.statement_start = arrow[2]  # type: ignore[attr-defined]
+            raise
+        while self.i < len(self.toks) and self.toks[self.i][2] < end:
             self.i += 1
-            return f"{scale}{tok[1]}"
-        if scale:
-            if float(scale) == 0:
-                return "0"
-            raise self.error("expected an axis letter after the scale factor")
-        return None
+        return axis_definitions.AxisDefinition(motor, definition)
 
     def word_statement(self, tok: Token) -> Any:
         """A command word: dispatched through the keyword table (:mod:`.keywords`); a single
@@ -353,12 +355,32 @@ class _Parser:
             raise self.error(f"no PLC {n} (0..{plc_st.N_PLCS - 1})", tok)
         return n
 
+    def number_list(self, lo: int, hi: int, what: str) -> tuple[int, ...]:
+        """``{n}[,{n}...]`` or ``{n}..{m}``, each in ``lo..hi`` (motor lists: ``HOMEZ1,2,3``)."""
+        def one() -> int:
+            tok = self.peek()
+            n = self.integer()
+            if not lo <= n <= hi:
+                raise self.error(f"no {what} {n} ({lo}..{hi})", tok)
+            return n
+
+        out = [one()]
+        if self.at("op", ".."):
+            self.take()
+            tok = self.peek()
+            last = one()
+            if last < out[0]:
+                raise self.error(f"bad {what} range", tok)
+            return tuple(range(out[0], last + 1))
+        while self.at("op", ","):
+            self.take()
+            out.append(one())
+        return tuple(out)
+
     def plc_list(self) -> tuple[int, ...]:
         """``PLC n[,n...]`` or ``PLC n..m`` after ENABLE / DISABLE."""
         what = self.take()
-        if what[1] == "PLCC":
-            raise self.not_simulated("compiled PLCs (PLCC)", self.toks[self.i - 2])
-        if what[1] != "PLC":
+        if what[1] not in ("PLC", "PLCC"):
             raise self.error("expected PLC", what)
         first = self.plc_number()
         if self.at("op", ".."):
@@ -456,6 +478,10 @@ class _Parser:
             m = self.match_text(memory_commands.WRITE_HEAD)
             if m is not None:
                 return memory_commands.parse_write(self, m)
+        elif word == "M":
+            m = self.match_text(macro_station.HEAD)
+            if m is not None:
+                return macro_station.parse(m, self.text)
         return None
 
     def pset_axes(self) -> tuple[tuple[str, ex.Expr], ...]:
@@ -486,10 +512,19 @@ class _Parser:
     def _i_vector(self) -> bool:
         """With a buffer open, ``I100`` is a vector word unless it is an assignment."""
         tok = self.peek()
-        if tok is not None and tok[0] == "num":
-            nxt = self.peek(1)
-            return not (nxt is not None and nxt[0] == "op" and nxt[1] in _ASSIGN_OPS)
-        return True
+        k = 1
+        if tok is not None and tok[0] == "op" and tok[1] == "(":  # I({expr})= (TUM p243)
+            depth = 0
+            for k in range(len(self.toks) - self.i):
+                t = self.peek(k)
+                depth += (t[1] == "(") - (t[1] == ")") if t[0] == "op" else 0  # type: ignore[index]
+                if depth == 0:
+                    break
+            k += 1
+        elif tok is None or tok[0] != "num":
+            return True
+        nxt = self.peek(k)
+        return not (nxt is not None and nxt[0] == "op" and nxt[1] in _ASSIGN_OPS)
 
     def value_const(self, tok: Token) -> float:
         v = self.value()
@@ -513,6 +548,8 @@ class _Parser:
             self.i += 1
             n = self._const_index(index, op)
             return self.m_definition(n, n, op)
+        if index.const is None and not self.open:
+            return ranges.IndirectQuery(kind, index)  # P(P1+10)
         first = self._const_index(index, op)
         if op is not None and op[0] == "op" and op[1] == "..":
             self.i += 1
@@ -526,7 +563,7 @@ class _Parser:
                     raise self.error("=* is for I-variables only")
                 self.i += 2
                 return st.VarDefault(first, last)
-            return st.VarQuery(kind, first, last=last)
+            return self.range_value(kind, first, last, None, 1)
         if op is not None and op[0] == "op" and op[1] == ",":
             self.i += 1
             count = self.integer()
@@ -534,8 +571,22 @@ class _Parser:
             if self.at("op", ","):
                 self.take()
                 step = self.integer()
-            return st.VarQuery(kind, first, count=count, step=step)
+            if first + step * (count - 1) > 8191:
+                raise self.error("variable range goes past 8191", self.toks[self.i - 1])
+            return self.range_value(kind, first, None, count, step)
         return st.VarQuery(kind, first)
+
+    def range_value(self, kind: str, first: int, last: int | None, count: int | None,
+                    step: int) -> Any:
+        """After a range ``{a}..{b}`` / ``{n},{count},{step}``: ``={expr}`` assigns them all
+        (:mod:`.ranges`), else the query."""
+        if self.at("op", "="):
+            self.take()
+            return ranges.RangeAssign(kind, ranges.numbers(first, last, count, step),
+                                      self.expression())
+        if last is not None:
+            return st.VarQuery(kind, first, last=last)
+        return st.VarQuery(kind, first, count=count, step=step)
 
     def m_definition(self, first: int, last: int, arrow: Token) -> Any:
         """After ``M{n}[..{m}]->``: a definition written right after the arrow

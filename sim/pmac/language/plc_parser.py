@@ -35,6 +35,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from motionsim.sim.errors import ParseError
+from motionsim.sim.pmac.language import plc_idioms
 from motionsim.sim.pmac.language import plc_statements as plc_st
 from motionsim.sim.pmac.language import statements as st
 from motionsim.sim.pmac.language.expressions import Expr
@@ -45,13 +46,16 @@ _ERR = "ERR003"
 Cond = Callable[[Any, int], bool]
 
 _KEYWORDS = (
-    "ENDWHILE", "ENDW", "ENDIF", "ENDI", "WHILE", "ELSE", "IF", "ENABLE", "ENA", "DISABLE",
-    "DIS", "CLEAR", "CLOSE", "OPEN", "AND", "OR",
+    r"END\s*WHILE", r"ENDW", r"END\s*IF", r"ENDI", "WHILE", "ELSE", "IF", "CLEAR", "CLOSE",
+    "OPEN", "AND", "OR", plc_idioms.PATTERN,
 )  # fmt: skip
+#: ENABLE / DISABLE (``ENA``, ``DIS``) are keywords before ``PLC`` (``ENAPLC6``, ``DIS PLC 2``).
 _KW = re.compile(
-    r'"[^"]*"|(?<![A-Za-z0-9_])(?P<kw>' + "|".join(_KEYWORDS) + r")(?![A-Za-z])",
+    r'"[^"]*"|(?<![A-Za-z0-9_])(?:(?P<kw>' + "|".join(_KEYWORDS) + r")(?![A-Za-z])"
+    r"|(?P<en>ENABLE|ENA|DISABLE|DIS)(?=\s*PLC))",
     re.IGNORECASE,
 )
+_IDIOM = re.compile(rf"(?:{plc_idioms.PATTERN})\Z", re.IGNORECASE)
 _CMP = re.compile(r"!=|!>|!<|!~|<>|>=|<=|=|>|<|~")
 _COMPARATORS: dict[str, Callable[[float, float], bool]] = {
     "=": operator.eq,
@@ -225,7 +229,7 @@ def parse_condition(s: str, offset: int, line: str) -> Cond:
 
 def _next_keyword(text: str, pos: int) -> re.Match[str] | None:
     for m in _KW.finditer(text, pos):
-        if m.group("kw") is not None:
+        if m.group("kw") is not None or m.group("en") is not None:
             return m
     return None
 
@@ -256,6 +260,8 @@ def _segment(text: str, start: int, end: int) -> list[Any]:
             if stmt.synchronous:
                 raise _error("synchronous assignment is for motion programs", col, text)
             out.append(Set(stmt.target.kind, stmt.target.index, stmt.value))
+        elif getattr(stmt, "run_online", None) is not None and getattr(stmt, "in_program", True):
+            out.append(stmt)  # a family that runs itself (MSR / MSW...)
         elif isinstance(stmt, st.Message):
             out.append(Cmd(stmt.text) if stmt.kind == "CMD" else Send(stmt.text))
         else:
@@ -293,17 +299,20 @@ def parse_plc_line(text: str) -> list[tuple[Any, int]]:
         if pos >= n:
             break
         m = _KW.match(text, pos)
-        if m is None or m.group("kw") is None:
+        if m is None or (m.group("kw") is None and m.group("en") is None):
             nxt = _next_keyword(text, pos)
             end = nxt.start() if nxt is not None else n
             out.extend((s, pos + 1) for s in _segment(text, pos, end))
             pos = end
             continue
-        kw = m.group("kw").upper()
+        kw = re.sub(r"\s+", "", (m.group("kw") or m.group("en")).upper())
         kw = _ABBREV.get(kw, kw)
         col = pos + 1
         pos = m.end()
-        if kw in ("IF", "WHILE"):
+        if _IDIOM.match(kw):
+            stmt, pos = plc_idioms.build(kw, text, pos)
+            out.append((stmt, col))
+        elif kw in ("IF", "WHILE"):
             while pos < n and text[pos].isspace():
                 pos += 1
             if pos >= n or text[pos] != "(":
@@ -328,7 +337,7 @@ def parse_plc_line(text: str) -> list[tuple[Any, int]]:
             nxt = _next_keyword(text, pos)
             end = nxt.start() if nxt is not None else n
             seg = text[col - 1 : end]
-            head = re.match(r"\s*\w+\s*PLCC?\s*[\d\s,.]*", seg, re.IGNORECASE)
+            head = re.match(r"\s*[A-Z]+?\s*PLCC?\s*[\d\s,.]*", seg, re.IGNORECASE)
             stop = head.end() if head is not None else len(seg)
             try:
                 stmts = parse_line(seg[:stop])

@@ -14,18 +14,21 @@ from dataclasses import dataclass
 
 @dataclass(frozen=True, slots=True)
 class OpenPlc:
-    """``OPEN PLC n`` (0..31): open PLC ``n`` for entry on this port (ERR007 if any buffer is
-    already open)."""
+    """``OPEN PLC n`` / ``OPEN PLCC n`` (0..31, ``compiled``): open PLC ``n`` for entry on
+    this port (ERR007 if any buffer is already open)."""
 
     n: int
+    compiled: bool = False
 
 
 @dataclass(frozen=True, slots=True)
 class EnablePlc:
-    """``ENABLE PLC n[,n...]`` / ``ENABLE PLC n..m`` (``enable``) or the same with ``DISABLE``."""
+    """``ENABLE PLC n[,n...]`` / ``ENABLE PLC n..m`` (``enable``) or the same with ``DISABLE``;
+    ``compiled`` for ``PLCC``."""
 
     numbers: tuple[int, ...]
     enable: bool
+    compiled: bool = False
 
 
 @dataclass(frozen=True, slots=True)

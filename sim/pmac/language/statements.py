@@ -15,8 +15,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from motionsim.sim.pmac.language.axis_definitions import AxisDefinition, Frax
 from motionsim.sim.pmac.language.expressions import Expr
 from motionsim.sim.pmac.language.flow_statements import FLOW_TYPES
+from motionsim.sim.pmac.language.plc_idioms import Address
+from motionsim.sim.pmac.language.ranges import RangeAssign
 
 # -- on-line commands -------------------------------------------------------------------------
 
@@ -33,15 +36,6 @@ class AddressMotor:
     """``#n`` selects the motor; ``#`` reports it."""
 
     motor: int | None
-
-
-@dataclass(frozen=True, slots=True)
-class AxisDefinition:
-    """``#1->X`` assigns motor 1 to axis X of the addressed CS; ``#1->`` reports it;
-    ``#1->0`` clears it. ``definition`` is the normalised text (``"1000X"``)."""
-
-    motor: int
-    definition: str | None
 
 
 @dataclass(frozen=True, slots=True)
@@ -337,6 +331,9 @@ ProgramStatement = (
 
 #: Statement types that are program statements (stored when a buffer is open).
 PROGRAM_TYPES = (
+    Frax,
+    Address,
+    RangeAssign,
     Assign,
     MoveMode,
     PvtMode,

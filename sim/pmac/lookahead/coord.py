@@ -83,6 +83,7 @@ class CoordSystem(Planning, Execution, TimeBase):
         self.mode = "LINEAR"
         self.time_mode = False
         self.incremental: set[str] = set()
+        self.frax: tuple[str, ...] = ("X", "Y", "Z")  # FRAX (axis_definitions)
         self._fast = 0  # the planning short cut for constant lines (Planning._fast_kind)
         self._pvt_t = 0.0  # the PVT segment time (program s), 0 if out of range
         self._pvt_to_s = 1.0  # PVT velocity (units per Isx90 ms) to tangent (units/segment)

@@ -49,6 +49,7 @@ from motionsim.sim.pmac.buffers.program import (
     OP_AXISMODE,
     OP_DELAY,
     OP_DWELL,
+    OP_FRAX,
     OP_MODAL,
     OP_MODE,
     OP_MOVE,
@@ -336,6 +337,8 @@ class Planning:
                 self._lin_w = None
                 self._append(dwell.plan_dwell(n, op[1](vars_, cs), self.calc_pos))
                 self.blocked = True
+            elif code == OP_FRAX:
+                self.frax = op[1]
             elif code == OP_PSET:
                 self._spline_close()
                 self._lin_w = None  # the move after PSET starts from rest (no corner)

@@ -46,7 +46,7 @@ def plan(
                 start, end, None if radius else ij, radius, ctx.mode == "CIRCLE1"
             )
         else:
-            dist = motion.vector_distance({a: end[a] - start[a] for a in end})
+            dist = motion.vector_distance({a: end[a] - start[a] for a in end}, ctx.frax)
         t = motion.feed_time_s(dist, ctx.feedrate, ctx.isx90_ms)
     lookahead = ctx.segmented and ctx.special_lookahead
     arc = ctx.segmented and ctx.mode != "LINEAR" and bool(vectors)

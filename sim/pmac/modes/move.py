@@ -91,6 +91,8 @@ class PlanContext(Protocol):
     cs: int
     time_mode: bool
     mode: str
+    #: The vector-feedrate axes (``FRAX``), default X, Y, Z.
+    frax: tuple[str, ...]
 
     @property
     def feedrate(self) -> float:

@@ -363,6 +363,8 @@ class MotorTable:
         self.vars = vars_
         self.emit = emit
         self.axis_of = axis_of
+        #: The whole axis-definition sum of a motor, when the owner computes it.
+        self.base_of: Callable[[int, float], float] | None = None
         self._axis_position = axis_position
         self._cs_running = cs_running
         t = sched.env.now
@@ -373,6 +375,8 @@ class MotorTable:
 
     def base(self, n: int, t: float) -> float:
         """The part of motor ``n``'s position its CS axis gives it (counts)."""
+        if self.base_of is not None:  # several axes in one definition (axis_definitions)
+            return self.base_of(n, t)
         m = self.axis_of(n)
         if m is None:
             return 0.0

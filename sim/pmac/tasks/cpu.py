@@ -5,14 +5,16 @@ Priorities (seed 003; TUM p236-237, p376; spec §9.3, §9.5, §9.6), highest fir
 1. **servo** — every servo cycle, ``servo_base_s + servo_motor_s`` × active motors;
 2. **RTI** — every I8+1 servo cycles: move planning (``plan_line_s`` per program line
    calculated since the last RTI, plus ``rti_base_s``), then PLC 0 (``plc_scan_s`` +
-   ``plc_statement_s`` per statement executed) when I5 permits and it is enabled. PLCC 0 is
-   not simulated. The RTI's tasks run only when the previous RTI's tasks have finished: an
+   ``plc_statement_s`` per statement executed) when I5 permits and it is enabled, then
+   PLCC 0 (``plcc_statement_s`` per statement). The RTI's tasks run only when the previous
+   RTI's tasks have finished: an
    RTI that finds them still running is an ``rti_overrun`` (``over_s`` = processor time they
    still need, in seconds of wall time at the current servo load) and is *latched* — its tasks
    (PLC 0 again) run as soon as the previous ones end ``[INF]`` (one-deep interrupt latch). So
    a PLC 0 longer than the RTI period keeps the processor in foreground for good;
 3. **background** — whatever is left: a background cycle is one scan of one enabled PLC 1-31
-   (in turn, if I5 permits), ``housekeeping_s`` (limits, watchdog reload), and one queued
+   (in turn, if I5 permits), then one scan of every enabled compiled PLC 1-31 (low to high),
+   ``housekeeping_s`` (limits, watchdog reload), and one queued
    host command (``host_command_s``), answered at the end of the cycle.
 
 Time model: a fluid share of the processor. Between two instants the processor time left by
@@ -38,6 +40,8 @@ Costs (:class:`CpuCosts`, config keys ``cpu_<name>_us`` in microseconds, e.g.
   2.9-3.6 µs on an 80 MHz Turbo CPU, so ``P10=P10+1`` costs a few µs and ≈ 400 of them fill
   one default RTI period. Every statement executed counts once (assignment, IF/WHILE test,
   ELSE jump, ENDWHILE, CMD, SEND, ENABLE/DISABLE) ``[INF]``;
+* ``plcc_statement`` 1.3 µs — a compiled PLC's statement (TSRM p486-489, spec §10: compiled
+  floating point ≈ 1-1.6 µs per operation);
 * ``plc_scan`` 5 µs per scan, ``rti_base`` 2 µs per RTI, ``plan_line`` 30 µs per program line
   calculated, ``host_command`` 20 µs per command line, ``housekeeping`` 20 µs per background
   cycle — ``[INF]`` orders of magnitude chosen for a DSP56k at 80-240 MHz; the manual gives
@@ -73,6 +77,7 @@ class CpuCosts:
     plan_line_s: float = 30e-6
     plc_scan_s: float = 5e-6
     plc_statement_s: float = 3.3e-6
+    plcc_statement_s: float = 1.3e-6
     host_command_s: float = 20e-6
     housekeeping_s: float = 20e-6
 
@@ -216,6 +221,7 @@ class Processor:
             or self._fg > _EPS
             or self._latched
             or plcs.foreground() is not None
+            or plcs.foreground_compiled() is not None
             or plcs.any_background()
             or self._stall[1] > self.env.now
         )
@@ -331,10 +337,17 @@ class Processor:
     def _plc0(self) -> float:
         plcs = self.ctl.plcs
         plc = plcs.foreground()
-        if plc is None:
-            return 0.0
-        self.plc0_scans += 1
-        return self._scan_cost(plcs.scan(plc))
+        cost = 0.0
+        if plc is not None:
+            self.plc0_scans += 1
+            cost = self._scan_cost(plcs.scan(plc))
+        plcc = plcs.foreground_compiled()  # PLCC 0 runs after PLC 0 (TUM p376)
+        if plcc is not None:
+            cost += self._compiled_cost(plcs.scan(plcc))
+        return cost
+
+    def _compiled_cost(self, statements: int) -> float:
+        return self.costs.plc_scan_s + self.costs.plcc_statement_s * statements
 
     def _scan_cost(self, statements: int) -> float:
         return self.costs.plc_scan_s + self.costs.plc_statement_s * statements
@@ -355,6 +368,14 @@ class Processor:
             self._scanning = True
             try:
                 work += self._scan_cost(plcs.scan(plc))
+            finally:
+                self._scanning = False
+        if abs(now - clock.t(k)) < 1e-9:
+            # between two interpreted-PLC scans: one scan of every active PLCC, low to high
+            self._scanning = True
+            try:
+                for plcc in plcs.background_compiled():
+                    work += self._compiled_cost(plcs.scan(plcc))
             finally:
                 self._scanning = False
         if self.queue:

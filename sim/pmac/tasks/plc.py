@@ -34,12 +34,14 @@ What is modelled (seed 003; TUM p237, p253, p376; TSRM p39, p381, p422-424; spec
 
 from __future__ import annotations
 
+from collections import deque
 from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from motionsim.sim.controller import Port
 from motionsim.sim.errors import Conflict, NotFound, ParseError
+from motionsim.sim.pmac.language import plc_idioms as idioms
 from motionsim.sim.pmac.language import plc_parser as pp
 from motionsim.sim.pmac.language import plc_statements as plc_st
 from motionsim.sim.pmac.language import statements as st
@@ -55,7 +57,9 @@ OP_WHILE = 3  # (OP_WHILE, cond, pc_after_endwhile)
 OP_ENDWHILE = 4  # (OP_ENDWHILE, pc_of_while)     ends the scan
 OP_CMD = 5  # (OP_CMD, text)
 OP_SEND = 6  # (OP_SEND, text)
-OP_ENABLE = 7  # (OP_ENABLE, numbers, enable)
+OP_ENABLE = 7  # (OP_ENABLE, numbers, enable, compiled)
+OP_ADDRESS = 8  # (OP_ADDRESS, "#" or "&", n)
+OP_RUN = 9  # (OP_RUN, statement): a family statement with run_online(ctl, state, out)
 
 
 class StructureError(Exception):
@@ -156,12 +160,18 @@ class _Builder:
             _, pc, _, _ = stack.pop()
             ops.append([OP_ENDWHILE, pc])
             ops[pc][2] = len(ops)
-        elif t is pp.Cmd:
+        elif t is pp.Cmd or t is idioms.Command:
             ops.append([OP_CMD, s.text])
         elif t is pp.Send:
-            ops.append([OP_SEND, s.text])
+            ops.append([OP_SEND, s.text, ""])
+        elif t is idioms.SendText:
+            ops.append([OP_SEND, s.text, s.port])
+        elif t is idioms.Address:
+            ops.append([OP_ADDRESS, s.kind, s.n])
         elif t is plc_st.EnablePlc:
-            ops.append([OP_ENABLE, s.numbers, s.enable])
+            ops.append([OP_ENABLE, s.numbers, s.enable, s.compiled])
+        elif getattr(s, "run_online", None) is not None:
+            ops.append([OP_RUN, s])
         else:  # pragma: no cover - parse_plc_line returns only the types above
             raise ParseError("not a PLC statement", column=col, text=text, pmac_error="ERR003")
 
@@ -210,7 +220,7 @@ class Plc:
     """One PLC program slot and its run state."""
 
     __slots__ = ("n", "program", "enabled", "pc", "scans", "last_scan_t", "last_statements",
-                 "last_send")
+                 "last_send", "cs", "motor")
 
     def __init__(self, n: int) -> None:
         self.n = n
@@ -221,6 +231,9 @@ class Plc:
         self.last_scan_t: float | None = None
         self.last_statements = 0
         self.last_send: str | None = None
+        #: The program's own addressing (``ADDRESS&n`` / ``ADDRESS#n``), default &1 #1.
+        self.cs = 1
+        self.motor = 1
 
     def to_dict(self, permitted: bool, editing: bool) -> dict[str, Any]:
         if editing:
@@ -247,9 +260,14 @@ class PlcTable:
     def __init__(self, ctl: PmacController) -> None:
         self.ctl = ctl
         self.plcs = [Plc(n) for n in range(plc_st.N_PLCS)]
+        #: Compiled PLCs 0..31 (``OPEN PLCC n``): the source a host downloads, run as compiled.
+        self.compiled = [Plc(n) for n in range(plc_st.N_PLCS)]
+        self._edit_table = self.plcs  # the table the open PLC belongs to
         self._edit: tuple[Port, int, _Builder, list[str]] | None = None
         self._rr = 0  # background round robin: the last PLC scanned
         self._cmd_port = Port("plc-cmd")
+        #: Lines sent by ``SEND`` statements, oldest first: ``(plc, port letter, text)``.
+        self.sent: deque[tuple[int, str, str]] = deque(maxlen=256)
 
     # -- entry ----------------------------------------------------------------------------
 
@@ -260,13 +278,15 @@ class PlcTable:
             return None
         return e[1]
 
-    def open(self, n: int, port: Port) -> None:
-        """``OPEN PLC n``."""
+    def open(self, n: int, port: Port, compiled: bool = False) -> None:
+        """``OPEN PLC n`` (``OPEN PLCC n`` with ``compiled``)."""
         ctl = self.ctl
         if ctl.buffer_holder is not None:
             raise Conflict("another buffer is open: CLOSE first", pmac_error="ERR007")
-        plc = self.plcs[n]
-        self.set_enabled((n,), False)
+        table = self.compiled if compiled else self.plcs
+        plc = table[n]
+        self.set_enabled((n,), False, compiled)
+        self._edit_table = table
         b = _Builder()
         lines: list[str] = []
         if plc.program is not None:
@@ -313,8 +333,8 @@ class PlcTable:
                 except StructureError:
                     self._edit = (port, n, trial, lines)
                     return "", "ERR009", None
-                self.plcs[n].program = program if program.ops else None
-                self.plcs[n].pc = 0
+                self._edit_table[n].program = program if program.ops else None
+                self._edit_table[n].pc = 0
                 self._edit = None
                 self.ctl.buffer_holder = None
                 return "", None, text[col - 1 + len("CLOSE") :]
@@ -371,19 +391,25 @@ class PlcTable:
 
     # -- enable / disable -----------------------------------------------------------------
 
-    def set_enabled(self, numbers: Iterable[int], enable: bool) -> None:
-        """``ENABLE PLC`` / ``DISABLE PLC``: ``plc`` events for PLCs whose state changes."""
+    def set_enabled(self, numbers: Iterable[int], enable: bool, compiled: bool = False) -> None:
+        """``ENABLE PLC`` / ``DISABLE PLC``: ``plc`` events for PLCs whose state changes
+        (``ENABLE PLCC`` / ``DISABLE PLCC``: the same with ``compiled=True`` in the event)."""
         changed = False
+        table = self.compiled if compiled else self.plcs
+        extra = {"compiled": True} if compiled else {}
         for n in numbers:
-            plc = self.plc(n)
-            if enable and (plc.program is None or self.editing() == n):
+            self.plc(n)  # NotFound outside 0..31
+            plc = table[n]
+            if enable and (plc.program is None
+                           or (self.editing() == n and self._edit_table is table)):
                 continue
             if plc.enabled != enable:
                 plc.enabled = enable
                 if not enable:
                     plc.pc = 0
                 changed = True
-                self.ctl.log.emit("plc", plc=n, state="enabled" if enable else "disabled")
+                self.ctl.log.emit("plc", plc=n, state="enabled" if enable else "disabled",
+                                  **extra)
         if changed:
             self.ctl.background.poke()
 
@@ -400,7 +426,19 @@ class PlcTable:
     def any_background(self) -> bool:
         if not self.i5() & 2:
             return False
-        return any(p.enabled for p in self.plcs[1:])
+        return any(p.enabled for p in self.plcs[1:]) or any(p.enabled for p in self.compiled[1:])
+
+    def foreground_compiled(self) -> Plc | None:
+        """PLCC 0 if it is enabled and I5 permits foreground PLCs (it runs after PLC 0)."""
+        p = self.compiled[0]
+        return p if p.enabled and self.i5() & 1 else None
+
+    def background_compiled(self) -> list[Plc]:
+        """The enabled PLCCs 1-31, low to high: one scan of each between two interpreted-PLC
+        scans (PUM-V p238; spec §9.5), if I5 permits."""
+        if not self.i5() & 2:
+            return []
+        return [p for p in self.compiled[1:] if p.enabled]
 
     def next_background(self) -> Plc | None:
         """The next enabled PLC 1-31 in turn (one per background cycle), if I5 permits."""
@@ -426,33 +464,43 @@ class PlcTable:
         pc = plc.pc
         end = len(ops)
         count = 0
-        cmds: list[str] = []
+        cmds: list[tuple[str, int, int]] = []
         while pc < end:
             op = ops[pc]
             code = op[0]
             count += 1
+            cs = plc.cs
             if code == OP_SET:
                 idx = op[2]
-                k = int(idx.const if idx.const is not None else idx.fn(vars_, 1))
-                vars_.write(op[1], k, op[3](vars_, 1), 1)
+                k = int(idx.const if idx.const is not None else idx.fn(vars_, cs))
+                vars_.write(op[1], k, op[3](vars_, cs), cs)
                 pc += 1
             elif code == OP_IF:
-                pc = pc + 1 if op[1](vars_, 1) else op[2]
+                pc = pc + 1 if op[1](vars_, cs) else op[2]
             elif code == OP_JUMP:
                 pc = op[1]
             elif code == OP_WHILE:
-                pc = pc + 1 if op[1](vars_, 1) else op[2]
+                pc = pc + 1 if op[1](vars_, cs) else op[2]
             elif code == OP_ENDWHILE:
                 pc = op[1]
                 break
             elif code == OP_CMD:
-                cmds.append(op[1])
+                cmds.append((op[1], cs, plc.motor))
                 pc += 1
             elif code == OP_SEND:
-                plc.last_send = op[1]
+                self._send(plc, op[1], op[2])
+                pc += 1
+            elif code == OP_ADDRESS:
+                if op[1] == "&":
+                    plc.cs = op[2]
+                else:
+                    plc.motor = op[2]
+                pc += 1
+            elif code == OP_RUN:
+                op[1].run_online(self.ctl, {"cs": cs, "motor": plc.motor}, [])
                 pc += 1
             else:  # OP_ENABLE
-                self.set_enabled(op[1], op[2])  # its own DISABLE: the scan still ends
+                self.set_enabled(op[1], op[2], op[3])  # its own DISABLE: the scan still ends
                 pc += 1
         else:
             pc = 0
@@ -461,9 +509,16 @@ class PlcTable:
         plc.scans += 1
         plc.last_scan_t = self.ctl.env.now
         plc.last_statements = count
-        for text in cmds:
-            self.ctl.submit_program_command(text)
+        for text, cs, motor in cmds:
+            self.ctl.submit_program_command(text, cs, motor)
         return count
+
+    def _send(self, plc: Plc, text: str, port: str) -> None:
+        """``SEND{port}"text"``: the PLC's ``last_send``, a ``plc_send`` event and the
+        controller's host output (:meth:`PmacController.host_output`)."""
+        plc.last_send = text
+        self.sent.append((plc.n, port, text))
+        self.ctl.log.emit("plc_send", plc=plc.n, port=port or "host", text=text)
 
     def _item(self, p: Plc, i5: int, editing: int | None) -> dict[str, Any]:
         """``p``'s API shape: its state as I5, entry and the watchdog make it."""

@@ -1,0 +1,91 @@
+"""Compiled PLCs (``OPEN PLCC n``): the source a host downloads is stored and run with the
+compiled-PLC scheduling (TUM p376; PUM-V p238; TSRM p39; spec §9.3, §9.5), on the event log.
+
+PLCC 0 runs in the RTI after PLC 0; between two interpreted background-PLC scans every active
+PLCC 1-31 runs one scan, low to high; I5 bit 0 permits PLC 0 / PLCC 0, bit 1 the others.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+
+def enter(rig, *lines: str, n: int = 1, compiled: bool = True) -> None:
+    rig.ok(f"OPEN {'PLCC' if compiled else 'PLC'} {n} CLEAR")
+    for line in lines:
+        rig.ok(line)
+    rig.ok("CLOSE")
+
+
+def cycles_of(rig, name: str) -> list[int]:
+    return [k for k, _, f in rig.events("mvar") if f["name"] == name]
+
+
+def test_pum_p245_open_plcc_stores_the_source_and_runs_nothing_on_line(rig):
+    enter(rig, "M1=M1+1", "P1=5", n=4)
+    assert cycles_of(rig, "M1") == [] and rig.ok("P1") == "0"
+    assert [ln for ln in rig.c.plcs.compiled[4].program.lines] == ["M1=M1+1", "P1=5"]
+    assert rig.c.plcs.plcs[4].program is None  # PLCC 4 is not PLC 4
+
+
+def test_tum_p376_plcc0_runs_every_rti_after_plc0(rig):
+    rig.ok("I5=1")
+    enter(rig, "M1=M1+1", n=0, compiled=False)
+    enter(rig, "M2=M2+1", n=0)
+    rig.ok("ENABLE PLC 0 ENABLE PLCC 0")
+    rig.run_for(rig.period * 30)
+    plc0, plcc0 = cycles_of(rig, "M1"), cycles_of(rig, "M2")
+    assert plcc0 == plc0 and len(plcc0) >= 9
+    assert all(k % 3 == 0 for k in plcc0)  # RTIs: every I8+1 = 3 servo cycles
+    names = [f["name"] for _, _, f in rig.events("mvar")]
+    assert names[:4] == ["M1", "M2", "M1", "M2"]  # PLC 0 first, then PLCC 0
+
+
+def test_pum_v_p238_every_active_plcc_scans_between_two_interpreted_plc_scans(rig):
+    rig.ok("I5=2")
+    enter(rig, "M1=M1+1", n=1, compiled=False)
+    enter(rig, "M2=M2+1", n=2, compiled=False)
+    enter(rig, "M5=M5+1", n=5)
+    enter(rig, "M3=M3+1", n=3)
+    rig.ok("ENABLE PLC 1,2 ENABLE PLCC 3,5")
+    rig.run_for(rig.period * 40)
+    m1, m2, m3, m5 = (cycles_of(rig, m) for m in ("M1", "M2", "M3", "M5"))
+    # one interpreted PLC per background cycle, in turn; both PLCCs on every cycle
+    assert sorted(m1 + m2) == m3 == m5
+    assert len(m3) == len(m1) + len(m2) and abs(len(m1) - len(m2)) <= 1
+    names = [f["name"] for _, _, f in rig.events("mvar")]
+    first = names.index("M3")
+    assert names[first - 1] in ("M1", "M2") and names[first + 1] == "M5"  # low to high
+
+
+@pytest.mark.parametrize(("i5", "runs"), [(0, set()), (1, {"M0"}), (2, {"M7"}),
+                                          (3, {"M0", "M7"})])
+def test_tsrm_p39_i5_permits_compiled_plcs_like_interpreted_ones(rig, i5, runs):
+    rig.ok(f"I5={i5}")
+    enter(rig, "M10=M10+1", n=0)
+    enter(rig, "M17=M17+1", n=7)
+    rig.ok("ENABLE PLCC 0 ENABLE PLCC 7")
+    rig.run_for(rig.period * 12)
+    ran = {f"M{int(f['name'][1:]) - 10}" for _, _, f in rig.events("mvar")}
+    assert ran == runs
+
+
+def test_enable_and_disable_plcc_emit_plc_events_marked_compiled(rig):
+    rig.ok("I5=2")
+    enter(rig, "M1=1", n=2)
+    enter(rig, "DISABLE PLCC 2 DISPLC1", n=1, compiled=False)
+    rig.ok("ENABLE PLCC 2")
+    rig.ok("ENABLE PLC 1")
+    rig.run_for(rig.period * 10)
+    got = [(f["plc"], f["state"], f.get("compiled", False)) for _, _, f in rig.events("plc")]
+    assert got == [(2, "enabled", True), (1, "enabled", False), (2, "disabled", True),
+                   (1, "disabled", False)]
+
+
+def test_a_plcc_waits_at_endwhile_on_a_timer_like_a_plc(rig):
+    rig.ok("I5=2")
+    enter(rig, "M1=1", "I5112=40", "WHILE(I5112>0)", "ENDWHILE", "M1=0", "DIS PLCC 3", n=3)
+    rig.ok("ENA PLCC 3")
+    rig.run_for(rig.period * 60)
+    (k1, k0) = cycles_of(rig, "M1")
+    assert k0 - k1 == 40
