@@ -68,6 +68,7 @@ from motionsim.sim.trio.axis import Axis
 from motionsim.sim.trio.linked import LinkedMove
 from motionsim.sim.trio.moves import Move
 from motionsim.sim.trio.profile import diverges_at
+from motionsim.sim.trio.scaling import nearest_edge
 from simpy.events import URGENT
 
 Placed = str  # "mtype" | "ntype" | "process_buffer"
@@ -131,6 +132,9 @@ class MotionBuffers:
         self._next_id = 0
         self._links: dict[LinkedMove, None] = {}  # CAMBOX / MOVELINK ending by link distance
         self._offsets: set[int] = set()  # axes with a DEFPOS / OFFPOS to apply
+        #: LIMIT_BUFFERED: moves the look-ahead of an axis holds, NTYPE included (TJ2H-57);
+        #: 1 on the MC2xx generation (NTYPE only)
+        self.depth = 1
         for ax in axes:
             ax.on_profile_change = self._profile_changed
 
@@ -284,8 +288,8 @@ class MotionBuffers:
         t = self.clock.t(k)
         for n in sorted(self._offsets):
             ax = self.axes[n]
-            off = (ax.defpos - ax.position(t)) if ax.defpos is not None else ax.offset
-            ax.defpos, ax.offset = None, 0.0
+            off = ax.pending_shift(t)
+            ax.pending.clear()
             ax.pos += off
             m = ax.mtype
             if m is not None and m.start_tick is not None:
@@ -316,7 +320,7 @@ class MotionBuffers:
         §10.2: MC4 help text; the MC2xx page was not reachable). A new end behind the
         executing move's present position cancels it at DECEL first (same source)."""
         ax = self.axes[mm.axes[0]]
-        target = ax.ntype if ax.ntype is not None else ax.mtype
+        target = ax.last_buffered()
         if (
             target is None or len(target.axes) != 1 or target.cancelled
             or target.geom not in ("MOVE", "MOVEABS") or target.merged_into is not None
@@ -348,7 +352,7 @@ class MotionBuffers:
         self._merged_from.pop(m, None)
         for a in m.axes:
             ax = self.axes[a]
-            ax.ntype = None
+            ax.unbuffer(m)
             self._changed(ax)
         self._kick()
 
@@ -365,8 +369,8 @@ class MotionBuffers:
         if mode == 2:
             for p in sorted(self.process_buffer):
                 self._pb_take(p)
-            for m in list(self._ntype):
-                self.cancel_next(m.axes[0])
+            while self._ntype:
+                self.cancel_next(self._ntype[0].axes[0])
         for m in list(self._active):
             self.cancel(m.axes[0])
 
@@ -386,10 +390,11 @@ class MotionBuffers:
     def _can_progress(self) -> bool:
         axes = self.axes
         for m in self._ntype:
-            if all(axes[a].mtype is None for a in m.axes):
+            if all(axes[a].mtype is None and axes[a].ntype is m for a in m.axes):
                 return True
+        depth = self.depth
         for m in self.process_buffer.values():
-            if all(axes[a].ntype is None for a in m.axes):
+            if all(axes[a].buffered() < depth for a in m.axes):
                 return True
         if self._links or self._offsets:
             return True
@@ -414,10 +419,10 @@ class MotionBuffers:
                     self._pb_take(p)
                     continue
                 if (axes[ms[0]].ntype is None if len(ms) == 1
-                        else all(axes[a].ntype is None for a in ms)):
+                        else all(axes[a].ntype is None for a in ms)) or (
+                        self.depth > 1 and all(axes[a].buffered() < self.depth for a in ms)):
                     self._pb_take(p, emit=False)
-                    if (axes[ms[0]].mtype is None if len(ms) == 1
-                            else all(axes[a].mtype is None for a in ms)):
+                    if all(axes[a].mtype is None and axes[a].ntype is None for a in ms):
                         # NTYPE and MTYPE free: sequenced and loaded in this same interrupt;
                         # the zero-length stay in NTYPE is not reported as a change
                         self.log.emit("process_buffer", process=p, axis=m.axes[0], mtype=0)
@@ -429,20 +434,20 @@ class MotionBuffers:
                         continue
                     self._ntype.append(m)
                     for a in m.axes:
-                        axes[a].ntype = m
+                        axes[a].buffer(m)
                         self._changed(axes[a])
                     self.log.emit("process_buffer", process=p, axis=m.axes[0], mtype=0)
-                    if axes[m.axes[0]].merge:
+                    if axes[m.axes[0]].merge and axes[m.axes[0]].ntype is m:
                         self._try_merge(m)
         # 2. move loading: NTYPE -> MTYPE, the move starts now
         if self._ntype:
             for m in list(self._ntype):
-                if all(axes[a].mtype is None for a in m.axes):
+                if all(axes[a].mtype is None and axes[a].ntype is m for a in m.axes):
                     self._ntype.remove(m)
                     self._active[m] = None
                     for a in m.axes:
                         ax = axes[a]
-                        ax.ntype = None
+                        ax.unbuffer(m)
                         ax.mtype = m
                         self._changed(ax)
                     self._begin(m, k)
@@ -460,15 +465,28 @@ class MotionBuffers:
         for m in ending:
             del self._active[m]
             nxt = m.merged_into
-            if nxt is not None and m.profile is not None and axes[m.axes[0]].ntype is nxt:
-                self._merged_from[nxt] = (m.t_start + m.profile.duration, m.profile.v_end)
             final = m.final_positions()
             for i, a in enumerate(m.axes):
                 ax = axes[a]
-                ax.pos = final[i]
+                ax.pos = nearest_edge(final[i], ax.units)  # at rest on a whole edge
                 ax.mtype = None
                 self.log.emit("move_end", axis=a, mtype=m.mtype)
-                self._changed(ax)
+            if nxt is not None and m.profile is not None and axes[m.axes[0]].ntype is nxt:
+                # MERGE: the next move takes over in this same servo period, from the exact
+                # instant this one's profile ended, at its end speed: MTYPE, VP_SPEED and
+                # MSPEED never read a stop at the joint while the axes run on
+                self._merged_from[nxt] = (m.t_start + m.profile.duration, m.profile.v_end)
+                self._ntype.remove(nxt)
+                self._active[nxt] = None
+                for a in nxt.axes:
+                    axes[a].unbuffer(nxt)
+                    axes[a].mtype = nxt
+                for a in m.axes:
+                    self._changed(axes[a])
+                self._begin(nxt, k)
+                continue
+            for a in m.axes:
+                self._changed(axes[a])
         # 4. processes waiting at a move line: their move goes into the freed buffer
         if self._waiters:
             pb = self.process_buffer

@@ -42,6 +42,7 @@ from motionsim.sim.trio.mtypes import MTYPE, SP_GEOMETRY, axes_driven
 from motionsim.sim.trio.output import Channels
 from motionsim.sim.trio.parser import MOVE_ARGS, parse_program
 from motionsim.sim.trio.process import BasicProcess
+from motionsim.sim.trio.setup_commands import Comms
 from motionsim.sim.trio.system import SystemParams
 from motionsim.sim.trio.terminal import CommandLine
 
@@ -61,7 +62,7 @@ class TrioController(Controller):
     """A simulated Trio Motion Coordinator (MC2xx series buffering)."""
 
     kind = "trio"
-    event_types = ("offpos", "move_modify", "output", "wdog")
+    event_types = ("offpos", "move_modify", "output", "wdog", "setup", "datum")
 
     #: The command line answers at the current instant and never moves a virtual clock
     #: (API.md): ``ControllerHandle.command`` returns a locked line pending at once.
@@ -108,6 +109,9 @@ class TrioController(Controller):
         self.io = IoImage(self.log)
         self.system = SystemParams(self)
         self.stored = [StoredParams() for _ in range(self.n_axes)]
+        for ax, st in zip(self.axes, self.stored, strict=True):
+            ax.stored = st
+        self.comms = Comms()
         self.command_line = CommandLine(self)
         self._move_waits: dict[int, Waiter] = {}
 

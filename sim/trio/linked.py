@@ -49,6 +49,7 @@ from typing import TYPE_CHECKING
 from motionsim.sim.trio.basic_errors import BasicError
 from motionsim.sim.trio.moves import Move
 from motionsim.sim.trio.profile import Profile
+from motionsim.sim.trio.scaling import whole_edges
 
 if TYPE_CHECKING:
     from motionsim.sim.trio.axis import Axis
@@ -106,7 +107,7 @@ class LinkedMove(Move):
 
     def begin(self, tick: int, t_start: float, axes: list[Axis], v0: float = 0.0) -> None:
         base = axes[0]
-        self.p0 = (base.position(),)
+        self.p0 = (base.own_position(),)
         self.start_tick, self.t_start = tick, t_start
         kind, a = self.kind, self.args
         if self.link is not None:
@@ -124,7 +125,7 @@ class LinkedMove(Move):
         elif kind == "MOVELINK":
             self.length = a[1]
             self.profile = _HOLD
-            self.end_pos = (self.p0[0] + a[0],)
+            self.end_pos = (self.p0[0] + whole_edges(a[0], base.units),)
         else:  # CONNECT
             assert self.link is not None
             self.scale = a[0] * self.link.units / base.units
