@@ -65,6 +65,7 @@ import simpy
 from motionsim.sim.events import EventLog
 from motionsim.sim.timing import ServoClock
 from motionsim.sim.trio.axis import Axis
+from motionsim.sim.trio.datum import DatumMove
 from motionsim.sim.trio.linked import LinkedMove
 from motionsim.sim.trio.moves import Move
 from motionsim.sim.trio.profile import diverges_at
@@ -130,7 +131,9 @@ class MotionBuffers:
         self._watchers: list[tuple[Callable[[], bool], Callable[[], None]]] = []
         self._dead = False
         self._next_id = 0
-        self._links: dict[LinkedMove, None] = {}  # CAMBOX / MOVELINK ending by link distance
+        #: moves looked at every servo period: CAMBOX / MOVELINK ending by link distance, a
+        #: CONNECT ramping at CLUTCH_RATE, a DATUM sequence watching its input
+        self._links: dict[Any, None] = {}
         self._offsets: set[int] = set()  # axes with a DEFPOS / OFFPOS to apply
         #: LIMIT_BUFFERED: moves the look-ahead of an axis holds, NTYPE included (TJ2H-57);
         #: 1 on the MC2xx generation (NTYPE only)
@@ -252,7 +255,8 @@ class MotionBuffers:
         tau = self.clock.t(now_k) - m.t_start
         base = self.axes[m.axes[0]]
         m.cancel_at(tau, base.decel, base.sramp / 1000.0)
-        self._links.pop(m, None)  # type: ignore[call-overload]
+        if not isinstance(m, DatumMove):  # a DATUM sequence ramps down in its own ticks
+            self._links.pop(m, None)  # type: ignore[call-overload]
         self._reschedule_end(m, now_k)
 
     def _reschedule_end(self, m: Move, now_k: int) -> None:
@@ -312,6 +316,8 @@ class MotionBuffers:
         ):
             return False
         old.rebase_ratio(self.clock.t(k), new.args[0], ax)
+        if old.needs_tick():
+            self._links[old] = None
         return True
 
     def _modify(self, mm: Move, k: int) -> bool:
@@ -456,8 +462,13 @@ class MotionBuffers:
         if self._links:
             t = self.clock.t(k)
             for lm in list(self._links):
-                if lm.link_done(t):
-                    del self._links[lm]
+                if lm.start_tick is not None and lm.start_tick >= k:
+                    continue  # started in this period: first looked at in the next
+                what = lm.tick(t)
+                if what is None:
+                    continue
+                del self._links[lm]
+                if what == "end":
                     lm.finish_at(t - lm.t_start)
                     lm.end_tick = k
                     self._ending.setdefault(k, []).append(lm)
@@ -525,7 +536,7 @@ class MotionBuffers:
         base = axes[0]
         if base.merge and base.ntype is not None:
             self._try_merge(base.ntype)
-        if isinstance(m, LinkedMove) and m.kind in ("CAMBOX", "MOVELINK"):
+        if m.needs_tick():
             self._links[m] = None
 
     def _end_merged(self, m: Move) -> None:

@@ -18,6 +18,7 @@ from motionsim.sim.trio import basic_errors as msg
 from motionsim.sim.trio.axis_status import computed
 from motionsim.sim.trio.basic_errors import BasicError
 from motionsim.sim.trio.compiler import HALT, Block, WaitFor
+from motionsim.sim.trio.datum import datum_move
 from motionsim.sim.trio.linked import LINKED, LinkedMove, check_linked, link_axis_of
 from motionsim.sim.trio.models import format_number, hex_text
 from motionsim.sim.trio.moves import Move
@@ -217,7 +218,7 @@ class Context:
 
     def issue(self, kind: str, args: tuple[float, ...], axis: float | None, text: str) -> Any:
         """A motion command: place it (None) or report that the process must wait (Block)."""
-        if kind == "DATUM" and int(args[0]) == 0:
+        if kind == "DATUM" and args[0] == 0:
             self.group(1, axis)  # DATUM(0) clears axis errors; no move is buffered
             return None
         size = axes_driven(kind, len(args))
@@ -225,6 +226,8 @@ class Context:
         move: Move
         if kind in LINKED:
             move = self._linked(kind, args, axes[0], text)
+        elif kind == "DATUM":
+            move = datum_move(self.ctrl, axes[0], args, self.process, text)
         else:
             move = Move(self.ctrl.buffers.new_id(), kind, axes, args, self.process, text)
             if kind in SP_GEOMETRY:  # FORCE_SPEED as it is when the SP move is issued

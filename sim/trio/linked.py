@@ -91,7 +91,8 @@ def check_linked(kind: str, args: tuple[float, ...], base: int, table_size: int)
 class LinkedMove(Move):
     """CONNECT, CAM, CAMBOX or MOVELINK on one base axis."""
 
-    __slots__ = ("link", "m0", "table_pts", "scale", "done_pos")
+    __slots__ = ("link", "m0", "table_pts", "scale", "done_pos", "ratio_now", "clutch",
+                 "base_units", "t_last")
 
     def bind(self, link: Axis | None, table: list[float]) -> None:
         """Give the move its link axis and (CAM/CAMBOX) its TABLE points, as they are when the
@@ -102,6 +103,8 @@ class LinkedMove(Move):
         self.scale = 1.0
         self.done_pos: float | None = None
         self.geom = self.kind
+        self.ratio_now = 0.0  # CONNECT: the ratio in use (ramping at CLUTCH_RATE)
+        self.clutch = 0.0  # CLUTCH_RATE when the ratio last changed (0: at once)
 
     # -- shape -----------------------------------------------------------------------------
 
@@ -128,10 +131,13 @@ class LinkedMove(Move):
             self.end_pos = (self.p0[0] + whole_edges(a[0], base.units),)
         else:  # CONNECT
             assert self.link is not None
-            self.scale = a[0] * self.link.units / base.units
             self.length = math.inf
             self.profile = _HOLD
             self.end_pos = self.p0
+            self.clutch = base.stored.values["CLUTCH_RATE"]
+            self.base_units, self.t_last = base.units, t_start
+            self.ratio_now = 0.0 if self.clutch > 0.0 else a[0]
+            self.scale = self.ratio_now * self.link.units / base.units
 
     def _cam(self, f: float) -> float:
         pts = self.table_pts
@@ -179,13 +185,45 @@ class LinkedMove(Move):
         return (self._movelink(abs(self.progress(t))),)
 
     def rebase_ratio(self, t: float, ratio: float, base: Axis) -> None:
-        """CONNECT's ratio changed at servo instant ``t``: follow on from where both axes are."""
+        """CONNECT's ratio changed at servo instant ``t``: follow on from where both axes are
+        — at once, or ramping at the base axis' CLUTCH_RATE (:meth:`tick`)."""
         assert self.link is not None
         here = self.positions(t - self.t_start)[0]
         self.p0 = (here,)
         self.m0 = self.link.position(t)
         self.args = (ratio, *self.args[1:])
-        self.scale = ratio * self.link.units / base.units
+        self.clutch = base.stored.values["CLUTCH_RATE"]
+        self.base_units, self.t_last = base.units, t
+        if self.clutch <= 0.0:
+            self.ratio_now = ratio
+        self.scale = self.ratio_now * self.link.units / base.units
+
+    def needs_tick(self) -> bool:
+        """CAMBOX / MOVELINK end by link distance; a CONNECT ramps its ratio per period."""
+        if self.kind == "CONNECT":
+            return self.ratio_now != self.args[0]
+        return self.kind != "CAM"
+
+    def tick(self, t: float) -> str | None:
+        if self.kind == "CONNECT":
+            return None if self._clutch_step(t) else "idle"
+        return "end" if self.link_done(t) else None
+
+    def _clutch_step(self, t: float) -> bool:
+        """CLUTCH_RATE (TJ2P-71: it ramps CONNECT's ratio changes; ratio per second
+        ``[BK]``): each servo period the ratio moves towards the target by CLUTCH_RATE x the
+        period, and that period's master movement is geared at it. False once it is there."""
+        assert self.link is not None
+        m = self.link.position(t)
+        target = self.args[0]
+        step = self.clutch * (t - self.t_last)
+        r = self.ratio_now
+        r = min(target, r + step) if target > r else max(target, r - step)
+        k = self.link.units / self.base_units
+        self.p0 = (self.p0[0] + r * k * (m - self.m0),)
+        self.m0, self.t_last = m, t
+        self.ratio_now, self.scale = r, r * k
+        return r != target
 
     def link_done(self, t: float) -> bool:
         """CAMBOX / MOVELINK: the link axis has covered the link distance at instant ``t``."""

@@ -264,5 +264,15 @@ class Move:
     def speed(self, tau: float) -> float:
         return self.profile.v(tau) if self.profile is not None else 0.0
 
+    def needs_tick(self) -> bool:
+        """Whether the move must be looked at every servo period while it executes (it ends
+        on an outside event: a link distance, an input), see :meth:`tick`."""
+        return False
+
+    def tick(self, t: float) -> str | None:
+        """One servo period at instant ``t``: None to go on, ``"end"`` when the move is over,
+        ``"idle"`` when it needs no more looks."""
+        return "idle"
+
 
 __all__ = ["Move"]
