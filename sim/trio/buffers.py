@@ -300,7 +300,7 @@ class MotionBuffers:
                 m.shift(m.axes.index(n), off)
             for lm in self._active:
                 if isinstance(lm, LinkedMove) and lm.link is ax:
-                    lm.m0 += off
+                    lm.link_shifted(off)
             self.log.emit("offpos", axis=n, offset=off)
         self._offsets.clear()
 
@@ -482,11 +482,20 @@ class MotionBuffers:
                 ax.pos = nearest_edge(final[i], ax.units)  # at rest on a whole edge
                 ax.mtype = None
                 self.log.emit("move_end", axis=a, mtype=m.mtype)
-            if nxt is not None and m.profile is not None and axes[m.axes[0]].ntype is nxt:
-                # MERGE: the next move takes over in this same servo period, from the exact
-                # instant this one's profile ended, at its end speed: MTYPE, VP_SPEED and
-                # MSPEED never read a stop at the joint while the axes run on
-                self._merged_from[nxt] = (m.t_start + m.profile.duration, m.profile.v_end)
+            linked_next = self._link_successor(m)
+            if linked_next is not None or (
+                    nxt is not None and m.profile is not None and axes[m.axes[0]].ntype is nxt):
+                if linked_next is not None:
+                    # consecutive CAMBOX / MOVELINK on one link axis run as one profile
+                    # (MOVELINK-MD example 5): the next goes on from the link position this
+                    # one ended at, in the same servo period
+                    nxt = linked_next
+                else:
+                    # MERGE: the next move takes over in this same servo period, from the
+                    # exact instant this one's profile ended, at its end speed: MTYPE,
+                    # VP_SPEED and MSPEED never read a stop at the joint while the axes run on
+                    assert m.profile is not None
+                    self._merged_from[nxt] = (m.t_start + m.profile.duration, m.profile.v_end)
                 self._ntype.remove(nxt)
                 self._active[nxt] = None
                 for a in nxt.axes:
@@ -495,6 +504,8 @@ class MotionBuffers:
                 for a in m.axes:
                     self._changed(axes[a])
                 self._begin(nxt, k)
+                if linked_next is not None:
+                    linked_next.continue_from(m)
                 continue
             for a in m.axes:
                 self._changed(axes[a])
@@ -538,6 +549,17 @@ class MotionBuffers:
             self._try_merge(base.ntype)
         if m.needs_tick():
             self._links[m] = None
+
+    def _link_successor(self, m: Move) -> LinkedMove | None:
+        """The CAMBOX / MOVELINK waiting in NTYPE behind the CAMBOX / MOVELINK ``m`` that ended
+        by its link distance, on the same link axis (None: no such joint)."""
+        if not isinstance(m, LinkedMove) or m.run is None or m.cancelled:
+            return None
+        nxt = self.axes[m.axes[0]].ntype
+        if (isinstance(nxt, LinkedMove) and nxt.kind in ("CAMBOX", "MOVELINK")
+                and nxt.link is m.link and nxt.axes == m.axes):
+            return nxt
+        return None
 
     def _end_merged(self, m: Move) -> None:
         """Schedule the end of a move whose profile origin is not its start cycle."""
