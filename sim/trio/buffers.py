@@ -396,11 +396,19 @@ class MotionBuffers:
     def _can_progress(self) -> bool:
         axes = self.axes
         for m in self._ntype:
-            if all(axes[a].mtype is None and axes[a].ntype is m for a in m.axes):
+            ms = m.axes
+            if len(ms) == 1:
+                ax = axes[ms[0]]
+                if ax.mtype is None and ax.ntype is m:
+                    return True
+            elif all(axes[a].mtype is None and axes[a].ntype is m for a in ms):
                 return True
         depth = self.depth
         for m in self.process_buffer.values():
-            if all(axes[a].buffered() < depth for a in m.axes):
+            if depth == 1:
+                if all(axes[a].ntype is None for a in m.axes):
+                    return True
+            elif all(axes[a].buffered() < depth for a in m.axes):
                 return True
         if self._links or self._offsets:
             return True
@@ -428,7 +436,9 @@ class MotionBuffers:
                         else all(axes[a].ntype is None for a in ms)) or (
                         self.depth > 1 and all(axes[a].buffered() < self.depth for a in ms)):
                     self._pb_take(p, emit=False)
-                    if all(axes[a].mtype is None and axes[a].ntype is None for a in ms):
+                    if (axes[ms[0]].mtype is None and axes[ms[0]].ntype is None
+                            if len(ms) == 1 else
+                            all(axes[a].mtype is None and axes[a].ntype is None for a in ms)):
                         # NTYPE and MTYPE free: sequenced and loaded in this same interrupt;
                         # the zero-length stay in NTYPE is not reported as a change
                         self.log.emit("process_buffer", process=p, axis=m.axes[0], mtype=0)
@@ -448,7 +458,9 @@ class MotionBuffers:
         # 2. move loading: NTYPE -> MTYPE, the move starts now
         if self._ntype:
             for m in list(self._ntype):
-                if all(axes[a].mtype is None and axes[a].ntype is m for a in m.axes):
+                ms = m.axes
+                if (axes[ms[0]].mtype is None and axes[ms[0]].ntype is m if len(ms) == 1 else
+                        all(axes[a].mtype is None and axes[a].ntype is m for a in ms)):
                     self._ntype.remove(m)
                     self._active[m] = None
                     for a in m.axes:
@@ -479,10 +491,12 @@ class MotionBuffers:
             final = m.final_positions()
             for i, a in enumerate(m.axes):
                 ax = axes[a]
-                ax.pos = nearest_edge(final[i], ax.units)  # at rest on a whole edge
+                f, u = final[i], ax.units
+                e = f * u
+                ax.pos = f if e % 1.0 == 0.0 else nearest_edge(f, u)  # at rest on a whole edge
                 ax.mtype = None
                 self.log.emit("move_end", axis=a, mtype=m.mtype)
-            linked_next = self._link_successor(m)
+            linked_next = None if type(m) is Move else self._link_successor(m)
             if linked_next is not None or (
                     nxt is not None and m.profile is not None and axes[m.axes[0]].ntype is nxt):
                 if linked_next is not None:
@@ -547,7 +561,7 @@ class MotionBuffers:
         base = axes[0]
         if base.merge and base.ntype is not None:
             self._try_merge(base.ntype)
-        if m.needs_tick():
+        if type(m) is not Move and m.needs_tick():
             self._links[m] = None
 
     def _link_successor(self, m: Move) -> LinkedMove | None:

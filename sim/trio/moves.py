@@ -92,27 +92,36 @@ class Move:
         left off at path speed ``v0``.
         """
         base = axes[0]
-        self.p0 = p0 = tuple([ax.own_position() for ax in axes])
+        if len(axes) == 1:
+            self.p0 = p0 = (base.own_position(),)
+        else:
+            self.p0 = p0 = tuple([ax.own_position() for ax in axes])
         self.start_tick, self.t_start = tick, t_start
         speed = base.speed if self.force_speed is None else self.force_speed
         sramp_s = base.sramp / 1000.0
         self.v0 = v0
         kind, a = self.geom, self.args
         if kind == "MOVE" or kind == "MOVEABS" or kind == "DATUM":
-            if kind == "MOVE":
-                deltas = a
-            elif kind == "MOVEABS":  # to the target from where DPOS reads (REP_DIST range)
-                deltas = tuple([x - ax.wrap(ax.position()) for x, ax in zip(a, axes, strict=True)])
-            else:
-                deltas = (-p0[0],)
-            # every distance in whole encoder edges (TJ1P-27: a fraction above 0.9 rounds up)
-            deltas = tuple([whole_edges(d, ax.units) for d, ax in zip(deltas, axes, strict=True)])
+            # every distance in whole encoder edges (TJ1P-27: a fraction above 0.9 rounds up);
+            # MOVEABS goes to its target from where DPOS reads (REP_DIST range)
             if len(p0) == 1:
-                d = deltas[0]
+                x0 = p0[0]
+                d = a[0] if kind == "MOVE" else (
+                    a[0] - base.wrap(base.position()) if kind == "MOVEABS" else -x0)
+                u = base.units
+                if (d * u) % 1.0 != 0.0:
+                    d = whole_edges(d, u)
                 length = d if d >= 0.0 else -d
                 self.unit = (1.0,) if d >= 0.0 else (-1.0,)
-                self.end_pos = (p0[0] + d,)
+                self.end_pos = (x0 + d,)
             else:
+                if kind == "MOVE":
+                    deltas = a
+                else:
+                    deltas = tuple([x - ax.wrap(ax.position())
+                                    for x, ax in zip(a, axes, strict=True)])
+                deltas = tuple([whole_edges(d, ax.units)
+                                for d, ax in zip(deltas, axes, strict=True)])
                 length = math.sqrt(sum([d * d for d in deltas]))
                 self.unit = tuple([d / length for d in deltas]) if length > 0.0 else deltas
                 self.end_pos = tuple([p + d for p, d in zip(p0, deltas, strict=True)])
