@@ -17,6 +17,10 @@ interrupt, sequencing first — on into MTYPE where MTYPE is free. So:
 2. else -> ``p``'s process buffer (PMOVE = 1), a servo interrupt is scheduled at the next
    period; with every buffer of ``A`` empty the move starts executing at that period.
 
+MC4xx: NTYPE is the head of a per-axis look-ahead of ``depth`` (LIMIT_BUFFERED) moves
+(TJ2H-57); sequencing needs room in the look-ahead of every axis of the move, loading needs the
+move to be first in line on all of them. On the MC2xx generation the depth is 1 (NTYPE only).
+
 Then, at every servo period ``k`` at which something can change, in this order (TJ2P-21):
 
 1. *sequencing*: a process buffer move goes to NTYPE when the NTYPE of **every** axis it
@@ -44,10 +48,12 @@ DECEL is needed because the decision is made before the ramp down starts. Here: 
 mergeable move enters NTYPE while MTYPE still holds a move that has not yet passed the point
 where its profile starts to slow down for the end (``diverges_at``), the MTYPE move is
 re-planned to end at speed (the part already run is unchanged). A move that enters NTYPE
-later finds the ramp down under way and the pair is not merged. The buffer steps stay per
-servo period — ``move_end`` at cycle ``e``, the NTYPE move's ``move_start`` at ``e + 1`` —
-but the merged move's profile starts at the exact instant the previous one ended, at its end
-speed, so DPOS runs on without a pause. CANCEL(1) of a move already merged onto leaves the
+later finds the ramp down under way and the pair is not merged. At a merged joint the NTYPE
+move takes over MTYPE in the servo period ``e`` where the first ends (``move_end`` and
+``move_start`` both at ``e``), its profile starting at the exact instant the previous one
+ended, at its end speed: DPOS runs on without a pause and MTYPE, VP_SPEED and MSPEED never
+read a stop (issue 22). Consecutive CAMBOX / MOVELINK on one link axis are joined the same way
+(MOVELINK-MD: "merged together automatically"). CANCEL(1) of a move already merged onto leaves the
 MTYPE move ending at speed (``[INF]``).
 
 Only the servo periods where something happens cost a SimPy event: move ends are scheduled

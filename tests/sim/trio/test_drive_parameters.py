@@ -155,3 +155,16 @@ def test_limit_buffered_moves_run_in_order_and_end_where_they_add_up():
     ends = [t for t, _ in fields(c, "move_end", axis=0)]
     assert len(starts) == 4 and all(e < s for e, s in zip(ends, starts[1:], strict=False))
     assert c.axis(0)["dpos"] == 100.0
+
+
+def test_docs_trio_md_lists_every_stored_parameter_and_set_up_command():
+    """docs/trio.md says for each parameter and set-up command what the simulator does."""
+    from pathlib import Path
+
+    from motionsim.sim.trio.parameters import STORED
+    from motionsim.sim.trio.setup_commands import COMMANDS
+
+    doc = (Path(__file__).resolve().parents[3] / "docs" / "trio.md").read_text()
+    missing = [n for n in [*(p.name for p in STORED), *COMMANDS, "LIMIT_BUFFERED", "FE",
+                           "ENCODER"] if f"`{n}" not in doc]
+    assert missing == []
