@@ -411,10 +411,12 @@ class MotionBuffers:
                 return True
         depth = self.depth
         for m in self.process_buffer.values():
+            ms = m.axes
             if depth == 1:
-                if all(axes[a].ntype is None for a in m.axes):
+                if (axes[ms[0]].ntype is None if len(ms) == 1
+                        else all(axes[a].ntype is None for a in ms)):
                     return True
-            elif all(axes[a].buffered() < depth for a in m.axes):
+            elif all(axes[a].buffered() < depth for a in ms):
                 return True
         if self._links or self._offsets:
             return True
