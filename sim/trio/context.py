@@ -29,7 +29,6 @@ from motionsim.sim.trio.parameters import (
     AXIS_STORED,
     SYSTEM_PARAMS,
 )
-from motionsim.sim.trio.setup_commands import run_command
 
 if TYPE_CHECKING:
     from motionsim.sim.trio.controller import TrioController
@@ -155,6 +154,8 @@ class Context:
     def setup_command(self, name: str, args: tuple[float, ...], axis: float | None) -> None:
         """A set-up command (ADDAX, ENCODER_RATIO, SETCOM ...): :mod:`~motionsim.sim.trio.
         setup_commands`."""
+        from motionsim.sim.trio.setup_commands import run_command  # the motion tables' module
+
         run_command(self, name, args, axis)
 
     def op_write(self, args: list[float]) -> None:
@@ -218,7 +219,7 @@ class Context:
 
     def issue(self, kind: str, args: tuple[float, ...], axis: float | None, text: str) -> Any:
         """A motion command: place it (None) or report that the process must wait (Block)."""
-        if kind == "DATUM" and args[0] == 0:
+        if kind == "DATUM" and int(args[0]) == 0:
             self.group(1, axis)  # DATUM(0) clears axis errors; no move is buffered
             return None
         size = axes_driven(kind, len(args))

@@ -44,7 +44,6 @@ from motionsim.sim.trio.mtypes import MTYPE, SP_GEOMETRY, axes_driven
 from motionsim.sim.trio.output import Channels
 from motionsim.sim.trio.parser import MOVE_ARGS, parse_program
 from motionsim.sim.trio.process import BasicProcess
-from motionsim.sim.trio.setup_commands import Comms
 from motionsim.sim.trio.system import SystemParams
 from motionsim.sim.trio.terminal import CommandLine
 
@@ -64,11 +63,14 @@ class TrioController(Controller):
     """A simulated Trio Motion Coordinator (MC2xx series buffering)."""
 
     kind = "trio"
-    event_types = ("offpos", "move_modify", "output", "wdog", "setup", "datum")
+    event_types = ("offpos", "move_modify", "output", "wdog")
 
     #: The command line answers at the current instant and never moves a virtual clock
     #: (API.md): ``ControllerHandle.command`` returns a locked line pending at once.
     terminal_wait_s = 0.0
+
+    #: Events of the motion modules: a set-up command ran, a DATUM sequence found its datum.
+    event_types += ("setup", "datum")
 
     def __init__(
         self, id: str, config: Mapping[str, Any] | None = None, *, log_capacity: int = 100_000
@@ -113,7 +115,6 @@ class TrioController(Controller):
         self.stored = [StoredParams() for _ in range(self.n_axes)]
         for ax, st in zip(self.axes, self.stored, strict=True):
             ax.stored = st
-        self.comms = Comms()
         self.command_line = CommandLine(self)
         self._move_waits: dict[int, Waiter] = {}
 

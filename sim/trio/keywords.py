@@ -11,6 +11,9 @@ HTTP 501 ``not_simulated``) — not as a syntax error. ``docs/trio.md`` prints t
 
 from __future__ import annotations
 
+from motionsim.sim.trio.parameters import STORED
+from motionsim.sim.trio.setup_commands import COMMANDS
+
 #: TRM chapter 8 contents, by section, in the manual's order.
 INDEX: dict[str, tuple[str, ...]] = {
     "Motion and Axis Commands": (
@@ -33,13 +36,18 @@ INDEX: dict[str, tuple[str, ...]] = {
     ),
 }
 
+#: Words the motion modules simulate (issue 22): the set-up commands of
+#: :mod:`~motionsim.sim.trio.setup_commands` and the stored start-up / drive parameters of
+#: :mod:`~motionsim.sim.trio.parameters` — simulated, so not refused (NOT_SIMULATED below).
+MOTION_WORDS = frozenset(COMMANDS) | frozenset(p.name for p in STORED) | {"LIMIT_BUFFERED"}
+_MOTION_INDEX = MOTION_WORDS & {kw for kws in INDEX.values() for kw in kws}
+
 #: Index entries the simulator runs (with the notes of docs/trio.md).
-SIMULATED = frozenset({
+SIMULATED = _MOTION_INDEX | frozenset({
     "AXIS", "BASE", "CAM", "CAMBOX", "CANCEL", "CONNECT", "DATUM", "DEFPOS", "FORWARD",
     "MHELICAL", "MHELICALSP", "MOVE", "MOVEABS", "MOVEABSSP", "MOVECIRC", "MOVECIRCSP",
     "MOVELINK", "MOVEMODIFY", "MOVESP", "RAPIDSTOP", "REVERSE",
     "HEX", "PRINT", "PRINT#", "AIN", "IN", "OP", "READ_OP",
-    "ADDAX", "ENCODER_RATIO", "STEP_RATIO", "INVERT_IN", "SETCOM",
     "ELSE", "ELSEIF", "ENDIF", "FOR..TO..STEP..NEXT", "GOSUB", "GOTO", "NEXT",
     "REPEAT..UNTIL", "RETURN", "THEN", "TO", "UNTIL", "WA", "WAIT IDLE", "WAIT LOADED",
     "WAIT UNTIL", "WEND", "WHILE",
@@ -48,21 +56,22 @@ SIMULATED = frozenset({
 #: Words that start a not-simulated statement or value (index entries split into the words a
 #: program writes, plus process commands outside the reachable index).
 NOT_SIMULATED = frozenset({
-    "ACC", "ADD_DAC", "BACKLASH", "DEC", "DISABLE_GROUP",
-    "MSPHERICAL", "MOVETANG", "REGIST", "REGIST_SPEED",
+    "ACC", "ADD_DAC", "ADDAX", "BACKLASH", "DEC", "DISABLE_GROUP", "ENCODER_RATIO",
+    "MSPHERICAL", "MOVETANG", "REGIST", "REGIST_SPEED", "STEP_RATIO",
     "AIN0", "AIN1", "AIN2", "AIN3", "AINBI0", "AINBI1", "AINBI2", "AINBI3", "AOUT0",
     "AOUT1", "AOUT2", "AOUT3", "CHANNEL_READ", "CHANNEL_WRITE", "CHR", "CLOSE", "CURSOR",
     "DEFKEY", "ENABLE_OP", "FILE", "FLAG", "FLAGS", "GET", "INPUT", "INPUTS0",
-    "INPUTS1", "KEY", "LINPUT", "OPEN", "PSWITCH", "READPACKET",
-    "SEND", "TIMER",
+    "INPUTS1", "INVERT_IN", "KEY", "LINPUT", "OPEN", "PSWITCH", "READPACKET",
+    "SEND", "SETCOM", "TIMER",
     "BASICERROR", "ON",
     "RUNTYPE", "TRON", "TROFF", "ENDMOVE_SPEED", "STARTMOVE_SPEED", "FLEXLINK", "CONNPATH",
-    "MOVELINK_MODIFY", "JERK",
+    "MOVELINK_MODIFY", "REP_OPTION", "CLUTCH_RATE", "JERK", "LIMIT_BUFFERED",
     # parameters of spec §10.11's tables the simulator does not model: refused by name, so a
     # program does not read them as a local variable that is 0
-    "TRANS_DPOS", "TRANSITIONS", "TICKS", "INDEVICE", "LOOKUP", "FRAME",
+    "REP_DIST", "DATUM_IN", "FE_LATCH", "TRANS_DPOS", "TRANSITIONS", "D_GAIN", "P_GAIN",
+    "I_GAIN", "VFF_GAIN", "OV_GAIN", "DRIVE_STATUS", "TICKS", "INDEVICE", "LOOKUP", "FRAME",
     "COMMSERROR", "MSPEEDF",
-})
+}) - MOTION_WORDS
 
 
 def index_rows() -> list[tuple[str, str, bool]]:

@@ -170,12 +170,12 @@ class _Line:
         if method is not None and word in _KEYWORDS:
             self.i += 1
             return method(ln, col)
-        if word in MOVE_ARGS:
-            self.i += 1
-            return self.move(word, ln, col)
         if word in SETUP_COMMANDS:
             self.i += 1
             return self.setup_command(word, ln, col)
+        if word in MOVE_ARGS:
+            self.i += 1
+            return self.move(word, ln, col)
         if word in ALL_PARAMS:
             self.i += 1
             target = self.param_ref(word, col)

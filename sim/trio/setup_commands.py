@@ -109,12 +109,12 @@ def _setcom(ctx: Context, args: tuple[float, ...], _n: int) -> None:
     for i, allowed in _SETCOM_CHOICES:
         if int(args[i]) not in allowed:
             raise BasicError(f"Parameter out of range: SETCOM argument {i + 1} = {args[i]:g}")
-    ctx.ctrl.comms.setcom[int(args[4])] = args
+    ctx.ctrl.system.comms.setcom[int(args[4])] = args
 
 
 def _ethernet(ctx: Context, args: tuple[float, ...], _n: int) -> None:
     rw, fn = int(args[0]), int(args[2])
-    values = ctx.ctrl.comms.ethernet
+    values = ctx.ctrl.system.comms.ethernet
     if rw == 0:
         v = values.get(fn, 0.0)
         ctx.output(v if isinstance(v, str) else ctx.number(v), True, None)

@@ -22,6 +22,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from motionsim.sim.trio.basic_errors import BasicError
+from motionsim.sim.trio.setup_commands import Comms
 
 if TYPE_CHECKING:
     from motionsim.sim.trio.controller import TrioController
@@ -42,6 +43,7 @@ class SystemParams:
     def __init__(self, ctrl: TrioController) -> None:
         self.ctrl = ctrl
         self.wdog = 0
+        self.comms = Comms()  # what SETCOM / ETHERNET wrote
         self.limit_buffered = LIMIT_BUFFERED[ctrl.model.name][0]
         ctrl.buffers.depth = self.limit_buffered
 

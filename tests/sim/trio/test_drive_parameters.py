@@ -71,7 +71,7 @@ def test_set_up_commands_of_a_start_up_program_run_and_are_logged():
         "ENCODER_RATIO", "INVERT_IN"]
     assert c.get_variable("VR(50)") == 3.0  # the bus reads operational
     assert c.terminal("? IN(3)").reply == "1.0000"  # inverted: OFF reads ON
-    assert c.comms.setcom[2] == (9600.0, 8.0, 1.0, 2.0, 2.0, 4.0)
+    assert c.system.comms.setcom[2] == (9600.0, 8.0, 1.0, 2.0, 2.0, 4.0)
 
 
 def test_m216_547_ethernet_read_prints_the_default_ip_address():

@@ -44,7 +44,7 @@ def test_mc4_startup_program_sets_drives_comms_and_enables_them():
     assert [f["on"] for _t, f in fields(c, "wdog")] == [True]
     assert [f["text"] for _t, f in fields(c, "print", channel=5)] == [
         "start-up done, bus 3 buffered 16"]
-    assert c.comms.setcom[1] == (19200.0, 8.0, 1.0, 0.0, 1.0, 0.0)
+    assert c.system.comms.setcom[1] == (19200.0, 8.0, 1.0, 0.0, 1.0, 0.0)
 
 
 def test_mc4_startup_repeat_axis_wraps_after_start_up():
