@@ -33,6 +33,8 @@ from typing import TYPE_CHECKING
 from motionsim.sim.bounds import TRIO_RATE
 from motionsim.sim.errors import InvalidValue
 from motionsim.sim.timing import ServoClock
+from motionsim.sim.trio import scaling
+from motionsim.sim.trio.axis_status import StoredParams
 from motionsim.sim.trio.mtypes import IDLE
 
 if TYPE_CHECKING:
@@ -65,7 +67,9 @@ class Axis:
 
     __slots__ = (
         "n", "env", "clock", "speed", "accel", "decel", "creep", "units", "mtype", "ntype", "pos",
-        "merge", "sramp", "force_speed", "offset", "defpos", "on_profile_change", "queued",
+        "merge", "sramp", "force_speed", "on_profile_change", "queued",
+        "stored", "added", "added_edges0", "added_fixed", "encoder_ratio", "step_ratio",
+        "pending", "ahead",
     )
 
     def __init__(
@@ -76,11 +80,20 @@ class Axis:
         self.clock = clock
         self.mtype: Move | None = None
         self.ntype: Move | None = None
+        #: MC4xx look-ahead: the moves buffered behind NTYPE (NTYPE is its first entry; the
+        #: whole look-ahead holds LIMIT_BUFFERED moves, TJ2H-57)
+        self.ahead: list[Move] = []
         self.pos = 0.0  # committed demand position (user units) while no move executes
         self.speed = self.accel = self.decel = self.creep = self.units = 0.0
         self.merge = self.sramp = self.force_speed = 0.0
-        self.offset = 0.0  # OFFPOS written, applied at the next servo period
-        self.defpos: float | None = None  # DEFPOS(p) pending
+        #: DEFPOS / OFFPOS writes of this servo period, in order: ("DEFPOS", p) / ("OFFPOS", d)
+        self.pending: list[tuple[str, float]] = []
+        self.stored: StoredParams = StoredParams()  # the controller gives its own
+        self.added: Axis | None = None  # ADDAX: the axis whose demand changes are added
+        self.added_edges0 = 0.0  # that axis' demand (edges) when the link was made
+        self.added_fixed = 0.0  # what earlier ADDAX links added (user units)
+        self.encoder_ratio: tuple[float, float] = (1.0, 1.0)  # ENCODER_RATIO(den, num)
+        self.step_ratio: tuple[float, float] = (1.0, 1.0)  # STEP_RATIO(den, num)
         self.on_profile_change: Callable[[Axis], None] | None = None
         self.queued = 0  # moves for this axis waiting in a process buffer
         self.set(**{**DEFAULTS, **(params or {})})
@@ -121,6 +134,7 @@ class Axis:
             if key == "units" and self.units:
                 # The encoder count stays; the user-unit position rescales (DPOS = edges/UNITS).
                 self.pos = self.pos * self.units / float(value)
+                self.added_fixed = self.added_fixed * self.units / float(value)
             if key in _SWITCHES:
                 value = 1.0 if value else 0.0
             setattr(self, key, float(value))
@@ -149,8 +163,9 @@ class Axis:
             return None
         return self.clock.t(k) - m.t_start
 
-    def position(self, t: float | None = None) -> float:
-        """DPOS at ``t`` (default now), as of the last servo cycle."""
+    def own_position(self, t: float | None = None) -> float:
+        """The demand of the axis' own moves at ``t`` (default now), as of the last servo
+        cycle: what its moves start from (ADDAX adds to it, :meth:`position`)."""
         m = self.mtype
         if m is None:
             return self.pos
@@ -158,6 +173,46 @@ class Axis:
         if tau is None:
             return self.pos
         return m.positions(tau)[m.axes.index(self.n)]
+
+    def position(self, t: float | None = None) -> float:
+        """DPOS at ``t`` (default now), as of the last servo cycle, unwrapped: the axis' own
+        demand plus what ADDAX adds (M216-203: the added axis' demand changes, summed in
+        encoder edges)."""
+        own = self.own_position(t)
+        if self.added is None:
+            return own + self.added_fixed if self.added_fixed else own
+        return own + self.added_fixed + self._added_now(t)
+
+    def _added_now(self, t: float | None) -> float:
+        link = self.added
+        assert link is not None
+        return (link.position(t) * link.units - self.added_edges0) / self.units
+
+    def add_axis(self, link: Axis | None) -> None:
+        """ADDAX(link) / ADDAX(-1): from now on the demand changes of ``link`` add to this
+        axis' (none); what was added so far stays (the axis does not jump). ValueError for
+        a link back to this axis."""
+        if self.added is not None:
+            self.added_fixed += self._added_now(None)
+        self.added = None
+        if link is None:
+            return
+        a: Axis | None = link
+        while a is not None:
+            if a is self:
+                raise ValueError(f"ADDAX({link.n}) AXIS({self.n}) would add the axis to itself")
+            a = a.added
+        self.added = link
+        self.added_edges0 = link.position() * link.units
+
+    def wrap(self, x: float) -> float:
+        """``x`` as DPOS / MPOS read it: within the REP_DIST range (REP_OPTION bit 0)."""
+        st = self.stored.values
+        return scaling.wrap(x, self.units, st["REP_DIST"], int(st["REP_OPTION"]))
+
+    def dpos(self) -> float:
+        """DPOS (and MPOS: no following error) as read: whole edges, wrapped at REP_DIST."""
+        return self.wrap(self.position())
 
     def endmove(self) -> float:
         """ENDMOVE: the end position of the executing move (DPOS when idle or endless)."""
@@ -172,11 +227,43 @@ class Axis:
             return 0.0
         return m.remaining(self._tau(m, self.env.now))
 
+    # -- DEFPOS / OFFPOS ---------------------------------------------------------------------
+
+    @property
+    def offset(self) -> float:
+        """OFFPOS written: a shift applied at the next servo period (reads the pending one)."""
+        return self.offpos()
+
+    @offset.setter
+    def offset(self, value: float) -> None:
+        self.pending.append(("OFFPOS", float(value)))
+
+    @property
+    def defpos(self) -> float | None:
+        """DEFPOS(p) pending for the next servo period (the last one written), else None."""
+        for kind, v in reversed(self.pending):
+            if kind == "DEFPOS":
+                return v
+        return None
+
+    @defpos.setter
+    def defpos(self, value: float | None) -> None:
+        if value is not None:
+            self.pending.append(("DEFPOS", float(value)))
+
+    def pending_shift(self, t: float | None = None) -> float:
+        """The shift the DEFPOS / OFFPOS writes of this servo period make, applied in the
+        order written: DEFPOS(p) makes the position p, OFFPOS(d) then moves it by d (two
+        OFFPOS writes add up). None of them is lost (TRM p. 8-30: both act at the next servo
+        update, DEFPOS as an OFFPOS)."""
+        shift = 0.0
+        for kind, v in self.pending:
+            shift = (v - self.position(t)) if kind == "DEFPOS" else shift + v
+        return shift
+
     def offpos(self) -> float:
         """OFFPOS: the shift still to be applied at the next servo period (0 once applied)."""
-        if self.defpos is not None:
-            return self.defpos - self.position()
-        return self.offset
+        return self.pending_shift() if self.pending else 0.0
 
     def vp_speed(self) -> float:
         """VP_SPEED: the profile generator's path speed now."""
@@ -187,9 +274,33 @@ class Axis:
         return 0.0 if tau is None else m.speed(tau)
 
     def moves_buffered(self) -> int:
-        """MOVES_BUFFERED: MTYPE and NTYPE slots in use (whether the controller counts the
-        executing move is not documented, spec §1.4 ``[INF]``; here it does)."""
-        return (self.mtype is not None) + (self.ntype is not None)
+        """MOVES_BUFFERED: MTYPE, NTYPE and look-ahead slots in use (whether the controller
+        counts the executing move is not documented, spec §1.4 ``[INF]``; here it does)."""
+        return (self.mtype is not None) + (self.ntype is not None) + len(self.ahead)
+
+    def buffered(self) -> int:
+        """Moves in the look-ahead (NTYPE included)."""
+        return (self.ntype is not None) + len(self.ahead)
+
+    def buffer(self, m: Move) -> None:
+        """``m`` joins the look-ahead: NTYPE if that is free, else behind the others."""
+        if self.ntype is None:
+            self.ntype = m
+        else:
+            self.ahead.append(m)
+
+    def unbuffer(self, m: Move) -> None:
+        """``m`` leaves the look-ahead (loaded or cancelled); the next one becomes NTYPE."""
+        if self.ntype is m:
+            self.ntype = self.ahead.pop(0) if self.ahead else None
+        elif m in self.ahead:
+            self.ahead.remove(m)
+
+    def last_buffered(self) -> Move | None:
+        """The move in the last position of the axis' buffers (MTYPE when none waits)."""
+        if self.ahead:
+            return self.ahead[-1]
+        return self.ntype if self.ntype is not None else self.mtype
 
     def read(self, name: str) -> float:
         """An axis parameter by its BASIC name (``MTYPE``, ``DPOS``, ``SPEED`` ...)."""
@@ -198,9 +309,9 @@ class Axis:
         if name == "NTYPE":
             return float(self.ntype_code)
         if name in ("DPOS", "MPOS"):
-            return self.position()
+            return self.dpos()
         if name == "ENDMOVE":
-            return self.endmove()
+            return self.wrap(self.endmove())
         if name == "REMAIN":
             return self.remain()
         if name == "IDLE":  # no move executing, next, or on its way in a process buffer
@@ -216,14 +327,14 @@ class Axis:
 
     def snapshot(self) -> dict[str, float | int]:
         """The API.md axis resource."""
-        dpos = self.position()
+        dpos = self.dpos()
         return {
             "axis": self.n,
             "mtype": self.mtype_code,
             "ntype": self.ntype_code,
             "dpos": dpos,
             "mpos": dpos,
-            "endmove": self.endmove(),
+            "endmove": self.wrap(self.endmove()),
             "remain": self.remain(),
             "speed": self.speed,
             "accel": self.accel,

@@ -39,27 +39,15 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from motionsim.sim.trio.basic_errors import BasicError
+from motionsim.sim.trio.parameters import STORED, STORED_BY_NAME
+from motionsim.sim.trio.scaling import encoder_count
 
 if TYPE_CHECKING:
     from motionsim.sim.trio.axis import Axis
 
-STORED_DEFAULTS: dict[str, float] = {
-    "FS_LIMIT": 200_000_000.0,
-    "RS_LIMIT": -200_000_000.0,
-    "ERRORMASK": 268.0,
-    "FE_LIMIT": 2000.0,
-    "FE_RANGE": 0.0,
-    "AXIS_ENABLE": 1.0,
-    "SERVO": 0.0,
-    "JOGSPEED": 0.0,
-    "FASTDEC": 0.0,
-    "ATYPE": 0.0,
-}
-
-#: Switches: any non-zero value reads back 1 (ON).
-_SWITCHES = frozenset({"AXIS_ENABLE", "SERVO"})
-#: Parameters that take no negative value.
-_NON_NEGATIVE = frozenset({"ERRORMASK", "FE_LIMIT", "FE_RANGE", "JOGSPEED", "FASTDEC", "ATYPE"})
+#: Power-up values of every stored axis parameter (the table of
+#: :data:`motionsim.sim.trio.parameters.STORED`).
+STORED_DEFAULTS: dict[str, float] = {p.name: p.power_up for p in STORED}
 
 DATUMING = 1 << 6
 FS_LIMIT_BIT = 1 << 9
@@ -77,11 +65,14 @@ class StoredParams:
         return self.values[name]
 
     def write(self, name: str, value: float) -> None:
-        if name in _NON_NEGATIVE and value < 0:
+        """Write ``name``; a value below the parameter's range is a BasicError, and the
+        value is kept as the table's ``kind`` says (truncated, or a switch reading 1)."""
+        spec = STORED_BY_NAME[name]
+        if spec.low is not None and value < spec.low:
             raise BasicError(f"Parameter out of range: {name}={value:g}")
-        if name in _SWITCHES:
+        if spec.kind == "switch":
             value = 1.0 if value else 0.0
-        elif name in ("ERRORMASK", "ATYPE"):
+        elif spec.kind == "int":
             value = float(int(value))
         self.values[name] = float(value)
 
@@ -103,4 +94,18 @@ def axisstatus(axis: Axis, params: StoredParams) -> int:
     return bits
 
 
-__all__ = ["STORED_DEFAULTS", "StoredParams", "axisstatus"]
+def computed(name: str, axis: Axis) -> float:
+    """A read-only axis parameter computed from the motion (parameters.AXIS_COMPUTED):
+    AXISSTATUS; MSPEED and VPSPEED = VP_SPEED (MPOS = DPOS); FE = DPOS - MPOS = 0 (the
+    simulated servo loop follows exactly, ``[INF]``); ENCODER the raw encoder count that gives
+    MPOS through ENCODER_RATIO (:mod:`motionsim.sim.trio.scaling`)."""
+    if name == "AXISSTATUS":
+        return float(axisstatus(axis, axis.stored))
+    if name == "FE":
+        return 0.0
+    if name == "ENCODER":
+        return encoder_count(axis.position(), axis.units, axis.encoder_ratio)
+    return axis.vp_speed()
+
+
+__all__ = ["STORED_DEFAULTS", "StoredParams", "axisstatus", "computed"]

@@ -17,6 +17,10 @@ interrupt, sequencing first — on into MTYPE where MTYPE is free. So:
 2. else -> ``p``'s process buffer (PMOVE = 1), a servo interrupt is scheduled at the next
    period; with every buffer of ``A`` empty the move starts executing at that period.
 
+MC4xx: NTYPE is the head of a per-axis look-ahead of ``depth`` (LIMIT_BUFFERED) moves
+(TJ2H-57); sequencing needs room in the look-ahead of every axis of the move, loading needs the
+move to be first in line on all of them. On the MC2xx generation the depth is 1 (NTYPE only).
+
 Then, at every servo period ``k`` at which something can change, in this order (TJ2P-21):
 
 1. *sequencing*: a process buffer move goes to NTYPE when the NTYPE of **every** axis it
@@ -44,10 +48,12 @@ DECEL is needed because the decision is made before the ramp down starts. Here: 
 mergeable move enters NTYPE while MTYPE still holds a move that has not yet passed the point
 where its profile starts to slow down for the end (``diverges_at``), the MTYPE move is
 re-planned to end at speed (the part already run is unchanged). A move that enters NTYPE
-later finds the ramp down under way and the pair is not merged. The buffer steps stay per
-servo period — ``move_end`` at cycle ``e``, the NTYPE move's ``move_start`` at ``e + 1`` —
-but the merged move's profile starts at the exact instant the previous one ended, at its end
-speed, so DPOS runs on without a pause. CANCEL(1) of a move already merged onto leaves the
+later finds the ramp down under way and the pair is not merged. At a merged joint the NTYPE
+move takes over MTYPE in the servo period ``e`` where the first ends (``move_end`` and
+``move_start`` both at ``e``), its profile starting at the exact instant the previous one
+ended, at its end speed: DPOS runs on without a pause and MTYPE, VP_SPEED and MSPEED never
+read a stop (issue 22). Consecutive CAMBOX / MOVELINK on one link axis are joined the same way
+(MOVELINK-MD: "merged together automatically"). CANCEL(1) of a move already merged onto leaves the
 MTYPE move ending at speed (``[INF]``).
 
 Only the servo periods where something happens cost a SimPy event: move ends are scheduled
@@ -65,9 +71,11 @@ from motionsim.sim.events import EventLog
 from motionsim.sim.simpy_adapter import URGENT, triggered_at
 from motionsim.sim.timing import ServoClock
 from motionsim.sim.trio.axis import Axis
+from motionsim.sim.trio.datum import DatumMove
 from motionsim.sim.trio.linked import LinkedMove
 from motionsim.sim.trio.moves import Move
 from motionsim.sim.trio.profile import diverges_at
+from motionsim.sim.trio.scaling import nearest_edge
 
 Placed = str  # "mtype" | "ntype" | "process_buffer"
 
@@ -124,8 +132,13 @@ class MotionBuffers:
         self._watchers: list[tuple[Callable[[], bool], Callable[[], None]]] = []
         self._dead = False
         self._next_id = 0
-        self._links: dict[LinkedMove, None] = {}  # CAMBOX / MOVELINK ending by link distance
+        #: moves looked at every servo period: CAMBOX / MOVELINK ending by link distance, a
+        #: CONNECT ramping at CLUTCH_RATE, a DATUM sequence watching its input
+        self._links: dict[Any, None] = {}
         self._offsets: set[int] = set()  # axes with a DEFPOS / OFFPOS to apply
+        #: LIMIT_BUFFERED: moves the look-ahead of an axis holds, NTYPE included (TJ2H-57);
+        #: 1 on the MC2xx generation (NTYPE only)
+        self.depth = 1
         for ax in axes:
             ax.on_profile_change = self._profile_changed
 
@@ -243,7 +256,8 @@ class MotionBuffers:
         tau = self.clock.t(now_k) - m.t_start
         base = self.axes[m.axes[0]]
         m.cancel_at(tau, base.decel, base.sramp / 1000.0)
-        self._links.pop(m, None)  # type: ignore[call-overload]
+        if not isinstance(m, DatumMove):  # a DATUM sequence ramps down in its own ticks
+            self._links.pop(m, None)  # type: ignore[call-overload]
         self._reschedule_end(m, now_k)
 
     def _reschedule_end(self, m: Move, now_k: int) -> None:
@@ -279,15 +293,15 @@ class MotionBuffers:
         t = self.clock.t(k)
         for n in sorted(self._offsets):
             ax = self.axes[n]
-            off = (ax.defpos - ax.position(t)) if ax.defpos is not None else ax.offset
-            ax.defpos, ax.offset = None, 0.0
+            off = ax.pending_shift(t)
+            ax.pending.clear()
             ax.pos += off
             m = ax.mtype
             if m is not None and m.start_tick is not None:
                 m.shift(m.axes.index(n), off)
             for lm in self._active:
                 if isinstance(lm, LinkedMove) and lm.link is ax:
-                    lm.m0 += off
+                    lm.link_shifted(off)
             self.log.emit("offpos", axis=n, offset=off)
         self._offsets.clear()
 
@@ -303,6 +317,8 @@ class MotionBuffers:
         ):
             return False
         old.rebase_ratio(self.clock.t(k), new.args[0], ax)
+        if old.needs_tick():
+            self._links[old] = None
         return True
 
     def _modify(self, mm: Move, k: int) -> bool:
@@ -311,7 +327,7 @@ class MotionBuffers:
         §10.2: MC4 help text; the MC2xx page was not reachable). A new end behind the
         executing move's present position cancels it at DECEL first (same source)."""
         ax = self.axes[mm.axes[0]]
-        target = ax.ntype if ax.ntype is not None else ax.mtype
+        target = ax.last_buffered()
         if (
             target is None or len(target.axes) != 1 or target.cancelled
             or target.geom not in ("MOVE", "MOVEABS") or target.merged_into is not None
@@ -343,7 +359,7 @@ class MotionBuffers:
         self._merged_from.pop(m, None)
         for a in m.axes:
             ax = self.axes[a]
-            ax.ntype = None
+            ax.unbuffer(m)
             self._changed(ax)
         self._kick()
 
@@ -360,8 +376,8 @@ class MotionBuffers:
         if mode == 2:
             for p in sorted(self.process_buffer):
                 self._pb_take(p)
-            for m in list(self._ntype):
-                self.cancel_next(m.axes[0])
+            while self._ntype:
+                self.cancel_next(self._ntype[0].axes[0])
         for m in list(self._active):
             self.cancel(m.axes[0])
 
@@ -381,10 +397,21 @@ class MotionBuffers:
     def _can_progress(self) -> bool:
         axes = self.axes
         for m in self._ntype:
-            if all(axes[a].mtype is None for a in m.axes):
+            ms = m.axes
+            if len(ms) == 1:
+                ax = axes[ms[0]]
+                if ax.mtype is None and ax.ntype is m:
+                    return True
+            elif all(axes[a].mtype is None and axes[a].ntype is m for a in ms):
                 return True
+        depth = self.depth
         for m in self.process_buffer.values():
-            if all(axes[a].ntype is None for a in m.axes):
+            ms = m.axes
+            if depth == 1:
+                if (axes[ms[0]].ntype is None if len(ms) == 1
+                        else all(axes[a].ntype is None for a in ms)):
+                    return True
+            elif all(axes[a].buffered() < depth for a in ms):
                 return True
         if self._links or self._offsets:
             return True
@@ -409,10 +436,12 @@ class MotionBuffers:
                     self._pb_take(p)
                     continue
                 if (axes[ms[0]].ntype is None if len(ms) == 1
-                        else all(axes[a].ntype is None for a in ms)):
+                        else all(axes[a].ntype is None for a in ms)) or (
+                        self.depth > 1 and all(axes[a].buffered() < self.depth for a in ms)):
                     self._pb_take(p, emit=False)
-                    if (axes[ms[0]].mtype is None if len(ms) == 1
-                            else all(axes[a].mtype is None for a in ms)):
+                    if (axes[ms[0]].mtype is None and axes[ms[0]].ntype is None
+                            if len(ms) == 1 else
+                            all(axes[a].mtype is None and axes[a].ntype is None for a in ms)):
                         # NTYPE and MTYPE free: sequenced and loaded in this same interrupt;
                         # the zero-length stay in NTYPE is not reported as a change
                         self.log.emit("process_buffer", process=p, axis=m.axes[0], mtype=0)
@@ -424,20 +453,22 @@ class MotionBuffers:
                         continue
                     self._ntype.append(m)
                     for a in m.axes:
-                        axes[a].ntype = m
+                        axes[a].buffer(m)
                         self._changed(axes[a])
                     self.log.emit("process_buffer", process=p, axis=m.axes[0], mtype=0)
-                    if axes[m.axes[0]].merge:
+                    if axes[m.axes[0]].merge and axes[m.axes[0]].ntype is m:
                         self._try_merge(m)
         # 2. move loading: NTYPE -> MTYPE, the move starts now
         if self._ntype:
             for m in list(self._ntype):
-                if all(axes[a].mtype is None for a in m.axes):
+                ms = m.axes
+                if (axes[ms[0]].mtype is None and axes[ms[0]].ntype is m if len(ms) == 1 else
+                        all(axes[a].mtype is None and axes[a].ntype is m for a in ms)):
                     self._ntype.remove(m)
                     self._active[m] = None
                     for a in m.axes:
                         ax = axes[a]
-                        ax.ntype = None
+                        ax.unbuffer(m)
                         ax.mtype = m
                         self._changed(ax)
                     self._begin(m, k)
@@ -446,8 +477,13 @@ class MotionBuffers:
         if self._links:
             t = self.clock.t(k)
             for lm in list(self._links):
-                if lm.link_done(t):
-                    del self._links[lm]
+                if lm.start_tick is not None and lm.start_tick >= k:
+                    continue  # started in this period: first looked at in the next
+                what = lm.tick(t)
+                if what is None:
+                    continue
+                del self._links[lm]
+                if what == "end":
                     lm.finish_at(t - lm.t_start)
                     lm.end_tick = k
                     self._ending.setdefault(k, []).append(lm)
@@ -455,15 +491,41 @@ class MotionBuffers:
         for m in ending:
             del self._active[m]
             nxt = m.merged_into
-            if nxt is not None and m.profile is not None and axes[m.axes[0]].ntype is nxt:
-                self._merged_from[nxt] = (m.t_start + m.profile.duration, m.profile.v_end)
             final = m.final_positions()
             for i, a in enumerate(m.axes):
                 ax = axes[a]
-                ax.pos = final[i]
+                f, u = final[i], ax.units
+                e = f * u
+                ax.pos = f if e % 1.0 == 0.0 else nearest_edge(f, u)  # at rest on a whole edge
                 ax.mtype = None
                 self.log.emit("move_end", axis=a, mtype=m.mtype)
-                self._changed(ax)
+            linked_next = None if type(m) is Move else self._link_successor(m)
+            if linked_next is not None or (
+                    nxt is not None and m.profile is not None and axes[m.axes[0]].ntype is nxt):
+                if linked_next is not None:
+                    # consecutive CAMBOX / MOVELINK on one link axis run as one profile
+                    # (MOVELINK-MD example 5): the next goes on from the link position this
+                    # one ended at, in the same servo period
+                    nxt = linked_next
+                else:
+                    # MERGE: the next move takes over in this same servo period, from the
+                    # exact instant this one's profile ended, at its end speed: MTYPE,
+                    # VP_SPEED and MSPEED never read a stop at the joint while the axes run on
+                    assert m.profile is not None
+                    self._merged_from[nxt] = (m.t_start + m.profile.duration, m.profile.v_end)
+                self._ntype.remove(nxt)
+                self._active[nxt] = None
+                for a in nxt.axes:
+                    axes[a].unbuffer(nxt)
+                    axes[a].mtype = nxt
+                for a in m.axes:
+                    self._changed(axes[a])
+                self._begin(nxt, k)
+                if linked_next is not None:
+                    linked_next.continue_from(m)
+                continue
+            for a in m.axes:
+                self._changed(axes[a])
         # 4. processes waiting at a move line: their move goes into the freed buffer
         if self._waiters:
             pb = self.process_buffer
@@ -502,8 +564,19 @@ class MotionBuffers:
         base = axes[0]
         if base.merge and base.ntype is not None:
             self._try_merge(base.ntype)
-        if isinstance(m, LinkedMove) and m.kind in ("CAMBOX", "MOVELINK"):
+        if type(m) is not Move and m.needs_tick():
             self._links[m] = None
+
+    def _link_successor(self, m: Move) -> LinkedMove | None:
+        """The CAMBOX / MOVELINK waiting in NTYPE behind the CAMBOX / MOVELINK ``m`` that ended
+        by its link distance, on the same link axis (None: no such joint)."""
+        if not isinstance(m, LinkedMove) or m.run is None or m.cancelled:
+            return None
+        nxt = self.axes[m.axes[0]].ntype
+        if (isinstance(nxt, LinkedMove) and nxt.kind in ("CAMBOX", "MOVELINK")
+                and nxt.link is m.link and nxt.axes == m.axes):
+            return nxt
+        return None
 
     def _end_merged(self, m: Move) -> None:
         """Schedule the end of a move whose profile origin is not its start cycle."""

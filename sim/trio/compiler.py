@@ -204,6 +204,13 @@ class _Compiler:
 
         self.emit(op, st)
 
+    def st_SetupCmd(self, st: s.SetupCmd) -> None:
+        name = st.name
+        args = [compile_expr(a) for a in st.args]
+        axis = compile_expr(st.axis) if st.axis is not None else None
+        self.emit(lambda c: c.setup_command(
+            name, tuple(a(c) for a in args), axis(c) if axis is not None else None), st)
+
     def st_OpWrite(self, st: s.OpWrite) -> None:
         args = [compile_expr(a) for a in st.args]
         self.emit(lambda c: c.op_write([a(c) for a in args]), st)

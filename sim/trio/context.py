@@ -15,9 +15,10 @@ from typing import TYPE_CHECKING, Any
 
 from motionsim.sim.errors import InvalidValue
 from motionsim.sim.trio import basic_errors as msg
-from motionsim.sim.trio.axis_status import axisstatus
+from motionsim.sim.trio.axis_status import computed
 from motionsim.sim.trio.basic_errors import BasicError
 from motionsim.sim.trio.compiler import HALT, Block, WaitFor
+from motionsim.sim.trio.datum import datum_move
 from motionsim.sim.trio.linked import LINKED, LinkedMove, check_linked, link_axis_of
 from motionsim.sim.trio.models import format_number, hex_text
 from motionsim.sim.trio.moves import Move
@@ -126,10 +127,7 @@ class Context:
         raise BasicError(f"Unknown parameter {name}")
 
     def _computed(self, name: str, n: int) -> float:
-        ax = self.ctrl.axes[n]
-        if name == "AXISSTATUS":
-            return float(axisstatus(ax, self.ctrl.stored[n]))
-        return ax.vp_speed()  # MSPEED (MPOS = DPOS) and VPSPEED (VP_SPEED's other name)
+        return computed(name, self.ctrl.axes[n])
 
     def _last_error(self, name: str, p: int) -> float:
         """RUN_ERROR / ERROR_LINE PROC(p): 0 until the process stops on a run-time error; then
@@ -153,6 +151,13 @@ class Context:
             return io.ain(args[0])
         return io.read_op(args[0])
 
+    def setup_command(self, name: str, args: tuple[float, ...], axis: float | None) -> None:
+        """A set-up command (ADDAX, ENCODER_RATIO, SETCOM ...): :mod:`~motionsim.sim.trio.
+        setup_commands`."""
+        from motionsim.sim.trio.setup_commands import run_command  # the motion tables' module
+
+        run_command(self, name, args, axis)
+
     def op_write(self, args: list[float]) -> None:
         if len(args) == 2:
             self.ctrl.io.op(args[0], args[1])
@@ -172,8 +177,8 @@ class Context:
         if name == "OUTDEVICE":
             self.outdevice = self.ctrl.channels.check(value)
             return
-        if name == "WDOG":
-            self.ctrl.system.set_wdog(value)
+        if name in SYSTEM_PARAMS:  # WDOG, LIMIT_BUFFERED
+            self.ctrl.system.write(name, value)
             return
         n = self.base_axis(axis)
         if name in AXIS_STORED:
@@ -222,6 +227,8 @@ class Context:
         move: Move
         if kind in LINKED:
             move = self._linked(kind, args, axes[0], text)
+        elif kind == "DATUM":
+            move = datum_move(self.ctrl, axes[0], args, self.process, text)
         else:
             move = Move(self.ctrl.buffers.new_id(), kind, axes, args, self.process, text)
             if kind in SP_GEOMETRY:  # FORCE_SPEED as it is when the SP move is issued
@@ -240,7 +247,7 @@ class Context:
             step = 1 if hi >= lo else -1
             table = [self.table(i) for i in range(lo, hi + step, step)]
         move = LinkedMove(self.ctrl.buffers.new_id(), kind, (base,), args, self.process, text)
-        move.bind(link_axis, table)
+        move.bind(link_axis, table, self.ctrl.table)
         return move
 
     def defpos(self, values: list[float], axis: float | None = None) -> None:

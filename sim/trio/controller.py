@@ -30,9 +30,11 @@ from motionsim.sim.errors import BufferFull, Conflict, InvalidValue, NotFound
 from motionsim.sim.timing import ServoClock
 from motionsim.sim.trio.axis import DEFAULTS, Axis
 from motionsim.sim.trio.axis_status import StoredParams
+from motionsim.sim.trio.basic_errors import BasicError
 from motionsim.sim.trio.buffers import MotionBuffers, Waiter
 from motionsim.sim.trio.compiler import Code, compile_program
 from motionsim.sim.trio.context import Context
+from motionsim.sim.trio.datum import datum_move
 from motionsim.sim.trio.io import CHANNELS, IoImage
 from motionsim.sim.trio.linked import LINKED
 from motionsim.sim.trio.models import DEFAULT_MODEL
@@ -66,6 +68,9 @@ class TrioController(Controller):
     #: The command line answers at the current instant and never moves a virtual clock
     #: (API.md): ``ControllerHandle.command`` returns a locked line pending at once.
     terminal_wait_s = 0.0
+
+    #: Events of the motion modules: a set-up command ran, a DATUM sequence found its datum.
+    event_types += ("setup", "datum")
 
     def __init__(
         self, id: str, config: Mapping[str, Any] | None = None, *, log_capacity: int = 100_000
@@ -108,6 +113,8 @@ class TrioController(Controller):
         self.io = IoImage(self.log)
         self.system = SystemParams(self)
         self.stored = [StoredParams() for _ in range(self.n_axes)]
+        for ax, st in zip(self.axes, self.stored, strict=True):
+            ax.stored = st
         self.command_line = CommandLine(self)
         self._move_waits: dict[int, Waiter] = {}
 
@@ -207,7 +214,13 @@ class TrioController(Controller):
                 field="axis",
             )
         text = f"{kind}({','.join(f'{a:g}' for a in args)}) AXIS({axis})"
-        move = Move(self.buffers.new_id(), kind, axes, args, p, text)
+        if kind == "DATUM":
+            try:
+                move: Move = datum_move(self, axis, args, p, text)
+            except BasicError as exc:
+                raise InvalidValue(exc.message, field="args") from None
+        else:
+            move = Move(self.buffers.new_id(), kind, axes, args, p, text)
         if kind in SP_GEOMETRY:
             move.force_speed = self.axes[axis].force_speed
         if not wait:

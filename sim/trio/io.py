@@ -35,6 +35,7 @@ class IoImage:
         self.log = log
         self.outputs = [0] * CHANNELS
         self.inputs = [0] * CHANNELS
+        self.inverted = [0] * CHANNELS  # INVERT_IN(n, ON): input n reads inverted
 
     @staticmethod
     def channel(n: float, what: str) -> int:
@@ -66,10 +67,18 @@ class IoImage:
         """IN(n), or IN(a, b) as a binary number (bit 0 = input a)."""
         a = self.channel(first, "IN")
         if last is None:
-            return float(self.inputs[a])
+            return float(self.input(a))
         b = self.channel(last, "IN")
         lo, hi = min(a, b), max(a, b)
-        return float(sum(self.inputs[i] << (i - lo) for i in range(lo, hi + 1)))
+        return float(sum(self.input(i) << (i - lo) for i in range(lo, hi + 1)))
+
+    def input(self, i: int) -> int:
+        """Input ``i`` as the program sees it (1 / 0), INVERT_IN applied."""
+        return self.inputs[i] ^ self.inverted[i]
+
+    def invert(self, i: int, on: bool) -> None:
+        """INVERT_IN(i, ON / OFF)."""
+        self.inverted[i] = 1 if on else 0
 
     def ain(self, n: float) -> float:
         self.channel(n, "AIN")

@@ -11,6 +11,9 @@ HTTP 501 ``not_simulated``) — not as a syntax error. ``docs/trio.md`` prints t
 
 from __future__ import annotations
 
+from motionsim.sim.trio.parameters import STORED
+from motionsim.sim.trio.setup_commands import COMMANDS
+
 #: TRM chapter 8 contents, by section, in the manual's order.
 INDEX: dict[str, tuple[str, ...]] = {
     "Motion and Axis Commands": (
@@ -33,8 +36,14 @@ INDEX: dict[str, tuple[str, ...]] = {
     ),
 }
 
+#: Words the motion modules simulate (issue 22): the set-up commands of
+#: :mod:`~motionsim.sim.trio.setup_commands` and the stored start-up / drive parameters of
+#: :mod:`~motionsim.sim.trio.parameters` — simulated, so not refused (NOT_SIMULATED below).
+MOTION_WORDS = frozenset(COMMANDS) | frozenset(p.name for p in STORED) | {"LIMIT_BUFFERED"}
+_MOTION_INDEX = MOTION_WORDS & {kw for kws in INDEX.values() for kw in kws}
+
 #: Index entries the simulator runs (with the notes of docs/trio.md).
-SIMULATED = frozenset({
+SIMULATED = _MOTION_INDEX | frozenset({
     "AXIS", "BASE", "CAM", "CAMBOX", "CANCEL", "CONNECT", "DATUM", "DEFPOS", "FORWARD",
     "MHELICAL", "MHELICALSP", "MOVE", "MOVEABS", "MOVEABSSP", "MOVECIRC", "MOVECIRCSP",
     "MOVELINK", "MOVEMODIFY", "MOVESP", "RAPIDSTOP", "REVERSE",
@@ -62,7 +71,7 @@ NOT_SIMULATED = frozenset({
     "REP_DIST", "DATUM_IN", "FE_LATCH", "TRANS_DPOS", "TRANSITIONS", "D_GAIN", "P_GAIN",
     "I_GAIN", "VFF_GAIN", "OV_GAIN", "DRIVE_STATUS", "TICKS", "INDEVICE", "LOOKUP", "FRAME",
     "COMMSERROR", "MSPEEDF",
-})
+}) - MOTION_WORDS
 
 
 def index_rows() -> list[tuple[str, str, bool]]:

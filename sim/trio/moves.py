@@ -30,6 +30,7 @@ from typing import TYPE_CHECKING
 
 from motionsim.sim.trio.mtypes import MTYPE, SP_GEOMETRY
 from motionsim.sim.trio.profile import Profile, endless, hold, plan, trapezoid
+from motionsim.sim.trio.scaling import whole_edges
 
 if TYPE_CHECKING:
     from motionsim.sim.trio.axis import Axis
@@ -91,22 +92,36 @@ class Move:
         left off at path speed ``v0``.
         """
         base = axes[0]
-        self.p0 = p0 = tuple([ax.position() for ax in axes])
+        if len(axes) == 1:
+            self.p0 = p0 = (base.own_position(),)
+        else:
+            self.p0 = p0 = tuple([ax.own_position() for ax in axes])
         self.start_tick, self.t_start = tick, t_start
         speed = base.speed if self.force_speed is None else self.force_speed
         sramp_s = base.sramp / 1000.0
         self.v0 = v0
         kind, a = self.geom, self.args
         if kind == "MOVE" or kind == "MOVEABS" or kind == "DATUM":
+            # every distance in whole encoder edges (TJ1P-27: a fraction above 0.9 rounds up);
+            # MOVEABS goes to its target from where DPOS reads (REP_DIST range)
             if len(p0) == 1:
                 x0 = p0[0]
-                d = a[0] if kind == "MOVE" else (a[0] - x0 if kind == "MOVEABS" else -x0)
+                d = a[0] if kind == "MOVE" else (
+                    a[0] - base.wrap(base.position()) if kind == "MOVEABS" else -x0)
+                u = base.units
+                if (d * u) % 1.0 != 0.0:
+                    d = whole_edges(d, u)
                 length = d if d >= 0.0 else -d
                 self.unit = (1.0,) if d >= 0.0 else (-1.0,)
                 self.end_pos = (x0 + d,)
             else:
-                rel = kind == "MOVE"
-                deltas = a if rel else tuple([x - p for x, p in zip(a, p0, strict=True)])
+                if kind == "MOVE":
+                    deltas = a
+                else:
+                    deltas = tuple([x - ax.wrap(ax.position())
+                                    for x, ax in zip(a, axes, strict=True)])
+                deltas = tuple([whole_edges(d, ax.units)
+                                for d, ax in zip(deltas, axes, strict=True)])
                 length = math.sqrt(sum([d * d for d in deltas]))
                 self.unit = tuple([d / length for d in deltas]) if length > 0.0 else deltas
                 self.end_pos = tuple([p + d for p, d in zip(p0, deltas, strict=True)])
@@ -119,6 +134,7 @@ class Move:
             self.end_pos = p0
         else:  # MOVECIRC, MHELICAL
             e1, e2, c1, c2, direction = a[:5]
+            e1, e2 = whole_edges(e1, axes[0].units), whole_edges(e2, axes[1].units)
             cx, cy = p0[0] + c1, p0[1] + c2
             r = math.hypot(c1, c2)
             th0 = math.atan2(-c2, -c1)
@@ -127,7 +143,7 @@ class Move:
             sweep = (sign * (th1 - th0)) % (2.0 * math.pi)
             if sweep < 1e-9:
                 sweep = 2.0 * math.pi
-            d3 = a[5] if kind == "MHELICAL" else 0.0
+            d3 = whole_edges(a[5], axes[2].units) if kind == "MHELICAL" else 0.0
             length = math.hypot(r * sweep, d3)
             end = [p0[0] + e1, p0[1] + e2]
             if kind == "MHELICAL":
@@ -256,6 +272,16 @@ class Move:
 
     def speed(self, tau: float) -> float:
         return self.profile.v(tau) if self.profile is not None else 0.0
+
+    def needs_tick(self) -> bool:
+        """Whether the move must be looked at every servo period while it executes (it ends
+        on an outside event: a link distance, an input), see :meth:`tick`."""
+        return False
+
+    def tick(self, t: float) -> str | None:
+        """One servo period at instant ``t``: None to go on, ``"end"`` when the move is over,
+        ``"idle"`` when it needs no more looks."""
+        return "idle"
 
 
 __all__ = ["Move"]

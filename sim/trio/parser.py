@@ -20,6 +20,7 @@ from motionsim.sim.trio.keywords import NOT_SIMULATED
 from motionsim.sim.trio.lexer import Token, tokenize
 from motionsim.sim.trio.linked import LINKED
 from motionsim.sim.trio.parameters import ALL_PARAMS, CONSTANTS, WRITABLE
+from motionsim.sim.trio.setup_commands import COMMANDS as SETUP_COMMANDS
 
 #: Motion commands that enter the buffers, with the argument counts they accept.
 MOVE_ARGS: dict[str, tuple[int, int]] = {
@@ -169,6 +170,9 @@ class _Line:
         if method is not None and word in _KEYWORDS:
             self.i += 1
             return method(ln, col)
+        if word in SETUP_COMMANDS:
+            self.i += 1
+            return self.setup_command(word, ln, col)
         if word in MOVE_ARGS:
             self.i += 1
             return self.move(word, ln, col)
@@ -219,6 +223,19 @@ class _Line:
                 want = str(lo) if lo == hi else f"{lo} to {hi}"
                 raise self.error(f"{kind} takes {want} arguments, got {len(args)}", args_col)
         return s.MoveCmd(ln, col, kind, args, self.axis_modifier())
+
+    def setup_command(self, name: str, ln: int, col: int) -> s.Stmt:
+        """A set-up command: its arguments (counts from the command table), ``AXIS(n)``."""
+        cmd = SETUP_COMMANDS[name]
+        args: tuple[s.Expr, ...] = ()
+        c = self.col()
+        if cmd.high and (cmd.low or self.at("(")):
+            args = self.args()
+        if not cmd.low <= len(args) <= cmd.high:
+            want = str(cmd.low) if cmd.low == cmd.high else f"{cmd.low} to {cmd.high}"
+            raise self.error(f"{name} takes {want} arguments, got {len(args)}", c)
+        axis = self.axis_modifier() if cmd.axis_command else None
+        return s.SetupCmd(ln, col, name, args, axis)
 
     def st_PRINT(self, ln: int, col: int) -> s.Stmt:
         channel = None

@@ -137,6 +137,16 @@ class MoveCmd(Stmt):
 
 
 @dataclass(frozen=True, slots=True)
+class SetupCmd(Stmt):
+    """A set-up command of :mod:`motionsim.sim.trio.setup_commands` (``ADDAX(2)``,
+    ``SETCOM(9600,8,1,2,2)``, ``UNIT_CLEAR``); ``axis`` is the ``AXIS(n)`` modifier."""
+
+    name: str
+    args: tuple[Expr, ...]
+    axis: Expr | None = None
+
+
+@dataclass(frozen=True, slots=True)
 class OpWrite(Stmt):
     """``OP(n, state)`` (one output) or ``OP(pattern)`` (outputs 8.. from the bits)."""
 

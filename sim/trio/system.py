@@ -10,15 +10,28 @@ Names from spec §10.11 "system:" and §9.9 (M224-291, M216-274, MCTPL):
 * ``SYSTEM_ERROR``, ``MOTION_ERROR`` — 0: no error model (no following error, drive faults
   or enforced limits, :mod:`motionsim.sim.trio.axis_status`) ``[INF]``;
 * ``ERROR_AXIS`` — -1 while no axis has a motion error ``[INF]``;
-* ``SERVO_PERIOD`` — in microseconds, from the config.
+* ``SERVO_PERIOD`` — in microseconds, from the config;
+* ``LIMIT_BUFFERED`` — how many moves the look-ahead of each axis holds, NTYPE included
+  (TJ2H-57): a move waits in its process buffer while the look-ahead of one of its axes is
+  full (:mod:`motionsim.sim.trio.buffers`). 64 on ``mc4xx`` (up to 64 buffers per axis,
+  TJ2P-20; power-up ``[BK]``), 1..64 writable there; 1 and fixed on the MC2xx generation.
 """
 
 from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from motionsim.sim.trio.basic_errors import BasicError
+from motionsim.sim.trio.setup_commands import Comms
+
 if TYPE_CHECKING:
     from motionsim.sim.trio.controller import TrioController
+
+#: LIMIT_BUFFERED per model: (power-up, largest). MC4xx: up to 64 motion buffers per axis
+#: (TJ2P-20), the look-ahead size LIMIT_BUFFERED (TJ2H-57), power-up 64 ``[BK]``; the MC2xx
+#: generation has NTYPE only (TN20, M206-320): 1, not changeable ``[INF]``.
+LIMIT_BUFFERED: dict[str, tuple[int, int]] = {"series2": (1, 1), "mc2xx": (1, 1),
+                                              "mc4xx": (64, 64)}
 
 #: Values fixed by this model of the controller (see the module docstring).
 _FIXED = {"SERIAL_NUMBER": 0.0, "SYSTEM_ERROR": 0.0, "MOTION_ERROR": 0.0, "ERROR_AXIS": -1.0}
@@ -30,6 +43,9 @@ class SystemParams:
     def __init__(self, ctrl: TrioController) -> None:
         self.ctrl = ctrl
         self.wdog = 0
+        self.comms = Comms()  # what SETCOM / ETHERNET wrote
+        self.limit_buffered = LIMIT_BUFFERED[ctrl.model.name][0]
+        ctrl.buffers.depth = self.limit_buffered
 
     def read(self, name: str) -> float:
         m = self.ctrl.model
@@ -43,7 +59,21 @@ class SystemParams:
             return m.free
         if name == "SERVO_PERIOD":
             return self.ctrl.clock.period_s * 1e6
+        if name == "LIMIT_BUFFERED":
+            return float(self.limit_buffered)
         return _FIXED[name]
+
+    def write(self, name: str, value: float) -> None:
+        """A program writes a system parameter (WDOG, LIMIT_BUFFERED)."""
+        if name == "WDOG":
+            self.set_wdog(value)
+            return
+        top = LIMIT_BUFFERED[self.ctrl.model.name][1]
+        n = int(value)
+        if n != value or not 1 <= n <= top:
+            raise BasicError(f"Parameter out of range: LIMIT_BUFFERED={value:g} (1..{top})")
+        self.limit_buffered = n
+        self.ctrl.buffers.depth = n
 
     def set_wdog(self, value: float) -> None:
         on = 1 if value else 0

@@ -44,7 +44,7 @@ async def test_empty_program_body_is_422_and_not_stored(trio_api):
 
 
 async def test_not_simulated_at_the_rest_terminal_says_so(trio_api):
-    r = (await trio_api.post(f"{BASE}/terminal", json={"command": "ADDAX(2)"})).json()
+    r = (await trio_api.post(f"{BASE}/terminal", json={"command": "BACKLASH(1,2,3)"})).json()
     assert r["not_simulated"] is True and "not simulated" in r["detail"]
 
 

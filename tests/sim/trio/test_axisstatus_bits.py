@@ -55,10 +55,15 @@ def test_datuming_bit_while_a_datum_move_executes():
     c = make()
     c.terminal("MOVE(50)")
     run_to(c, 0.2)
-    c.terminal("DATUM(3)")  # back to 0 at CREEP (10 units/s): 5 s
+    c.terminal("DATUM_IN=5")
+    c.set_variable("IN(5)", 1)  # the (active-low) datum switch is clear
+    c.terminal("DATUM(4)")  # reverse at SPEED until the switch is reached
     run_to(c, 1.0)
     assert c.axis(0)["mtype"] == 12
     assert status(c) == 64
+    c.set_variable("IN(5)", 0)  # reached: creep forward off it
+    run_to(c, 1.5)
+    c.set_variable("IN(5)", 1)
     run_to(c, 10.0)
     assert c.axis(0)["mtype"] == 0 and status(c) == 0
 

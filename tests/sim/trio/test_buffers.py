@@ -17,7 +17,7 @@ from tests.sim.trio.conftest import cycle, fields, make, moves, next_period, run
         ("MOVECIRC", [10, 0, 5, 0, 0], 4),
         ("FORWARD", [], 10),
         ("REVERSE", [], 11),
-        ("DATUM", [3], 12),
+        ("DATUM", [1], 12),
     ],
 )
 def test_mtype_code_of_each_move_type(trio, kind, args, code):

@@ -63,8 +63,9 @@ def test_gearing_cam_roller_cutter_and_cam_follow_the_conveyor():
 
 
 def test_cp_feeder_keeps_ntype_full_and_never_stops_the_path():
-    """Every move after the first is loaded in the servo period after its predecessor ended
-    (NTYPE was full), MERGE runs them into each other at speed, and the program never waits."""
+    """Every move after the first takes over MTYPE in the servo period its predecessor ends
+    (NTYPE was full and MERGE runs them into each other at speed: MTYPE never reads 0 at a
+    joint), and the program never waits."""
     c = make()
     pts = [(100, 0), (200, 20), (300, 0), (400, 20), (500, 0), (600, 20)]
     c.set_variable("VR(0)", len(pts))
@@ -76,7 +77,7 @@ def test_cp_feeder_keeps_ntype_full_and_never_stops_the_path():
     runs = _runs(c, 0)
     assert len(runs) == len(pts)
     gaps = [cycle(c, b[0]) - cycle(c, a[1]) for a, b in zip(runs, runs[1:], strict=False)]
-    assert gaps == [1] * (len(pts) - 1)
+    assert gaps == [0] * (len(pts) - 1)
     assert "blocked" not in {f["state"] for _, f in fields(c, "process", process=1)}
     assert c.get_variable("VR(1)") > 0  # it did other work meanwhile
     assert (c.axis(0)["dpos"], c.axis(1)["dpos"]) == pytest.approx((600.0, 20.0))

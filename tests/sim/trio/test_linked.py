@@ -140,7 +140,7 @@ def test_cancel_stops_a_linked_move_where_it_is(trio):
     ("line", "message"),
     [
         ("CONNECT(1,0) AXIS(0)", "link axis must not be the base axis"),
-        ("CAMBOX(0,1,1,100,3,2) AXIS(0)", "link_options 2 not simulated"),
+        ("CAMBOX(0,1,1,100,3,1) AXIS(0)", "link_options bit 0 not simulated"),
         ("CAM(5,5,1,100) AXIS(0)", "TABLE points 5..5 out of range"),
         ("MOVELINK(10,0,0,0,3) AXIS(0)", "link distance must be positive"),
     ],

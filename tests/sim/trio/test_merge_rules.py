@@ -3,10 +3,11 @@
 Rules as written down in :mod:`motionsim.sim.trio.buffers` (MERGE: TRM entry ``[BK]``, spec §1.6,
 §9.11): with MERGE ON on the base axis and the next move entering NTYPE before the MTYPE move
 has begun its ramp down, the MTYPE move ends at speed and the next one starts from that speed;
-only MOVE / MOVEABS / MOVECIRC / MHELICAL on the same axis group merge; the buffer steps stay
-per servo period (``move_end`` at ``e``, the next ``move_start`` at ``e + 1``). Axis settings as
-in conftest: MOVE(100) from rest to rest at period 1 ends at 111 (ramp down from 101 on); one
-that ends at speed (merged) at 106.
+only MOVE / MOVEABS / MOVECIRC / MHELICAL on the same axis group merge; at a merged joint the
+next move takes over MTYPE in the servo period the first ends (``move_end`` and ``move_start``
+both at ``e``), so MTYPE, VP_SPEED and MSPEED never read a stop while the axis runs on.
+Axis settings as in conftest: MOVE(100) from rest to rest at period 1 ends at 111 (ramp down
+from 101 on); one that ends at speed (merged) at 106.
 """
 
 from __future__ import annotations
@@ -28,16 +29,16 @@ def _merging(**axis0):
     return c
 
 
-def test_a_merged_move_still_spends_a_servo_period_in_mtype():
+def test_a_merged_move_takes_over_mtype_in_the_period_the_first_ends_and_spends_one_there():
     """MOVE(0.5) merged behind MOVE(100) with DECEL 10^7 needs only 0.55 ms from 1000 units/s
-    to rest, less than a period: it starts at 107 (the period after the first move's end at
-    106) and ends at 108, never in the period it started."""
-    c = _merging(decel=10_000_000)
+    to rest, less than a period: it takes over MTYPE at 106 (where the first ends) and ends at
+    107, never in the period it started (UNITS 10: half a unit is 5 whole edges)."""
+    c = _merging(decel=10_000_000, units=10)
     c.move(0, "MOVE", [100])
     next_period(c)
     c.move(0, "MOVE", [0.5])
     c.env.run()
-    assert _starts_ends(c) == ([1, 107], [106, 108])
+    assert _starts_ends(c) == ([1, 106], [106, 107])
     assert c.axis(0)["dpos"] == pytest.approx(100.5)
 
 

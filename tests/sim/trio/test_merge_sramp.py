@@ -48,8 +48,8 @@ def test_merge_off_by_default_moves_stop_between():
 
 def test_merge_on_second_move_loaded_runs_through_at_speed():
     """MERGE ON, the next move already in NTYPE: the first move ends at SPEED without its
-    ramp down (10 periods shorter, ends at 1 + 105), the second starts at the next servo
-    period at SPEED with no ramp up (its profile picks up where the first left off) and only
+    ramp down (10 periods shorter, ends at 1 + 105), the second takes over MTYPE in that same
+    servo period at SPEED with no ramp up (its profile picks up where the first left off) and only
     ramps down at its end: 5 + 90 + 95 + 5 units in 0.21 s."""
     c = make()
     c.set_axis(0, merge=1)
@@ -57,16 +57,16 @@ def test_merge_on_second_move_loaded_runs_through_at_speed():
     next_period(c)  # each move transits the process buffer
     c.move(0, "MOVE", [100])
     assert _dpos_at(c, 0.0505) == pytest.approx(44.0)  # 5 ramping + 39 cruising
-    assert _dpos_at(c, 0.1065) == pytest.approx(100.0)  # cycle 106: first move ended
+    assert _dpos_at(c, 0.1065) == pytest.approx(100.0)  # cycle 106: the joint
     assert _dpos_at(c, 0.1075) == pytest.approx(101.0)  # cycle 107: on at 1000 units/s
     assert c.axis(0)["vp_speed"] == pytest.approx(1000.0)
     assert _dpos_at(c, 0.2005) == pytest.approx(194.0)  # still cruising: no ramp between
     c.env.run()
-    assert _starts_ends(c) == ([1, 107], [106, 211])
+    assert _starts_ends(c) == ([1, 106], [106, 211])
     assert c.axis(0)["dpos"] == pytest.approx(200.0)
-    # MTYPE / NTYPE promotion stays per servo period: move_end at e, move_start at e + 1
+    # at a merged joint the next move takes over MTYPE in the period the first ends
     kinds = [(e.type, cycle(c, e.t)) for e in c.log.events("move_start", "move_end")]
-    assert kinds == [("move_start", 1), ("move_end", 106), ("move_start", 107),
+    assert kinds == [("move_start", 1), ("move_end", 106), ("move_start", 106),
                      ("move_end", 211)]
 
 
@@ -82,7 +82,7 @@ def test_merge_streams_from_a_program_through_the_process_buffer():
     starts, ends = _starts_ends(c)
     s1 = starts[0]
     assert [e - s1 for e in ends] == [105, 205, 310]
-    assert [s - s1 for s in starts] == [0, 106, 206]
+    assert [s - s1 for s in starts] == [0, 105, 205]
     assert c.axis(0)["dpos"] == pytest.approx(300.0)
 
 
@@ -106,7 +106,7 @@ def test_merge_too_late_once_the_ramp_down_has_begun():
     early.env.run()
     starts, ends = _starts_ends(early)
     # first: 5 units ramping up in 0.01 s, then 5 at SPEED: ends at 1 + 15
-    assert ends[0] == 16 and starts[1] == 17
+    assert ends[0] == 16 and starts[1] == 16
     # second: from 1000 units/s, 5 units cruising then 5 ramping down: 0.015 s after 0.016
     assert ends[1] == 31
     assert early.axis(0)["dpos"] == pytest.approx(20.0)
@@ -258,5 +258,5 @@ def test_merge_of_interpolated_moves_uses_the_base_axis_merge():
     assert c.axis(1)["dpos"] == pytest.approx(0.8 * 74)
     c.env.run()
     for axis in (0, 1):
-        assert _starts_ends(c, axis) == ([1, 57], [56, 111])
+        assert _starts_ends(c, axis) == ([1, 56], [56, 111])
     assert (c.axis(0)["dpos"], c.axis(1)["dpos"]) == pytest.approx((60.0, 80.0))

@@ -92,8 +92,9 @@ def test_movemodify_of_the_ntype_move_leaves_the_process_buffer_at_once(trio):
 def test_movemodify_cancels_only_when_the_new_end_needs_a_reversal(end, cancels):
     """At period 51 MOVE(100) is at 45 (MOVE(-100) at -45): an end half a unit behind needs a
     reversal (CANCEL at DECEL, then MTYPE 5 back to the end); on a move in the negative
-    direction -60 lies ahead (the same move now ends there) and -30 behind."""
-    c = make()
+    direction -60 lies ahead (the same move now ends there) and -30 behind (UNITS 10: the
+    half unit is 5 whole edges)."""
+    c = make(units=10)
     sign = 1.0 if end > 0 else -1.0
     c.move(0, "MOVE", [100.0 * sign])
     run_to(c, 0.0505)
@@ -115,7 +116,7 @@ def _position_at(k: int, hold: bool, speed: float = 1000.0) -> float:
 
 
 def _modify_setup(hold: bool, speed: float = 1000.0):
-    c = make(speed=speed)
+    c = make(speed=speed, units=1e6)
     c.move(0, "MOVE", [100])
     run_to(c, 0.0505)
     if hold:
@@ -133,7 +134,7 @@ def test_movemodify_to_where_a_moving_axis_is_needs_a_reversal(speed):
     c.move(0, "MOVEMODIFY", [here])
     run_to(c, 1.0)
     assert [m for _, m in _starts(c, 0)] == [1, 5] and _modified(c) == []
-    assert c.axis(0)["dpos"] == pytest.approx(here)
+    assert c.axis(0)["dpos"] == pytest.approx(here, abs=1e-6)  # on the nearest whole edge
 
 
 @pytest.mark.parametrize("ahead", [0.0, 0.5])

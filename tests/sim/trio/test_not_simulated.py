@@ -14,7 +14,7 @@ from motionsim.sim.trio.keywords import INDEX, NOT_SIMULATED, SIMULATED, index_r
 @pytest.mark.parametrize(
     ("text", "line", "column", "keyword"),
     [
-        ("MOVE(10)\nADDAX(1)\n", 2, 1, "ADDAX"),
+        ("MOVE(10)\nBACKLASH(1,2,3)\n", 2, 1, "BACKLASH"),
         ("IF TICKS<0 THEN\n MOVE(1)\nENDIF\n", 1, 4, "TICKS"),
         ("x=1\n  PSWITCH(1,ON)\n", 2, 3, "PSWITCH"),
         ("ON x GOSUB a,b\n", 1, 1, "ON"),
@@ -43,7 +43,7 @@ def test_syntax_error_is_still_a_parse_error(trio):
 
 
 def test_not_simulated_at_the_command_line_is_an_error_reply(trio):
-    r = trio.terminal("ADDAX(2) AXIS(0)")
+    r = trio.terminal("BACKLASH(1,2,3) AXIS(0)")
     assert r.done and "not simulated" in r.error and "column 1" in r.error
     assert r.detail is not None and r.detail[0] == "not_simulated"
 
@@ -61,5 +61,5 @@ def test_index_split_into_simulated_and_not():
     assert len(rows) == sum(len(v) for v in INDEX.values())
     assert {"MOVEMODIFY", "CONNECT", "CAM", "CAMBOX", "DEFPOS", "PRINT#", "HEX", "OP", "IN",
             "READ_OP", "AIN"} <= SIMULATED
-    assert {"ADDAX", "REGIST", "PSWITCH", "TICKS"} <= NOT_SIMULATED
+    assert {"BACKLASH", "REGIST", "PSWITCH", "TICKS"} <= NOT_SIMULATED
     assert not SIMULATED & NOT_SIMULATED

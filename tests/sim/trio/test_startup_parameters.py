@@ -71,10 +71,13 @@ def test_power_up_value_at_the_command_line(name, reply):
     assert (r.reply, r.error) == (reply, None)
 
 
-#: The power-up values docs/trio.md and sim/trio/axis_status.py document ([BK]).
+#: The power-up values docs/trio.md and sim/trio/parameters.py document (the gains: TRM
+#: pp. 8-165, 8-171, 8-173; the others [BK]).
 DOCUMENTED_POWER_UP = {
     "FS_LIMIT": 200_000_000, "RS_LIMIT": -200_000_000, "ERRORMASK": 268, "FE_LIMIT": 2000,
     "FE_RANGE": 0, "AXIS_ENABLE": 1, "SERVO": 0, "JOGSPEED": 0, "FASTDEC": 0, "ATYPE": 0,
+    "P_GAIN": 1, "I_GAIN": 0, "D_GAIN": 0, "OV_GAIN": 0, "VFF_GAIN": 0, "DRIVE_STATUS": 0,
+    "FE_LATCH": 0, "DATUM_IN": -1, "REP_DIST": 200_000_000, "REP_OPTION": 0, "CLUTCH_RATE": 0,
 }
 
 
