@@ -13,13 +13,19 @@ structure of blocks (FOR/NEXT, IF/ENDIF, labels) is checked by :mod:`motionsim.s
 
 from __future__ import annotations
 
+import math
+import re
+
 from motionsim.sim.errors import NotSimulated, ParseError
 from motionsim.sim.trio import statements as s
+from motionsim.sim.trio.constants import CONSTANTS, LANGUAGE_PARAMS
 from motionsim.sim.trio.expressions import FUNCTIONS
-from motionsim.sim.trio.keywords import NOT_SIMULATED
+from motionsim.sim.trio.keywords import INDEX, MC4_MODELS, MC4_WORDS, NOT_SIMULATED
 from motionsim.sim.trio.lexer import Token, tokenize
 from motionsim.sim.trio.linked import LINKED
-from motionsim.sim.trio.parameters import ALL_PARAMS, CONSTANTS, WRITABLE
+from motionsim.sim.trio.models import DEFAULT_MODEL
+from motionsim.sim.trio.parameters import ALL_PARAMS, WRITABLE
+from motionsim.sim.trio.strings import STRING_FUNCTIONS
 
 #: Motion commands that enter the buffers, with the argument counts they accept.
 MOVE_ARGS: dict[str, tuple[int, int]] = {
@@ -52,9 +58,25 @@ _KEYWORDS = frozenset(
         "PRINT", "FOR", "TO", "STEP", "NEXT", "IF", "THEN", "ELSE", "ELSEIF", "ENDIF",
         "WHILE", "WEND", "REPEAT", "UNTIL", "WAIT", "IDLE", "LOADED", "WA", "GOTO", "GOSUB",
         "RETURN", "STOP", "RUN", "BASE", "AXIS", "PROC", "CANCEL", "RAPIDSTOP", "VR", "TABLE",
-        "AND", "OR", "XOR", "NOT", "MOD", "DEFPOS", "HALT", "PROCESS", "HEX", "OP",
+        "AND", "OR", "XOR", "NOT", "MOD", "DEFPOS", "HALT", "PROCESS", "HEX", "OP", "ON",
+        "INCLUDE", "DIM", "GLOBAL", "CONSTANT",
     }
 ) | frozenset(MOVE_ARGS) | frozenset(ALIASES)
+
+#: Every parameter name, the language's own (TICKS, LAST_AXIS) included, and the writable ones.
+PARAMS = ALL_PARAMS | frozenset(LANGUAGE_PARAMS)
+PARAMS_WRITABLE = WRITABLE | frozenset(k for k, (_kind, w) in LANGUAGE_PARAMS.items() if w)
+
+#: Names that are Trio keywords on every model: never a local variable (spec §11.10).
+RESERVED = (
+    (_KEYWORDS - MC4_WORDS) | frozenset(FUNCTIONS) | frozenset(CONSTANTS) | PARAMS
+    | NOT_SIMULATED | frozenset({"BASICERROR", "IDLE", "LOADED", "STEP", "PROC"})
+    | frozenset(w for kws in INDEX.values() for k in kws
+                for w in re.findall(r"[A-Z_][A-Z0-9_]*", k))
+)
+
+#: DIM types (MC4, spec §11.4).
+TYPES = ("INTEGER", "FLOAT", "STRING", "BOOLEAN")
 
 _CMP = frozenset({"=", "<>", "<", "<=", ">", ">="})
 _EOL = Token("eol", "", 0)
@@ -63,11 +85,14 @@ _EOL = Token("eol", "", 0)
 class _Line:
     """Recursive-descent parser over the tokens of one source line."""
 
-    def __init__(self, text: str, line_no: int) -> None:
+    def __init__(self, text: str, line_no: int, model: str = DEFAULT_MODEL) -> None:
         self.text = text
         self.line_no = line_no
         self.toks = tokenize(text, line_no)
         self.i = 0
+        self.model = model
+        self.mc4 = model in MC4_MODELS
+        self.in_print = False
 
     # -- token helpers ------------------------------------------------------------------
 
@@ -115,12 +140,62 @@ class _Line:
         self.i += 1
         return tok.text
 
-    def string(self) -> str:
+    def string(self, what: str = "program name") -> str:
+        """A quoted name, also in brackets (``RUN("X")``, ``STOP("X")``, MC4 form ``[INF]``)."""
+        bracket = self.accept("(")
         tok = self.peek()
         if tok.kind != "string":
-            raise self.error("expected a quoted program name")
+            raise self.error(f"expected a quoted {what}")
         self.i += 1
+        if bracket and not self.at(","):
+            self.expect(")")
         return tok.text[1:-1].upper()
+
+    def reserved(self, word: str) -> bool:
+        """A Trio keyword of this model: never a local variable."""
+        return word in RESERVED or (self.mc4 and word in MC4_WORDS)
+
+    def mc4_only(self, word: str, col: int) -> ParseError:
+        return self.error(
+            f"{word} is not Trio BASIC on the {self.model} model: it came with the MC4xx / "
+            "MC6xx language (firmware 2.x)", col)
+
+    def variable_name(self, what: str = "variable") -> str:
+        """A name a program may use for its own variable: not a keyword."""
+        tok = self.peek()
+        word = self.name()
+        if self.reserved(word):
+            raise self.error(f"{word} is a Trio BASIC keyword: it cannot be a {what}", tok.col)
+        return word
+
+    def declared_name(self) -> tuple[str, int]:
+        """The quoted name of GLOBAL / CONSTANT: an identifier that is not a keyword."""
+        tok = self.peek()
+        name = self.string("name")
+        if not re.fullmatch(r"[A-Z_][A-Z0-9_]*", name):
+            raise self.error(f"{name!r} is not a valid variable name", tok.col)
+        if self.reserved(name):
+            raise self.error(f"{name} is a Trio BASIC keyword: it cannot be declared", tok.col)
+        return name, tok.col
+
+    def bit_suffix(self, node: s.Expr) -> s.Expr:
+        """``value.n`` (MC4): a ``.digits`` number written straight after a name, ``)`` or
+        ``]`` is bit ``n`` of that value (spec §11.8; ``a .4`` with a space stays a number)."""
+        tok = self.peek()
+        if tok.kind != "number" or tok.text[0] != "." or not tok.text[1:].isdigit():
+            return node
+        prev = self.toks[self.i - 1] if self.i else None
+        if prev is None or prev.col + len(prev.text) != tok.col:
+            return node
+        if not self.mc4:
+            raise self.error(
+                f"bit access '{prev.text}{tok.text}' is not Trio BASIC on the {self.model} "
+                "model: it came with the MC4xx / MC6xx language (firmware 2.x)", tok.col)
+        bit = int(tok.text[1:])
+        if bit > 63:
+            raise self.error(f"bit {bit} is out of range 0..63", tok.col)
+        self.i += 1
+        return s.Bit(node, bit)
 
     # -- lines and statements ----------------------------------------------------------
 
@@ -163,6 +238,18 @@ class _Line:
         if tok.kind != "name":
             raise self.error(f"a statement cannot start with {tok.text!r}")
         word = ALIASES.get(tok.text, tok.text)
+        if word in MC4_WORDS and not self.mc4:
+            nxt = self.peek(1)
+            if not (nxt.kind == "op" and nxt.text in ("=", "(")):
+                raise self.mc4_only(word, col)
+            return self.assignment(ln, col)  # an ordinary name on this model
+        if word in PARAMS:
+            self.i += 1
+            target = self.param_ref(word, col)
+            if word not in PARAMS_WRITABLE:
+                raise self.error(f"{word} cannot be written", col)
+            self.expect("=")
+            return s.Assign(ln, col, target, self.expr())
         if word in NOT_SIMULATED:
             raise self.not_simulated(word, col)
         method = getattr(self, "st_" + word, None)
@@ -172,20 +259,30 @@ class _Line:
         if word in MOVE_ARGS:
             self.i += 1
             return self.move(word, ln, col)
-        if word in ALL_PARAMS:
-            self.i += 1
-            target = self.param_ref(word, col)
-            if word not in WRITABLE:
-                raise self.error(f"{word} cannot be written", col)
-            self.expect("=")
-            return s.Assign(ln, col, target, self.expr())
-        if word in _KEYWORDS or word in FUNCTIONS or word in CONSTANTS:
+        if word in CONSTANTS:
+            raise self.error(f"{word} is a constant: it cannot be written", col)
+        if self.reserved(word):
+            nxt = self.peek(1)
+            if nxt.kind == "op" and nxt.text == "=":
+                raise self.error(f"{word} is a Trio BASIC keyword: it cannot be a variable", col)
             raise self.error(f"{word} is not a command here", col)
-        self.i += 1
+        return self.assignment(ln, col)
+
+    def assignment(self, ln: int, col: int) -> s.Stmt:
+        """``name = e``, ``name(i) = e`` (an array element, MC4), ``name.n = e`` (a bit, MC4)."""
+        word = self.take().text
+        target: s.Local | s.Element | s.Bit = s.Local(word)
+        if self.at("(") and self.mc4:
+            self.i += 1
+            target = s.Element(word, self.expr())
+            self.expect(")")
+        bit = self.bit_suffix(target)
+        if isinstance(bit, s.Bit):
+            target = bit
         if not self.at("="):
             raise self.error(f"unknown command {word!r}", col)
         self.i += 1
-        return s.Assign(ln, col, s.Local(word), self.expr())
+        return s.Assign(ln, col, target, self.expr())
 
     def not_simulated(self, word: str, col: int) -> NotSimulated:
         return NotSimulated(
@@ -281,13 +378,17 @@ class _Line:
         formats: list[tuple[int, int] | None] = []
         while not self.end_of_statement() and not self.at("ELSE"):
             e: s.Expr | s.Hex
-            if self.peek().kind == "string":
+            if self.peek().kind == "string" and not self.mc4:
                 e = s.Str(self.take().text[1:-1])
             elif self.accept("HEX"):
                 (value,) = self.args_exact(1, "HEX")
                 e = s.Hex(value)
             else:
-                e = self.expr()
+                self.in_print = True  # PRINT("text"): a bracketed string item (spec §11.8)
+                try:
+                    e = self.expr()
+                finally:
+                    self.in_print = False
             formats.append(self.print_format() if not isinstance(e, (s.Str, s.Hex)) else None)
             sep = ""
             if self.at(";") or self.at(","):
@@ -298,7 +399,7 @@ class _Line:
         return tuple(items), tuple(formats)
 
     def st_FOR(self, ln: int, col: int) -> s.Stmt:
-        var = self.name()
+        var = self.variable_name("loop variable")
         self.expect("=")
         start = self.expr()
         self.expect("TO")
@@ -402,8 +503,87 @@ class _Line:
 
     def st_VR(self, ln: int, col: int) -> s.Stmt:
         (index,) = self.args_exact(1, "VR")
+        target: s.VrRef | s.Bit = s.VrRef(index)
+        bit = self.bit_suffix(target)
+        if isinstance(bit, s.Bit):
+            target = bit
         self.expect("=")
-        return s.Assign(ln, col, s.VrRef(index), self.expr())
+        return s.Assign(ln, col, target, self.expr())
+
+    # -- MC4 declarations, error trap, multi-way branches -------------------------------
+
+    def st_ON(self, ln: int, col: int) -> s.Stmt:
+        """``ON BASICERROR GOTO label`` or ``ON expr GOSUB|GOTO l1, l2, ...``."""
+        if self.accept("BASICERROR"):
+            if not self.accept("GOTO"):
+                raise self.error("ON BASICERROR needs GOTO and a label")
+            if self.peek().kind != "name":
+                raise self.error("ON BASICERROR GOTO needs the label of the error handler")
+            return s.OnError(ln, col, self.name())
+        value = self.expr()
+        if self.accept("GOSUB"):
+            gosub = True
+        elif self.accept("GOTO"):
+            gosub = False
+        else:
+            raise self.error("ON expr needs GOSUB or GOTO and a list of labels")
+        labels = [self.name()]
+        while self.accept(","):
+            labels.append(self.name())
+        return s.OnBranch(ln, col, value, tuple(labels), gosub)
+
+    def st_INCLUDE(self, ln: int, col: int) -> s.Stmt:
+        return s.Include(ln, col, self.string())
+
+    def st_DIM(self, ln: int, col: int) -> s.Stmt:
+        """``DIM name[(n)] AS INTEGER|FLOAT|STRING[(length)]|BOOLEAN`` (spec §11.4)."""
+        name = self.variable_name()
+        size = self.whole_number("array size") if self.accept("(") else None
+        if size is not None:
+            self.expect(")")
+        self.expect("AS")
+        tok = self.peek()
+        kind = self.name() if tok.kind == "name" else ""
+        if kind not in TYPES:
+            raise self.error(f"DIM needs a type ({', '.join(TYPES)})", tok.col)
+        length = None
+        if self.accept("("):
+            n = self.whole_number("string length" if kind == "STRING" else "array size")
+            self.expect(")")
+            if kind == "STRING":
+                length = n
+            elif size is None:
+                size = n  # DIM x AS FLOAT(n): an array of n ([INF], spec §2.5)
+            else:
+                raise self.error("the array size is given twice")
+        return s.Dim(ln, col, name, kind, size, length)
+
+    def whole_number(self, what: str) -> int:
+        tok = self.peek()
+        if tok.kind != "number" or not tok.text.isdigit() or int(tok.text) < 1:
+            raise self.error(f"expected a whole number >= 1 for the {what}")
+        self.i += 1
+        return int(tok.text)
+
+    def st_GLOBAL(self, ln: int, col: int) -> s.Stmt:
+        """``GLOBAL "name", vr``: the name of a VR for every program (spec §11.4)."""
+        name, _c = self.declared_name()
+        self.expect(",")
+        tok = self.peek()
+        if tok.kind != "number" or not tok.text.isdigit():
+            raise self.error("GLOBAL needs the VR number (a whole number)")
+        self.i += 1
+        return s.Global(ln, col, name, int(tok.text))
+
+    def st_CONSTANT(self, ln: int, col: int) -> s.Stmt:
+        """``CONSTANT "name", value``: a named number for every program (spec §11.4)."""
+        name, _c = self.declared_name()
+        self.expect(",")
+        c = self.col()
+        value = self.expr()
+        if not isinstance(value, s.Num):
+            raise self.error("CONSTANT needs a number", c)
+        return s.Constant(ln, col, name, value.value)
 
     def st_TABLE(self, ln: int, col: int) -> s.Stmt:
         args = self.args()
@@ -473,16 +653,25 @@ class _Line:
         if tok.kind == "number":
             self.i += 1
             text = tok.text
-            return s.Num(float(int(text[1:], 16)) if text[0] == "$" else float(text))
+            value = float(int(text[1:], 16)) if text[0] == "$" else float(text)
+            if not math.isfinite(value):
+                raise self.error(f"number {text} is out of range", tok.col)
+            return s.Num(value)
         if tok.kind == "string":
-            raise self.error("a string is only allowed in PRINT")
+            if not (self.mc4 or self.in_print):
+                raise self.error("a string is only allowed in PRINT")
+            self.i += 1
+            return s.Str(tok.text[1:-1])
         if tok.kind == "op" and tok.text == "(":
             self.i += 1
             e = self.expr()
             self.expect(")")
-            return e
+            return self.bit_suffix(e)
         if tok.kind != "name":
             raise self.error(f"expected a value, found {tok.text or 'end of line'!r}")
+        return self.bit_suffix(self.named_value(tok))
+
+    def named_value(self, tok: Token) -> s.Expr:
         word = tok.text
         self.i += 1
         if word == "VR":
@@ -496,7 +685,15 @@ class _Line:
         if word in FUNCTIONS:
             arity = FUNCTIONS[word][0]
             return s.Call(word, self.args_exact(arity, word))
-        if word in ALL_PARAMS:
+        if word in STRING_FUNCTIONS and self.mc4:
+            lo, hi = STRING_FUNCTIONS[word][:2]
+            c = self.col()
+            args = self.args()
+            if not lo <= len(args) <= hi:
+                want = str(lo) if lo == hi else f"{lo} or {hi}"
+                raise self.error(f"{word} takes {want} arguments, got {len(args)}", c)
+            return s.Call(word, args)
+        if word in PARAMS:
             return self.param_ref(word, tok.col)
         if word in IO_ARGS:
             return self.io_read(word, tok.col)
@@ -504,8 +701,15 @@ class _Line:
             raise self.not_simulated(word, tok.col)
         if word == "HEX":
             raise self.error("HEX() is only allowed as a PRINT item", tok.col)
-        if word in _KEYWORDS:
-            raise self.error(f"{word} cannot be used as a value", tok.col)
+        if word in MC4_WORDS and not self.mc4 and self.at("("):
+            raise self.mc4_only(word, tok.col)
+        if self.reserved(word):
+            raise self.error(f"{word} is a Trio BASIC keyword, not a value", tok.col)
+        if self.mc4 and self.at("("):
+            self.i += 1
+            index = self.expr()
+            self.expect(")")
+            return s.Element(word, index)
         return s.Local(word)
 
     def param_ref(self, word: str, col: int) -> s.Param:
@@ -518,17 +722,18 @@ class _Line:
         return s.Param(word, axis, proc)
 
 
-def parse_line(text: str, line_no: int = 1) -> list[s.Stmt]:
+def parse_line(text: str, line_no: int = 1, model: str = DEFAULT_MODEL) -> list[s.Stmt]:
     """The statements of one line of Trio BASIC (a command-line entry or a program line)."""
-    return _Line(text, line_no).parse()
+    return _Line(text, line_no, model).parse()
 
 
-def parse_program(text: str) -> s.Program:
-    """Parse a whole program text; raises :class:`ParseError` at the first bad line."""
+def parse_program(text: str, model: str = DEFAULT_MODEL) -> s.Program:
+    """Parse a whole program text in the language of ``model`` (series2 / mc2xx / mc4xx);
+    raises :class:`ParseError` at the first bad line."""
     lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
     out: list[s.Stmt] = []
     for i, line in enumerate(lines, start=1):
-        out.extend(_Line(line, i).parse())
+        out.extend(_Line(line, i, model).parse())
     return s.Program(tuple(out), tuple(lines))
 
 

@@ -29,7 +29,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 import simpy
-from motionsim.sim.trio.basic_errors import BasicError, error_line
+from motionsim.sim.trio.basic_errors import RUN_ERROR_STOPPED, BasicError, error_line
 from motionsim.sim.trio.buffers import Waiter, schedule_at
 from motionsim.sim.trio.compiler import HALT, Block, Code, Poll, Sleep, WaitFor
 from motionsim.sim.trio.context import Context
@@ -69,13 +69,31 @@ class BasicProcess:
     # -- the interpreter loop ----------------------------------------------------------------
 
     def _run(self):
-        code, ctx, log, env = self.code, self.ctx, self.ctrl.log, self.ctrl.env
+        log = self.ctrl.log
+        log.emit("process", process=self.number, state="running", line=self.line)
+        pc: int | None = 0
+        while pc is not None:
+            pc = yield from self._execute(pc)
+
+    def _trapped(self, number: int, message: str, line: int) -> int | None:
+        """ON BASICERROR: the handler's pc after an error (or a STOP, RUN_ERROR 31) at
+        ``line``, with a ``basic_error`` event; None when no handler takes it."""
+        target = self.ctx.enter_handler(number, line)
+        if target is None:
+            return None
+        self.ctrl.log.emit("basic_error", process=self.number, line=line, run_error=number,
+                           error=message, handler_line=self.code.lines[target]
+                           if target < len(self.code.lines) else line)
+        return target
+
+    def _execute(self, pc: int):
+        """Run from ``pc`` until the program ends (None) or an error / STOP is trapped (the
+        handler's pc)."""
+        code, ctx, env = self.code, self.ctx, self.ctrl.env
         ops, costs, lines = code.ops, code.costs, code.lines
         dt = self.ctrl.statement_s
         number = self.number
         n = len(ops)
-        pc = 0
-        log.emit("process", process=number, state="running", line=self.line)
         try:
             while pc < n:
                 self.pc = pc
@@ -111,9 +129,15 @@ class BasicProcess:
             self._finish(None)
         except BasicError as exc:
             self.line = lines[pc] if pc < n else self.line
+            target = self._trapped(exc.number, exc.message, self.line)
+            if target is not None:
+                return target
             self._finish(error_line(number, self.line, exc.message))
-        except simpy.Interrupt:
-            pass  # stop() has already withdrawn the wait and reported the process stopped
+        except simpy.Interrupt as intr:
+            if isinstance(intr.cause, tuple) and intr.cause[0] == "trap":
+                return intr.cause[1]  # STOP "prog" with a handler armed: go on there
+            # stop() has already withdrawn the wait and reported the process stopped
+        return None
 
     def _blocked(self, move: Any, text: str):
         env, log = self.ctrl.env, self.ctrl.log
@@ -149,6 +173,8 @@ class BasicProcess:
         self._pending.clear()
         if error is not None:
             self.ctrl.channels.write(self.number, 0, error)
+            if not self.ctx.run_error:
+                self.ctx.run_error, self.ctx.error_line = 1, self.line
         self.state, self.blocked_on, self.error = "stopped", None, error
         fields: dict[str, Any] = {"process": self.number, "state": "stopped", "line": self.line}
         if error is not None:
@@ -157,14 +183,22 @@ class BasicProcess:
 
     # -- control ---------------------------------------------------------------------------
 
-    def stop(self) -> None:
+    def stop(self, trap: bool = False) -> None:
         """Stop the program at once: the wait it is in (a move line, WAIT, WA) is withdrawn and
-        ``stopped`` is reported at the current instant."""
+        ``stopped`` is reported at the current instant. With ``trap`` (``STOP "prog"`` from
+        BASIC) and an ON BASICERROR handler armed, the program goes on in its handler with
+        RUN_ERROR 31 instead (spec §11.3 ``[INF]``)."""
         if self.state == "stopped" or not self.sim.is_alive:
             return
         self._withdraw_wait()
         if self.pc < len(self.code.lines):
             self.line = self.code.lines[self.pc]
+        if trap:
+            target = self._trapped(RUN_ERROR_STOPPED, "Program stopped", self.line)
+            if target is not None:
+                self.state, self.blocked_on = "running", None
+                self.sim.interrupt(("trap", target))
+                return
         self._finish(None)
         self.sim.interrupt("stop")
 
