@@ -243,6 +243,11 @@ class _Line:
             if not (nxt.kind == "op" and nxt.text in ("=", "(")):
                 raise self.mc4_only(word, col)
             return self.assignment(ln, col)  # an ordinary name on this model
+        nxt = self.peek(1)
+        if nxt.kind == "op" and nxt.text == "=" and word not in PARAMS and self.reserved(word):
+            if word in CONSTANTS:
+                raise self.error(f"{word} is a constant: it cannot be written", col)
+            raise self.error(f"{word} is a Trio BASIC keyword: it cannot be a variable", col)
         if word in PARAMS:
             self.i += 1
             target = self.param_ref(word, col)
@@ -259,12 +264,7 @@ class _Line:
         if word in MOVE_ARGS:
             self.i += 1
             return self.move(word, ln, col)
-        if word in CONSTANTS:
-            raise self.error(f"{word} is a constant: it cannot be written", col)
         if self.reserved(word):
-            nxt = self.peek(1)
-            if nxt.kind == "op" and nxt.text == "=":
-                raise self.error(f"{word} is a Trio BASIC keyword: it cannot be a variable", col)
             raise self.error(f"{word} is not a command here", col)
         return self.assignment(ln, col)
 
