@@ -114,7 +114,8 @@ VR(1) = 30 : RETURN
 
 def test_tj2p5_138_on_goto_out_of_range_is_an_error():
     c = make()
-    c.store_program("G", "k = 2\nON k GOTO a, b\na:\nVR(1) = 1\nb:\nVR(2) = 2\nON k + 1 GOTO a, b\n")
+    c.store_program("G", "k = 2\nON k GOTO a, b\na:\nVR(1) = 1\nb:\nVR(2) = 2\n"
+                         "ON k + 1 GOTO a, b\n")
     c.run_program("G", 1)
     run_to(c, 0.1)
     assert (c.vr[1], c.vr[2]) == (0.0, 2.0)
