@@ -192,66 +192,93 @@ def compile_expr(node: s.Expr, scope: Scope | None = None) -> Eval:
     resolves declared names (:mod:`motionsim.sim.trio.scope`); a type error raises
     :class:`~motionsim.sim.trio.scope.ExprError`.
     """
-    if isinstance(node, s.Num):
-        v = node.value
-        return lambda c: v
-    if isinstance(node, s.Str):
-        text = node.value
-        return lambda c: text
-    if isinstance(node, s.Local):
-        return _local(node, scope)
-    if isinstance(node, s.Element):
-        return _element(node, scope)
-    if isinstance(node, s.Bit):
-        inner = _num(node.operand, scope, "bit access")
-        bit = node.bit
-        return lambda c: float((int(inner(c)) >> bit) & 1)
-    if isinstance(node, s.VrRef):
-        idx = _num(node.index, scope, "VR()")
-        return lambda c: c.vr(idx(c))
-    if isinstance(node, s.TableRef):
-        idx = _num(node.index, scope, "TABLE()")
-        return lambda c: c.table(idx(c))
-    if isinstance(node, s.Param):
-        name = node.name
-        axis = _num(node.axis, scope, "AXIS()") if node.axis is not None else None
-        proc = _num(node.proc, scope, "PROC()") if node.proc is not None else None
-        if axis is None and proc is None:
-            return lambda c: c.param(name, None, None)
-        if proc is None:
-            return lambda c: c.param(name, axis(c), None)
-        return lambda c: c.param(name, axis(c) if axis else None, proc(c))
-    if isinstance(node, s.Unary):
-        inner = _num(node.operand, scope, f"unary {node.op}")
-        if node.op == "-":
-            return lambda c: -inner(c)
-        return lambda c: float(~int(inner(c)))
-    if isinstance(node, s.Binary):
-        if kind_of(node.left, scope) == "str" or kind_of(node.right, scope) == "str":
-            return _string_binary(node, scope)
-        left, right = compile_expr(node.left, scope), compile_expr(node.right, scope)
-        fn = _BINARY[node.op]
-        if node.op == "+":
-            return lambda c: left(c) + right(c)
-        if node.op == "-":
-            return lambda c: left(c) - right(c)
-        if node.op == "*":
-            return lambda c: left(c) * right(c)
-        return lambda c: fn(left(c), right(c))
-    if isinstance(node, s.Call):
-        if node.name in STRING_FUNCTIONS:
-            return _string_call(node, scope)
-        impl = FUNCTIONS[node.name][1]
-        args = [_num(a, scope, node.name) for a in node.args]
-        if len(args) == 1:
-            (a,) = args
-            return lambda c: float(impl(a(c)))
-        return lambda c: float(impl(*(a(c) for a in args)))
-    if isinstance(node, s.IoRead):
-        io_name = node.name
-        io_args = [_num(a, scope, io_name) for a in node.args]
-        return lambda c: c.io_read(io_name, [a(c) for a in io_args])
-    raise TypeError(f"not an expression: {node!r}")
+    build = _COMPILE.get(node.__class__)
+    if build is None:
+        raise TypeError(f"not an expression: {node!r}")
+    return build(node, scope)
+
+
+def _c_num(node: s.Num, scope: Scope | None) -> Eval:
+    v = node.value
+    return lambda c: v
+
+
+def _c_str(node: s.Str, scope: Scope | None) -> Eval:
+    text = node.value
+    return lambda c: text
+
+
+def _c_bit(node: s.Bit, scope: Scope | None) -> Eval:
+    inner = _num(node.operand, scope, "bit access")
+    bit = node.bit
+    return lambda c: float((int(inner(c)) >> bit) & 1)
+
+
+def _c_vr(node: s.VrRef, scope: Scope | None) -> Eval:
+    idx = _num(node.index, scope, "VR()")
+    return lambda c: c.vr(idx(c))
+
+
+def _c_table(node: s.TableRef, scope: Scope | None) -> Eval:
+    idx = _num(node.index, scope, "TABLE()")
+    return lambda c: c.table(idx(c))
+
+
+def _c_param(node: s.Param, scope: Scope | None) -> Eval:
+    name = node.name
+    axis = _num(node.axis, scope, "AXIS()") if node.axis is not None else None
+    proc = _num(node.proc, scope, "PROC()") if node.proc is not None else None
+    if axis is None and proc is None:
+        return lambda c: c.param(name, None, None)
+    if proc is None:
+        return lambda c: c.param(name, axis(c), None)
+    return lambda c: c.param(name, axis(c) if axis else None, proc(c))
+
+
+def _c_unary(node: s.Unary, scope: Scope | None) -> Eval:
+    inner = _num(node.operand, scope, f"unary {node.op}")
+    if node.op == "-":
+        return lambda c: -inner(c)
+    return lambda c: float(~int(inner(c)))
+
+
+def _c_binary(node: s.Binary, scope: Scope | None) -> Eval:
+    if kind_of(node.left, scope) == "str" or kind_of(node.right, scope) == "str":
+        return _string_binary(node, scope)
+    left, right = compile_expr(node.left, scope), compile_expr(node.right, scope)
+    op = node.op
+    if op == "+":
+        return lambda c: left(c) + right(c)
+    if op == "-":
+        return lambda c: left(c) - right(c)
+    if op == "*":
+        return lambda c: left(c) * right(c)
+    fn = _BINARY[op]
+    return lambda c: fn(left(c), right(c))
+
+
+def _c_call(node: s.Call, scope: Scope | None) -> Eval:
+    if node.name in STRING_FUNCTIONS:
+        return _string_call(node, scope)
+    impl = FUNCTIONS[node.name][1]
+    args = [_num(a, scope, node.name) for a in node.args]
+    if len(args) == 1:
+        (a,) = args
+        return lambda c: float(impl(a(c)))
+    return lambda c: float(impl(*(a(c) for a in args)))
+
+
+def _c_io(node: s.IoRead, scope: Scope | None) -> Eval:
+    io_name = node.name
+    io_args = [_num(a, scope, io_name) for a in node.args]
+    return lambda c: c.io_read(io_name, [a(c) for a in io_args])
+
+
+_COMPILE: dict[type, Callable[[Any, Scope | None], Eval]] = {
+    s.Num: _c_num, s.Str: _c_str, s.Local: _local, s.Element: _element, s.Bit: _c_bit,
+    s.VrRef: _c_vr, s.TableRef: _c_table, s.Param: _c_param, s.Unary: _c_unary,
+    s.Binary: _c_binary, s.Call: _c_call, s.IoRead: _c_io,
+}
 
 
 __all__ = ["FALSE", "FUNCTIONS", "FUZZ", "TRUE", "compile_expr", "kind_of", "truth"]

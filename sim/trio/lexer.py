@@ -15,11 +15,12 @@ from motionsim.sim.errors import ParseError
 _TOKEN = re.compile(
     r"""
      (?P<ws>[ \t\r]+)
-    |(?P<comment>'.*)
-    |(?P<number>\$[0-9A-Fa-f]+|(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)
-    |(?P<string>"[^"]*")
     |(?P<name>[A-Za-z_][A-Za-z0-9_]*)
     |(?P<op><>|<=|>=|[-+*/^=<>(),;:?#\[\]])
+    |(?P<number>\$[0-9A-Fa-f]+|(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)
+    |(?P<string>"[^"]*")
+    |(?P<comment>'.*)
+    |(?P<bad>.)
     """,
     re.X,
 )
@@ -33,25 +34,28 @@ class Token(NamedTuple):
     col: int
 
 
+_new = tuple.__new__
+
+
 def tokenize(line: str, line_no: int) -> list[Token]:
     """The tokens of one source line (comments dropped)."""
     out: list[Token] = []
-    pos, n = 0, len(line)
-    while pos < n:
-        m = _TOKEN.match(line, pos)
-        if m is None:
-            ch = line[pos]
-            msg = "unterminated string" if ch == '"' else f"unexpected character {ch!r}"
-            raise ParseError(msg, line=line_no, column=pos + 1, text=line)
+    append = out.append
+    for m in _TOKEN.finditer(line):
         kind = m.lastgroup
+        if kind == "ws":
+            continue
+        if kind == "comment":
+            break
         text = m.group()
         if kind == "name":
             text = text.upper()
             if text == "REM":
                 break
-        if kind not in ("ws", "comment"):
-            out.append(Token(kind, text, pos + 1))  # type: ignore[arg-type]
-        pos = m.end()
+        elif kind == "bad":
+            msg = "unterminated string" if text == '"' else f"unexpected character {text!r}"
+            raise ParseError(msg, line=line_no, column=m.start() + 1, text=line)
+        append(_new(Token, (kind, text, m.start() + 1)))  # Token(...) without its __new__
     return out
 
 

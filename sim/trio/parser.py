@@ -79,6 +79,17 @@ RESERVED = (
 TYPES = ("INTEGER", "FLOAT", "STRING", "BOOLEAN")
 
 _CMP = frozenset({"=", "<>", "<", "<=", ">", ">="})
+
+#: Binary operators and their precedence, highest last (spec §9.2); unary - and NOT bind
+#: tighter than all of them.
+_PRECEDENCE: dict[str, int] = {
+    "AND": 1, "OR": 1, "XOR": 1,
+    **dict.fromkeys(_CMP, 2),
+    "+": 3, "-": 3,
+    "MOD": 4,
+    "*": 5, "/": 5,
+    "^": 6,
+}
 _EOL = Token("eol", "", 0)
 
 
@@ -97,8 +108,10 @@ class _Line:
     # -- token helpers ------------------------------------------------------------------
 
     def peek(self, ahead: int = 0) -> Token:
-        j = self.i + ahead
-        return self.toks[j] if j < len(self.toks) else _EOL
+        try:
+            return self.toks[self.i + ahead]
+        except IndexError:
+            return _EOL
 
     def take(self) -> Token:
         tok = self.peek()
@@ -106,8 +119,8 @@ class _Line:
         return tok
 
     def at(self, text: str) -> bool:
-        tok = self.peek()
-        return tok.kind in ("op", "name") and tok.text == text
+        # a string's text keeps its quotes and a number's is digits: only op / name match
+        return self.peek().text == text
 
     def accept(self, text: str) -> bool:
         if self.at(text):
@@ -594,47 +607,17 @@ class _Line:
 
     # -- expressions -------------------------------------------------------------------
 
-    def expr(self) -> s.Expr:
-        left = self.comparison()
-        while self.at("AND") or self.at("OR") or self.at("XOR"):
-            op = self.take().text
-            left = s.Binary(op, left, self.comparison())
-        return left
-
-    def comparison(self) -> s.Expr:
-        left = self.additive()
-        while self.peek().kind == "op" and self.peek().text in _CMP:
-            op = self.take().text
-            left = s.Binary(op, left, self.additive())
-        return left
-
-    def additive(self) -> s.Expr:
-        left = self.modulo()
-        while self.at("+") or self.at("-"):
-            op = self.take().text
-            left = s.Binary(op, left, self.modulo())
-        return left
-
-    def modulo(self) -> s.Expr:
-        left = self.term()
-        while self.at("MOD"):
-            self.i += 1
-            left = s.Binary("MOD", left, self.term())
-        return left
-
-    def term(self) -> s.Expr:
-        left = self.power()
-        while self.at("*") or self.at("/"):
-            op = self.take().text
-            left = s.Binary(op, left, self.power())
-        return left
-
-    def power(self) -> s.Expr:
+    def expr(self, min_prec: int = 1) -> s.Expr:
+        """Binary operators by precedence climbing over :data:`_PRECEDENCE` (spec §9.2: equal
+        precedence left to right)."""
         left = self.unary()
-        while self.at("^"):
+        while True:
+            op = self.peek().text
+            prec = _PRECEDENCE.get(op)
+            if prec is None or prec < min_prec:
+                return left
             self.i += 1
-            left = s.Binary("^", left, self.unary())
-        return left
+            left = s.Binary(op, left, self.expr(prec + 1))
 
     def unary(self) -> s.Expr:
         if self.accept("-"):
