@@ -20,10 +20,8 @@ The public methods act at the current simulated instant and never step the envir
 
 from __future__ import annotations
 
-import gc
 import re
-from collections.abc import Iterator, Mapping
-from contextlib import contextmanager
+from collections.abc import Mapping
 from typing import Any
 
 from motionsim.sim.bounds import TRIO_CONFIG
@@ -66,18 +64,6 @@ _CONFIG_DEFAULTS: dict[str, float] = {
 }
 _VARIABLE = re.compile(r"^\s*(VR|TABLE|IN|OP)\s*\(\s*(\d+)\s*\)\s*$", re.I)
 _PROGRAM_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]{0,31}$")
-
-
-@contextmanager
-def no_gc() -> Iterator[None]:
-    """The cyclic garbage collector paused for one bulk allocation (restored as it was)."""
-    was = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if was:
-            gc.enable()
 
 
 class TrioController(Controller):
@@ -294,18 +280,17 @@ class TrioController(Controller):
                 f"program {key}: the text is empty (a program needs at least one line)",
                 field="body",
             )
-        with no_gc():  # parse and compile allocate many small objects, none of them cyclic
-            try:
-                parsed = parse_program(text, self.model.name)
-            except (ParseError, NotSimulated) as exc:
-                exc.details.setdefault("program", key)
-                raise
-            code = self._compile(key, parsed, {key: parsed})
-            dependants = {
-                other: self._compile(other, self.parsed[other], {key: parsed})
-                for other, (_text, other_code) in self.programs.items()
-                if key in other_code.includes and other in self.parsed
-            }
+        try:
+            parsed = parse_program(text, self.model.name)
+        except (ParseError, NotSimulated) as exc:
+            exc.details.setdefault("program", key)
+            raise
+        code = self._compile(key, parsed, {key: parsed})
+        dependants = {
+            other: self._compile(other, self.parsed[other], {key: parsed})
+            for other, (_text, other_code) in self.programs.items()
+            if key in other_code.includes and other in self.parsed
+        }
         self.programs[key] = (text, code)
         self.parsed[key] = parsed
         for other, other_code in dependants.items():

@@ -104,9 +104,16 @@ _BINARY: dict[str, Callable[[float, float], float]] = {
 }
 
 
+#: Expressions that are numbers whatever their operands.
+_ALWAYS_NUM = frozenset({s.Num, s.VrRef, s.TableRef, s.Param, s.Unary, s.Bit, s.IoRead})
+
+
 def kind_of(node: s.Expr, scope: Scope | None = None) -> str:
     """``"str"`` for an expression whose value is text (MC4 strings), else ``"num"``."""
-    if isinstance(node, s.Str):
+    cls = node.__class__
+    if cls in _ALWAYS_NUM:
+        return "num"
+    if cls is s.Str:
         return "str"
     if isinstance(node, (s.Local, s.Element)) and scope is not None:
         decl = scope.get(node.name)

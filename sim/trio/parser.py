@@ -91,6 +91,7 @@ _PRECEDENCE: dict[str, int] = {
     "^": 6,
 }
 _EOL = Token("eol", "", 0)
+_PAD = [_EOL] * 4
 
 
 class _Line:
@@ -100,6 +101,7 @@ class _Line:
         self.text = text
         self.line_no = line_no
         self.toks = tokenize(text, line_no)
+        self.toks += _PAD  # end-of-line tokens: peek() past the end needs no bounds check
         self.i = 0
         self.model = model
         self.mc4 = model in MC4_MODELS
@@ -120,10 +122,10 @@ class _Line:
 
     def at(self, text: str) -> bool:
         # a string's text keeps its quotes and a number's is digits: only op / name match
-        return self.peek().text == text
+        return self.toks[self.i].text == text
 
     def accept(self, text: str) -> bool:
-        if self.at(text):
+        if self.toks[self.i].text == text:
             self.i += 1
             return True
         return False
@@ -234,10 +236,10 @@ class _Line:
         while True:
             while self.accept(":"):
                 pass
-            if self.peek().kind == "eol" or any(self.at(w) for w in stop):
+            if self.peek().text in stop or self.peek().kind == "eol":
                 return out
             out.append(self.statement())
-            if self.peek().kind == "eol" or any(self.at(w) for w in stop):
+            if self.peek().text in stop or self.peek().kind == "eol":
                 return out
             if not self.at(":"):
                 raise self.error(f"unexpected {self.peek().text!r} after the statement")
