@@ -490,8 +490,11 @@ class _Line:
         return s.Stop(ln, col, None if self.end_of_statement() else self.string())
 
     def st_RUN(self, ln: int, col: int) -> s.Stmt:
+        bracket = self.at("(")
         name = self.string()
         proc = self.expr() if self.accept(",") else None
+        if bracket and proc is not None:
+            self.expect(")")  # RUN("prog", n)
         return s.Run(ln, col, name, proc)
 
     def st_BASE(self, ln: int, col: int) -> s.Stmt:

@@ -220,3 +220,26 @@ def test_mc4_words_stay_ordinary_names_on_an_earlier_model_but_are_keywords_on_m
     with pytest.raises(ParseError) as err:
         mc4().store_program("P", "dim = 3\n")
     assert "keyword" in err.value.message
+
+
+def test_p11_8_bracketed_program_names_of_run_and_stop():
+    c = mc4()
+    c.store_program("WORKER", "WHILE TRUE\n  VR(1) = VR(1) + 1\nWEND\n")
+    c.store_program("BOSS", 'RUN("WORKER", 3)\nWA(10)\nSTOP("WORKER")\n'
+                            "VR(2) = PROC_STATUS PROC(3)\n")
+    ran(c, "BOSS", 1)
+    starts = [f["process"] for _t, f in fields(c, "process", state="running")]
+    assert starts[:2] == [1, 3]
+    (t, _f), = fields(c, "process", process=3, state="stopped")
+    assert t == pytest.approx(0.010 + 200e-6) and c.vr[2] == 0.0
+
+
+def test_p11_4_global_and_constant_typed_at_the_command_line_name_things_for_programs():
+    c = mc4()
+    assert c.terminal('GLOBAL "part_count", 40').error is None
+    assert c.terminal('CONSTANT "part_max", 3').error is None
+    assert c.terminal("part_count = part_max * 2").error is None
+    assert c.vr[40] == 6.0
+    c.store_program("P", "part_count = part_count + part_max\n")
+    ran(c, "P")
+    assert c.terminal("? part_count").reply == "9.0000"
