@@ -11,6 +11,10 @@ statement becomes one closure ``op(ctx)`` returning what the driver does next:
   ``WAIT UNTIL``, ``WA(ms)``;
 * :data:`HALT` — ``STOP``: the program ends.
 
+MC4 declarations (INCLUDE, DIM, GLOBAL, CONSTANT) and typed assignment targets are compiled by
+:mod:`motionsim.sim.trio.declarations`, ``ON ... GOSUB/GOTO`` and ``ON BASICERROR`` by
+:mod:`motionsim.sim.trio.branches`; names resolve against a :mod:`motionsim.sim.trio.scope`.
+
 Structure errors (NEXT without FOR, IF without ENDIF, unknown label ...) are
 :class:`motionsim.sim.errors.ParseError` with the line and column of the statement at fault, raised
 before anything runs. ``costs[pc]`` is 1 for a statement the interpreter executes and 0 for

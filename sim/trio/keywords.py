@@ -7,6 +7,7 @@ be read — the later sections of the index (system commands, parameters, consta
 reachable. A program using an indexed keyword that is **not** simulated is refused when it is
 stored, with the line, the column and "not simulated" (:class:`motionsim.sim.errors.NotSimulated`,
 HTTP 501 ``not_simulated``) — not as a syntax error. ``docs/trio.md`` prints this table.
+:data:`MC4_WORDS` are the MC4xx / MC6xx language's own words (spec §11), keywords only there.
 """
 
 from __future__ import annotations

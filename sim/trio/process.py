@@ -21,7 +21,10 @@ changed) or to the channel of ``PRINT #n``: see :mod:`motionsim.sim.trio.output`
 
 A runtime error stops this process only: a ``process`` event with ``state`` ``stopped``, the
 ``line`` and an ``error`` message in the controller's style
-(:mod:`motionsim.sim.trio.basic_errors`); the same line is printed on channel 0.
+(:mod:`motionsim.sim.trio.basic_errors`); the same line is printed on channel 0. Once
+``ON BASICERROR GOTO label`` has run, the error (or a ``STOP "prog"`` of it, RUN_ERROR 31)
+instead continues at the label with RUN_ERROR / ERROR_LINE set, reported by a ``basic_error``
+event; an error inside the handler stops the process (spec §11.3, :mod:`~.branches`).
 """
 
 from __future__ import annotations
