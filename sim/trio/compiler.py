@@ -372,7 +372,7 @@ class _Compiler(Declarations, Branches):
         if st.var is not None and st.var != fst.var:
             raise self.error(st, f"NEXT {st.var} does not match FOR {fst.var}")
         var = fst.var
-        decl = self.scope.get(var)
+        decl = self.scope.plain(var)
         if decl is not None and (decl.kind != "DIM" or decl.is_str or decl.size is not None):
             raise self.error(fst, f"FOR {var}: the loop variable must be a numeric local")
         scope = self.scope

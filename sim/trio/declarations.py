@@ -83,6 +83,9 @@ class Declarations:
             raise self.error(st, f"DIM {st.name}: {st.name} is already declared (DIM twice)")
         if old is not None:
             raise self.error(st, f"DIM {st.name}: {st.name} is already a {old.kind} name")
+        if st.name in self.scope.untyped:
+            raise self.error(st, f"DIM {st.name}: {st.name} is already used as a local above "
+                                 "(DIM comes before the first use)")
         decl = Decl("DIM", st.type, st.size, st.length or DEFAULT_LENGTH)
         self.scope.names[st.name] = decl
         name = st.name
@@ -123,7 +126,7 @@ class Declarations:
         """How to store into ``target``; None for an untyped local and for VR / TABLE /
         parameter targets (the compiler's fast paths)."""
         if isinstance(target, s.Local):
-            decl = self.scope.get(target.name)
+            decl = self.scope.plain(target.name)
             if decl is None:
                 return None
             name = target.name

@@ -137,7 +137,7 @@ def _num(node: s.Expr, scope: Scope | None, what: str) -> Eval:
 
 def _local(node: s.Local, scope: Scope | None) -> Eval:
     name = node.name
-    decl = scope.get(name) if scope is not None else None
+    decl = scope.plain(name) if scope is not None else None
     if decl is None:
         return lambda c: c.locals.get(name, 0.0)
     if decl.kind == "GLOBAL":

@@ -5,7 +5,8 @@ The controller compiles a program before it runs it (TJ1P-31); MC4 declarations 
 then (spec §11.2, §11.4):
 
 * ``DIM name[(n)] AS type`` declares a typed local (or an array of ``n``, indexed from 0) of
-  this program from that line on; a second DIM of the name is a compile error;
+  this program from that line on; a second DIM of the name, or a DIM after the name was used
+  as a plain local, is a compile error (``[BK]``: DIM comes before the first use);
 * ``GLOBAL "name", vr`` and ``CONSTANT "name", v`` name a VR / a value for this program from
   that line on, and — once the statement has run — for every program compiled afterwards
   (``[BK]``: the MC4 help recommends declaring them in the STARTUP program);
@@ -54,9 +55,18 @@ class Scope:
 
     def __init__(self, shared: Mapping[str, Decl] | None = None) -> None:
         self.names: dict[str, Decl] = dict(shared or {})
+        self.untyped: set[str] = set()  # names used so far as plain locals (DIM must precede)
 
     def get(self, name: str) -> Decl | None:
         return self.names.get(name)
+
+    def plain(self, name: str) -> Decl | None:
+        """The declaration of ``name``; None — and the name noted as an untyped local — if
+        there is none."""
+        decl = self.names.get(name)
+        if decl is None:
+            self.untyped.add(name)
+        return decl
 
 
 def coerce(decl: Decl | None, value: float | str) -> float | str:

@@ -15,6 +15,8 @@ INIT = "estop_in = 7\n"
     ("P", "x = 1\nDIM SPEED AS INTEGER\n", "P", 2, 5, "SPEED is a Trio BASIC keyword"),
     ("P", "DIM n AS INTEGER\nn = 2\n  DIM n AS FLOAT\n", "P", 3, 3, "DIM twice"),
     ("P", "DIM n(0) AS INTEGER\n", "P", 1, 7, "whole number >= 1"),
+    ("P", "VR(0) = n\nDIM n AS INTEGER\n", "P", 2, 1, "DIM comes before the first use"),
+    ("P", 'INCLUDE "INIT"\nDIM estop_in AS BOOLEAN\n', "P", 2, 1, "already used as a local"),
     ("P", "DIM n AS REAL\n", "P", 1, 10, "DIM needs a type"),
     ("P", 'VR(0) = 1\n INCLUDE "NOWHERE"\n', "P", 2, 2, "there is no program NOWHERE"),
     ("P", 'INCLUDE "P"\n', "P", 1, 1, "cannot include itself"),
