@@ -12,18 +12,19 @@ from typing import NamedTuple
 
 from motionsim.sim.errors import ParseError
 
+#: One token after optional blanks; the group that matched is its kind (:data:`_KINDS`).
 _TOKEN = re.compile(
-    r"""
-     (?P<ws>[ \t\r]+)
-    |(?P<name>[A-Za-z_][A-Za-z0-9_]*)
-    |(?P<op><>|<=|>=|[-+*/^=<>(),;:?#\[\]])
-    |(?P<number>\$[0-9A-Fa-f]+|(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)
-    |(?P<string>"[^"]*")
-    |(?P<comment>'.*)
-    |(?P<bad>.)
+    r"""[ \t\r]*(?:
+     ([A-Za-z_][A-Za-z0-9_]*)
+    |(<>|<=|>=|[-+*/^=<>(),;:?#\[\]])
+    |(\$[0-9A-Fa-f]+|(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)
+    |("[^"]*")
+    |('.*)
+    |([^ \t\r]))
     """,
     re.X,
 )
+_KINDS = (None, "name", "op", "number", "string", "comment", "bad")
 
 
 class Token(NamedTuple):
@@ -42,20 +43,20 @@ def tokenize(line: str, line_no: int) -> list[Token]:
     out: list[Token] = []
     append = out.append
     for m in _TOKEN.finditer(line):
-        kind = m.lastgroup
-        if kind == "ws":
-            continue
-        if kind == "comment":
-            break
-        text = m.group()
-        if kind == "name":
-            text = text.upper()
+        k = m.lastindex
+        if k == 1:
+            text = m.group(1).upper()
             if text == "REM":
                 break
-        elif kind == "bad":
+            append(_new(Token, ("name", text, m.start(1) + 1)))  # Token(...) without __new__
+        elif k == 5:
+            break  # a comment runs to the end of the line
+        elif k == 6:
+            text = m.group(6)
             msg = "unterminated string" if text == '"' else f"unexpected character {text!r}"
-            raise ParseError(msg, line=line_no, column=m.start() + 1, text=line)
-        append(_new(Token, (kind, text, m.start() + 1)))  # Token(...) without its __new__
+            raise ParseError(msg, line=line_no, column=m.start(6) + 1, text=line)
+        elif k is not None:
+            append(_new(Token, (_KINDS[k], m.group(k), m.start(k) + 1)))
     return out
 
 
