@@ -26,6 +26,7 @@ import re
 from motionsim.sim.errors import NotSimulated, ParseError
 from motionsim.sim.trio import statements as s
 from motionsim.sim.trio.constants import CONSTANTS, LANGUAGE_PARAMS
+from motionsim.sim.trio.declaration_parser import DeclarationParser
 from motionsim.sim.trio.expressions import FUNCTIONS
 from motionsim.sim.trio.keywords import INDEX, MC4_MODELS, MC4_WORDS, NOT_SIMULATED
 from motionsim.sim.trio.lexer import Token, tokenize
@@ -82,9 +83,6 @@ RESERVED = (
                 for w in re.findall(r"[A-Z_][A-Z0-9_]*", k))
 )
 
-#: DIM types (MC4, spec §11.4).
-TYPES = ("INTEGER", "FLOAT", "STRING", "BOOLEAN")
-
 _CMP = frozenset({"=", "<>", "<", "<=", ">", ">="})
 
 #: Binary operators and their precedence, highest last (spec §9.2); unary - and NOT bind
@@ -101,7 +99,7 @@ _EOL = Token("eol", "", 0)
 _PAD = [_EOL] * 4
 
 
-class _Line:
+class _Line(DeclarationParser):
     """Recursive-descent parser over the tokens of one source line."""
 
     def __init__(self, text: str, line_no: int, model: str = DEFAULT_MODEL) -> None:
@@ -189,16 +187,6 @@ class _Line:
         if self.reserved(word):
             raise self.error(f"{word} is a Trio BASIC keyword: it cannot be a {what}", tok.col)
         return word
-
-    def declared_name(self) -> tuple[str, int]:
-        """The quoted name of GLOBAL / CONSTANT: an identifier that is not a keyword."""
-        tok = self.peek()
-        name = self.string("name")
-        if not re.fullmatch(r"[A-Z_][A-Z0-9_]*", name):
-            raise self.error(f"{name!r} is not a valid variable name", tok.col)
-        if self.reserved(name):
-            raise self.error(f"{name} is a Trio BASIC keyword: it cannot be declared", tok.col)
-        return name, tok.col
 
     def bit_suffix(self, node: s.Expr) -> s.Expr:
         """``value.n`` (MC4): a ``.digits`` number written straight after a name, ``)`` or
@@ -534,81 +522,6 @@ class _Line:
             target = bit
         self.expect("=")
         return s.Assign(ln, col, target, self.expr())
-
-    # -- MC4 declarations, error trap, multi-way branches -------------------------------
-
-    def st_ON(self, ln: int, col: int) -> s.Stmt:
-        """``ON BASICERROR GOTO label`` or ``ON expr GOSUB|GOTO l1, l2, ...``."""
-        if self.accept("BASICERROR"):
-            if not self.accept("GOTO"):
-                raise self.error("ON BASICERROR needs GOTO and a label")
-            if self.peek().kind != "name":
-                raise self.error("ON BASICERROR GOTO needs the label of the error handler")
-            return s.OnError(ln, col, self.name())
-        value = self.expr()
-        if self.accept("GOSUB"):
-            gosub = True
-        elif self.accept("GOTO"):
-            gosub = False
-        else:
-            raise self.error("ON expr needs GOSUB or GOTO and a list of labels")
-        labels = [self.name()]
-        while self.accept(","):
-            labels.append(self.name())
-        return s.OnBranch(ln, col, value, tuple(labels), gosub)
-
-    def st_INCLUDE(self, ln: int, col: int) -> s.Stmt:
-        return s.Include(ln, col, self.string())
-
-    def st_DIM(self, ln: int, col: int) -> s.Stmt:
-        """``DIM name[(n)] AS INTEGER|FLOAT|STRING[(length)]|BOOLEAN`` (spec §11.4)."""
-        name = self.variable_name()
-        size = self.whole_number("array size") if self.accept("(") else None
-        if size is not None:
-            self.expect(")")
-        self.expect("AS")
-        tok = self.peek()
-        kind = self.name() if tok.kind == "name" else ""
-        if kind not in TYPES:
-            raise self.error(f"DIM needs a type ({', '.join(TYPES)})", tok.col)
-        length = None
-        if self.accept("("):
-            n = self.whole_number("string length" if kind == "STRING" else "array size")
-            self.expect(")")
-            if kind == "STRING":
-                length = n
-            elif size is None:
-                size = n  # DIM x AS FLOAT(n): an array of n ([INF], spec §2.5)
-            else:
-                raise self.error("the array size is given twice")
-        return s.Dim(ln, col, name, kind, size, length)
-
-    def whole_number(self, what: str) -> int:
-        tok = self.peek()
-        if tok.kind != "number" or not tok.text.isdigit() or int(tok.text) < 1:
-            raise self.error(f"expected a whole number >= 1 for the {what}")
-        self.i += 1
-        return int(tok.text)
-
-    def st_GLOBAL(self, ln: int, col: int) -> s.Stmt:
-        """``GLOBAL "name", vr``: the name of a VR for every program (spec §11.4)."""
-        name, _c = self.declared_name()
-        self.expect(",")
-        tok = self.peek()
-        if tok.kind != "number" or not tok.text.isdigit():
-            raise self.error("GLOBAL needs the VR number (a whole number)")
-        self.i += 1
-        return s.Global(ln, col, name, int(tok.text))
-
-    def st_CONSTANT(self, ln: int, col: int) -> s.Stmt:
-        """``CONSTANT "name", value``: a named number for every program (spec §11.4)."""
-        name, _c = self.declared_name()
-        self.expect(",")
-        c = self.col()
-        value = self.expr()
-        if not isinstance(value, s.Num):
-            raise self.error("CONSTANT needs a number", c)
-        return s.Constant(ln, col, name, value.value)
 
     def st_TABLE(self, ln: int, col: int) -> s.Stmt:
         args = self.args()
