@@ -72,11 +72,59 @@ class BasicProcess:
     # -- the interpreter loop ----------------------------------------------------------------
 
     def _run(self):
-        log = self.ctrl.log
-        log.emit("process", process=self.number, state="running", line=self.line)
-        pc: int | None = 0
-        while pc is not None:
-            pc = yield from self._execute(pc)
+        code, ctx, log, env = self.code, self.ctx, self.ctrl.log, self.ctrl.env
+        ops, costs, lines = code.ops, code.costs, code.lines
+        dt = self.ctrl.statement_s
+        number = self.number
+        n = len(ops)
+        pc = 0
+        log.emit("process", process=number, state="running", line=self.line)
+        while True:  # once more for each error / STOP an ON BASICERROR handler takes
+            try:
+                while pc < n:
+                    self.pc = pc
+                    cost = costs[pc]
+                    r = ops[pc](ctx)
+                    if r is None:
+                        pc += 1
+                    elif r.__class__ is int:
+                        pc = r
+                    elif r.__class__ is Block:
+                        self.line = lines[pc]
+                        yield from self._blocked(r.move, code.text(pc))
+                        pc += 1
+                    elif r is HALT:
+                        break
+                    elif r.__class__ is Sleep:
+                        yield env.timeout(r.seconds)
+                        pc += 1
+                    elif r.__class__ is WaitFor:
+                        ev = env.event()
+                        self._withdraw = self.ctrl.buffers.when(r.predicate, ev.succeed)
+                        yield ev
+                        self._withdraw = None
+                        pc += 1
+                    elif r.__class__ is Poll:
+                        yield from self._poll(r)
+                        pc += 1
+                    else:
+                        pc += 1
+                    if cost:
+                        yield env.timeout(dt)
+                self.line = lines[min(pc, n - 1)] if n else 0
+                self._finish(None)
+                return
+            except BasicError as exc:
+                self.line = lines[pc] if pc < n else self.line
+                target = self._trapped(exc.number, exc.message, self.line)
+                if target is None:
+                    self._finish(error_line(number, self.line, exc.message))
+                    return
+                pc = target
+            except simpy.Interrupt as intr:
+                if not (isinstance(intr.cause, tuple) and intr.cause[0] == "trap"):
+                    return  # stop() has already withdrawn the wait and reported the stop
+                pc = intr.cause[1]  # STOP "prog" with a handler armed: go on there
 
     def _trapped(self, number: int, message: str, line: int) -> int | None:
         """ON BASICERROR: the handler's pc after an error (or a STOP, RUN_ERROR 31) at
@@ -88,59 +136,6 @@ class BasicProcess:
                            error=message, handler_line=self.code.lines[target]
                            if target < len(self.code.lines) else line)
         return target
-
-    def _execute(self, pc: int):
-        """Run from ``pc`` until the program ends (None) or an error / STOP is trapped (the
-        handler's pc)."""
-        code, ctx, env = self.code, self.ctx, self.ctrl.env
-        ops, costs, lines = code.ops, code.costs, code.lines
-        dt = self.ctrl.statement_s
-        number = self.number
-        n = len(ops)
-        try:
-            while pc < n:
-                self.pc = pc
-                cost = costs[pc]
-                r = ops[pc](ctx)
-                if r is None:
-                    pc += 1
-                elif r.__class__ is int:
-                    pc = r
-                elif r.__class__ is Block:
-                    self.line = lines[pc]
-                    yield from self._blocked(r.move, code.text(pc))
-                    pc += 1
-                elif r is HALT:
-                    break
-                elif r.__class__ is Sleep:
-                    yield env.timeout(r.seconds)
-                    pc += 1
-                elif r.__class__ is WaitFor:
-                    ev = env.event()
-                    self._withdraw = self.ctrl.buffers.when(r.predicate, ev.succeed)
-                    yield ev
-                    self._withdraw = None
-                    pc += 1
-                elif r.__class__ is Poll:
-                    yield from self._poll(r)
-                    pc += 1
-                else:
-                    pc += 1
-                if cost:
-                    yield env.timeout(dt)
-            self.line = lines[min(pc, n - 1)] if n else 0
-            self._finish(None)
-        except BasicError as exc:
-            self.line = lines[pc] if pc < n else self.line
-            target = self._trapped(exc.number, exc.message, self.line)
-            if target is not None:
-                return target
-            self._finish(error_line(number, self.line, exc.message))
-        except simpy.Interrupt as intr:
-            if isinstance(intr.cause, tuple) and intr.cause[0] == "trap":
-                return intr.cause[1]  # STOP "prog" with a handler armed: go on there
-            # stop() has already withdrawn the wait and reported the process stopped
-        return None
 
     def _blocked(self, move: Any, text: str):
         env, log = self.ctrl.env, self.ctrl.log
