@@ -7,6 +7,7 @@ any) stays as it was.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Annotated
 
 from fastapi import APIRouter, Path, Request, Response
@@ -16,8 +17,8 @@ from motionsim.api.off_loop import off_loop
 from motionsim.api.routes.axes import trio_of
 from motionsim.api.schemas.programs import ProgramList, ProgramStored, RunIn, RunOut
 from motionsim.sim.errors import InvalidValue
-from motionsim.sim.trio.compiler import Code, compile_program
 from motionsim.sim.trio.parser import parse_program
+from motionsim.sim.trio.statements import Program
 
 router = APIRouter(tags=["trio programs"])
 
@@ -40,9 +41,10 @@ def list_programs(handle: HandleDep) -> dict:
     return {"programs": handle.apply(trio_of(handle).program_names)}
 
 
-def _compile(text: str) -> Code:
-    """What the controller stores for ``text`` (pure: parse and compile)."""
-    return compile_program(parse_program(text))
+def _parser(model: str) -> Callable[[str], Program]:
+    """The pure part of storing ``text``: parsing it in the model's language (compiling
+    needs the stored programs it INCLUDEs, so it is done by the store, on the loop)."""
+    return lambda text: parse_program(text, model)
 
 
 @router.put(
@@ -61,8 +63,8 @@ async def put_program(handle: HandleDep, name: NameParam, request: Request) -> d
         raise InvalidValue(f"program text is not UTF-8 (byte {exc.start})", field="body") from None
     ctrl = trio_of(handle)
     # compiling a large text takes seconds: off the loop; an empty one is refused by the store
-    code = await off_loop(_compile, text) if text.strip() else None
-    handle.apply(ctrl.store_program, name, text, code)
+    parsed = await off_loop(_parser(ctrl.model.name), text) if text.strip() else None
+    handle.apply(ctrl.store_program, name, text, parsed)
     return {"name": name.upper(), "lines": len(text.splitlines())}
 
 

@@ -24,14 +24,25 @@ GOSUB_DEPTH = "Stack overflow: GOSUB nested too deep"
 NOT_AT_COMMAND_LINE = "Command not allowed at the command line"
 LOCALS_AT_COMMAND_LINE = "Local variables cannot be used at the command line"
 TOO_MANY_STEPS = "Command line statement ran too long"
+ON_GOTO_RANGE = "ON..GOTO value {value} is outside 1..{count}"
+ARRAY_RANGE = "Array index out of range: {name}({index})"
+NOT_FINITE = "Parameter out of range: {name} is not a finite number ({value})"
+TRAP_AT_COMMAND_LINE = "ON BASICERROR cannot be used at the command line"
+
+#: RUN_ERROR of a process: 0 = no error. Only 31 ("normal stop": the program was stopped,
+#: the handler idiom of spec §11.3) is sourced; the controller's numbered table was not found
+#: (spec §11.12), so every other run-time error reads :data:`RUN_ERROR_ANY` ``[INF]``.
+RUN_ERROR_ANY = 1
+RUN_ERROR_STOPPED = 31
 
 
 class BasicError(Exception):
-    """A runtime error raised while a BASIC statement executes."""
+    """A runtime error raised while a BASIC statement executes; ``number`` is its RUN_ERROR."""
 
-    def __init__(self, message: str) -> None:
+    def __init__(self, message: str, number: int = RUN_ERROR_ANY) -> None:
         super().__init__(message)
         self.message = message
+        self.number = number
 
 
 def error_line(process: int, line: int, message: str) -> str:

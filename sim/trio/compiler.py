@@ -11,6 +11,10 @@ statement becomes one closure ``op(ctx)`` returning what the driver does next:
   ``WAIT UNTIL``, ``WA(ms)``;
 * :data:`HALT` — ``STOP``: the program ends.
 
+MC4 declarations (INCLUDE, DIM, GLOBAL, CONSTANT) and typed assignment targets are compiled by
+:mod:`motionsim.sim.trio.declarations`, ``ON ... GOSUB/GOTO`` and ``ON BASICERROR`` by
+:mod:`motionsim.sim.trio.branches`; names resolve against a :mod:`motionsim.sim.trio.scope`.
+
 Structure errors (NEXT without FOR, IF without ENDIF, unknown label ...) are
 :class:`motionsim.sim.errors.ParseError` with the line and column of the statement at fault, raised
 before anything runs. ``costs[pc]`` is 1 for a statement the interpreter executes and 0 for
@@ -26,12 +30,12 @@ from typing import Any
 from motionsim.sim.errors import ParseError
 from motionsim.sim.trio import statements as s
 from motionsim.sim.trio.basic_errors import GOSUB_DEPTH, RETURN_WITHOUT_GOSUB, BasicError
-from motionsim.sim.trio.expressions import compile_expr
+from motionsim.sim.trio.branches import GOSUB_LIMIT, Branches
+from motionsim.sim.trio.declarations import Declarations, Resolver
+from motionsim.sim.trio.expressions import compile_expr, kind_of
+from motionsim.sim.trio.scope import Decl, ExprError, Scope
 
 Op = Callable[[Any], Any]
-
-#: GOSUB nesting the interpreter allows before a stack overflow error (``[BK]``).
-GOSUB_LIMIT = 64
 
 
 class Block:
@@ -80,32 +84,59 @@ class Code:
     costs: list[int]
     texts: tuple[str, ...]
     labels: dict[str, int]
+    includes: tuple[str, ...] = ()  # programs INCLUDEd, in order
+    shared_version: int = 0  # the controller's GLOBAL / CONSTANT table it was compiled with
 
     def text(self, pc: int) -> str:
         ln = self.lines[pc]
         return self.texts[ln - 1].strip() if 0 < ln <= len(self.texts) else ""
 
 
-class _Compiler:
-    def __init__(self, program: s.Program) -> None:
+class _Compiler(Declarations, Branches):
+    def __init__(
+        self,
+        program: s.Program,
+        name: str = "",
+        resolve: Resolver | None = None,
+        shared: dict[str, Decl] | None = None,
+    ) -> None:
         self.program = program
+        self.name = name
+        self.resolve = resolve
+        self.scope = Scope(shared)
         self.ops: list[Op] = []
         self.lines: list[int] = []
         self.costs: list[int] = []
         self.labels: dict[str, int] = {}
-        self.patches: list[tuple[int, str, s.Stmt]] = []  # (pc, label, stmt) for GOTO/GOSUB
+        # (pc, labels, stmt, build(targets) -> op) for GOTO / GOSUB / ON ... / ON BASICERROR
+        self.patches: list[tuple[int, tuple[str, ...], s.Stmt, Callable[[list[int]], Op]]] = []
         self.blocks: list[tuple[str, s.Stmt, dict[str, Any]]] = []
+        self.includes: list[str] = []
+        self.source: tuple[str, tuple[str, ...]] = (name, program.lines)  # INCLUDE switches it
+        self.line_override: int | None = None  # the INCLUDE line, while its program compiles
+        self.context = ""  # 'in "X" (INCLUDEd at line n): ' while an INCLUDEd program compiles
 
     def error(self, st: s.Stmt, message: str) -> ParseError:
-        lines = self.program.lines
+        name, lines = self.source
         text = lines[st.line - 1] if 0 < st.line <= len(lines) else None
-        return ParseError(message, line=st.line, column=st.column, text=text)
+        return ParseError(self.context + message, line=st.line, column=st.column, text=text,
+                          program=name or None)
 
     def emit(self, op: Op, st: s.Stmt, cost: int = 1) -> int:
         self.ops.append(op)
-        self.lines.append(st.line)
-        self.costs.append(cost)
+        if self.line_override is None:
+            self.lines.append(st.line)
+            self.costs.append(cost)
+        else:  # an INCLUDEd definition: compiled in, at the INCLUDE line, costing nothing
+            self.lines.append(self.line_override)
+            self.costs.append(0)
         return len(self.ops) - 1
+
+    def num(self, e: s.Expr) -> Callable[[Any], Any]:
+        """A numeric expression compiled against this program's names (a string: an error)."""
+        if kind_of(e, self.scope) == "str":
+            raise ExprError("type mismatch: a number is needed here, not a string")
+        return compile_expr(e, self.scope)
 
     def placeholder(self, st: s.Stmt, cost: int = 1) -> int:
         return self.emit(_unpatched, st, cost)
@@ -122,46 +153,54 @@ class _Compiler:
             kind, st, _ = self.blocks[-1]
             closer = {"FOR": "NEXT", "IF": "ENDIF", "WHILE": "WEND", "REPEAT": "UNTIL"}[kind]
             raise self.error(st, f"{kind} without {closer}")
-        for pc, label, st in self.patches:
-            if label not in self.labels:
-                raise self.error(st, f"label {label!r} is not defined")
-            target = self.labels[label]
-            if isinstance(st, s.Goto):
-                self.set_op(pc, _jump(target))
-            else:
-                self.set_op(pc, _gosub(target, pc + 1))
-        return Code(self.ops, self.lines, self.costs, self.program.lines, self.labels)
+        for pc, labels, st, build in self.patches:
+            for label in labels:
+                if label not in self.labels:
+                    raise self.error(st, f"label {label!r} is not defined")
+            self.set_op(pc, build([self.labels[label] for label in labels]))
+        return Code(self.ops, self.lines, self.costs, self.program.lines, self.labels,
+                    tuple(self.includes))
 
     def statement(self, st: s.Stmt) -> None:
         method = getattr(self, "st_" + type(st).__name__)
-        method(st)
+        try:
+            method(st)
+        except ExprError as exc:
+            raise self.error(st, str(exc)) from None
 
     # -- simple statements -----------------------------------------------------------------
 
     def st_Assign(self, st: s.Assign) -> None:
-        value = compile_expr(st.value)
+        value = self.value_for(st.target, st.value)
+        write = self.writer(st.target)
         tgt = st.target
-        if isinstance(tgt, s.Local):
+        if isinstance(tgt, s.Local) and write is None:  # an untyped local: the common case
             name = tgt.name
 
             def op(c: Any) -> None:
                 c.set_local(name, value(c))
 
+        elif write is not None:
+
+            def op(c: Any) -> None:
+                write(c, value(c))
+
         elif isinstance(tgt, s.VrRef):
-            idx = compile_expr(tgt.index)
+            idx = compile_expr(tgt.index, self.scope)
 
             def op(c: Any) -> None:
                 c.set_vr(idx(c), value(c))
 
         elif isinstance(tgt, s.TableRef):
-            idx = compile_expr(tgt.index)
+            idx = compile_expr(tgt.index, self.scope)
 
             def op(c: Any) -> None:
                 c.set_table(idx(c), value(c))
 
         else:
+            assert isinstance(tgt, s.Param)
             pname = tgt.name
-            axis = compile_expr(tgt.axis) if tgt.axis is not None else None
+            axis = compile_expr(tgt.axis, self.scope) if tgt.axis is not None else None
 
             def op(c: Any) -> None:
                 c.set_param(pname, axis(c) if axis is not None else None, value(c))
@@ -169,8 +208,8 @@ class _Compiler:
         self.emit(op, st)
 
     def st_TableWrite(self, st: s.TableWrite) -> None:
-        start = compile_expr(st.start)
-        values = [compile_expr(v) for v in st.values]
+        start = self.num(st.start)
+        values = [self.num(v) for v in st.values]
 
         def op(c: Any) -> None:
             base = start(c)
@@ -180,13 +219,13 @@ class _Compiler:
         self.emit(op, st)
 
     def st_Base(self, st: s.Base) -> None:
-        axes = [compile_expr(a) for a in st.axes]
+        axes = [self.num(a) for a in st.axes]
         self.emit(lambda c: c.set_base([a(c) for a in axes]), st)
 
     def st_MoveCmd(self, st: s.MoveCmd) -> None:
         kind = st.kind
-        args = [compile_expr(a) for a in st.args]
-        axis = compile_expr(st.axis) if st.axis is not None else None
+        args = [self.num(a) for a in st.args]
+        axis = self.num(st.axis) if st.axis is not None else None
         lines = self.program.lines
         text = lines[st.line - 1].strip() if 0 < st.line <= len(lines) else kind
         if len(args) == 1 and axis is not None:
@@ -212,12 +251,12 @@ class _Compiler:
             name, tuple(a(c) for a in args), axis(c) if axis is not None else None), st)
 
     def st_OpWrite(self, st: s.OpWrite) -> None:
-        args = [compile_expr(a) for a in st.args]
+        args = [self.num(a) for a in st.args]
         self.emit(lambda c: c.op_write([a(c) for a in args]), st)
 
     def st_Cancel(self, st: s.Cancel) -> None:
-        mode = compile_expr(st.mode) if st.mode is not None else None
-        axis = compile_expr(st.axis) if st.axis is not None else None
+        mode = self.num(st.mode) if st.mode is not None else None
+        axis = self.num(st.axis) if st.axis is not None else None
         self.emit(
             lambda c: c.cancel(
                 mode(c) if mode is not None else 0.0, axis(c) if axis is not None else None
@@ -226,7 +265,7 @@ class _Compiler:
         )
 
     def st_RapidStop(self, st: s.RapidStop) -> None:
-        mode = compile_expr(st.mode) if st.mode is not None else None
+        mode = self.num(st.mode) if st.mode is not None else None
         self.emit(lambda c: c.rapidstop(mode(c) if mode is not None else 0.0), st)
 
     def st_Print(self, st: s.Print) -> None:
@@ -237,14 +276,17 @@ class _Compiler:
                 txt = e.value
                 parts.append((lambda c, txt=txt: txt, sep))
             elif isinstance(e, s.Hex):
-                f = compile_expr(e.value)
+                f = self.num(e.value)
                 parts.append((lambda c, f=f: c.hex(f(c)), sep))
+            elif kind_of(e, self.scope) == "str":
+                f = compile_expr(e, self.scope)
+                parts.append((f, sep))
             else:
-                f = compile_expr(e)
+                f = compile_expr(e, self.scope)
                 w, d = fmt if fmt is not None else (0, 4)
                 parts.append((lambda c, f=f, w=w, d=d: c.number(f(c), d, w), sep))
         newline = not st.items or st.items[-1][1] != ";"
-        channel = compile_expr(st.channel) if st.channel is not None else None
+        channel = self.num(st.channel) if st.channel is not None else None
 
         def op(c: Any) -> None:
             out = []
@@ -257,8 +299,8 @@ class _Compiler:
         self.emit(op, st)
 
     def st_DefPos(self, st: s.DefPos) -> None:
-        values = [compile_expr(v) for v in st.values]
-        axis = compile_expr(st.axis) if st.axis is not None else None
+        values = [self.num(v) for v in st.values]
+        axis = self.num(st.axis) if st.axis is not None else None
         self.emit(
             lambda c: c.defpos([v(c) for v in values], axis(c) if axis is not None else None), st
         )
@@ -278,23 +320,23 @@ class _Compiler:
 
     def st_Run(self, st: s.Run) -> None:
         name = st.program
-        proc = compile_expr(st.process) if st.process is not None else None
+        proc = self.num(st.process) if st.process is not None else None
         self.emit(lambda c: c.run_program(name, proc(c) if proc is not None else None), st)
 
     def st_Wa(self, st: s.Wa) -> None:
-        ms = compile_expr(st.ms)
+        ms = self.num(st.ms)
         self.emit(lambda c: Sleep(max(0.0, ms(c)) / 1000.0), st)
 
     def st_WaitIdle(self, st: s.WaitIdle) -> None:
-        axis = compile_expr(st.axis) if st.axis is not None else None
+        axis = self.num(st.axis) if st.axis is not None else None
         self.emit(lambda c: c.wait_axis("IDLE", axis(c) if axis is not None else None), st)
 
     def st_WaitLoaded(self, st: s.WaitLoaded) -> None:
-        axis = compile_expr(st.axis) if st.axis is not None else None
+        axis = self.num(st.axis) if st.axis is not None else None
         self.emit(lambda c: c.wait_axis("LOADED", axis(c) if axis is not None else None), st)
 
     def st_WaitUntil(self, st: s.WaitUntil) -> None:
-        cond = compile_expr(st.cond)
+        cond = self.num(st.cond)
 
         def op(c: Any) -> Any:
             if cond(c) != 0.0:
@@ -311,10 +353,11 @@ class _Compiler:
         self.labels[st.name] = len(self.ops)
 
     def st_Goto(self, st: s.Goto) -> None:
-        self.patches.append((self.placeholder(st), st.label, st))
+        self.patches.append((self.placeholder(st), (st.label,), st, lambda t: _jump(t[0])))
 
     def st_Gosub(self, st: s.Gosub) -> None:
-        self.patches.append((self.placeholder(st), st.label, st))
+        pc = self.placeholder(st)
+        self.patches.append((pc, (st.label,), st, lambda t: _gosub(t[0], pc + 1)))
 
     def st_Return(self, st: s.Return) -> None:
         def op(c: Any) -> int:
@@ -336,8 +379,12 @@ class _Compiler:
         if st.var is not None and st.var != fst.var:
             raise self.error(st, f"NEXT {st.var} does not match FOR {fst.var}")
         var = fst.var
-        start, end = compile_expr(fst.start), compile_expr(fst.end)
-        step = compile_expr(fst.step) if fst.step is not None else None
+        decl = self.scope.plain(var)
+        if decl is not None and (decl.kind != "DIM" or decl.is_str or decl.size is not None):
+            raise self.error(fst, f"FOR {var}: the loop variable must be a numeric local")
+        scope = self.scope
+        start, end = compile_expr(fst.start, scope), compile_expr(fst.end, scope)
+        step = compile_expr(fst.step, scope) if fst.step is not None else None
         for_pc = info["pc"]
         body = for_pc + 1
         next_pc = len(self.ops)
@@ -364,7 +411,7 @@ class _Compiler:
         self.emit(op_next, st)
 
     def st_If(self, st: s.If) -> None:
-        cond = compile_expr(st.cond)
+        cond = self.num(st.cond)
         test = self.placeholder(st)
         for sub in st.then:
             self.statement(sub)
@@ -393,7 +440,7 @@ class _Compiler:
     def _close_branch(self, st: s.Stmt, info: dict[str, Any]) -> None:
         info["ends"].append(self.placeholder(st, cost=0))
         if info["test"] is not None:
-            self.set_op(info["test"], _branch(compile_expr(info["cond"]), len(self.ops)))
+            self.set_op(info["test"], _branch(self.num(info["cond"]), len(self.ops)))
             info["test"] = None
 
     def st_ElseIf(self, st: s.ElseIf) -> None:
@@ -413,7 +460,7 @@ class _Compiler:
         _, _, info = self.blocks.pop()
         end = len(self.ops)
         if info["test"] is not None:
-            self.set_op(info["test"], _branch(compile_expr(info["cond"]), end))
+            self.set_op(info["test"], _branch(self.num(info["cond"]), end))
         for pc in info["ends"]:
             self.set_op(pc, _jump(end))
 
@@ -427,7 +474,7 @@ class _Compiler:
         _, wst, info = self.blocks.pop()
         assert isinstance(wst, s.While)
         self.emit(_jump(info["pc"]), st)
-        self.set_op(info["pc"], _branch(compile_expr(wst.cond), len(self.ops)))
+        self.set_op(info["pc"], _branch(self.num(wst.cond), len(self.ops)))
 
     def st_Repeat(self, st: s.Repeat) -> None:
         self.blocks.append(("REPEAT", st, {"pc": len(self.ops)}))
@@ -436,7 +483,7 @@ class _Compiler:
         if not self.blocks or self.blocks[-1][0] != "REPEAT":
             raise self.error(st, "UNTIL without REPEAT")
         _, _, info = self.blocks.pop()
-        self.emit(_branch(compile_expr(st.cond), info["pc"]), st)
+        self.emit(_branch(self.num(st.cond), info["pc"]), st)
 
 
 def _unpatched(c: Any) -> None:  # pragma: no cover - replaced before any program runs
@@ -462,9 +509,20 @@ def _gosub(target: int, ret: int) -> Op:
     return op
 
 
-def compile_program(program: s.Program) -> Code:
-    """Compile a parsed program; structure errors raise :class:`ParseError`."""
-    return _Compiler(program).run()
+def compile_program(
+    program: s.Program,
+    name: str = "",
+    resolve: Resolver | None = None,
+    shared: dict[str, Decl] | None = None,
+    shared_version: int = 0,
+) -> Code:
+    """Compile a parsed program; structure errors raise :class:`ParseError` (with ``program``
+    = ``name`` or the INCLUDEd program at fault). ``resolve`` finds the parsed program an
+    ``INCLUDE`` names (None: INCLUDE is refused, as at the command line); ``shared`` holds the
+    controller's GLOBAL / CONSTANT names (:mod:`motionsim.sim.trio.scope`)."""
+    code = _Compiler(program, name, resolve, shared).run()
+    code.shared_version = shared_version
+    return code
 
 
 __all__ = ["HALT", "Block", "Code", "Poll", "Sleep", "WaitFor", "compile_program"]

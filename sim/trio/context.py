@@ -10,6 +10,7 @@ Indices are truncated to integers. Out-of-range VR / TABLE / axis numbers raise 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
@@ -29,6 +30,7 @@ from motionsim.sim.trio.parameters import (
     AXIS_STORED,
     SYSTEM_PARAMS,
 )
+from motionsim.sim.trio.scope import Decl
 
 if TYPE_CHECKING:
     from motionsim.sim.trio.controller import TrioController
@@ -60,6 +62,15 @@ class Context:
         self.gosub_stack: list[int] = []
         self.base: list[int] = list(range(len(ctrl.axes)))
         self.outdevice = 0  # OUTDEVICE: the channel PRINT writes to (M206-320)
+        # ON BASICERROR: the handler's pc (None: no trap), whether it is running, and the
+        # process parameters RUN_ERROR / ERROR_LINE (spec §11.3)
+        self.trap: int | None = None
+        self.in_handler = False
+        self.run_error = 0
+        self.error_line = 0
+        # TICKS: the value written and the servo period it was written in (constants.py)
+        self._ticks = 0.0
+        self._ticks_at = ctrl.clock.index(ctrl.env.now)
 
     # -- variables -------------------------------------------------------------------------
 
@@ -67,6 +78,53 @@ class Context:
         if self.command_line:
             raise BasicError(msg.LOCALS_AT_COMMAND_LINE + f": {name}")
         self.locals[name] = value
+
+    def declare_local(self, name: str, initial: Any) -> None:
+        """DIM: the local (or array) at its initial value."""
+        if self.command_line:
+            raise BasicError(msg.LOCALS_AT_COMMAND_LINE + f": {name}")
+        self.locals[name] = initial
+
+    def _array(self, name: str, decl: Decl) -> list[Any]:
+        arr = self.locals.get(name)
+        if not isinstance(arr, list):  # its DIM line was jumped over: declared on first use
+            arr = self.locals[name] = [decl.initial()] * (decl.size or 0)
+        return arr
+
+    def _element_index(self, name: str, decl: Decl, i: float) -> int:
+        n = int(i)
+        if not 0 <= n < (decl.size or 0):
+            raise BasicError(msg.ARRAY_RANGE.format(name=name, index=f"{i:g}"))
+        return n
+
+    def element(self, name: str, decl: Decl, i: float) -> Any:
+        return self._array(name, decl)[self._element_index(name, decl, i)]
+
+    def set_element(self, name: str, decl: Decl, i: float, value: Any) -> None:
+        self._array(name, decl)[self._element_index(name, decl, i)] = value
+
+    def declare(self, name: str, decl: Decl) -> None:
+        """GLOBAL / CONSTANT ran: the name is known to every program compiled from now on."""
+        if decl.kind == "GLOBAL":
+            self._vr_index(decl.index)
+        self.ctrl.declare(name, decl)
+
+    def set_trap(self, target: int) -> None:
+        """ON BASICERROR GOTO: arm this process' error handler."""
+        if self.command_line:
+            raise BasicError(msg.TRAP_AT_COMMAND_LINE)
+        self.trap = target
+
+    def enter_handler(self, number: int, line: int) -> int | None:
+        """A run-time error (or a STOP) at ``line``: the handler's pc when one is armed and
+        not already running (an error inside the handler stops the process), else None.
+        RUN_ERROR / ERROR_LINE are set either way and the GOSUB stack is cleared."""
+        self.run_error, self.error_line = number, line
+        if self.trap is None or self.in_handler:
+            return None
+        self.in_handler = True
+        self.gosub_stack.clear()
+        return self.trap
 
     def _vr_index(self, i: float) -> int:
         n = int(i)
@@ -105,6 +163,10 @@ class Context:
         return self.base[0] if axis is None else self.axis_number(axis)
 
     def param(self, name: str, axis: float | None, proc: float | None) -> float:
+        if name == "TICKS":
+            return self.ctrl.context_of(self.proc_number(proc)).ticks()
+        if name == "LAST_AXIS":
+            return float(len(self.ctrl.axes) - 1)
         if name in AXIS_PARAMS:
             n = self.base_axis(axis)
             if name in AXIS_STORED:
@@ -130,14 +192,19 @@ class Context:
         return computed(name, self.ctrl.axes[n])
 
     def _last_error(self, name: str, p: int) -> float:
-        """RUN_ERROR / ERROR_LINE PROC(p): 0 until the process stops on a run-time error; then
-        RUN_ERROR is non-zero (1: the controller's numbered error table was not found, spec
-        §9.10, ``[INF]``) and ERROR_LINE the program line. A new RUN of the process clears
-        both ``[INF]``. The command line (process 0) keeps no error."""
-        proc = self.ctrl.basic.get(p)
-        if proc is None or proc.error is None:
+        """RUN_ERROR / ERROR_LINE PROC(p): 0 until the process meets a run-time error; then
+        RUN_ERROR is its number (:mod:`motionsim.sim.trio.basic_errors`: 31 = stopped, else 1
+        ``[INF]``) and ERROR_LINE the program line — also inside an ON BASICERROR handler. A
+        new RUN of the process clears both ``[INF]``. The command line keeps no error."""
+        if p == 0 or p not in self.ctrl.basic:
             return 0.0
-        return 1.0 if name == "RUN_ERROR" else float(proc.line)
+        ctx = self.ctrl.context_of(p)
+        return float(ctx.run_error if name == "RUN_ERROR" else ctx.error_line)
+
+    def ticks(self) -> float:
+        """TICKS: the value last written, less one per servo period since (constants.py)."""
+        now = self.ctrl.clock.index(self.ctrl.env.now)
+        return self._ticks - float(now - self._ticks_at)
 
     # -- digital I/O -----------------------------------------------------------------------
 
@@ -174,6 +241,12 @@ class Context:
             raise BasicError(msg.PROCESS_RANGE.format(process=f"{proc:g}")) from None
 
     def set_param(self, name: str, axis: float | None, value: float) -> None:
+        if not math.isfinite(value):
+            raise BasicError(msg.NOT_FINITE.format(name=name, value=value))
+        if name == "TICKS":
+            self._ticks = float(value)
+            self._ticks_at = self.ctrl.clock.index(self.ctrl.env.now)
+            return
         if name == "OUTDEVICE":
             self.outdevice = self.ctrl.channels.check(value)
             return
@@ -218,7 +291,12 @@ class Context:
         return tuple(axes[:size])
 
     def issue(self, kind: str, args: tuple[float, ...], axis: float | None, text: str) -> Any:
-        """A motion command: place it (None) or report that the process must wait (Block)."""
+        """A motion command: place it (None) or report that the process must wait (Block).
+        An infinite or NaN argument is the run-time error the REST surface answers with a 422
+        (nothing is buffered)."""
+        for a in args:
+            if not math.isfinite(a):
+                raise BasicError(msg.NOT_FINITE.format(name=kind, value=a))
         if kind == "DATUM" and int(args[0]) == 0:
             self.group(1, axis)  # DATUM(0) clears axis errors; no move is buffered
             return None
@@ -322,7 +400,7 @@ class Context:
             if proc.program == name and proc.state != "stopped":
                 if p == self.process:
                     return HALT
-                self.ctrl.stop_process(p)
+                proc.stop(trap=True)  # an armed ON BASICERROR handler sees RUN_ERROR 31
         return None
 
 

@@ -26,7 +26,14 @@ from typing import Any
 
 from motionsim.sim.bounds import TRIO_CONFIG
 from motionsim.sim.controller import Controller, Port, Reply
-from motionsim.sim.errors import BufferFull, Conflict, InvalidValue, NotFound
+from motionsim.sim.errors import (
+    BufferFull,
+    Conflict,
+    InvalidValue,
+    NotFound,
+    NotSimulated,
+    ParseError,
+)
 from motionsim.sim.timing import ServoClock
 from motionsim.sim.trio.axis import DEFAULTS, Axis
 from motionsim.sim.trio.axis_status import StoredParams
@@ -44,6 +51,8 @@ from motionsim.sim.trio.mtypes import MTYPE, SP_GEOMETRY, axes_driven
 from motionsim.sim.trio.output import Channels
 from motionsim.sim.trio.parser import MOVE_ARGS, parse_program
 from motionsim.sim.trio.process import BasicProcess
+from motionsim.sim.trio.scope import Decl
+from motionsim.sim.trio.statements import Program
 from motionsim.sim.trio.system import SystemParams
 from motionsim.sim.trio.terminal import CommandLine
 
@@ -63,7 +72,7 @@ class TrioController(Controller):
     """A simulated Trio Motion Coordinator (MC2xx series buffering)."""
 
     kind = "trio"
-    event_types = ("offpos", "move_modify", "output", "wdog")
+    event_types = ("offpos", "move_modify", "output", "wdog", "basic_error")
 
     #: The command line answers at the current instant and never moves a virtual clock
     #: (API.md): ``ControllerHandle.command`` returns a locked line pending at once.
@@ -109,6 +118,9 @@ class TrioController(Controller):
         self.vr: list[float] = [0.0] * self.vr_count
         self.table: dict[int, float] = {}
         self.programs: dict[str, tuple[str, Code]] = {}
+        self.parsed: dict[str, Program] = {}  # for INCLUDE (sim/trio/declarations.py)
+        self.declared: dict[str, Decl] = {}  # GLOBAL / CONSTANT names that have run
+        self.declared_version = 0
         self.basic: dict[int, BasicProcess] = {}
         self.io = IoImage(self.log)
         self.system = SystemParams(self)
@@ -271,18 +283,48 @@ class TrioController(Controller):
             raise NotFound(f"no program {key}", field="name")
         return key
 
-    def store_program(self, name: str, text: str, code: Any = None) -> None:
-        """Parse and compile ``text`` and store it; a parse error changes nothing. ``code``:
-        ``compile_program(parse_program(text))`` already done (off the event loop), or None."""
+    def store_program(self, name: str, text: str, parsed: Program | None = None) -> None:
+        """Parse and compile ``text`` in the model's language and store it; the programs that
+        INCLUDE it are compiled again with it. A compile error (of it, or of a program that
+        includes it) names the program, line and column and changes nothing. ``parsed``:
+        ``parse_program(text, model)`` already done (off the event loop), or None."""
         key = self._name(name)
         if not text.strip():
             raise InvalidValue(
                 f"program {key}: the text is empty (a program needs at least one line)",
                 field="body",
             )
-        if code is None:
-            code = compile_program(parse_program(text))
+        try:
+            if parsed is None:
+                parsed = parse_program(text, self.model.name)
+        except (ParseError, NotSimulated) as exc:
+            exc.details.setdefault("program", key)
+            raise
+        code = self._compile(key, parsed, {key: parsed})
+        dependants = {
+            other: self._compile(other, self.parsed[other], {key: parsed})
+            for other, (_text, other_code) in self.programs.items()
+            if key in other_code.includes and other in self.parsed
+        }
         self.programs[key] = (text, code)
+        self.parsed[key] = parsed
+        for other, other_code in dependants.items():
+            self.programs[other] = (self.programs[other][0], other_code)
+
+    def _compile(self, key: str, parsed: Program, pending: dict[str, Program]) -> Code:
+        """Compile program ``key`` against the stored programs (``pending`` first) and the
+        GLOBAL / CONSTANT names declared so far."""
+
+        def resolve(name: str) -> Program | None:
+            return pending.get(name) or self.parsed.get(name)
+
+        return compile_program(parsed, key, resolve, self.declared, self.declared_version)
+
+    def declare(self, name: str, decl: Decl) -> None:
+        """GLOBAL / CONSTANT ran: programs compiled (or RUN) from now on see ``name``."""
+        if self.declared.get(name) != decl:
+            self.declared[name] = decl
+            self.declared_version += 1
 
     def program(self, name: str) -> str:
         key = self._stored(name)
@@ -323,7 +365,11 @@ class TrioController(Controller):
             p = self.process_number(process)
             if p in busy:
                 raise Conflict(f"process {p} is already running {self.basic[p].program}")
-        self.basic[p] = BasicProcess(self, p, key, self.programs[key][1])
+        text, code = self.programs[key]
+        if code.shared_version != self.declared_version and key in self.parsed:
+            code = self._compile(key, self.parsed[key], {})  # new GLOBAL / CONSTANT names
+            self.programs[key] = (text, code)
+        self.basic[p] = BasicProcess(self, p, key, code)
         return p
 
     def processes(self) -> list[dict[str, Any]]:

@@ -17,6 +17,8 @@ from typing import Any
 
 from motionsim.sim.trio import statements as s
 from motionsim.sim.trio.basic_errors import DIVIDE_BY_ZERO, BasicError
+from motionsim.sim.trio.scope import ExprError, Scope
+from motionsim.sim.trio.strings import STRING_FUNCTIONS, arg_kinds
 
 Eval = Callable[[Any], float]
 
@@ -102,62 +104,188 @@ _BINARY: dict[str, Callable[[float, float], float]] = {
 }
 
 
-def compile_expr(node: s.Expr) -> Eval:
+#: Expressions that are numbers whatever their operands.
+_ALWAYS_NUM = frozenset({s.Num, s.VrRef, s.TableRef, s.Param, s.Unary, s.Bit, s.IoRead})
+
+
+def kind_of(node: s.Expr, scope: Scope | None = None) -> str:
+    """``"str"`` for an expression whose value is text (MC4 strings), else ``"num"``."""
+    cls = node.__class__
+    if cls in _ALWAYS_NUM:
+        return "num"
+    if cls is s.Str:
+        return "str"
+    if isinstance(node, (s.Local, s.Element)) and scope is not None:
+        decl = scope.get(node.name)
+        return "str" if decl is not None and decl.is_str else "num"
+    if isinstance(node, s.Call) and node.name in STRING_FUNCTIONS:
+        return STRING_FUNCTIONS[node.name][3]
+    if isinstance(node, s.Binary) and node.op == "+":
+        return "str" if kind_of(node.left, scope) == "str" else "num"
+    return "num"
+
+
+def _mismatch(what: str) -> ExprError:
+    return ExprError(f"type mismatch: {what}")
+
+
+def _num(node: s.Expr, scope: Scope | None, what: str) -> Eval:
+    if kind_of(node, scope) == "str":
+        raise _mismatch(f"{what} needs a number, not a string")
+    return compile_expr(node, scope)
+
+
+def _local(node: s.Local, scope: Scope | None) -> Eval:
+    name = node.name
+    decl = scope.plain(name) if scope is not None else None
+    if decl is None:
+        return lambda c: c.locals.get(name, 0.0)
+    if decl.kind == "GLOBAL":
+        index = float(decl.index)
+        return lambda c: c.vr(index)
+    if decl.kind == "CONSTANT":
+        value = decl.value
+        return lambda c: value
+    if decl.size is not None:
+        raise ExprError(f"{name} is an array: it needs an index, {name}(i)")
+    initial = decl.initial()
+    return lambda c: c.locals.get(name, initial)
+
+
+def _element(node: s.Element, scope: Scope | None) -> Eval:
+    decl = scope.get(node.name) if scope is not None else None
+    if decl is None or decl.size is None:
+        raise ExprError(f"{node.name} is not an array (DIM {node.name}(n) AS ... declares one)")
+    idx = _num(node.index, scope, "an array index")
+    name = node.name
+    return lambda c: c.element(name, decl, idx(c))
+
+
+def _string_call(node: s.Call, scope: Scope | None) -> Eval:
+    kinds = arg_kinds(node.name, len(node.args))
+    for arg, kind in zip(node.args, kinds, strict=True):
+        if kind != "any" and kind_of(arg, scope) != kind:
+            want = "string" if kind == "str" else "number"
+            raise _mismatch(f"an argument of {node.name} must be a {want}")
+    args = [compile_expr(a, scope) for a in node.args]
+    if node.name == "STR":
+        value = args[0]
+        decimals = args[1] if len(args) > 1 else None
+        return lambda c: c.number(value(c), int(decimals(c)) if decimals else 4)
+    impl = STRING_FUNCTIONS[node.name][4]
+    return lambda c: impl(*(a(c) for a in args))
+
+
+def _string_binary(node: s.Binary, scope: Scope | None) -> Eval:
+    lk, rk = kind_of(node.left, scope), kind_of(node.right, scope)
+    if lk != rk:
+        raise _mismatch(f"{node.op} between a string and a number")
+    left, right = compile_expr(node.left, scope), compile_expr(node.right, scope)
+    compare = {"=": lambda a, b: a == b, "<>": lambda a, b: a != b, "<": lambda a, b: a < b,
+               ">": lambda a, b: a > b, "<=": lambda a, b: a <= b, ">=": lambda a, b: a >= b}
+    if node.op == "+":
+        return lambda c: left(c) + right(c)
+    if node.op in compare:
+        test = compare[node.op]
+        return lambda c: TRUE if test(left(c), right(c)) else FALSE
+    raise _mismatch(f"{node.op} cannot be used on strings")
+
+
+def compile_expr(node: s.Expr, scope: Scope | None = None) -> Eval:
     """A closure evaluating ``node`` against a running process' context.
 
     The context provides ``locals`` (dict), ``vr(i)``, ``table(i)`` and
-    ``param(name, axis, proc)``; see :class:`motionsim.sim.trio.context.Context`.
+    ``param(name, axis, proc)``; see :class:`motionsim.sim.trio.context.Context`. ``scope``
+    resolves declared names (:mod:`motionsim.sim.trio.scope`); a type error raises
+    :class:`~motionsim.sim.trio.scope.ExprError`.
     """
-    if isinstance(node, s.Num):
-        v = node.value
-        return lambda c: v
-    if isinstance(node, s.Local):
-        name = node.name
-        return lambda c: c.locals.get(name, 0.0)
-    if isinstance(node, s.VrRef):
-        idx = compile_expr(node.index)
-        return lambda c: c.vr(idx(c))
-    if isinstance(node, s.TableRef):
-        idx = compile_expr(node.index)
-        return lambda c: c.table(idx(c))
-    if isinstance(node, s.Param):
-        name = node.name
-        axis = compile_expr(node.axis) if node.axis is not None else None
-        proc = compile_expr(node.proc) if node.proc is not None else None
-        if axis is None and proc is None:
-            return lambda c: c.param(name, None, None)
-        if proc is None:
-            return lambda c: c.param(name, axis(c), None)
-        return lambda c: c.param(name, axis(c) if axis else None, proc(c))
-    if isinstance(node, s.Unary):
-        inner = compile_expr(node.operand)
-        if node.op == "-":
-            return lambda c: -inner(c)
-        return lambda c: float(~int(inner(c)))
-    if isinstance(node, s.Binary):
-        left, right = compile_expr(node.left), compile_expr(node.right)
-        fn = _BINARY[node.op]
-        if node.op == "+":
-            return lambda c: left(c) + right(c)
-        if node.op == "-":
-            return lambda c: left(c) - right(c)
-        if node.op == "*":
-            return lambda c: left(c) * right(c)
-        return lambda c: fn(left(c), right(c))
-    if isinstance(node, s.Call):
-        impl = FUNCTIONS[node.name][1]
-        args = [compile_expr(a) for a in node.args]
-        if len(args) == 1:
-            (a,) = args
-            return lambda c: float(impl(a(c)))
-        return lambda c: float(impl(*(a(c) for a in args)))
-    if isinstance(node, s.IoRead):
-        io_name = node.name
-        io_args = [compile_expr(a) for a in node.args]
-        return lambda c: c.io_read(io_name, [a(c) for a in io_args])
-    if isinstance(node, s.Str):
-        raise TypeError("a string is not a number")
-    raise TypeError(f"not an expression: {node!r}")
+    build = _COMPILE.get(node.__class__)
+    if build is None:
+        raise TypeError(f"not an expression: {node!r}")
+    return build(node, scope)
 
 
-__all__ = ["FALSE", "FUNCTIONS", "FUZZ", "TRUE", "compile_expr", "truth"]
+def _c_num(node: s.Num, scope: Scope | None) -> Eval:
+    v = node.value
+    return lambda c: v
+
+
+def _c_str(node: s.Str, scope: Scope | None) -> Eval:
+    text = node.value
+    return lambda c: text
+
+
+def _c_bit(node: s.Bit, scope: Scope | None) -> Eval:
+    inner = _num(node.operand, scope, "bit access")
+    bit = node.bit
+    return lambda c: float((int(inner(c)) >> bit) & 1)
+
+
+def _c_vr(node: s.VrRef, scope: Scope | None) -> Eval:
+    idx = _num(node.index, scope, "VR()")
+    return lambda c: c.vr(idx(c))
+
+
+def _c_table(node: s.TableRef, scope: Scope | None) -> Eval:
+    idx = _num(node.index, scope, "TABLE()")
+    return lambda c: c.table(idx(c))
+
+
+def _c_param(node: s.Param, scope: Scope | None) -> Eval:
+    name = node.name
+    axis = _num(node.axis, scope, "AXIS()") if node.axis is not None else None
+    proc = _num(node.proc, scope, "PROC()") if node.proc is not None else None
+    if axis is None and proc is None:
+        return lambda c: c.param(name, None, None)
+    if proc is None:
+        return lambda c: c.param(name, axis(c), None)
+    return lambda c: c.param(name, axis(c) if axis else None, proc(c))
+
+
+def _c_unary(node: s.Unary, scope: Scope | None) -> Eval:
+    inner = _num(node.operand, scope, f"unary {node.op}")
+    if node.op == "-":
+        return lambda c: -inner(c)
+    return lambda c: float(~int(inner(c)))
+
+
+def _c_binary(node: s.Binary, scope: Scope | None) -> Eval:
+    if kind_of(node.left, scope) == "str" or kind_of(node.right, scope) == "str":
+        return _string_binary(node, scope)
+    left, right = compile_expr(node.left, scope), compile_expr(node.right, scope)
+    op = node.op
+    if op == "+":
+        return lambda c: left(c) + right(c)
+    if op == "-":
+        return lambda c: left(c) - right(c)
+    if op == "*":
+        return lambda c: left(c) * right(c)
+    fn = _BINARY[op]
+    return lambda c: fn(left(c), right(c))
+
+
+def _c_call(node: s.Call, scope: Scope | None) -> Eval:
+    if node.name in STRING_FUNCTIONS:
+        return _string_call(node, scope)
+    impl = FUNCTIONS[node.name][1]
+    args = [_num(a, scope, node.name) for a in node.args]
+    if len(args) == 1:
+        (a,) = args
+        return lambda c: float(impl(a(c)))
+    return lambda c: float(impl(*(a(c) for a in args)))
+
+
+def _c_io(node: s.IoRead, scope: Scope | None) -> Eval:
+    io_name = node.name
+    io_args = [_num(a, scope, io_name) for a in node.args]
+    return lambda c: c.io_read(io_name, [a(c) for a in io_args])
+
+
+_COMPILE: dict[type, Callable[[Any, Scope | None], Eval]] = {
+    s.Num: _c_num, s.Str: _c_str, s.Local: _local, s.Element: _element, s.Bit: _c_bit,
+    s.VrRef: _c_vr, s.TableRef: _c_table, s.Param: _c_param, s.Unary: _c_unary,
+    s.Binary: _c_binary, s.Call: _c_call, s.IoRead: _c_io,
+}
+
+
+__all__ = ["FALSE", "FUNCTIONS", "FUZZ", "TRUE", "compile_expr", "kind_of", "truth"]

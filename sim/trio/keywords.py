@@ -7,6 +7,7 @@ be read — the later sections of the index (system commands, parameters, consta
 reachable. A program using an indexed keyword that is **not** simulated is refused when it is
 stored, with the line, the column and "not simulated" (:class:`motionsim.sim.errors.NotSimulated`,
 HTTP 501 ``not_simulated``) — not as a syntax error. ``docs/trio.md`` prints this table.
+:data:`MC4_WORDS` are the MC4xx / MC6xx language's own words (spec §11), keywords only there.
 """
 
 from __future__ import annotations
@@ -50,7 +51,7 @@ SIMULATED = _MOTION_INDEX | frozenset({
     "HEX", "PRINT", "PRINT#", "AIN", "IN", "OP", "READ_OP",
     "ELSE", "ELSEIF", "ENDIF", "FOR..TO..STEP..NEXT", "GOSUB", "GOTO", "NEXT",
     "REPEAT..UNTIL", "RETURN", "THEN", "TO", "UNTIL", "WA", "WAIT IDLE", "WAIT LOADED",
-    "WAIT UNTIL", "WEND", "WHILE",
+    "WAIT UNTIL", "WEND", "WHILE", "BASICERROR", "ON..GOSUB", "ON..GOTO",
 })
 
 #: Words that start a not-simulated statement or value (index entries split into the words a
@@ -63,15 +64,26 @@ NOT_SIMULATED = frozenset({
     "DEFKEY", "ENABLE_OP", "FILE", "FLAG", "FLAGS", "GET", "INPUT", "INPUTS0",
     "INPUTS1", "INVERT_IN", "KEY", "LINPUT", "OPEN", "PSWITCH", "READPACKET",
     "SEND", "SETCOM", "TIMER",
-    "BASICERROR", "ON",
     "RUNTYPE", "TRON", "TROFF", "ENDMOVE_SPEED", "STARTMOVE_SPEED", "FLEXLINK", "CONNPATH",
     "MOVELINK_MODIFY", "REP_OPTION", "CLUTCH_RATE", "JERK", "LIMIT_BUFFERED",
     # parameters of spec §10.11's tables the simulator does not model: refused by name, so a
     # program does not read them as a local variable that is 0
     "REP_DIST", "DATUM_IN", "FE_LATCH", "TRANS_DPOS", "TRANSITIONS", "D_GAIN", "P_GAIN",
-    "I_GAIN", "VFF_GAIN", "OV_GAIN", "DRIVE_STATUS", "TICKS", "INDEVICE", "LOOKUP", "FRAME",
+    "I_GAIN", "VFF_GAIN", "OV_GAIN", "DRIVE_STATUS", "INDEVICE", "LOOKUP", "FRAME",
     "COMMSERROR", "MSPEEDF",
 }) - MOTION_WORDS
+
+
+#: Words of the MC4xx / MC6xx language (firmware 2.x, spec §11.1, §11.4) that the earlier
+#: generations do not have: on a ``series2`` or ``mc2xx`` model they are the syntax error that
+#: generation answers, and they stay ordinary names there; on ``mc4xx`` they are keywords.
+MC4_WORDS = frozenset({
+    "INCLUDE", "DIM", "AS", "INTEGER", "FLOAT", "STRING", "BOOLEAN", "GLOBAL", "CONSTANT",
+    "LEN", "LEFT", "RIGHT", "MID", "INSTR", "VAL", "UCASE", "LCASE", "STR",
+})
+
+#: Models whose language has :data:`MC4_WORDS`, bit access (``v.n``) and string values.
+MC4_MODELS = frozenset({"mc4xx"})
 
 
 def index_rows() -> list[tuple[str, str, bool]]:
@@ -79,4 +91,4 @@ def index_rows() -> list[tuple[str, str, bool]]:
     return [(sec, kw, kw in SIMULATED) for sec, kws in INDEX.items() for kw in kws]
 
 
-__all__ = ["INDEX", "NOT_SIMULATED", "SIMULATED", "index_rows"]
+__all__ = ["INDEX", "MC4_MODELS", "MC4_WORDS", "NOT_SIMULATED", "SIMULATED", "index_rows"]

@@ -12,17 +12,19 @@ from typing import NamedTuple
 
 from motionsim.sim.errors import ParseError
 
+#: One token after optional blanks; the group that matched is its kind (:data:`_KINDS`).
 _TOKEN = re.compile(
-    r"""
-     (?P<ws>[ \t\r]+)
-    |(?P<comment>'.*)
-    |(?P<number>\$[0-9A-Fa-f]+|(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)
-    |(?P<string>"[^"]*")
-    |(?P<name>[A-Za-z_][A-Za-z0-9_]*)
-    |(?P<op><>|<=|>=|[-+*/^=<>(),;:?#\[\]])
+    r"""[ \t\r]*(?:
+     ([A-Za-z_][A-Za-z0-9_]*)
+    |(<>|<=|>=|[-+*/^=<>(),;:?#\[\]])
+    |(\$[0-9A-Fa-f]+|(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)
+    |("[^"]*")
+    |('.*)
+    |([^ \t\r]))
     """,
     re.X,
 )
+_KINDS = (None, "name", "op", "number", "string", "comment", "bad")
 
 
 class Token(NamedTuple):
@@ -33,25 +35,28 @@ class Token(NamedTuple):
     col: int
 
 
+_new = tuple.__new__
+
+
 def tokenize(line: str, line_no: int) -> list[Token]:
     """The tokens of one source line (comments dropped)."""
     out: list[Token] = []
-    pos, n = 0, len(line)
-    while pos < n:
-        m = _TOKEN.match(line, pos)
-        if m is None:
-            ch = line[pos]
-            msg = "unterminated string" if ch == '"' else f"unexpected character {ch!r}"
-            raise ParseError(msg, line=line_no, column=pos + 1, text=line)
-        kind = m.lastgroup
-        text = m.group()
-        if kind == "name":
-            text = text.upper()
+    append = out.append
+    for m in _TOKEN.finditer(line):
+        k = m.lastindex
+        if k == 1:
+            text = m.group(1).upper()
             if text == "REM":
                 break
-        if kind not in ("ws", "comment"):
-            out.append(Token(kind, text, pos + 1))  # type: ignore[arg-type]
-        pos = m.end()
+            append(_new(Token, ("name", text, m.start(1) + 1)))  # Token(...) without __new__
+        elif k == 5:
+            break  # a comment runs to the end of the line
+        elif k == 6:
+            text = m.group(6)
+            msg = "unterminated string" if text == '"' else f"unexpected character {text!r}"
+            raise ParseError(msg, line=line_no, column=m.start(6) + 1, text=line)
+        elif k is not None:
+            append(_new(Token, (_KINDS[k], m.group(k), m.start(k) + 1)))
     return out
 
 

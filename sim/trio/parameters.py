@@ -127,7 +127,6 @@ WRITABLE = (
 )
 
 #: Constants readable as names.
-CONSTANTS = {"TRUE": -1.0, "FALSE": 0.0, "ON": 1.0, "OFF": 0.0}
 
 ALL_PARAMS = AXIS_PARAMS | PROCESS_PARAMS | SYSTEM_PARAMS
 
@@ -138,7 +137,6 @@ __all__ = [
     "AXIS_READONLY",
     "AXIS_STORED",
     "AXIS_WRITABLE",
-    "CONSTANTS",
     "PROCESS_PARAMS",
     "PROCESS_WRITABLE",
     "STORED",

@@ -7,20 +7,34 @@ precedence follows the manual (spec §9.2), highest first: unary ``-`` and ``NOT
 ``*`` ``/``; ``MOD``; ``+`` ``-``; comparisons; ``AND`` ``OR`` ``XOR``; equal precedence
 left to right.
 
+The language is the model's (config ``model``, spec §11): on ``mc4xx`` also ``INCLUDE``,
+``DIM``, ``GLOBAL``, ``CONSTANT``, string values and functions and bit access ``v.n``; on
+``series2`` / ``mc2xx`` those words are the syntax error that generation answers and otherwise
+ordinary names. A Trio keyword (:data:`RESERVED`, plus the MC4 words on ``mc4xx``) is never a
+local variable. ``ON BASICERROR GOTO`` and ``ON e GOSUB/GOTO`` are every model's.
+
 Errors raise :class:`motionsim.sim.errors.ParseError` with the 1-based ``line`` and ``column``; the
-structure of blocks (FOR/NEXT, IF/ENDIF, labels) is checked by :mod:`motionsim.sim.trio.compiler`.
+structure of blocks (FOR/NEXT, IF/ENDIF, labels) and the declarations are checked by
+:mod:`motionsim.sim.trio.compiler`.
 """
 
 from __future__ import annotations
 
+import math
+import re
+
 from motionsim.sim.errors import NotSimulated, ParseError
 from motionsim.sim.trio import statements as s
+from motionsim.sim.trio.constants import CONSTANTS, LANGUAGE_PARAMS
+from motionsim.sim.trio.declaration_parser import DeclarationParser
 from motionsim.sim.trio.expressions import FUNCTIONS
-from motionsim.sim.trio.keywords import NOT_SIMULATED
+from motionsim.sim.trio.keywords import INDEX, MC4_MODELS, MC4_WORDS, NOT_SIMULATED
 from motionsim.sim.trio.lexer import Token, tokenize
 from motionsim.sim.trio.linked import LINKED
-from motionsim.sim.trio.parameters import ALL_PARAMS, CONSTANTS, WRITABLE
+from motionsim.sim.trio.models import DEFAULT_MODEL
+from motionsim.sim.trio.parameters import ALL_PARAMS, WRITABLE
 from motionsim.sim.trio.setup_commands import COMMANDS as SETUP_COMMANDS
+from motionsim.sim.trio.strings import STRING_FUNCTIONS
 
 #: Motion commands that enter the buffers, with the argument counts they accept.
 MOVE_ARGS: dict[str, tuple[int, int]] = {
@@ -53,28 +67,59 @@ _KEYWORDS = frozenset(
         "PRINT", "FOR", "TO", "STEP", "NEXT", "IF", "THEN", "ELSE", "ELSEIF", "ENDIF",
         "WHILE", "WEND", "REPEAT", "UNTIL", "WAIT", "IDLE", "LOADED", "WA", "GOTO", "GOSUB",
         "RETURN", "STOP", "RUN", "BASE", "AXIS", "PROC", "CANCEL", "RAPIDSTOP", "VR", "TABLE",
-        "AND", "OR", "XOR", "NOT", "MOD", "DEFPOS", "HALT", "PROCESS", "HEX", "OP",
+        "AND", "OR", "XOR", "NOT", "MOD", "DEFPOS", "HALT", "PROCESS", "HEX", "OP", "ON",
+        "INCLUDE", "DIM", "GLOBAL", "CONSTANT",
     }
 ) | frozenset(MOVE_ARGS) | frozenset(ALIASES)
 
+#: Every parameter name, the language's own (TICKS, LAST_AXIS) included, and the writable ones.
+PARAMS = ALL_PARAMS | frozenset(LANGUAGE_PARAMS)
+PARAMS_WRITABLE = WRITABLE | frozenset(k for k, (_kind, w) in LANGUAGE_PARAMS.items() if w)
+
+#: Names that are Trio keywords on every model: never a local variable (spec §11.10).
+RESERVED = (
+    (_KEYWORDS - MC4_WORDS) | frozenset(FUNCTIONS) | frozenset(CONSTANTS) | PARAMS
+    | NOT_SIMULATED | frozenset({"BASICERROR", "IDLE", "LOADED", "STEP", "PROC"})
+    | frozenset(w for kws in INDEX.values() for k in kws
+                for w in re.findall(r"[A-Z_][A-Z0-9_]*", k))
+)
+
 _CMP = frozenset({"=", "<>", "<", "<=", ">", ">="})
+
+#: Binary operators and their precedence, highest last (spec §9.2); unary - and NOT bind
+#: tighter than all of them.
+_PRECEDENCE: dict[str, int] = {
+    "AND": 1, "OR": 1, "XOR": 1,
+    **dict.fromkeys(_CMP, 2),
+    "+": 3, "-": 3,
+    "MOD": 4,
+    "*": 5, "/": 5,
+    "^": 6,
+}
 _EOL = Token("eol", "", 0)
+_PAD = [_EOL] * 4
 
 
-class _Line:
+class _Line(DeclarationParser):
     """Recursive-descent parser over the tokens of one source line."""
 
-    def __init__(self, text: str, line_no: int) -> None:
+    def __init__(self, text: str, line_no: int, model: str = DEFAULT_MODEL) -> None:
         self.text = text
         self.line_no = line_no
         self.toks = tokenize(text, line_no)
+        self.toks += _PAD  # end-of-line tokens: peek() past the end needs no bounds check
         self.i = 0
+        self.model = model
+        self.mc4 = model in MC4_MODELS
+        self.in_print = False
 
     # -- token helpers ------------------------------------------------------------------
 
     def peek(self, ahead: int = 0) -> Token:
-        j = self.i + ahead
-        return self.toks[j] if j < len(self.toks) else _EOL
+        try:
+            return self.toks[self.i + ahead]
+        except IndexError:
+            return _EOL
 
     def take(self) -> Token:
         tok = self.peek()
@@ -82,11 +127,11 @@ class _Line:
         return tok
 
     def at(self, text: str) -> bool:
-        tok = self.peek()
-        return tok.kind in ("op", "name") and tok.text == text
+        # a string's text keeps its quotes and a number's is digits: only op / name match
+        return self.toks[self.i].text == text
 
     def accept(self, text: str) -> bool:
-        if self.at(text):
+        if self.toks[self.i].text == text:
             self.i += 1
             return True
         return False
@@ -116,12 +161,52 @@ class _Line:
         self.i += 1
         return tok.text
 
-    def string(self) -> str:
+    def string(self, what: str = "program name") -> str:
+        """A quoted name, also in brackets (``RUN("X")``, ``STOP("X")``, MC4 form ``[INF]``)."""
+        bracket = self.accept("(")
         tok = self.peek()
         if tok.kind != "string":
-            raise self.error("expected a quoted program name")
+            raise self.error(f"expected a quoted {what}")
         self.i += 1
+        if bracket and not self.at(","):
+            self.expect(")")
         return tok.text[1:-1].upper()
+
+    def reserved(self, word: str) -> bool:
+        """A Trio keyword of this model: never a local variable."""
+        return word in RESERVED or (self.mc4 and word in MC4_WORDS)
+
+    def mc4_only(self, word: str, col: int) -> ParseError:
+        return self.error(
+            f"{word} is not Trio BASIC on the {self.model} model: it came with the MC4xx / "
+            "MC6xx language (firmware 2.x)", col)
+
+    def variable_name(self, what: str = "variable") -> str:
+        """A name a program may use for its own variable: not a keyword."""
+        tok = self.peek()
+        word = self.name()
+        if self.reserved(word):
+            raise self.error(f"{word} is a Trio BASIC keyword: it cannot be a {what}", tok.col)
+        return word
+
+    def bit_suffix(self, node: s.Expr) -> s.Expr:
+        """``value.n`` (MC4): a ``.digits`` number written straight after a name, ``)`` or
+        ``]`` is bit ``n`` of that value (spec §11.8; ``a .4`` with a space stays a number)."""
+        tok = self.peek()
+        if tok.kind != "number" or tok.text[0] != "." or not tok.text[1:].isdigit():
+            return node
+        prev = self.toks[self.i - 1] if self.i else None
+        if prev is None or prev.col + len(prev.text) != tok.col:
+            return node
+        if not self.mc4:
+            raise self.error(
+                f"bit access '{prev.text}{tok.text}' is not Trio BASIC on the {self.model} "
+                "model: it came with the MC4xx / MC6xx language (firmware 2.x)", tok.col)
+        bit = int(tok.text[1:])
+        if bit > 63:
+            raise self.error(f"bit {bit} is out of range 0..63", tok.col)
+        self.i += 1
+        return s.Bit(node, bit)
 
     # -- lines and statements ----------------------------------------------------------
 
@@ -147,10 +232,10 @@ class _Line:
         while True:
             while self.accept(":"):
                 pass
-            if self.peek().kind == "eol" or any(self.at(w) for w in stop):
+            if self.peek().text in stop or self.peek().kind == "eol":
                 return out
             out.append(self.statement())
-            if self.peek().kind == "eol" or any(self.at(w) for w in stop):
+            if self.peek().text in stop or self.peek().kind == "eol":
                 return out
             if not self.at(":"):
                 raise self.error(f"unexpected {self.peek().text!r} after the statement")
@@ -164,6 +249,23 @@ class _Line:
         if tok.kind != "name":
             raise self.error(f"a statement cannot start with {tok.text!r}")
         word = ALIASES.get(tok.text, tok.text)
+        if word in MC4_WORDS and not self.mc4:
+            nxt = self.peek(1)
+            if not (nxt.kind == "op" and nxt.text in ("=", "(")):
+                raise self.mc4_only(word, col)
+            return self.assignment(ln, col)  # an ordinary name on this model
+        nxt = self.peek(1)
+        if nxt.kind == "op" and nxt.text == "=" and word not in PARAMS and self.reserved(word):
+            if word in CONSTANTS:
+                raise self.error(f"{word} is a constant: it cannot be written", col)
+            raise self.error(f"{word} is a Trio BASIC keyword: it cannot be a variable", col)
+        if word in PARAMS:
+            self.i += 1
+            target = self.param_ref(word, col)
+            if word not in PARAMS_WRITABLE:
+                raise self.error(f"{word} cannot be written", col)
+            self.expect("=")
+            return s.Assign(ln, col, target, self.expr())
         if word in NOT_SIMULATED:
             raise self.not_simulated(word, col)
         method = getattr(self, "st_" + word, None)
@@ -176,20 +278,25 @@ class _Line:
         if word in MOVE_ARGS:
             self.i += 1
             return self.move(word, ln, col)
-        if word in ALL_PARAMS:
-            self.i += 1
-            target = self.param_ref(word, col)
-            if word not in WRITABLE:
-                raise self.error(f"{word} cannot be written", col)
-            self.expect("=")
-            return s.Assign(ln, col, target, self.expr())
-        if word in _KEYWORDS or word in FUNCTIONS or word in CONSTANTS:
+        if self.reserved(word):
             raise self.error(f"{word} is not a command here", col)
-        self.i += 1
+        return self.assignment(ln, col)
+
+    def assignment(self, ln: int, col: int) -> s.Stmt:
+        """``name = e``, ``name(i) = e`` (an array element, MC4), ``name.n = e`` (a bit, MC4)."""
+        word = self.take().text
+        target: s.Local | s.Element | s.Bit = s.Local(word)
+        if self.at("(") and self.mc4:
+            self.i += 1
+            target = s.Element(word, self.expr())
+            self.expect(")")
+        bit = self.bit_suffix(target)
+        if isinstance(bit, s.Bit):
+            target = bit
         if not self.at("="):
             raise self.error(f"unknown command {word!r}", col)
         self.i += 1
-        return s.Assign(ln, col, s.Local(word), self.expr())
+        return s.Assign(ln, col, target, self.expr())
 
     def not_simulated(self, word: str, col: int) -> NotSimulated:
         return NotSimulated(
@@ -298,13 +405,17 @@ class _Line:
         formats: list[tuple[int, int] | None] = []
         while not self.end_of_statement() and not self.at("ELSE"):
             e: s.Expr | s.Hex
-            if self.peek().kind == "string":
+            if self.peek().kind == "string" and not self.mc4:
                 e = s.Str(self.take().text[1:-1])
             elif self.accept("HEX"):
                 (value,) = self.args_exact(1, "HEX")
                 e = s.Hex(value)
             else:
-                e = self.expr()
+                self.in_print = True  # PRINT("text"): a bracketed string item (spec §11.8)
+                try:
+                    e = self.expr()
+                finally:
+                    self.in_print = False
             formats.append(self.print_format() if not isinstance(e, (s.Str, s.Hex)) else None)
             sep = ""
             if self.at(";") or self.at(","):
@@ -315,7 +426,7 @@ class _Line:
         return tuple(items), tuple(formats)
 
     def st_FOR(self, ln: int, col: int) -> s.Stmt:
-        var = self.name()
+        var = self.variable_name("loop variable")
         self.expect("=")
         start = self.expr()
         self.expect("TO")
@@ -391,8 +502,11 @@ class _Line:
         return s.Stop(ln, col, None if self.end_of_statement() else self.string())
 
     def st_RUN(self, ln: int, col: int) -> s.Stmt:
+        bracket = self.at("(")
         name = self.string()
         proc = self.expr() if self.accept(",") else None
+        if bracket and proc is not None:
+            self.expect(")")  # RUN("prog", n)
         return s.Run(ln, col, name, proc)
 
     def st_BASE(self, ln: int, col: int) -> s.Stmt:
@@ -419,8 +533,12 @@ class _Line:
 
     def st_VR(self, ln: int, col: int) -> s.Stmt:
         (index,) = self.args_exact(1, "VR")
+        target: s.VrRef | s.Bit = s.VrRef(index)
+        bit = self.bit_suffix(target)
+        if isinstance(bit, s.Bit):
+            target = bit
         self.expect("=")
-        return s.Assign(ln, col, s.VrRef(index), self.expr())
+        return s.Assign(ln, col, target, self.expr())
 
     def st_TABLE(self, ln: int, col: int) -> s.Stmt:
         args = self.args()
@@ -431,47 +549,17 @@ class _Line:
 
     # -- expressions -------------------------------------------------------------------
 
-    def expr(self) -> s.Expr:
-        left = self.comparison()
-        while self.at("AND") or self.at("OR") or self.at("XOR"):
-            op = self.take().text
-            left = s.Binary(op, left, self.comparison())
-        return left
-
-    def comparison(self) -> s.Expr:
-        left = self.additive()
-        while self.peek().kind == "op" and self.peek().text in _CMP:
-            op = self.take().text
-            left = s.Binary(op, left, self.additive())
-        return left
-
-    def additive(self) -> s.Expr:
-        left = self.modulo()
-        while self.at("+") or self.at("-"):
-            op = self.take().text
-            left = s.Binary(op, left, self.modulo())
-        return left
-
-    def modulo(self) -> s.Expr:
-        left = self.term()
-        while self.at("MOD"):
-            self.i += 1
-            left = s.Binary("MOD", left, self.term())
-        return left
-
-    def term(self) -> s.Expr:
-        left = self.power()
-        while self.at("*") or self.at("/"):
-            op = self.take().text
-            left = s.Binary(op, left, self.power())
-        return left
-
-    def power(self) -> s.Expr:
+    def expr(self, min_prec: int = 1) -> s.Expr:
+        """Binary operators by precedence climbing over :data:`_PRECEDENCE` (spec §9.2: equal
+        precedence left to right)."""
         left = self.unary()
-        while self.at("^"):
+        while True:
+            op = self.peek().text
+            prec = _PRECEDENCE.get(op)
+            if prec is None or prec < min_prec:
+                return left
             self.i += 1
-            left = s.Binary("^", left, self.unary())
-        return left
+            left = s.Binary(op, left, self.expr(prec + 1))
 
     def unary(self) -> s.Expr:
         if self.accept("-"):
@@ -490,16 +578,25 @@ class _Line:
         if tok.kind == "number":
             self.i += 1
             text = tok.text
-            return s.Num(float(int(text[1:], 16)) if text[0] == "$" else float(text))
+            value = float(int(text[1:], 16)) if text[0] == "$" else float(text)
+            if not math.isfinite(value):
+                raise self.error(f"number {text} is out of range", tok.col)
+            return s.Num(value)
         if tok.kind == "string":
-            raise self.error("a string is only allowed in PRINT")
+            if not (self.mc4 or self.in_print):
+                raise self.error("a string is only allowed in PRINT")
+            self.i += 1
+            return s.Str(tok.text[1:-1])
         if tok.kind == "op" and tok.text == "(":
             self.i += 1
             e = self.expr()
             self.expect(")")
-            return e
+            return self.bit_suffix(e)
         if tok.kind != "name":
             raise self.error(f"expected a value, found {tok.text or 'end of line'!r}")
+        return self.bit_suffix(self.named_value(tok))
+
+    def named_value(self, tok: Token) -> s.Expr:
         word = tok.text
         self.i += 1
         if word == "VR":
@@ -513,7 +610,15 @@ class _Line:
         if word in FUNCTIONS:
             arity = FUNCTIONS[word][0]
             return s.Call(word, self.args_exact(arity, word))
-        if word in ALL_PARAMS:
+        if word in STRING_FUNCTIONS and self.mc4:
+            lo, hi = STRING_FUNCTIONS[word][:2]
+            c = self.col()
+            args = self.args()
+            if not lo <= len(args) <= hi:
+                want = str(lo) if lo == hi else f"{lo} or {hi}"
+                raise self.error(f"{word} takes {want} arguments, got {len(args)}", c)
+            return s.Call(word, args)
+        if word in PARAMS:
             return self.param_ref(word, tok.col)
         if word in IO_ARGS:
             return self.io_read(word, tok.col)
@@ -521,8 +626,15 @@ class _Line:
             raise self.not_simulated(word, tok.col)
         if word == "HEX":
             raise self.error("HEX() is only allowed as a PRINT item", tok.col)
-        if word in _KEYWORDS:
-            raise self.error(f"{word} cannot be used as a value", tok.col)
+        if word in MC4_WORDS and not self.mc4 and self.at("("):
+            raise self.mc4_only(word, tok.col)
+        if self.reserved(word):
+            raise self.error(f"{word} is a Trio BASIC keyword, not a value", tok.col)
+        if self.mc4 and self.at("("):
+            self.i += 1
+            index = self.expr()
+            self.expect(")")
+            return s.Element(word, index)
         return s.Local(word)
 
     def param_ref(self, word: str, col: int) -> s.Param:
@@ -535,17 +647,18 @@ class _Line:
         return s.Param(word, axis, proc)
 
 
-def parse_line(text: str, line_no: int = 1) -> list[s.Stmt]:
+def parse_line(text: str, line_no: int = 1, model: str = DEFAULT_MODEL) -> list[s.Stmt]:
     """The statements of one line of Trio BASIC (a command-line entry or a program line)."""
-    return _Line(text, line_no).parse()
+    return _Line(text, line_no, model).parse()
 
 
-def parse_program(text: str) -> s.Program:
-    """Parse a whole program text; raises :class:`ParseError` at the first bad line."""
+def parse_program(text: str, model: str = DEFAULT_MODEL) -> s.Program:
+    """Parse a whole program text in the language of ``model`` (series2 / mc2xx / mc4xx);
+    raises :class:`ParseError` at the first bad line."""
     lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
     out: list[s.Stmt] = []
     for i, line in enumerate(lines, start=1):
-        out.extend(_Line(line, i).parse())
+        out.extend(_Line(line, i, model).parse())
     return s.Program(tuple(out), tuple(lines))
 
 

@@ -21,7 +21,10 @@ changed) or to the channel of ``PRINT #n``: see :mod:`motionsim.sim.trio.output`
 
 A runtime error stops this process only: a ``process`` event with ``state`` ``stopped``, the
 ``line`` and an ``error`` message in the controller's style
-(:mod:`motionsim.sim.trio.basic_errors`); the same line is printed on channel 0.
+(:mod:`motionsim.sim.trio.basic_errors`); the same line is printed on channel 0. Once
+``ON BASICERROR GOTO label`` has run, the error (or a ``STOP "prog"`` of it, RUN_ERROR 31)
+instead continues at the label with RUN_ERROR / ERROR_LINE set, reported by a ``basic_error``
+event; an error inside the handler stops the process (spec §11.3, :mod:`~.branches`).
 """
 
 from __future__ import annotations
@@ -29,7 +32,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 import simpy
-from motionsim.sim.trio.basic_errors import BasicError, error_line
+from motionsim.sim.trio.basic_errors import RUN_ERROR_STOPPED, BasicError, error_line
 from motionsim.sim.trio.buffers import Waiter, schedule_at
 from motionsim.sim.trio.compiler import HALT, Block, Code, Poll, Sleep, WaitFor
 from motionsim.sim.trio.context import Context
@@ -76,44 +79,63 @@ class BasicProcess:
         n = len(ops)
         pc = 0
         log.emit("process", process=number, state="running", line=self.line)
-        try:
-            while pc < n:
-                self.pc = pc
-                cost = costs[pc]
-                r = ops[pc](ctx)
-                if r is None:
-                    pc += 1
-                elif r.__class__ is int:
-                    pc = r
-                elif r.__class__ is Block:
-                    self.line = lines[pc]
-                    yield from self._blocked(r.move, code.text(pc))
-                    pc += 1
-                elif r is HALT:
-                    break
-                elif r.__class__ is Sleep:
-                    yield env.timeout(r.seconds)
-                    pc += 1
-                elif r.__class__ is WaitFor:
-                    ev = env.event()
-                    self._withdraw = self.ctrl.buffers.when(r.predicate, ev.succeed)
-                    yield ev
-                    self._withdraw = None
-                    pc += 1
-                elif r.__class__ is Poll:
-                    yield from self._poll(r)
-                    pc += 1
-                else:
-                    pc += 1
-                if cost:
-                    yield env.timeout(dt)
-            self.line = lines[min(pc, n - 1)] if n else 0
-            self._finish(None)
-        except BasicError as exc:
-            self.line = lines[pc] if pc < n else self.line
-            self._finish(error_line(number, self.line, exc.message))
-        except simpy.Interrupt:
-            pass  # stop() has already withdrawn the wait and reported the process stopped
+        while True:  # once more for each error / STOP an ON BASICERROR handler takes
+            try:
+                while pc < n:
+                    self.pc = pc
+                    cost = costs[pc]
+                    r = ops[pc](ctx)
+                    if r is None:
+                        pc += 1
+                    elif r.__class__ is int:
+                        pc = r
+                    elif r.__class__ is Block:
+                        self.line = lines[pc]
+                        yield from self._blocked(r.move, code.text(pc))
+                        pc += 1
+                    elif r is HALT:
+                        break
+                    elif r.__class__ is Sleep:
+                        yield env.timeout(r.seconds)
+                        pc += 1
+                    elif r.__class__ is WaitFor:
+                        ev = env.event()
+                        self._withdraw = self.ctrl.buffers.when(r.predicate, ev.succeed)
+                        yield ev
+                        self._withdraw = None
+                        pc += 1
+                    elif r.__class__ is Poll:
+                        yield from self._poll(r)
+                        pc += 1
+                    else:
+                        pc += 1
+                    if cost:
+                        yield env.timeout(dt)
+                self.line = lines[min(pc, n - 1)] if n else 0
+                self._finish(None)
+                return
+            except BasicError as exc:
+                self.line = lines[pc] if pc < n else self.line
+                target = self._trapped(exc.number, exc.message, self.line)
+                if target is None:
+                    self._finish(error_line(number, self.line, exc.message))
+                    return
+                pc = target
+            except simpy.Interrupt as intr:
+                if not (isinstance(intr.cause, tuple) and intr.cause[0] == "trap"):
+                    return  # stop() has already withdrawn the wait and reported the stop
+                pc = intr.cause[1]  # STOP "prog" with a handler armed: go on there
+
+    def _trapped(self, number: int, message: str, line: int) -> int | None:
+        """ON BASICERROR: the handler's pc after an error (or a STOP, RUN_ERROR 31) at
+        ``line``, with a ``basic_error`` event; None when no handler takes it."""
+        target = self.ctx.enter_handler(number, line)
+        if target is None:
+            return None
+        self.ctrl.log.emit("basic_error", process=self.number, line=line, run_error=number,
+                           error=message, handler_line=self.code.lines[target]
+                           if target < len(self.code.lines) else line)
+        return target
 
     def _blocked(self, move: Any, text: str):
         env, log = self.ctrl.env, self.ctrl.log
@@ -149,6 +171,8 @@ class BasicProcess:
         self._pending.clear()
         if error is not None:
             self.ctrl.channels.write(self.number, 0, error)
+            if not self.ctx.run_error:
+                self.ctx.run_error, self.ctx.error_line = 1, self.line
         self.state, self.blocked_on, self.error = "stopped", None, error
         fields: dict[str, Any] = {"process": self.number, "state": "stopped", "line": self.line}
         if error is not None:
@@ -157,14 +181,22 @@ class BasicProcess:
 
     # -- control ---------------------------------------------------------------------------
 
-    def stop(self) -> None:
+    def stop(self, trap: bool = False) -> None:
         """Stop the program at once: the wait it is in (a move line, WAIT, WA) is withdrawn and
-        ``stopped`` is reported at the current instant."""
+        ``stopped`` is reported at the current instant. With ``trap`` (``STOP "prog"`` from
+        BASIC) and an ON BASICERROR handler armed, the program goes on in its handler with
+        RUN_ERROR 31 instead (spec §11.3 ``[INF]``)."""
         if self.state == "stopped" or not self.sim.is_alive:
             return
         self._withdraw_wait()
         if self.pc < len(self.code.lines):
             self.line = self.code.lines[self.pc]
+        if trap:
+            target = self._trapped(RUN_ERROR_STOPPED, "Program stopped", self.line)
+            if target is not None:
+                self.state, self.blocked_on = "running", None
+                self.sim.interrupt(("trap", target))
+                return
         self._finish(None)
         self.sim.interrupt("stop")
 

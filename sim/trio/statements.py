@@ -90,7 +90,24 @@ class IoRead:
     args: tuple[Expr, ...]
 
 
-Expr = Num | Str | Local | VrRef | TableRef | Param | Unary | Binary | Call | IoRead
+@dataclass(frozen=True, slots=True)
+class Element:
+    """``name(i)``: element ``i`` (from 0) of a local array declared ``DIM name(n) AS ...``."""
+
+    name: str
+    index: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class Bit:
+    """``value.n``: bit ``n`` of the integer part of a value, 0 or 1 (``VR(5).2``,
+    ``AXISSTATUS.4``); as an assignment target it sets or clears that bit (MC4)."""
+
+    operand: Expr
+    bit: int
+
+
+Expr = Num | Str | Local | VrRef | TableRef | Param | Unary | Binary | Call | IoRead | Element | Bit
 
 # -- statements --------------------------------------------------------------------------
 
@@ -107,7 +124,7 @@ class Stmt:
 class Assign(Stmt):
     """``x = e``, ``VR(n) = e``, ``TABLE(n) = e`` or ``SPEED AXIS(1) = e``."""
 
-    target: Local | VrRef | TableRef | Param
+    target: Local | VrRef | TableRef | Param | Element | Bit
     value: Expr
 
 
@@ -328,6 +345,58 @@ class Run(Stmt):
 
     program: str
     process: Expr | None
+
+
+@dataclass(frozen=True, slots=True)
+class Include(Stmt):
+    """``INCLUDE "prog"``: the named program's declarations and assignments, made part of
+    this program when it is compiled (MC4)."""
+
+    program: str
+
+
+@dataclass(frozen=True, slots=True)
+class Dim(Stmt):
+    """``DIM name[(size)] AS INTEGER|FLOAT|STRING[(length)]|BOOLEAN``: a typed local, an
+    array when ``size`` is given (MC4)."""
+
+    name: str
+    type: str
+    size: int | None = None
+    length: int | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Global(Stmt):
+    """``GLOBAL "name", vr``: ``name`` stands for ``VR(vr)`` in every program (MC4)."""
+
+    name: str
+    index: int
+
+
+@dataclass(frozen=True, slots=True)
+class Constant(Stmt):
+    """``CONSTANT "name", value``: ``name`` is a read-only value in every program (MC4)."""
+
+    name: str
+    value: float
+
+
+@dataclass(frozen=True, slots=True)
+class OnError(Stmt):
+    """``ON BASICERROR GOTO label``: a run-time error of this process continues at ``label``."""
+
+    label: str
+
+
+@dataclass(frozen=True, slots=True)
+class OnBranch(Stmt):
+    """``ON expr GOSUB l1, l2, ...`` / ``ON expr GOTO ...``: the integer part of ``expr``
+    picks the label, from 1 (TJ2P5-138)."""
+
+    value: Expr
+    labels: tuple[str, ...]
+    gosub: bool
 
 
 @dataclass(frozen=True, slots=True)

@@ -65,6 +65,7 @@ class CommandLine:
         self.ctx = Context(ctrl, 0, self._output, command_line=True)
         self.queue: deque[Reply] = deque()
         self.locked = False
+        self._draining = False  # a line is running: a new one queues behind it
         self._waiter: Waiter | None = None
 
     def _output(self, text: str, newline: bool, channel: float | None = None) -> None:
@@ -82,13 +83,26 @@ class CommandLine:
     # -- public ----------------------------------------------------------------------------
 
     def command(self, text: str) -> Reply:
-        """Run one line; the reply is done at once unless the terminal is (or becomes) locked."""
+        """Run one line; the reply is done at once unless the terminal is (or becomes) locked
+        or another line is running. Lines run strictly in the order received: one typed while
+        a line runs (from a host's callback on that line's events or reply) or while the
+        terminal is locked waits in the queue behind the others."""
         reply = Reply(text)
-        if self.locked or self.queue:
-            self.queue.append(reply)
-            return reply
-        self._start(reply)
+        self.queue.append(reply)
+        if not self._draining and not self.locked:
+            self._drain(first=reply)
         return reply
+
+    def _drain(self, first: Reply | None = None) -> None:
+        """Run the queued lines in order until the queue is empty or a line locks the
+        terminal; ``first`` is the line its own ``command`` call runs (answered at once)."""
+        self._draining = True
+        try:
+            while self.queue and not self.locked:
+                reply = self.queue.popleft()
+                self._start(reply, pending=reply is not first)
+        finally:
+            self._draining = False
 
     def state(self) -> dict[str, Any]:
         """``{"locked", "pending": [commands waiting, the blocked one first]}``."""
@@ -110,7 +124,9 @@ class CommandLine:
 
     def _start(self, reply: Reply, pending: bool = False) -> None:
         try:
-            code = compile_program(parse_program(reply.command))
+            ctrl = self.ctrl
+            code = compile_program(parse_program(reply.command, ctrl.model.name),
+                                   shared=ctrl.declared)
         except (ParseError, NotSimulated) as exc:
             column = exc.details.get("column")
             col = f" at column {column}" if column else ""
@@ -178,8 +194,8 @@ class CommandLine:
         if self.locked and self._current is None:
             self.locked = False
             self.ctrl.log.emit("terminal", locked=False)
-            while self.queue and not self.locked:
-                self._start(self.queue.popleft(), pending=True)
+        if not self._draining and not self.locked:
+            self._drain()
 
 
 __all__ = ["CommandLine"]

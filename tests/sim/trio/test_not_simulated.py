@@ -15,9 +15,9 @@ from motionsim.sim.trio.keywords import INDEX, NOT_SIMULATED, SIMULATED, index_r
     ("text", "line", "column", "keyword"),
     [
         ("MOVE(10)\nBACKLASH(1,2,3)\n", 2, 1, "BACKLASH"),
-        ("IF TICKS<0 THEN\n MOVE(1)\nENDIF\n", 1, 4, "TICKS"),
+        ("IF LOOKUP<0 THEN\n MOVE(1)\nENDIF\n", 1, 4, "LOOKUP"),
         ("x=1\n  PSWITCH(1,ON)\n", 2, 3, "PSWITCH"),
-        ("ON x GOSUB a,b\n", 1, 1, "ON"),
+        ("x=1\nKEY\n", 2, 1, "KEY"),
         ("REGIST(3) AXIS(1)\n", 1, 1, "REGIST"),
     ],
 )
@@ -61,5 +61,5 @@ def test_index_split_into_simulated_and_not():
     assert len(rows) == sum(len(v) for v in INDEX.values())
     assert {"MOVEMODIFY", "CONNECT", "CAM", "CAMBOX", "DEFPOS", "PRINT#", "HEX", "OP", "IN",
             "READ_OP", "AIN"} <= SIMULATED
-    assert {"BACKLASH", "REGIST", "PSWITCH", "TICKS"} <= NOT_SIMULATED
+    assert {"BACKLASH", "REGIST", "PSWITCH", "LOOKUP"} <= NOT_SIMULATED
     assert not SIMULATED & NOT_SIMULATED
