@@ -212,3 +212,17 @@ def test_bad_link_options_are_run_time_errors_that_buffer_nothing(cmd, text):
     assert r.error is not None and text in r.error
     run_to(c, 0.01)
     assert fields(c, "move_start") == []
+
+
+@pytest.mark.parametrize(("model", "start"), [("mc4xx", 0.0), ("mc2xx", 1000.0)])
+def test_cambox_md_mc4_offsets_the_table_by_its_first_value(model, start):
+    """MC4 help: the TABLE values are offset by the first one, then multiplied, so the cam
+    starts where the axis is; the MC2xx TRM takes them as positions from the start."""
+    c = make(model=model)
+    c.terminal("TABLE(0,1000,1100,1200)")
+    c.terminal("CAMBOX(0,2,1,100,1) AXIS(0)")
+    run_to(c, 0.0025)
+    assert c.axis(0)["dpos"] == start
+    c.terminal("MOVE(100) AXIS(1)")
+    run_to(c, 1.0)
+    assert c.axis(0)["dpos"] == start + 200.0
