@@ -21,7 +21,10 @@ servo cycle, TJ1P-31), so the datum lies where the axis was in the period the in
 
 * The datum input is **active low** ``[BK]``, like the limit inputs: it is active while
   ``IN(DATUM_IN)`` reads OFF — write ``PUT .../variables/IN(n)`` 1 to clear the switch, 0 to
-  reach it; ``INVERT_IN(n, ON)`` turns it into an active-high input.
+  reach it; ``INVERT_IN(n, ON)`` turns it into an active-high input. Usage agrees (spec §2.5,
+  MPT): a real MC4 project homes with ``DATUM_IN = in_rotate_home`` and ``DATUM(4)``, and its
+  own simulator program drives that input OFF while the axis is inside the home sensor's
+  window and ON everywhere else.
 * The Z mark ``[INF]``: no encoder is simulated; one Z mark per revolution is modelled as one
   every user unit of DPOS (set UNITS to the edges per revolution), reached when the position
   crosses a whole number of units.

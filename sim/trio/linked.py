@@ -135,11 +135,17 @@ class LinkedMove(Move):
                  "base_units", "t_last", "run", "table")
 
     def bind(self, link: Axis | None, table: list[float],
-             table_store: dict[int, float] | None = None) -> None:
+             table_store: dict[int, float] | None = None, offset_first: bool = False) -> None:
         """Give the move its link axis and (CAM/CAMBOX) its TABLE points, as they are when the
         command is issued (``[INF]``: TABLE writes during the cam do not reach it), and the
-        TABLE itself (a pattern-mode control block is read and written while it runs)."""
+        TABLE itself (a pattern-mode control block is read and written while it runs).
+
+        ``offset_first`` (MC4xx): CAMBOX's TABLE values are offset by the first one before the
+        multiplier, so a profile not starting at 0 does not jump (CAMBOX-MD); on the MC2xx
+        generation they are positions from the start as they stand (M206-209)."""
         self.link = link
+        if offset_first and self.kind == "CAMBOX" and table:
+            table = [v - table[0] for v in table]
         self.table_pts = table
         self.table = table_store if table_store is not None else {}
         self.run: LinkRun | None = None

@@ -197,3 +197,32 @@ def test_cambox_md_pattern_repeat_count_0_stops_at_the_end_of_the_pattern():
     run_to(c, 2.0)
     assert c.axis(0)["mtype"] == 0
     assert c.axis(0)["dpos"] % 20 == 0  # whole patterns of two 10-edge cycles
+
+
+@pytest.mark.parametrize(("cmd", "text"), [
+    ("CAMBOX(0,1,16383,100,1,12) AXIS(0)", "control block"),  # 7 values do not fit
+    ("MOVELINK(10,10,0,0,1,16+5*1024) AXIS(0)", "curve 5"),  # bits 10..12 = 5: unused
+    ("MOVELINK(10,10,0,0,1,64) AXIS(0)", "link_options 64"),  # bit 6 is reserved
+    ("CAMBOX(0,1,1,100,1,0,0,5) AXIS(0)", "offset_start"),
+])
+def test_bad_link_options_are_run_time_errors_that_buffer_nothing(cmd, text):
+    c = make()
+    c.terminal("TABLE(0,0,100)")
+    r = c.terminal(cmd)
+    assert r.error is not None and text in r.error
+    run_to(c, 0.01)
+    assert fields(c, "move_start") == []
+
+
+@pytest.mark.parametrize(("model", "start"), [("mc4xx", 0.0), ("mc2xx", 1000.0)])
+def test_cambox_md_mc4_offsets_the_table_by_its_first_value(model, start):
+    """MC4 help: the TABLE values are offset by the first one, then multiplied, so the cam
+    starts where the axis is; the MC2xx TRM takes them as positions from the start."""
+    c = make(model=model)
+    c.terminal("TABLE(0,1000,1100,1200)")
+    c.terminal("CAMBOX(0,2,1,100,1) AXIS(0)")
+    run_to(c, 0.0025)
+    assert c.axis(0)["dpos"] == start
+    c.terminal("MOVE(100) AXIS(1)")
+    run_to(c, 1.0)
+    assert c.axis(0)["dpos"] == start + 200.0
