@@ -110,10 +110,12 @@ class Context:
         self.ctrl.declare(name, decl)
 
     def set_trap(self, target: int) -> None:
-        """ON BASICERROR GOTO: arm this process' error handler."""
+        """ON BASICERROR GOTO: arm this process' error handler — again, too, from inside the
+        handler (a program that restarts itself after an error, ``[INF]``)."""
         if self.command_line:
             raise BasicError(msg.TRAP_AT_COMMAND_LINE)
         self.trap = target
+        self.in_handler = False
 
     def enter_handler(self, number: int, line: int) -> int | None:
         """A run-time error (or a STOP) at ``line``: the handler's pc when one is armed and

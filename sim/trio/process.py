@@ -24,7 +24,8 @@ A runtime error stops this process only: a ``process`` event with ``state`` ``st
 (:mod:`motionsim.sim.trio.basic_errors`); the same line is printed on channel 0. Once
 ``ON BASICERROR GOTO label`` has run, the error (or a ``STOP "prog"`` of it, RUN_ERROR 31)
 instead continues at the label with RUN_ERROR / ERROR_LINE set, reported by a ``basic_error``
-event; an error inside the handler stops the process (spec §11.3, :mod:`~.branches`).
+event; an error inside the handler stops the process unless it ran ON BASICERROR again
+(spec §11.3, :mod:`~.branches`).
 """
 
 from __future__ import annotations

@@ -121,3 +121,24 @@ def test_tj2p5_138_on_goto_out_of_range_is_an_error():
     assert (c.vr[1], c.vr[2]) == (0.0, 2.0)
     (_t, f), = fields(c, "process", process=1, state="stopped")
     assert f["line"] == 7 and "ON..GOTO value 3 is outside 1..2" in f["error"]
+
+
+def test_p11_3_on_basicerror_run_again_rearms_the_handler_for_the_next_error():
+    c = make()
+    c.store_program("R", """\
+start:
+ON BASICERROR GOTO recover
+REPEAT
+  VR(1) = VR(1) + 1
+  VR(2) = 1 / (3 - VR(1)) + 1 / (6 - VR(1))
+UNTIL VR(1) >= 7
+STOP
+recover:
+VR(3) = VR(3) + 1
+GOTO start
+""")
+    c.run_program("R", 1)
+    run_to(c, 0.1)
+    assert [f["line"] for _t, f in fields(c, "basic_error")] == [5, 5]  # VR(1) = 3, then 6
+    assert (c.vr[1], c.vr[2], c.vr[3]) == (7.0, -1.25, 2.0)
+    assert "error" not in fields(c, "process", process=1, state="stopped")[0][1]
