@@ -9,7 +9,7 @@ Installed with motionsim (entry point ``pytest11``), so a test just asks for it:
         motionsim.advance("pmac", 60.0)            # runs while the host waits, holds while it acts
         motionsim.release("pmac", "streamer")
         done.result()
-        assert "waiting" not in [e["state"] for e in motionsim.all_events("pmac", ["program"])]
+        assert_fed(motionsim, "pmac", cs=1)          # else: each starvation, when and why
 
 ``motionsim`` is a :class:`motionsim.app.client.MotionSimClient` connected to a service served on a
 free 127.0.0.1 port, on a **virtual** clock, with the default controllers ``pmac`` and ``trio``
@@ -51,24 +51,20 @@ report (section ``motionsim events``) with the path of the whole log (JSON Lines
 from __future__ import annotations
 
 import functools
-import json
 import os
 import re
 import uuid
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import pytest
+from motionsim.app.pytest_failure_log import pytest_runtest_makereport  # noqa: F401 (a hook)
+from motionsim.app.pytest_failure_log import watch as _watch
 from motionsim.app.scenarios.fed import assert_fed
 
 #: Environment variable naming an external server (the ``--motionsim-url`` option wins).
 URL_ENV = "MOTIONSIM_URL"
-#: Events shown in the report of a failed test (the whole log goes to a file).
-REPORT_TAIL = 40
-_WATCHED = pytest.StashKey[list[tuple[Any, "str | None"]]]()
-_LOG_DIR = pytest.StashKey[Callable[[], Path]]()
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:
@@ -114,14 +110,6 @@ class Controller:
 
     def __repr__(self) -> str:
         return f"<motionsim {self.kind} controller {self.id!r} at {self.url}>"
-
-
-def _watch(request: pytest.FixtureRequest, client: Any, id: str | None) -> None:
-    """Attach controller ``id`` (None: every controller of the client's service) to the
-    report of the running test should it fail."""
-    request.node.stash.setdefault(_WATCHED, []).append((client, id))
-    factory = request.getfixturevalue("tmp_path_factory")
-    request.node.stash[_LOG_DIR] = lambda: factory.mktemp("motionsim-events", numbered=True)
 
 
 @pytest.fixture
@@ -285,38 +273,6 @@ def motionsim_services() -> Iterator[Callable[..., Server]]:
     finally:
         for service in started:
             service.stop()
-
-
-# -- the event log of a failed test in its report ---------------------------------------------
-
-
-@pytest.hookimpl(wrapper=True, tryfirst=True)
-def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo[None]) -> Any:
-    report = yield
-    watched = item.stash.get(_WATCHED, None)
-    if report.when == "call" and report.failed and watched:
-        for title, text in _event_sections(watched, item.stash[_LOG_DIR]):
-            report.sections.append((title, text))
-    return report
-
-
-def _event_sections(watched: list[tuple[Any, str | None]],
-                    log_dir: Callable[[], Path]) -> Iterator[tuple[str, str]]:
-    """Per watched controller: the last events and where the whole log was written."""
-    folder: Path | None = None
-    for client, only in watched:
-        try:
-            ids = [only] if only is not None else [c["id"] for c in client.controllers()]
-            for id in ids:
-                events = client.all_events(id)
-                folder = folder or log_dir()
-                path = folder / f"{id}.jsonl"
-                path.write_text("".join(json.dumps(e) + "\n" for e in events), encoding="utf-8")
-                tail = [json.dumps(e) for e in events[-REPORT_TAIL:]]
-                yield (f"motionsim events: {id} (last {len(tail)} of {len(events)})",
-                       "\n".join([*tail, f"whole log: {path}"]))
-        except Exception as exc:  # the service may be gone; the failure itself still shows
-            yield ("motionsim events", f"could not read the event log: {exc}")
 
 
 __all__ = ["Controller", "Server", "assert_fed"]

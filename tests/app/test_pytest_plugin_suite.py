@@ -25,6 +25,22 @@ EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "pytest"
 EXAMPLE_TESTS = 5
 
 
+@pytest.fixture(scope="module", autouse=True)
+def _serve_and_subscribe_once_here():
+    """pytester's in-process runs drop from ``sys.modules`` what they imported first; uvicorn
+    imports its WebSocket protocol lazily, on the first server start, so a later test of this
+    process would get a second copy of those modules and its WebSocket upgrades would fail.
+    One served socket here, before any inner run, imports them in this process for good."""
+    from websockets.sync.client import connect
+
+    with EmbeddedService(Settings(port=0, clock={"mode": "virtual"}, pmac_port=0, trio_port=0,
+                                  controllers=[{"id": "w", "kind": "pmac"}])) as served:
+        url = served.url.replace("http", "ws") + "/controllers/w/events"
+        with connect(url, compression=None, proxy=None, open_timeout=10) as ws:
+            ws.recv(timeout=10)
+    yield
+
+
 def _copy_examples(pytester: pytest.Pytester) -> None:
     for path in EXAMPLES.glob("test_*.py"):
         shutil.copy(path, pytester.path / path.name)
