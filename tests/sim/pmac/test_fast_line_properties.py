@@ -57,7 +57,7 @@ _ASSIGNMENTS = st.tuples(
 
 def _general(text: str):
     line = compile_statements(text, parse_program_line(text))
-    rotary_check(line)  # control flow in a rotary line: not simulated, on both paths
+    rotary_check(line)  # a rotary line: control flow is refused as not simulated
     return line
 
 
