@@ -53,6 +53,7 @@ def save(ctl: PmacController) -> None:
         "mdefs": dict(v.mvars.defs),
         "motors": dict(ctl.motors),
         "plcs": {p.n: p.program for p in ctl.plcs.plcs if p.program is not None},
+        "plccs": {p.n: p.program for p in ctl.plcs.compiled if p.program is not None},
     }
 
 
@@ -75,6 +76,10 @@ def _reset(ctl: PmacController, factory: bool) -> None:
     for program_n, program in setup["plcs"].items():
         ctl.plcs.plc(program_n).program = program
     ctl.plcs.set_enabled(list(setup["plcs"]), True)
+    # compiled PLCs need SAVE too and run again after a reset (PUM-V p245) [INF] enabled
+    for program_n, program in setup.get("plccs", {}).items():
+        ctl.plcs.compiled[program_n].program = program
+    ctl.plcs.set_enabled(list(setup.get("plccs", {})), True, compiled=True)
     ctl.background.poke()
 
 

@@ -21,9 +21,9 @@ Actions (TUM p217, p319; TSRM p260, p424; PSRM p175):
 * CTRL-A ($01): abort all programs and moves (programs as ``A``, jogs decelerate at Ixx15)
   and close open loops; CTRL-K ($0B): kill all motors (programs aborted, lookahead and queued
   synchronous writes lost); CTRL-Q ($11): quit all programs (``Q`` in every CS); CTRL-D
-  ($04): disable all PLC programs; CTRL-O ($0F): feed hold all coordinate systems; CTRL-U
-  ($15): ``OPEN ROT``; CTRL-X ($18): flush this port's output — the protocol adapters own the
-  queue, here it does nothing.
+  ($04): disable all PLC programs (compiled ones too ``[INF]``); CTRL-O ($0F): feed hold all
+  coordinate systems; CTRL-U ($15): ``OPEN ROT``; CTRL-X ($18): flush this port's output —
+  the protocol adapters own the queue, here it does nothing.
 
 Any other control character answers ERR003 ``[INF]`` (the manuals list no answer for it) and
 changes nothing. TAB, CR, LF and NUL are white space / line ends, not commands.
@@ -103,7 +103,9 @@ class ControlCharacters:
                 ctl.quit(n)
             return "", None
         if code == 0x04:
-            ctl.plcs.set_enabled(tuple(range(len(ctl.plcs.plcs))), False)
+            every = tuple(range(len(ctl.plcs.plcs)))
+            ctl.plcs.set_enabled(every, False)
+            ctl.plcs.set_enabled(every, False, compiled=True)  # "all PLC programs" [INF]
             return "", None
         if code == 0x0F:
             for c in ctl.coord_systems.values():

@@ -177,8 +177,8 @@ class Terminal:
             self.ctl.close_buffers(port)
         if error is None and failed is not None:
             error = failed.pmac_error or "ERR003"
-            name = not_simulated.which(text, failed.details.get("column", 1),
-                                       getattr(failed, "statement_start", None))
+            name = failed.details.get("not_simulated") or not_simulated.which(
+                text, failed.details.get("column", 1), getattr(failed, "statement_start", None))
             if name is not None:
                 self.detail = ("not_simulated", not_simulated.message(name))
             else:

@@ -94,9 +94,14 @@ def parse_jog(parser: Any) -> Jog:
     op = parser.take()[1]
     if op in ("+", "-", "/"):
         return Jog("J" + op)
+    tok = parser.peek()
+    if tok is not None and tok[0] == "op" and tok[1] == "*":
+        # J=* / J^* / J:* (and J^*^{d}, jog until trigger): the target or distance in the
+        # Mxx72 register; valid Turbo PMAC, not simulated (no variable-jog register, no
+        # trigger input) [INF]
+        raise parser.not_simulated(f"J{op}* (variable jog from Mxx72)", tok)
     if op == "=" and not parser.has_value():
         return Jog("J=")
-    tok = parser.peek()
     value = parser.value()
     if value.const is None:
         raise parser.error(f"J{op} needs a constant", tok)

@@ -523,6 +523,10 @@ class _Parser:
             k += 1
         elif tok is None or tok[0] != "num":
             return True
+        else:  # I{n}..{m}= and I{n},{count}[,{step}]= are range assignments (ranges.py)
+            while (self.peek(k) is not None and self.peek(k)[1] in (",", "..")  # type: ignore[index]
+                   and self.peek(k + 1) is not None and self.peek(k + 1)[0] == "num"):  # type: ignore[index]
+                k += 2
         nxt = self.peek(k)
         return not (nxt is not None and nxt[0] == "op" and nxt[1] in _ASSIGN_OPS)
 

@@ -89,3 +89,28 @@ def test_a_plcc_waits_at_endwhile_on_a_timer_like_a_plc(rig):
     rig.run_for(rig.period * 60)
     (k1, k0) = cycles_of(rig, "M1")
     assert k0 - k1 == 40
+
+
+def test_tsrm_p424_ctrl_d_disables_compiled_plcs_too(rig):
+    rig.ok("I5=3")
+    enter(rig, "M1=M1+1", n=1)
+    enter(rig, "M2=M2+1", n=0)
+    rig.ok("ENABLE PLCC 0,1")
+    rig.run_for(rig.period * 6)
+    rig.ok("\x04")
+    since = rig.c.log.last_seq
+    rig.run_for(rig.period * 10)
+    assert [f["name"] for _, _, f in rig.events("mvar", since=since)] == []
+    assert [(f["plc"], f["state"]) for _, _, f in rig.events("plc")][-2:] == [
+        (0, "disabled"), (1, "disabled")]
+
+
+def test_pum_v_p245_saved_plccs_come_back_after_a_reset_and_unsaved_ones_do_not(rig):
+    rig.ok("I5=2")
+    enter(rig, "M1=M1+1", n=1)
+    rig.ok("SAVE")
+    enter(rig, "M2=M2+1", n=2)
+    rig.ok("$$$")
+    rig.run_for(rig.period * 10)
+    assert rig.c.plcs.compiled[1].program is not None and rig.c.plcs.compiled[2].program is None
+    assert [f["name"] for _, _, f in rig.events("mvar")][-1] == "M1"

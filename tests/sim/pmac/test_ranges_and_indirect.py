@@ -67,12 +67,14 @@ def test_spec_12_4_range_assignment_past_8191_is_err003_and_sets_nothing(rig):
 def test_spec_12_4_ranges_and_indirect_variables_in_a_plc(rig):
     """The motorhome timer form ``i(5111+(n&30)*50+n%2)`` and a range assignment, in a PLC."""
     rig.ok("I5=2")
-    enter(rig, "P1=12", "Q(400+P1)=P1*2", "P20..22=Q412", "I(5111+(12&30)*50+12%2)=50",
+    enter(rig, "P1=12", "Q(400+P1)=P1*2", "P20..22=Q412", "i5213,15,100=P1",
+          "I(5111+(12&30)*50+12%2)=50",
           "M5=I(5111+(12&30)*50+12%2)", "DISPLC1")
     rig.ok("ENABLE PLC 1")
     rig.run_for(rig.period * 5)
     assert rig.ok("Q412") == "24"
     assert rig.ok("P20..22").split("\r") == ["24"] * 3
+    assert rig.ok("I5213,15,100").split("\r") == ["12"] * 15
     ((_, _, f),) = [e for e in rig.events("mvar") if e[2]["name"] == "M5"]
     assert f["value"] == 50
     # I(5111+12*50+0) = I5711, CS 6's timer 1, counting down
