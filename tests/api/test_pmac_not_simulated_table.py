@@ -10,15 +10,11 @@ pytestmark = pytest.mark.anyio
 
 #: One valid Turbo PMAC command per table entry (by its pattern).
 EXAMPLES = {
-    r"OPEN\s*(FORWARD|FWD|INVERSE|INV)\b": ["OPEN FORWARD", "&1OPEN INVERSE"],
     r"OPEN\s*(BINARY\s*)?ROT": ["OPEN BINARY ROT"],
     r"MS\s*\d|MSR|MSW|MSSAVE|MSCLRERR|MSDATE|MACRO": ["MS0,I910", "MSSAVE0"],
-    r"(DEFINE|DEF)\s*(CCBUF|COMP|TCOMP|BLCOMP|UBUFFER|UBUF)": ["DEFINE UBUFFER 1000",
-                                                                 "&1DEFINE CCBUF 10"],
-    r"(DELETE|DEL)\s*(CCBUF|COMP|TCOMP|BLCOMP|PLCC|TEMPS|ALL)": ["DELETE ALL", "&1DEL CCBUF"],
-    r"UNDEFINE|UNDEF": ["&1UNDEFINE"],
+    r"(DEFINE|DEF)\s*(CCBUF|COMP|TCOMP|BLCOMP)": ["&1DEFINE CCBUF 10"],
+    r"(DELETE|DEL)\s*(CCBUF|COMP|TCOMP|BLCOMP|PLCC|TEMPS)": ["&1DEL CCBUF"],
     r"PASSWORD": ["PASSWORD=SECRET"],
-    r"PMATCH": ["&1PMATCH"],
     r"ENABLE\s*PLCC|ENA\s*PLCC|DISABLE\s*PLCC|DIS\s*PLCC|PLCC": ["ENABLE PLCC 1",
                                                                   "DISABLE PLCC 2"],
     r"(LIST)\s*(LDS|LINK|PE|PC|TCOMP|COMP|BLCOMP|CCBUF|LOOKAHEAD)": [

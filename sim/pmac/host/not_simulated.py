@@ -19,15 +19,11 @@ from typing import Final
 
 #: (pattern at the failing column, what to call it).
 _COMMANDS: Final[tuple[tuple[str, str], ...]] = (
-    (r"OPEN\s*(FORWARD|FWD|INVERSE|INV)\b", "OPEN FORWARD/INVERSE (kinematic programs)"),
     (r"OPEN\s*(BINARY\s*)?ROT", "OPEN BINARY ROT"),
     (r"MS\s*\d|MSR|MSW|MSSAVE|MSCLRERR|MSDATE|MACRO", "MACRO station commands (MS...)"),
-    (r"(DEFINE|DEF)\s*(CCBUF|COMP|TCOMP|BLCOMP|UBUFFER|UBUF)", "DEFINE of that buffer"),
-    (r"(DELETE|DEL)\s*(CCBUF|COMP|TCOMP|BLCOMP|PLCC|TEMPS|ALL)",
-     "DELETE of that buffer"),
-    (r"UNDEFINE|UNDEF", "UNDEFINE (coordinate-system definitions)"),
+    (r"(DEFINE|DEF)\s*(CCBUF|COMP|TCOMP|BLCOMP)", "DEFINE of that buffer"),
+    (r"(DELETE|DEL)\s*(CCBUF|COMP|TCOMP|BLCOMP|PLCC|TEMPS)", "DELETE of that buffer"),
     (r"PASSWORD", "PASSWORD"),
-    (r"PMATCH", "PMATCH"),
     (r"ENABLE\s*PLCC|ENA\s*PLCC|DISABLE\s*PLCC|DIS\s*PLCC|PLCC", "compiled PLCs (PLCC)"),
     (r"(LIST)\s*(LDS|LINK|PE|PC|TCOMP|COMP|BLCOMP|CCBUF|LOOKAHEAD)", "that LIST"),
     (r"CHECKSUM|CLEAR\s*ALL(?!\s*PLCS)|EAVERSION|DATE|TIME|IDNUMBER|IDC|SID|UPDATE|RESET",

@@ -364,6 +364,8 @@ class Terminal:
             if ctl.programs.editing(port) is None:
                 raise CommandError("ERR005")  # CLEAR needs an open buffer [INF]
             ctl.programs.clear()
+        elif hasattr(stmt, "online"):  # commands that carry their action (card_words)
+            stmt.online(ctl, port, out)
         else:  # pragma: no cover - every parsed statement type is handled above
             raise CommandError("ERR003")
 

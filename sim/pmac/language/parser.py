@@ -30,6 +30,7 @@ from motionsim.sim.errors import ParseError
 from motionsim.sim.pmac.buffers.program_counter import ProgramCounter
 from motionsim.sim.pmac.card import card_commands, memory_commands, mvar_defs
 from motionsim.sim.pmac.host import list_commands
+from motionsim.sim.pmac.language import card_words
 from motionsim.sim.pmac.language import expressions as ex
 from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.language import plc_statements as plc_st
@@ -260,7 +261,9 @@ class _Parser:
                 e.statement_start = start  # type: ignore[attr-defined]
                 raise
             end = self.toks[self.i - 1][3]
-            if isinstance(stmt, (st.OpenRotary, st.OpenProgram)):
+            if isinstance(stmt, (st.OpenRotary, st.OpenProgram)) or getattr(
+                stmt, "opens_buffer", False
+            ):
                 self.open = True
             elif isinstance(stmt, st.Close):
                 self.open = False
@@ -310,6 +313,9 @@ class _Parser:
         if self.at("num"):
             scale = self.take()[1]
         tok = self.peek()
+        if not scale and tok is not None and tok[:2] == ("word", "I"):
+            self.i += 1
+            return "I"  # ``#n->I``: an inverse-kinematic motor (sim.pmac.kinematics)
         if tok is not None and tok[0] == "word" and len(tok[1]) == 1 and tok[1] in st.AXES:
             self.i += 1
             return f"{scale}{tok[1]}"
@@ -321,6 +327,9 @@ class _Parser:
 
     def word_statement(self, tok: Token) -> Any:
         word = tok[1]
+        extra = card_words.parse(self, word)  # card memory and kinematics commands
+        if extra is not None:
+            return extra
         if word in ("DEFINE", "DEF"):
             what = self.take()
             if what[1] in ("ROTARY", "ROT"):
