@@ -43,6 +43,8 @@ TARGETS: tuple[Target, ...] = (
            "<=", 5.0),
     Target("wire", "getresponse", "PMAC Ethernet GETRESPONSE round trips / bare echo server",
            ">=", 0.5),
+    Target("pmac_kinematics", "kinematic_vs_plain",
+           "10 000-segment PROG: kinematic CS / plain CS simulated s per wall s", ">=", 0.3),
     Target("sweep", "speedup_2_workers", "64 scenario runs: 2 local workers vs 1 (speed-up)",
            ">=", 1.8),
     Target("dashboard", "fps_1000", "dashboard frames/s at 1000 events/s (absolute; ~30)",

@@ -34,6 +34,7 @@ from motionsim.sim.pmac.buffers.rotary import RotaryBuffer
 from motionsim.sim.pmac.card import card_commands, registers
 from motionsim.sim.pmac.card.variables import N_CS, N_MOTORS, Variables, parse_name
 from motionsim.sim.pmac.host.terminal import Terminal
+from motionsim.sim.pmac.kinematics.engine import Kinematics
 from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.lookahead import CoordSystem
 from motionsim.sim.pmac.motor.motor_status import motor_status_words
@@ -134,6 +135,7 @@ class PmacController(Controller):
         self.background.power_on()
         self.coord_systems = {n: CoordSystem(self, n) for n in range(1, N_CS + 1)}
         self.vars.mvars.registers = registers.for_controller(self)
+        self.kinematics = Kinematics(self)  # OPEN FORWARD / INVERSE, #n->I (sim.pmac.kinematics)
         self.gather_words: int | None = None
         self.programs = MotionPrograms()
         self.buffer_holder: Port | None = None
@@ -505,6 +507,7 @@ class PmacController(Controller):
             run = c.fixed
             if run is None or run.number != c.program or not run.pending:
                 c.fixed = self.programs.run_of(cs, int(c.program), self.log.emit)
+        self.kinematics.program_start(cs)
         c.run(single_step)
 
     def quit(self, cs: int) -> None:
@@ -571,11 +574,15 @@ class PmacController(Controller):
         if have is None:
             return None
         cs, definition = have
+        if definition == "I":  # inverse-kinematic: its position comes from the kinematics
+            return cs, f"I{motor}", 1.0
         axis = definition[-1]
         scale = float(definition[:-1]) if len(definition) > 1 else 1.0
         return cs, axis, scale
 
     def _axis_position(self, cs: int, axis: str, t: float) -> float:
+        if axis[0] == "I":  # ``I{n}``: motor n defined #n->I
+            return self.kinematics.motor_base(cs, int(axis[1:]), t)
         return self.coord_systems[cs].positions(t).get(axis, 0.0)
 
     def _cs_running(self, cs: int) -> bool:
