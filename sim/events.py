@@ -41,6 +41,7 @@ EVENT_FIELDS: dict[str, tuple[str, ...]] = {
     "move_end": ("cs|axis", "n|mtype"),
     "mvar": ("name", "value", "sync"),
     "pset": ("cs", "n", "positions"),  # PMAC: PSET gave these axes new present positions
+    "program_error": ("cs", "prog", "n", "reason"),  # PMAC: control flow's run-time error
     "program": ("cs|process", "state", "error"),  # PMAC error: "run_time_error" / "watchdog"
     "axis": ("axis", "mtype", "ntype"),
     "process_buffer": ("process", "axis", "mtype"),

@@ -505,8 +505,10 @@ class PmacController(Controller):
             raise Conflict("a PROG is open for entry: CLOSE first", pmac_error="ERR015")
         if c.program != 0 and not c.running:
             run = c.fixed
-            if run is None or run.number != c.program or not run.pending:
-                c.fixed = self.programs.run_of(cs, int(c.program), self.log.emit)
+            if run is None or run.number != c.program or run.finished:
+                c.fixed = self.programs.run_of(cs, int(c.program), self.log.emit, self.vars)
+            else:
+                run.resume()  # after Q, A, S or a STOP: on from the program counter
         self.kinematics.program_start(cs)
         c.run(single_step)
 

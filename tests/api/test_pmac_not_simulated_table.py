@@ -1,42 +1,52 @@
-"""Every command of sim/pmac/host/not_simulated.py's table answers ``not_simulated`` on the REST
-terminal, not ``parse_error`` — also when its parse fails mid-word or after ``&n`` / ``#n``."""
+"""Every not-simulated row and object of the keyword table (sim/pmac/language/keywords.py),
+and every letter command of sim/pmac/host/not_simulated.py, answers ``not_simulated`` naming
+it on the REST terminal, not ``parse_error`` — also after ``&n`` / ``#n`` addressing."""
 
 from __future__ import annotations
 
 import pytest
 from motionsim.sim.pmac.host import not_simulated
+from motionsim.sim.pmac.language import keywords
 
 pytestmark = pytest.mark.anyio
 
-#: One valid Turbo PMAC command per table entry (by its pattern).
-EXAMPLES = {
-    r"OPEN\s*(BINARY\s*)?ROT": ["OPEN BINARY ROT"],
-    r"MS\s*\d|MSR|MSW|MSSAVE|MSCLRERR|MSDATE|MACRO": ["MS0,I910", "MSSAVE0"],
-    r"(DEFINE|DEF)\s*(CCBUF|COMP|TCOMP|BLCOMP)": ["&1DEFINE CCBUF 10"],
-    r"(DELETE|DEL)\s*(CCBUF|COMP|TCOMP|BLCOMP|PLCC|TEMPS)": ["&1DEL CCBUF"],
-    r"PASSWORD": ["PASSWORD=SECRET"],
-    r"ENABLE\s*PLCC|ENA\s*PLCC|DISABLE\s*PLCC|DIS\s*PLCC|PLCC": ["ENABLE PLCC 1",
-                                                                  "DISABLE PLCC 2"],
-    r"(LIST)\s*(LDS|LINK|PE|PC|TCOMP|COMP|BLCOMP|CCBUF|LOOKAHEAD)": [
-        "LIST LOOKAHEAD", "&1LIST PC", "&1 LIST PE", "LIST LDS"],
-    r"CHECKSUM|CLEAR\s*ALL(?!\s*PLCS)|EAVERSION|DATE|TIME|IDNUMBER|IDC|SID|UPDATE|RESET": [
-        "CHECKSUM", "CLEAR ALL", "DATE", "SID"],
-    r"(MOVETIME|HOLD|STOP|BLKSTART|BLOCKSTART)": ["&1MOVETIME", "#1HOLD"],
-    r"GATHER|ENDGATHER|ENDG\b": ["GATHER", "ENDGATHER"],
+#: One valid Turbo PMAC command per letter-command pattern.
+LETTER_EXAMPLES = {
+    "MACRO station commands (MS...)": ["MS0,I910", "MSSAVE0"],
+    "LIST PE / LIST PC": ["&1LIST PC", "&1 LIST PE"],
+    "CLEAR ALL": ["CLEAR ALL"],
+    "compiled PLCs (PLCC)": ["ENABLE PLCC 1"],
+    "BLKSTART": ["BLKSTART"],
+    "G/T/D-code subprogram calls": ["G01"],
 }
+TABLE_EXAMPLES = keywords.examples()
 
 
-def test_every_table_entry_has_examples():
-    assert set(EXAMPLES) == {p for p, _ in not_simulated._COMMANDS}
+def test_every_letter_command_has_examples():
+    assert set(LETTER_EXAMPLES) == {name for _, name in not_simulated._LETTER_COMMANDS}
 
 
-@pytest.mark.parametrize("command", [c for cs in EXAMPLES.values() for c in cs])
-async def test_a_table_command_is_not_simulated_on_the_rest_terminal(pmac_api, command):
+def test_every_not_simulated_row_has_an_example():
+    rows = [k for k in keywords.TABLE if not k.simulated]
+    assert rows and all(k.example for k in rows)
+
+
+@pytest.mark.parametrize(("command", "name"), TABLE_EXAMPLES)
+async def test_a_table_row_is_not_simulated_and_named(pmac_api, command, name):
     r = await pmac_api.post("/controllers/p/terminal", json={"command": command})
     body = r.json()
     assert body["error"] == "ERR003", body
     assert body["not_simulated"] is True, body
     assert "does not simulate" in body["detail"]
+    assert name.split()[0] in body["detail"], body
+
+
+@pytest.mark.parametrize("command", [c for cs in LETTER_EXAMPLES.values() for c in cs])
+async def test_a_letter_command_is_not_simulated(pmac_api, command):
+    r = await pmac_api.post("/controllers/p/terminal", json={"command": command})
+    body = r.json()
+    assert body["error"] == "ERR003", body
+    assert body["not_simulated"] is True, body
 
 
 async def test_a_typo_stays_a_parse_error(pmac_api):

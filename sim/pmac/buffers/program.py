@@ -20,7 +20,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from motionsim.sim.errors import NotSimulated
 from motionsim.sim.pmac.language import statements as st
+from motionsim.sim.pmac.language.flow_statements import FLOW_TYPES
 from motionsim.sim.pmac.language.parser import parse_program_line
 
 # Operation codes (first element of each op tuple).
@@ -32,6 +34,9 @@ OP_MOVE = 4  # (OP_MOVE, ((axis, expr), ...), ((vector, expr), ...), ((axis, vel
 OP_DWELL = 5  # (OP_DWELL, expr)
 OP_DELAY = 6  # (OP_DELAY, expr)
 OP_PSET = 7  # (OP_PSET, ((axis, expr), ...))
+
+#: Statements that make a line a control-flow line (:attr:`ProgramLine.flow`).
+_MARKS = (st.Label, *FLOW_TYPES)
 
 
 @dataclass(frozen=True, slots=True)
@@ -48,11 +53,15 @@ class ProgramLine:
     #: ``((axis, position, velocity), ...)`` when the line is one move with constant axis
     #: values and constant (or no) PVT velocities: the PVT planning short cut.
     simple_pvt: tuple[tuple[str, float, float], ...] | None = None
+    #: The line's statements when it holds control flow or a label (``N10``, ``IF (...)``,
+    #: ``GOSUB20``): :mod:`.flow` splits it at them; None for a plain line.
+    flow: tuple[Any, ...] | None = None
 
     def __init__(
         self, text: str, words: int, ops: tuple[tuple[Any, ...], ...], moves: int,
         simple: tuple[tuple[str, float], ...] | None = None,
         simple_pvt: tuple[tuple[str, float, float], ...] | None = None,
+        flow: tuple[Any, ...] | None = None,
     ) -> None:
         # One per streamed line: the slots' own setters, not the generated frozen
         # ``__init__``'s ``object.__setattr__`` per field (same object, still frozen).
@@ -62,9 +71,10 @@ class ProgramLine:
         _set_moves(self, moves)
         _set_simple(self, simple)
         _set_simple_pvt(self, simple_pvt)
+        _set_flow(self, flow)
 
 
-_set_text, _set_words, _set_ops, _set_moves, _set_simple, _set_simple_pvt = (
+_set_text, _set_words, _set_ops, _set_moves, _set_simple, _set_simple_pvt, _set_flow = (
     getattr(ProgramLine, name).__set__ for name in ProgramLine.__slots__)
 
 
@@ -77,6 +87,7 @@ def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:
     velocities: list[tuple[str, Any]] = []
     moves = 0
     words = len(stmts)
+    flow = None
 
     def flush() -> None:
         nonlocal moves
@@ -120,7 +131,9 @@ def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:
             flush()
             ops.append((OP_PSET, s.axes))
             words += len(s.axes) - 1  # one word per value, like axis words [INF]
-        # Label, Message: stored, no action.
+        elif isinstance(s, _MARKS):
+            flow = tuple(stmts)  # labels and control flow: split by .flow when run
+        # Message: stored, no action.
     flush()
     simple = None
     if (
@@ -141,7 +154,7 @@ def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:
     ):
         vel = {a: float(e.const) for a, e in ops[0][3]}
         simple_pvt = tuple((a, float(e.const), vel.get(a, 0.0)) for a, e in ops[0][1])
-    return ProgramLine(text, max(1, words), tuple(ops), moves, simple, simple_pvt)
+    return ProgramLine(text, max(1, words), tuple(ops), moves, simple, simple_pvt, flow)
 
 
 def compile_line(text: str) -> ProgramLine:
@@ -149,11 +162,34 @@ def compile_line(text: str) -> ProgramLine:
 
     Raises:
         sim.errors.ParseError: positioned (column), ERR003.
+        sim.errors.NotSimulated: control flow in a rotary buffer (:func:`rotary_check`).
     """
     line = fast_compile(text)
     if line is not None:
         return line
-    return compile_statements(text, parse_program_line(text))
+    line = compile_statements(text, parse_program_line(text))
+    rotary_check(line)
+    return line
+
+
+def rotary_check(line: ProgramLine) -> None:
+    """Control flow in a rotary buffer is not simulated ``[INF]``: its lines are freed as
+    they are calculated, so there is nothing to jump back to; which forms the card accepts
+    there was not found (spec §12.11). Refused before anything is stored.
+
+    Raises:
+        NotSimulated: ERR003 on the wire, naming the statement.
+    """
+    stmts = line.flow
+    if stmts is None:
+        return
+    for s in stmts:
+        if isinstance(s, FLOW_TYPES):
+            raise NotSimulated(
+                f"{type(s).__name__.upper()} in a rotary buffer is valid Turbo PMAC that "
+                "motionsim does not simulate (control flow runs in fixed PROG buffers)",
+                pmac_error="ERR003", column=getattr(s, "column", None), text=line.text,
+            )
 
 
 # The plain-line fast path needs ProgramLine and the OP codes above (import cycle).
@@ -171,4 +207,5 @@ __all__ = [
     "ProgramLine",
     "compile_line",
     "compile_statements",
+    "rotary_check",
 ]

@@ -64,7 +64,12 @@ def report(cmd: ProgramCounter, ctl: PmacController, cs_n: int) -> str:
         raise Conflict(f"CS {cs_n} points at no program (B{{n}} first)", pmac_error="ERR003")
     n = _executing_line(cs) if cmd.executing else None
     if n is None:
-        n = _next_line(cs)
+        src = cs.lines()
+        where = getattr(src, "where", None)
+        if where is not None:  # a fixed program: where its counter is, after any jump
+            program, n = where()
+        else:
+            n = _next_line(cs)
     if program == 0:
         return f"P0:{n - 1}"
     texts = ctl.program_lines(int(program)) or []

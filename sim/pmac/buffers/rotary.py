@@ -33,7 +33,7 @@ from typing import Any
 
 from motionsim.sim.events import EventLog
 from motionsim.sim.pmac.buffers.line_numbers import LineNumbering
-from motionsim.sim.pmac.buffers.program import ProgramLine
+from motionsim.sim.pmac.buffers.program import ProgramLine, rotary_check
 
 
 class RotaryBuffer:
@@ -48,6 +48,11 @@ class RotaryBuffer:
         faults: the card's :class:`motionsim.sim.faults.CardFaults` (a rising edge it says
             is lost raises the level without a ``breq`` event or interrupt), or None.
     """
+
+    #: The planning interface of a program run (:class:`.programs.ProgramRun`): a rotary
+    #: buffer never interrupts a calculation pass and has no BLOCKSTART.
+    interrupt: str | None = None
+    in_block = False
 
     __slots__ = (
         "cs",
@@ -169,7 +174,13 @@ class RotaryBuffer:
     # -- loading and planning -------------------------------------------------------------
 
     def store(self, line: ProgramLine) -> int:
-        """Store one line (the caller has checked :meth:`fits`); returns its number ``n``."""
+        """Store one line (the caller has checked :meth:`fits`); returns its number ``n``.
+
+        Raises:
+            NotSimulated: a control-flow line (:func:`.program.rotary_check`); not stored.
+        """
+        if line.flow is not None:
+            rotary_check(line)
         n = self.n_loaded + 1
         self.n_loaded = n
         self.pending.append((n, line))
@@ -210,18 +221,12 @@ class RotaryBuffer:
         pending = self.pending
         n, line = pending.popleft()
         self.calculated.append((n, line.words))
-        # = self.line_calculated(n), written out (the per-line path)
-        self._emit("line_calculated", cs=self.cs, n=n)
-        if self._ver != self._vars.version:
-            self._limits()
-        if len(pending) < self._i16:
-            self.full = False
-            if not self.breq:
-                self._set(True)
+        self.line_calculated(n)
         return n
 
     def line_calculated(self, n: int) -> None:
-        """Planning has worked through line ``n``: the I16 rule."""
+        """Planning has worked through line ``n``: the I16 rule, written here only (seed 000,
+        TSRM p286): fewer than I16 lines ahead clears the full bit and raises BREQ."""
         self._emit("line_calculated", cs=self.cs, n=n)
         if self._ver != self._vars.version:
             self._limits()

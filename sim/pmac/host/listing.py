@@ -37,12 +37,15 @@ SHORT: Final[dict[str, str]] = {
     "ENDWHILE": "ENDW", "ENDIF": "ENDI", "ENABLE": "ENA", "DISABLE": "DIS",
     "ADDRESS": "ADR", "COMMAND": "CMD", "RETURN": "RET", "DWELL": "DWE", "DELAY": "DLY",
     "LINEAR": "LIN", "RAPID": "RPD", "CIRCLE": "CIR", "ROTARY": "ROT", "GATHER": "GAT",
+    "O": "N",
 }  # fmt: skip
 
 _TOKEN: Final = re.compile(
     r'(?P<str>"[^"]*"?)|(?P<comment>;.*)|(?P<hex>\$[0-9A-Fa-f]+)|(?P<range>\.\.)'
     r"|(?P<num>\d*\.\d+|\d+(?:\.(?!\.)\d*)?)|(?P<word>[A-Za-z]+)|(?P<blank>\s+)|(?P<other>.)"
 )
+#: ``END IF`` / ``END WHILE`` written with blanks: one keyword (spec §12.1).
+_END_BLANK: Final = re.compile(r"(?i)\bEND\s+(IF|WHILE)\b")
 _VALUE: Final = re.compile(r"\d|[IPQM]\d|[IPQM]\(")
 
 #: One listed program line: (word offset, text).
@@ -50,8 +53,10 @@ Entry = tuple[int, str]
 
 
 def canonical(source: str) -> str:
-    """A program line as the card lists it (``IF (runFlag = 0) ; c`` → ``IF(RUNFLAG=0)``)."""
+    """A program line as the card lists it (``IF (runFlag = 0) ; c`` → ``IF(RUNFLAG=0)``;
+    ``End If`` → ``ENDI``; an ``O`` label as ``N``, TSRM p458)."""
     out: list[str] = []
+    source = _END_BLANK.sub(r"END\1", source)
     for m in _TOKEN.finditer(source):
         kind = m.lastgroup
         text = m.group()

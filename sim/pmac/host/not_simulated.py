@@ -8,8 +8,10 @@ a typo. ``docs/pmac.md`` lists what is
 simulated. Command names from the Turbo SRM on-line command list (TSRM p260–p420) ``[BK]``
 for the spelling of a few abbreviations.
 
-Entries are removed as commands become simulated: a pattern here never shadows a command the
-parser accepts, because it is consulted only after a parse error.
+The commands come from the keyword table (:mod:`motionsim.sim.pmac.language.keywords`): a row
+or an object marked not simulated is answered here; a row becomes simulated by giving it a
+builder. A pattern never shadows a command the parser accepts: it is consulted only after a
+parse error.
 """
 
 from __future__ import annotations
@@ -17,19 +19,23 @@ from __future__ import annotations
 import re
 from typing import Final
 
-#: (pattern at the failing column, what to call it).
-_COMMANDS: Final[tuple[tuple[str, str], ...]] = (
-    (r"OPEN\s*(BINARY\s*)?ROT", "OPEN BINARY ROT"),
+from motionsim.sim.pmac.language import keywords
+
+#: Valid commands the keyword table cannot hold as words (the lexer would split them into
+#: letters that start other commands: ``MS``, ``LIST PE``); (pattern, what to call it).
+_LETTER_COMMANDS: Final[tuple[tuple[str, str], ...]] = (
     (r"MS\s*\d|MSR|MSW|MSSAVE|MSCLRERR|MSDATE|MACRO", "MACRO station commands (MS...)"),
-    (r"(DEFINE|DEF)\s*(CCBUF|COMP|TCOMP|BLCOMP)", "DEFINE of that buffer"),
-    (r"(DELETE|DEL)\s*(CCBUF|COMP|TCOMP|BLCOMP|PLCC|TEMPS)", "DELETE of that buffer"),
-    (r"PASSWORD", "PASSWORD"),
-    (r"ENABLE\s*PLCC|ENA\s*PLCC|DISABLE\s*PLCC|DIS\s*PLCC|PLCC", "compiled PLCs (PLCC)"),
-    (r"(LIST)\s*(LDS|LINK|PE|PC|TCOMP|COMP|BLCOMP|CCBUF|LOOKAHEAD)", "that LIST"),
-    (r"CHECKSUM|CLEAR\s*ALL(?!\s*PLCS)|EAVERSION|DATE|TIME|IDNUMBER|IDC|SID|UPDATE|RESET",
-     "that on-line command"),
-    (r"(MOVETIME|HOLD|STOP|BLKSTART|BLOCKSTART)", "that on-line command"),
-    (r"GATHER|ENDGATHER|ENDG\b", "data gathering (GATHER / ENDGATHER)"),
+    (r"LIST\s*(PE|PC)\b", "LIST PE / LIST PC"),
+    (r"CLEAR\s*ALL(?!\s*PLCS)", "CLEAR ALL"),
+    (r"PLCC", "compiled PLCs (PLCC)"),
+    (r"BLKSTART", "BLKSTART"),
+    (r"[GTD]\s*\d", "G/T/D-code subprogram calls"),
+)
+#: (pattern at the failing column, what to call it): the keyword table's not-simulated
+#: rows and objects (:func:`motionsim.sim.pmac.language.keywords.not_simulated`), then the
+#: letter commands.
+_COMMANDS: Final[tuple[tuple[str, str], ...]] = (
+    *keywords.not_simulated(), *_LETTER_COMMANDS,
 )
 _ADDRESSING: Final = re.compile(r"(?:\s*[&#]\s*\d+)*\s*")
 _COMPILED: Final = tuple((re.compile(p, re.IGNORECASE), name) for p, name in _COMMANDS)

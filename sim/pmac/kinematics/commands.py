@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from motionsim.sim.errors import Conflict
+from motionsim.sim.pmac.buffers.flow import Structure
 
 if TYPE_CHECKING:
     from motionsim.sim.pmac.controller import PmacController
@@ -49,8 +50,12 @@ class OpenKinematic:
         _refuse_while_running(ctl, None, "OPEN FORWARD/INVERSE")
         key = buffer_key(port.state["cs"], self.inverse)
         progs = ctl.programs
-        progs.programs.setdefault(key, [])
-        progs._edit = (port, key)  # entered, cleared and closed as a PROG is
+        lines = progs.programs.setdefault(key, [])
+        # entered, checked, cleared and closed as a PROG is (buffers.programs), under its key
+        progs._edit = (port, key)
+        progs._structure = Structure(dry=True)
+        for line in lines:
+            progs._structure.feed(line)
         ctl.buffer_holder = port
 
 

@@ -77,7 +77,10 @@ class Kinematics:
             return None
         have = self._compiled.get(key)
         if have is None or have[0] != id(lines) or have[1] != len(lines):
-            have = (id(lines), len(lines), Subroutine(lines))
+            code = progs.code(key)
+            if code is None:
+                return None
+            have = (id(lines), len(lines), Subroutine(code))
             self._compiled[key] = have
             self._cache.clear()
             self._last = None

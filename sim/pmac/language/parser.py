@@ -29,25 +29,16 @@ from typing import Any
 from motionsim.sim.errors import ParseError
 from motionsim.sim.pmac.buffers.program_counter import ProgramCounter
 from motionsim.sim.pmac.card import card_commands, memory_commands, mvar_defs
-from motionsim.sim.pmac.host import list_commands
-from motionsim.sim.pmac.language import card_words
 from motionsim.sim.pmac.language import expressions as ex
+from motionsim.sim.pmac.language import keywords
 from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.language import plc_statements as plc_st
 from motionsim.sim.pmac.language import statements as st
 
-_WORDS = [
-    "DEFINE", "DELETE", "DEF", "DEL", "ROTARY", "ROT", "GATHER", "GAT", "OPEN", "CLOSE",
-    "LINEAR", "LIN", "RAPID", "RPD", "CIRCLE", "CIR", "DWELL", "DWE", "DELAY", "DLY",
-    "VERSION", "VER", "CID", "CPU", "VID", "TYPE", "SIZE", "SEND", "CMD",
-    "ATAN2", "ATAN", "ASIN", "ACOS", "SIN", "COS", "TAN", "SQRT", "EXP", "LN", "ABS", "INT",
-    "INC", "PR", "TA", "TS", "TM", "PVT", "SPLINE",
-    "ENABLE", "DISABLE", "ENA", "DIS", "PLCC", "PLC", "CLEAR",
-    "HOMEZ", "HOME", "HMZ", "HM",
-    "LIST", "PROGRAM", "PROG", "FORWARD", "INVERSE", "SAVE", "MFLUSH", "PSET", "LOOKAHEAD",
-    "LOOK",
-]  # fmt: skip
-_WORDS.sort(key=len, reverse=True)
+#: Words the lexer reads whole: the keyword table's spellings and objects, and the functions.
+_WORDS = keywords.lexer_words(tuple(ex.FUNCTIONS))
+#: Keyword token -> its statement builder (filled on first use from the keyword table).
+_BUILDERS: dict[str, Any] = {}
 
 _TOKEN = re.compile(
     r"\s*(?:"
@@ -56,7 +47,7 @@ _TOKEN = re.compile(
     r"|(?P<comment>;.*)"
     r"|(?P<word>" + "|".join(_WORDS) + r"|[A-Za-z])"
     r"|(?P<op>\?\?\?|\?\?|\?|->|\.\.|==|&=|\|=|\^=|##|\$\$\$(?:\*\*\*)?|\$\*|\$"
-    r"|[=&#|^+\-*/%(),:])"
+    r"|![=<>~]|<>|>=|<=|[=&#|^+\-*/%(),:<>~])"
     r")",
     re.IGNORECASE | re.ASCII,
 )
@@ -66,6 +57,9 @@ _PC_PE = re.compile(r"([CE])(?![A-Za-z0-9(])", re.IGNORECASE)
 _CLEAR_ALL_PLCS = re.compile(r"\s*ALL\s*PLCS(?![A-Za-z])", re.IGNORECASE)
 _CLEAR_ALL = re.compile(r"\s*ALL(?![A-Za-z])", re.IGNORECASE)
 _VARS = frozenset("IPQM")
+#: ``G{n}``, ``T{n}``, ``D{n}`` in a motion program: calls of PROG 1000, 1002, 1003 (PUM
+#: p165, spec §12.1), not simulated.
+_CODE_CALLS = frozenset("GTD")
 _ASSIGN_OPS = frozenset(["=", "==", "&=", "|=", "^="])
 _ERR = "ERR003"
 
@@ -326,110 +320,35 @@ class _Parser:
         return None
 
     def word_statement(self, tok: Token) -> Any:
+        """A command word: dispatched through the keyword table (:mod:`.keywords`); a single
+        letter or an unknown word goes to :meth:`letter_statement`."""
         word = tok[1]
-        extra = card_words.parse(self, word)  # card memory and kinematics commands
-        if extra is not None:
-            return extra
-        if word in ("DEFINE", "DEF"):
-            what = self.take()
-            if what[1] in ("ROTARY", "ROT"):
-                return st.DefineRotary(self.integer())
-            if what[1] in ("GATHER", "GAT"):
-                return st.DefineGather(self.integer() if self.at("num") else None)
-            if what[1] in ("LOOKAHEAD", "LOOK"):
-                segments = self.integer()
-                if not self.at("op", ","):
-                    raise self.error("DEFINE LOOKAHEAD needs {segments},{outputs}")
-                self.take()
-                return st.DefineLookahead(segments, self.integer())
-            raise self.error("DEFINE what? (ROT, GATHER, LOOKAHEAD)", what)
-        if word in ("DELETE", "DEL"):
-            what = self.take()
-            if what[1] in ("ROTARY", "ROT"):
-                return st.DeleteRotary()
-            if what[1] in ("GATHER", "GAT"):
-                return st.DeleteGather()
-            if what[1] in ("LOOKAHEAD", "LOOK"):
-                return st.DeleteLookahead()
-            raise self.error("DELETE what? (ROT, GATHER, LOOKAHEAD)", what)
-        if word == "OPEN":
-            what = self.take()
-            if what[1] in ("ROTARY", "ROT"):
-                return st.OpenRotary()
-            if what[1] == "PLC":
-                return plc_st.OpenPlc(self.plc_number())
-            if what[1] in ("PROGRAM", "PROG"):
-                tok = self.peek()
-                n = self.integer()
-                if not 1 <= n <= 32767:
-                    raise self.error("PROG number must be 1..32767", tok)
-                return st.OpenProgram(n)
-            raise self.error("only OPEN ROT, OPEN PROG and OPEN PLC are supported", what)
-        if word == "CLOSE":
-            return st.Close()
-        if word == "MFLUSH":
-            return st.MFlush()
-        if word == "LIST":
-            return list_commands.parse(self)
-        if word == "SAVE":
-            return card_commands.Save()
-        if word in ("ENABLE", "ENA", "DISABLE", "DIS"):
-            return plc_st.EnablePlc(self.plc_list(), word in ("ENABLE", "ENA"))
-        if word == "CLEAR":
-            return self.clear()
-        if word in ("LINEAR", "LIN"):
-            self.spline_line = False
-            return st.MoveMode("LINEAR")
-        if word in ("RAPID", "RPD"):
-            self.spline_line = False
-            return st.MoveMode("RAPID")
-        if word in ("CIRCLE", "CIR"):
-            n = self.integer()
-            if n not in (1, 2):
-                raise self.error("CIRCLE1 or CIRCLE2", self.toks[self.i - 1])
-            self.spline_line = False
-            return st.MoveMode(f"CIRCLE{n}")
-        if word == "SPLINE":
-            n = self.integer()
-            if n not in (1, 2):
-                raise self.error("SPLINE1 or SPLINE2", self.toks[self.i - 1])
-            self.spline_line = True
-            return st.MoveMode(f"SPLINE{n}")
-        if word == "PVT":
-            self.spline_line = False
-            return st.PvtMode(self.pvt_time())
-        if word == "PSET":
-            return st.PSet(self.pset_axes())
-        if word in ("INC", "ABS"):
-            return st.AxisMode(word == "INC", self.axis_list())
-        if word in ("TA", "TS", "TM"):
-            return st.Modal(word, self.value())
-        if word in ("DWELL", "DWE"):
-            return st.Dwell(self.value())
-        if word in ("DELAY", "DLY"):
-            return st.Delay(self.value())
-        if word in ("HM", "HOME", "HMZ", "HOMEZ"):
-            return motor_st.Home(zero=word in ("HMZ", "HOMEZ"))
-        if word in ("VERSION", "VER"):
-            return st.Query("VER")
-        if word in ("CID", "CPU", "VID", "TYPE", "SIZE", "PR"):
-            return st.Query(word)
-        if word in ("SEND", "CMD"):
-            s = self.peek()
-            if s is None or s[0] != "str":
-                raise self.error(f'{word} needs "text"')
-            self.i += 1
-            return st.Message(word, s[1][1:-1])
+        build = _BUILDERS.get(word)
+        if build is not None:
+            return build(self, tok)
+        row = keywords.lookup(word)
+        if row is not None:
+            if not row.simulated:
+                raise self.not_simulated(row.name, tok)
+            build = _BUILDERS[word] = row.builder()
+            return build(self, tok)
         if word in _FUNCS:
             raise self.error(f"{word} is a function, not a command", tok)
         return self.letter_statement(tok)
+
+    def not_simulated(self, name: str, tok: Token) -> ParseError:
+        """The error for a valid command motionsim does not simulate: ERR003 on the wire,
+        ``not_simulated`` naming it on the REST terminal."""
+        e = self.error(f"{name} is valid Turbo PMAC but not simulated", tok)
+        e.details["not_simulated"] = name
+        return e
 
     def clear(self) -> Any:
         """``CLEAR`` (the open buffer) or ``CLEAR ALL PLCS``; ``CLEAR ALL`` is not simulated."""
         if self.match_text(_CLEAR_ALL_PLCS) is not None:
             return plc_st.ClearAllPlcs()
         if _CLEAR_ALL.match(self.text, self.toks[self.i - 1][3]):
-            raise self.error("CLEAR ALL (every program buffer) is not simulated")
+            raise self.not_simulated("CLEAR ALL", self.toks[self.i - 1])
         return plc_st.Clear()
 
     def plc_number(self) -> int:
@@ -443,7 +362,7 @@ class _Parser:
         """``PLC n[,n...]`` or ``PLC n..m`` after ENABLE / DISABLE."""
         what = self.take()
         if what[1] == "PLCC":
-            raise self.error("compiled PLCs (PLCC) are not simulated", what)
+            raise self.not_simulated("compiled PLCs (PLCC)", self.toks[self.i - 2])
         if what[1] != "PLC":
             raise self.error("expected PLC", what)
         first = self.plc_number()
@@ -522,6 +441,8 @@ class _Parser:
             return st.Modal("F", self.value())
         if word in ("N", "O"):
             return st.Label(word, self.integer())
+        if word in _CODE_CALLS and self.open:
+            raise self.not_simulated(f"{word}-code subprogram call", tok)
         raise self.error(f"unrecognised command {word!r}", tok)
 
     def online_letter(self, word: str) -> Any:

@@ -13,7 +13,8 @@ A PLC line holds one or more of:
   :class:`motionsim.sim.pmac.tasks.plc.PlcTable`).
 
 Conditions: ``expression comparator expression`` with the comparators ``=`` ``!=`` ``>``
-``!>`` ``<`` ``!<`` (TUM p253), combined with ``AND`` / ``OR`` inside the parentheses, and
+``!>`` ``<`` ``!<`` ``~`` ``!~`` (TUM p253, TSRM p23), combined with ``AND`` / ``OR`` inside
+the parentheses, and
 parenthesised sub-conditions. ``AND`` binds tighter than ``OR`` ``[INF]``. In PLCs a
 condition may go on over the following lines, each starting ``AND (...)`` or ``OR (...)``
 (TUM p253: multi-line conditions are for PLCs only); they extend the ``IF``/``WHILE`` just
@@ -51,7 +52,7 @@ _KW = re.compile(
     r'"[^"]*"|(?<![A-Za-z0-9_])(?P<kw>' + "|".join(_KEYWORDS) + r")(?![A-Za-z])",
     re.IGNORECASE,
 )
-_CMP = re.compile(r"!=|!>|!<|<>|>=|<=|=|>|<")
+_CMP = re.compile(r"!=|!>|!<|!~|<>|>=|<=|=|>|<|~")
 _COMPARATORS: dict[str, Callable[[float, float], bool]] = {
     "=": operator.eq,
     "!=": operator.ne,
@@ -59,6 +60,10 @@ _COMPARATORS: dict[str, Callable[[float, float], bool]] = {
     "!>": operator.le,
     "<": operator.lt,
     "!<": operator.ge,
+    # ``~`` approximately equal, within one; ``!~`` its negation (TSRM p23 lists both; the
+    # meaning is [BK], spec §12.1)
+    "~": lambda a, b: abs(a - b) <= 1.0,
+    "!~": lambda a, b: abs(a - b) > 1.0,
 }
 _ABBREV = {"ENDW": "ENDWHILE", "ENDI": "ENDIF", "ENA": "ENABLE", "DIS": "DISABLE"}
 
@@ -176,7 +181,7 @@ def _comparator_at_top(s: str) -> re.Match[str] | None:
             depth += 1
         elif ch == ")":
             depth -= 1
-        elif depth == 0 and ch in "=!<>":
+        elif depth == 0 and ch in "=!<>~":
             return _CMP.match(s, i)
     return None
 
@@ -199,7 +204,7 @@ def parse_condition(s: str, offset: int, line: str) -> Cond:
     if m is None:
         if stripped.startswith("(") and stripped.endswith(")"):
             return parse_condition(stripped[1:-1], offset + lead + 1, line)
-        raise _error("expected a comparison (= != > !> < !<)", offset + lead + 1, line)
+        raise _error("expected a comparison (= != > !> < !< ~ !~)", offset + lead + 1, line)
     op = m.group(0)
     if op not in _COMPARATORS:
         raise _error(f"comparator {op!r} is not PMAC syntax", offset + m.start() + 1, line)

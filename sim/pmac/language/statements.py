@@ -16,6 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from motionsim.sim.pmac.language.expressions import Expr
+from motionsim.sim.pmac.language.flow_statements import FLOW_TYPES
 
 # -- on-line commands -------------------------------------------------------------------------
 
@@ -348,6 +349,7 @@ PROGRAM_TYPES = (
     PSet,
     Label,
     Message,
+    *FLOW_TYPES,
 )
 
 AXES = "XYZABCUVW"

@@ -98,18 +98,18 @@ class Planning:
             return
         if self._ver != self.vars.version:
             self._refresh()
-        # The depth: how many moves calculation keeps ready (TUM p339, spec §4.2): 2 beyond
-        # the executing one with Isx13 = 0 for LINEAR, and CIRCLE, which then runs as LINEAR
-        # (TSRM p177), and SPLINE; else 1; one more from rest, where no move executes yet.
-        # Written out here and in _plan_cb (the per-line path).
-        mode = self.mode
-        depth = 2 if (self._isx13 == 0 and mode in _TWO_AHEAD) or mode in _SPLINES else 1
-        if self.current is None:
-            depth += 1
-        if len(self.planned) < depth or (self._la_s > 0 and self._short_of_horizon()):
+        if len(self.planned) < self._depth() or (self._la_s > 0 and self._short_of_horizon()):
             self._request_plan()
             if self.current is None and not self.planned:
                 self._arm_i11()  # (also at I11 = 0: a delay armed under an earlier I11 goes)
+
+    def _depth(self) -> int:
+        """How many moves calculation keeps ready (TUM p339, spec §4.2): 2 beyond the
+        executing one with Isx13 = 0 for LINEAR, and CIRCLE, which then runs as LINEAR
+        (TSRM p177), and SPLINE; else 1; one more from rest, where no move executes yet."""
+        mode = self.mode
+        depth = 2 if (self._isx13 == 0 and mode in _TWO_AHEAD) or mode in _SPLINES else 1
+        return depth + 1 if self.current is None else depth
 
     def _short_of_horizon(self) -> bool:
         """The special lookahead is active (Isx13 > 0, ``DEFINE LOOKAHEAD``, Isx20 > 0) and
@@ -149,20 +149,20 @@ class Planning:
         vars_ = self.vars
         if self._ver != vars_.version:
             self._refresh()
-        if self.single_step:
-            target = 0 if (self.current is not None or planned) else 1
-        else:  # the depth, as in lines_arrived
-            mode = self.mode
-            target = 2 if (self._isx13 == 0 and mode in _TWO_AHEAD) or mode in _SPLINES else 1
-            if self.current is None:
-                target += 1
+        stepping = self.single_step
+        # a step calculates one move; otherwise the depth
+        target = (0 if self.current is not None or planned else 1) if stepping else self._depth()
         if rot is not None:
             self._seen_n = rot.n_loaded
             pending = rot.pending
             # (_short_of_horizon is False unless the special lookahead is active: _la_s > 0)
             while (
                 pending
-                and (len(planned) < target or (self._la_s > 0 and self._short_of_horizon()))
+                and (
+                    len(planned) < target
+                    or (self._la_s > 0 and self._short_of_horizon())
+                    or (stepping and rot.in_block)  # S runs on to BLOCKSTOP (TSRM p182)
+                )
                 and not self.blocked
             ):
                 line = pending[0][1]
@@ -195,7 +195,10 @@ class Planning:
                         self.sync_pending = []
                     planned.append(move)
                 else:
-                    n, line = rot.take()  # type: ignore[misc]
+                    taken = rot.take()
+                    if taken is None:
+                        break  # control flow ends this pass (rot.interrupt says why)
+                    n, line = taken
                     try:
                         self._calculate(n, line)
                     except RunTimeError:
@@ -204,6 +207,8 @@ class Planning:
                         return
                     self._fast = self._fast_kind()
                     rot.line_calculated(n)
+            if rot.interrupt is not None and self._flow_interrupt(rot):
+                return
             if planned and self.current is not None and self._isx13 > 0:
                 self._successor_planned()  # (a longer blend ramp is decided earlier)
         if self.current is None and not planned and self.spline is not None:
@@ -225,6 +230,23 @@ class Planning:
                     self._start_next()
             elif self.state == RUNNING:
                 self._ran_out()
+
+    def _flow_interrupt(self, rot: Any) -> bool:
+        """A fixed program's control flow ended the pass (:mod:`..buffers.programs`): a
+        run-time error aborts; ``WAIT`` or the double-jump-back rule with a move calculated
+        or executing lets that move come to a stop before calculation resumes (TUM p341;
+        ``[INF]`` for WAIT), and from rest calculation resumes at the next RTI. True when
+        the planning pass is over."""
+        why, rot.interrupt = rot.interrupt, None
+        if why == "error":
+            self.abort("run_time_error")
+            return True
+        if why == "suspend" or why == "wait":
+            if self.current is None and not self.planned:
+                self._plan_at_rti_after(self._env._now)
+                return True
+            self.blocked = True
+        return False
 
     def _fast_kind(self) -> int:
         """Which planning short cut the next constant line may take: ``_FAST_LINEAR`` (time

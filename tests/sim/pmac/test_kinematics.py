@@ -165,3 +165,38 @@ def test_tum_p265_an_inverse_without_a_result_is_a_run_time_error(rig, inverse, 
     # inverse's partial output (P1 = 500) was undone; the motors never moved
     assert rig.ok("P1 P2") == "0\r0"
     assert rig.ok("#1P #2P") == "0\r0"
+
+
+def test_tum_p265_an_inverse_loop_that_never_ends_is_a_run_time_error(rig):
+    """WHILE loops are allowed in an inverse program (iterative solutions); one that never
+    ends stops the program with the run-time error instead of hanging the card."""
+    _kinematic_cs(rig, inverse=["P1=(Q7-Q8/2)*1000", "P2=(Q7+Q8/2)*1000",
+                                "WHILE (Q7 > -1000)", "Q40=Q40+1", "ENDWHILE"])
+    _program(rig, "LINEAR ABS TA100 TS0 TM500 X1 Y1")
+    since = rig.c.log.last_seq
+    rig.ok("&1 B1 R")
+    rig.run_until_idle()
+    kin = rig.events("kinematics", since=since)
+    assert "no end after" in kin[0][2]["error"]
+    assert rig.c.coord_system(1).run_time_error
+    assert rig.ok("#1P #2P") == "0\r0"
+
+
+def test_tum_p265_an_iterative_inverse_drives_the_motors(rig):
+    _kinematic_cs(rig, inverse=[
+        "Q61=Q7 Q62=0",
+        "WHILE (Q62 < 30)",
+        "Q61=Q61-(Q61*Q61*Q61-Q7)/(3*Q61*Q61)",
+        "Q62=Q62+1",
+        "ENDWHILE",
+        "P1=Q61*1000 P2=Q8*1000",
+    ])
+    rig.ok("&1 OPEN FORWARD CLEAR")
+    rig.ok("Q7=(P1/1000)*(P1/1000)*(P1/1000) Q8=P2/1000")
+    rig.ok("CLOSE")
+    rig.ok("#1J=1000")
+    rig.run_for(3.0)
+    _program(rig, "LINEAR ABS TA100 TS0 TM500 X8 Y2")
+    rig.ok("&1 B1 R")
+    rig.run_until_idle()
+    assert rig.ok("#1P #2P") == "2000\r2000"  # cube root of 8, in counts

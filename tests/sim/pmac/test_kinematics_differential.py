@@ -1,6 +1,7 @@
 """Differential test: motionsim's kinematic subroutines against Diamond's ``pmacparser`` (PyPI,
 "PMAC parser and kinematics emulator"), on kinematic programs of our own in the style of
-Diamond's ``CS_*.pmc`` files (jacks, slits, bender, 3-D rotation; ``kinematic_programs/``).
+Diamond's ``CS_*.pmc`` files (jacks, slits, bender, 3-D rotation, and an iterative inverse
+with WHILE and nested IF; ``kinematic_programs/``).
 
 TSRM p379 / p270 (spec §12.6): the forward program turns ``Pn`` motor counts into ``Q7…Q9``
 axis positions, the inverse turns ``Q7…Q9`` back into ``Pn`` for the ``#n->I`` motors. Both
@@ -28,6 +29,7 @@ CASES = {
     "jacks": ([1, 2], "XY", {"Q20": 800.0}, {"X": (-20, 20), "Y": (-2, 2)}),
     "slits": ([1, 2], "XY", {}, {"X": (0.1, 10), "Y": (-5, 5)}),
     "bender": ([1, 2], "XY", {"Q30": 5000.0, "Q31": 7.0}, {"X": (0.5, 3), "Y": (-0.3, 0.3)}),
+    "newton": ([1, 2], "XY", {"Q20": 30.0}, {"X": (-40, 40), "Y": (-70, 70)}),
     "rotate3d": ([1, 2, 3], "XYZ", {"Q20": 30.0, "Q21": -12.5, "Q22": 7.0},
                  {"X": (-50, 50), "Y": (-50, 50), "Z": (-50, 50)}),
 }
@@ -91,7 +93,10 @@ def test_tsrm_p379_forward_and_inverse_agree_with_pmacparser(name):
         for a in axes:
             mine = v.read("Q", Q_OF[a], 1)
             assert _close(mine, float(back[f"Q{Q_OF[a]}"])), (name, a)
-            assert _close(mine, target[a]), (name, a, mine, target[a])
+            if name == "newton" and a == "Y" and abs(target[a]) > 50:
+                assert mine == 50.0 * (1 if target[a] > 0 else -1)  # the program clamps Y
+            else:
+                assert _close(mine, target[a]), (name, a, mine, target[a])
 
 
 def test_tsrm_p487_modulo_differs_from_pmacparser_and_the_manual_decides():

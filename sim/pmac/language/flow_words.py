@@ -1,0 +1,152 @@
+"""Builders of the control-flow words (rows of :mod:`.keywords`; statements in
+:mod:`.flow_statements`). Conditions are parsed by the PLC parser's
+:func:`~motionsim.sim.pmac.language.plc_parser.parse_condition` (one condition syntax for
+PLCs and motion programs, TUM p252).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from motionsim.sim.pmac.language import flow_statements as fl
+
+Token = tuple[str, str, int, int]
+
+#: Argument letters of GOSUB / CALL / READ (TSRM p466): any letter but N and O (labels).
+_ARG_LETTERS = frozenset("ABCDEFGHIJKLMPQRSTUVWXYZ")
+
+
+def _condition(p: Any, word: str) -> tuple[Any, str]:
+    """``({condition})`` after IF / WHILE: the condition and its text; the parser is moved
+    past the closing parenthesis."""
+    from motionsim.sim.pmac.language.plc_parser import parse_condition
+
+    tok = p.peek()
+    if tok is None or tok[0] != "op" or tok[1] != "(":
+        raise p.error(f"{word} needs ({{condition}})", tok)
+    text = p.text
+    depth = 0
+    close = -1
+    for i in range(tok[2], len(text)):
+        ch = text[i]
+        if ch == "(":
+            depth += 1
+        elif ch == ")":
+            depth -= 1
+            if depth == 0:
+                close = i
+                break
+    if close < 0:
+        raise p.error("missing ) after the condition", tok)
+    cond = parse_condition(text[tok[2] + 1 : close], tok[2] + 1, text)
+    while p.i < len(p.toks) and p.toks[p.i][2] <= close:
+        p.i += 1
+    return cond, text[tok[2] : close + 1]
+
+
+def _more(p: Any) -> bool:
+    return p.peek() is not None
+
+
+def if_(p: Any, tok: Token) -> fl.If:
+    cond, text = _condition(p, "IF")
+    return fl.If(cond, text, _more(p), tok[2] + 1)
+
+
+def while_(p: Any, tok: Token) -> fl.While:
+    cond, text = _condition(p, "WHILE")
+    return fl.While(cond, text, _more(p), tok[2] + 1)
+
+
+def else_(p: Any, tok: Token) -> fl.Else:
+    return fl.Else(_more(p), tok[2] + 1)
+
+
+def endif(p: Any, tok: Token) -> fl.EndIf:
+    return fl.EndIf(tok[2] + 1)
+
+
+def endwhile(p: Any, tok: Token) -> fl.EndWhile:
+    return fl.EndWhile(tok[2] + 1)
+
+
+def _target(p: Any, word: str) -> Any:
+    if not p.has_value():
+        raise p.error(f"{word} needs a label number or (expression)")
+    return p.value()
+
+
+def _args(p: Any) -> tuple[tuple[str, Any], ...]:
+    """The ``{letter}{data}`` pairs after a GOSUB / CALL target."""
+    out: list[tuple[str, Any]] = []
+    while True:
+        tok = p.peek()
+        if tok is None or tok[0] != "word" or tok[1] not in _ARG_LETTERS:
+            return tuple(out)
+        p.i += 1
+        if not p.has_value():
+            p.i -= 1
+            return tuple(out)
+        out.append((tok[1], p.value()))
+
+
+def goto(p: Any, tok: Token) -> fl.Goto:
+    return fl.Goto(_target(p, "GOTO"), tok[2] + 1)
+
+
+def gosub(p: Any, tok: Token) -> fl.Gosub:
+    target = _target(p, "GOSUB")
+    return fl.Gosub(target, _args(p), tok[2] + 1)
+
+
+def call(p: Any, tok: Token) -> fl.Call:
+    num = p.peek()
+    target = _target(p, "CALL")
+    if target.const is not None and not 1 <= int(target.const) <= 32767:
+        raise p.error("CALL: PROG number must be 1..32767", num)
+    return fl.Call(target, _args(p), tok[2] + 1)
+
+
+def return_(p: Any, tok: Token) -> fl.Return:
+    return fl.Return(tok[2] + 1)
+
+
+def read(p: Any, tok: Token) -> fl.Read:
+    """``READ(A,B,...)``: no blank between READ and ``(`` (TSRM p466)."""
+    paren = p.peek()
+    if paren is None or paren[0] != "op" or paren[1] != "(" or paren[2] != tok[3]:
+        raise p.error("READ needs (letters) right after it", paren)
+    p.take()
+    letters: list[str] = []
+    while True:
+        t = p.take()
+        if t[0] != "word" or len(t[1]) != 1 or t[1] not in _ARG_LETTERS:
+            raise p.error("READ: expected a letter (not N or O)", t)
+        letters.append(t[1])
+        if p.at("op", ","):
+            p.take()
+            continue
+        p.expect_op(")")
+        return fl.Read(tuple(letters), tok[2] + 1)
+
+
+def stop(p: Any, tok: Token) -> fl.Stop:
+    return fl.Stop(tok[2] + 1)
+
+
+def wait(p: Any, tok: Token) -> fl.Wait:
+    return fl.Wait(tok[2] + 1)
+
+
+def block_start(p: Any, tok: Token) -> fl.BlockStart:
+    return fl.BlockStart(tok[2] + 1)
+
+
+def block_stop(p: Any, tok: Token) -> fl.BlockStop:
+    return fl.BlockStop(tok[2] + 1)
+
+
+__all__ = [
+    "block_start", "block_stop", "call", "else_", "endif", "endwhile", "gosub", "goto", "if_",
+    "read", "return_", "stop", "wait", "while_",
+]  # fmt: skip

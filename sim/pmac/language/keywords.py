@@ -1,0 +1,250 @@
+"""The Turbo PMAC command words as one table: the lexer, the parser's dispatch and the
+``not_simulated`` answer are all derived from it.
+
+Each :class:`Keyword` row says how the card spells a command word (the long form, the
+abbreviations it accepts, blanks inside the word: ``END IF``, ``END WHILE``; TSRM p23: blanks
+are not significant), what it builds (``builds``: ``"module:function"``, called with the
+parser and the keyword's token, returning a statement of
+:mod:`motionsim.sim.pmac.language.statements` or of a family module) and whether motionsim
+simulates it. Words a command takes after it (``OPEN PROG``, ``DEFINE GATHER``) are the
+row's ``objects``, each simulated or not.
+
+Adding a command family is one row here plus one small parse module that holds the
+``builds`` functions. A row with ``simulated=False`` needs no parse module: the word is
+recognised and answered ``not_simulated`` naming it (:mod:`motionsim.sim.pmac.host
+.not_simulated`), never a parse error.
+
+Spellings are those the manuals and real programs write (spec §12.1: ``ENDW``, ``ENDI``,
+``RET``, ``ENA``, ``DIS``, ``CMD``, ``DEF``, ``DEL``, ``ROT``, ``GAT``, ``INV``...); the
+minimal abbreviation of every keyword was not found, so none is invented.
+"""
+
+from __future__ import annotations
+
+import importlib
+import re
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any, Final
+
+Builder = Callable[[Any, tuple[str, str, int, int]], Any]
+
+#: Modules of the parser's own words (``builds`` without a module names one of these).
+_P = "motionsim.sim.pmac.language.online_words"
+_F = "motionsim.sim.pmac.language.flow_words"
+_C = "motionsim.sim.pmac.language.card_words"
+
+
+@dataclass(frozen=True)
+class Keyword:
+    """One command word.
+
+    Attributes:
+        name: the long form (what the parser dispatches on).
+        spellings: every accepted spelling; a blank means "blanks allowed here".
+        builds: ``"module:function"`` building the statement, or None (not simulated).
+        simulated: whether motionsim models it.
+        where: ``"online"``, ``"program"`` (motion program / PLC) or ``"both"``.
+        objects: words it takes next -> simulated (``OPEN`` -> ``PROG``: True).
+        example: a valid use (documentation and tests of the not-simulated answer).
+    """
+
+    name: str
+    spellings: tuple[str, ...]
+    builds: str | None
+    simulated: bool = True
+    where: str = "both"
+    objects: dict[str, bool] = field(default_factory=dict)
+    example: str = ""
+
+    def builder(self) -> Builder:
+        """The function building this keyword's statement (imported on first use)."""
+        assert self.builds is not None
+        module, _, name = self.builds.partition(":")
+        return getattr(importlib.import_module(module), name)  # type: ignore[no-any-return]
+
+
+def _k(name: str, *spellings: str, builds: str | None = None, simulated: bool = True,
+       where: str = "both", objects: dict[str, bool] | None = None, example: str = "",
+       ) -> Keyword:
+    return Keyword(name, (name, *spellings), builds, simulated, where, objects or {}, example)
+
+
+def _ns(name: str, *spellings: str, where: str = "online", example: str = "") -> Keyword:
+    """A valid command motionsim does not simulate."""
+    return _k(name, *spellings, simulated=False, where=where, example=example or name)
+
+
+#: The table. Object words (``ROT``, ``PROG``...) are in their own rows below so the lexer
+#: knows them; spellings in ``objects`` are the long forms.
+TABLE: Final[tuple[Keyword, ...]] = (
+    # buffer management (TSRM p260-420)
+    _k("DEFINE", "DEF", builds=f"{_P}:define", where="online", objects={
+        "ROTARY": True, "GATHER": True, "LOOKAHEAD": True, "CCBUF": False, "COMP": False,
+        "TCOMP": False, "BLCOMP": False, "UBUFFER": True}, example="DEFINE CCBUF 10"),
+    _k("DELETE", "DEL", builds=f"{_P}:delete", where="online", objects={
+        "ROTARY": True, "GATHER": True, "LOOKAHEAD": True, "CCBUF": False, "COMP": False,
+        "TCOMP": False, "BLCOMP": False, "PLCC": False, "TEMPS": False, "ALL": True},
+       example="DELETE TEMPS"),
+    _k("OPEN", builds=f"{_P}:open_", where="online", objects={
+        "ROTARY": True, "PROGRAM": True, "PLC": True, "PLCC": False, "FORWARD": True,
+        "INVERSE": True, "BINARY": False}, example="OPEN BINARY ROT"),
+    _k("CLOSE", builds=f"{_P}:close"),
+    _k("CLEAR", builds=f"{_P}:clear"),
+    _k("LIST", builds=f"{_P}:list_", where="online", objects={
+        "PLC": True, "PROGRAM": True, "ROTARY": True, "FORWARD": True, "INVERSE": True,
+        "GATHER": True, "LDS": False, "LINK": False, "TCOMP": False, "COMP": False,
+        "BLCOMP": False, "CCBUF": False, "LOOKAHEAD": False}, example="LIST LDS"),
+    _k("MFLUSH", builds=f"{_P}:mflush", where="online"),
+    _k("SAVE", builds=f"{_P}:save", where="online"),
+    _k("ENABLE", "ENA", builds=f"{_P}:enable",
+       objects={"PLC": True, "PLCC": False}, example="ENABLE PLCC 1"),
+    _k("DISABLE", "DIS", builds=f"{_P}:enable",
+       objects={"PLC": True, "PLCC": False}, example="DISABLE PLCC 2"),
+    # reports
+    _k("VERSION", "VER", builds=f"{_P}:query", where="online"),
+    _k("CID", builds=f"{_P}:query", where="online"),
+    _k("CPU", builds=f"{_P}:query", where="online"),
+    _k("VID", builds=f"{_P}:query", where="online"),
+    _k("TYPE", builds=f"{_P}:query", where="online"),
+    _k("SIZE", builds=f"{_P}:query", where="online"),
+    _k("PR", builds=f"{_P}:query", where="online"),
+    # motors
+    _k("HOME", "HM", builds=f"{_P}:home", where="online"),
+    _k("HOMEZ", "HMZ", builds=f"{_P}:home", where="online"),
+    # motion-program statements (TSRM p425-480)
+    _k("LINEAR", "LIN", builds=f"{_P}:move_mode", where="program"),
+    _k("RAPID", "RPD", builds=f"{_P}:move_mode", where="program"),
+    _k("CIRCLE", "CIR", builds=f"{_P}:circle", where="program"),
+    _k("SPLINE", builds=f"{_P}:spline", where="program"),
+    _k("PVT", builds=f"{_P}:pvt", where="program"),
+    _k("PSET", builds=f"{_P}:pset", where="program"),
+    _k("INC", builds=f"{_P}:axis_mode", where="program"),
+    _k("ABS", builds=f"{_P}:axis_mode", where="program"),
+    _k("TA", builds=f"{_P}:modal", where="program"),
+    _k("TS", builds=f"{_P}:modal", where="program"),
+    _k("TM", builds=f"{_P}:modal", where="program"),
+    _k("DWELL", "DWE", builds=f"{_P}:dwell", where="program"),
+    _k("DELAY", "DLY", builds=f"{_P}:delay", where="program"),
+    _k("SEND", builds=f"{_P}:message", where="program"),
+    _k("CMD", builds=f"{_P}:message", where="program"),
+    # control flow (spec §12.1): flow_words
+    _k("IF", builds=f"{_F}:if_", where="program"),
+    _k("ELSE", builds=f"{_F}:else_", where="program"),
+    _k("ENDIF", "END IF", "ENDI", builds=f"{_F}:endif", where="program"),
+    _k("WHILE", builds=f"{_F}:while_", where="program"),
+    _k("ENDWHILE", "END WHILE", "ENDW", builds=f"{_F}:endwhile", where="program"),
+    _k("GOTO", builds=f"{_F}:goto", where="program"),
+    _k("GOSUB", builds=f"{_F}:gosub", where="program"),
+    _k("CALL", builds=f"{_F}:call", where="program"),
+    _k("RETURN", "RET", builds=f"{_F}:return_", where="program"),
+    _k("READ", builds=f"{_F}:read", where="program"),
+    _k("STOP", builds=f"{_F}:stop", where="program"),
+    _k("WAIT", builds=f"{_F}:wait", where="program"),
+    _k("BLOCKSTART", builds=f"{_F}:block_start", where="program"),
+    _k("BLOCKSTOP", builds=f"{_F}:block_stop", where="program"),
+    # valid, not simulated (TSRM on-line and program command lists)
+    # card memory and kinematics (issue 24): card_words
+    _k("UNDEFINE", "UNDEF", builds=f"{_C}:undefine", where="online"),
+    _k("PMATCH", builds=f"{_C}:pmatch", where="online"),
+    _ns("PASSWORD", example="PASSWORD=SECRET"),
+    _ns("CHECKSUM"),
+    _ns("EAVERSION"),
+    _ns("DATE"),
+    _ns("TIME"),
+    _ns("IDNUMBER"),
+    _ns("IDC"),
+    _ns("SID"),
+    _ns("UPDATE"),
+    _ns("RESET"),
+    _ns("MOVETIME", example="&1MOVETIME"),
+    _ns("HOLD", example="#1HOLD"),
+    _ns("GATHER", "GAT"),
+    _ns("ENDGATHER", "ENDG"),
+    _ns("PRELUDE", where="program", example="PRELUDE1 CALL10"),
+    _ns("TSELECT", where="program", example="TSELECT1"),
+    _ns("FRAX", where="program", example="FRAX(X,Y)"),
+    _ns("NORMAL", where="program", example="NORMAL K-1"),
+    _ns("DISPLAY", where="program", example='DISPLAY "HELLO"'),
+    _ns("NOFRAX", where="program"),
+    _ns("FRAX2", where="program", example="FRAX2(X,Y)"),
+    _ns("NOFRAX2", where="program"),
+    _ns("TINIT", where="program"),
+    _ns("ADIS", where="program", example="ADIS10"),
+    _ns("IDIS", where="program", example="IDIS10"),
+    _ns("AROT", where="program", example="AROT10"),
+    _ns("IROT", where="program", example="IROT10"),
+    _ns("LOCK", example="LOCK4,P1"),
+    _ns("UNLOCK", example="UNLOCK4"),
+    _ns("SETPHASE", example="SETPHASE1"),
+)
+
+#: Object words (second words of a command) the lexer must know.
+_OBJECT_SPELLINGS: Final[dict[str, tuple[str, ...]]] = {
+    "ROTARY": ("ROT",), "GATHER": ("GAT",), "LOOKAHEAD": ("LOOK",), "PROGRAM": ("PROG",),
+    "PLC": (), "PLCC": (), "FORWARD": ("FWD",), "INVERSE": ("INV",), "BINARY": (),
+    "CCBUF": (), "COMP": (), "TCOMP": (), "BLCOMP": (), "UBUFFER": ("UBUF",), "TEMPS": (),
+    "LDS": (), "LINK": (), "ALL": (),
+}  # fmt: skip
+
+#: Every accepted spelling of a command word (blanks removed) -> its row.
+BY_SPELLING: Final[dict[str, Keyword]] = {
+    s.replace(" ", ""): k for k in TABLE for s in k.spellings
+}
+#: Object spelling -> its long form.
+OBJECTS: Final[dict[str, str]] = {
+    s: name for name, short in _OBJECT_SPELLINGS.items() for s in (name, *short)
+}
+#: Words of the condition syntax (not statements).
+CONDITION_WORDS: Final = ("AND", "OR")
+
+
+def lexer_words(extra: tuple[str, ...] = ()) -> list[str]:
+    """Regular-expression alternatives for every word the lexer reads whole, longest first
+    (a blank in a spelling matches any run of blanks: ``END\\s*IF``)."""
+    words = {s for k in TABLE for s in k.spellings} | set(OBJECTS) | set(CONDITION_WORDS)
+    words |= set(extra)
+    ordered = sorted(words, key=lambda w: len(w.replace(" ", "")), reverse=True)
+    return [r"\s*".join(map(re.escape, w.split(" "))) for w in ordered]
+
+
+def lookup(word: str) -> Keyword | None:
+    """The row of a word token (``END IF`` with any blanks, ``ENDI``, ``ENDIF``)."""
+    k = BY_SPELLING.get(word)
+    if k is None and (" " in word or "\t" in word):
+        k = BY_SPELLING.get("".join(word.split()))
+    return k
+
+
+def not_simulated() -> list[tuple[str, str]]:
+    """(pattern, name) of every valid command word or command + object that is not
+    simulated, for :mod:`motionsim.sim.pmac.host.not_simulated`."""
+    out: list[tuple[str, str]] = []
+    for k in sorted(TABLE, key=lambda k: -max(map(len, k.spellings))):  # FRAX2 before FRAX
+        spell = "|".join(r"\s*".join(s.split(" ")) for s in k.spellings)
+        if not k.simulated:
+            out.append((rf"(?:{spell})(?![A-Z])", k.name))
+        for obj, simulated in k.objects.items():
+            if simulated:
+                continue
+            objs = "|".join(s for s, name in OBJECTS.items() if name == obj) or obj
+            out.append((rf"(?:{spell})\s*(?:{objs})(?![A-Z])", f"{k.name} {obj}"))
+    return out
+
+
+def examples() -> list[tuple[str, str]]:
+    """(example command, name) for every not-simulated row and object (for tests/docs)."""
+    out: list[tuple[str, str]] = []
+    for k in TABLE:
+        if not k.simulated:
+            out.append((k.example, k.name))
+        for obj, simulated in k.objects.items():
+            if not simulated:
+                out.append((f"{k.name} {obj}", f"{k.name} {obj}"))
+    return out
+
+
+__all__ = [
+    "BY_SPELLING", "CONDITION_WORDS", "OBJECTS", "TABLE", "Keyword", "examples", "lexer_words",
+    "lookup", "not_simulated",
+]  # fmt: skip
