@@ -12,6 +12,11 @@ from motionsim.sim.pmac.language import flow_statements as fl
 
 Token = tuple[str, str, int, int]
 
+#: Conditions already parsed, by their text (a condition is a pure function of the variables;
+#: real programs repeat theirs: ``If (A_Axis = 1)`` for every axis and point).
+_CONDITIONS: dict[str, Any] = {}
+_CACHE_SIZE = 4096
+
 #: Argument letters of GOSUB / CALL / READ (TSRM p466): any letter but N and O (labels).
 _ARG_LETTERS = frozenset("ABCDEFGHIJKLMPQRSTUVWXYZ")
 
@@ -38,7 +43,13 @@ def _condition(p: Any, word: str) -> tuple[Any, str]:
                 break
     if close < 0:
         raise p.error("missing ) after the condition", tok)
-    cond = parse_condition(text[tok[2] + 1 : close], tok[2] + 1, text)
+    inner = text[tok[2] + 1 : close]
+    cond = _CONDITIONS.get(inner)
+    if cond is None:  # (errors are raised here, with their columns in this line)
+        cond = parse_condition(inner, tok[2] + 1, text)
+        if len(_CONDITIONS) >= _CACHE_SIZE:
+            _CONDITIONS.clear()
+        _CONDITIONS[inner] = cond
     while p.i < len(p.toks) and p.toks[p.i][2] <= close:
         p.i += 1
     return cond, text[tok[2] : close + 1]

@@ -200,12 +200,36 @@ CONDITION_WORDS: Final = ("AND", "OR")
 
 
 def lexer_words(extra: tuple[str, ...] = ()) -> list[str]:
-    """Regular-expression alternatives for every word the lexer reads whole, longest first
-    (a blank in a spelling matches any run of blanks: ``END\\s*IF``)."""
+    """Every word the lexer reads whole: the table's spellings and objects, the condition
+    words and ``extra``."""
     words = {s for k in TABLE for s in k.spellings} | set(OBJECTS) | set(CONDITION_WORDS)
-    words |= set(extra)
-    ordered = sorted(words, key=lambda w: len(w.replace(" ", "")), reverse=True)
-    return [r"\s*".join(map(re.escape, w.split(" "))) for w in ordered]
+    return sorted(words | set(extra))
+
+
+def lexer_pattern(words: list[str]) -> str:
+    """One regular expression matching the longest of ``words`` at a position, built as a
+    trie (``A(?:BS|TAN2?|...)``) so the engine does not try every word in turn; a blank in
+    a spelling matches any run of blanks (``END\\s*IF``)."""
+    trie: dict[str, Any] = {}
+    for w in words:
+        node = trie
+        for ch in w.upper():
+            node = node.setdefault(ch, {})
+        node[""] = {}
+
+    def depth(node: dict[str, Any]) -> int:
+        return max((1 + depth(child) for ch, child in node.items() if ch), default=0)
+
+    def emit(node: dict[str, Any]) -> str:
+        children = sorted((ch for ch in node if ch), key=lambda ch: -depth(node[ch]))
+        alts = [(r"\s*" if ch == " " else re.escape(ch)) + emit(node[ch]) for ch in children]
+        if not alts:
+            return ""
+        if len(alts) == 1 and "" not in node:
+            return alts[0]
+        return "(?:" + "|".join(alts) + ")" + ("?" if "" in node else "")
+
+    return emit(trie)
 
 
 def lookup(word: str) -> Keyword | None:
@@ -245,6 +269,7 @@ def examples() -> list[tuple[str, str]]:
 
 
 __all__ = [
-    "BY_SPELLING", "CONDITION_WORDS", "OBJECTS", "TABLE", "Keyword", "examples", "lexer_words",
+    "BY_SPELLING", "CONDITION_WORDS", "OBJECTS", "TABLE", "Keyword", "examples", "lexer_pattern",
+    "lexer_words",
     "lookup", "not_simulated",
 ]  # fmt: skip

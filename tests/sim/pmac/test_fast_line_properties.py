@@ -12,8 +12,8 @@ from __future__ import annotations
 
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
-from motionsim.sim.errors import ParseError
-from motionsim.sim.pmac.buffers.program import compile_line, compile_statements
+from motionsim.sim.errors import NotSimulated, ParseError
+from motionsim.sim.pmac.buffers.program import compile_line, compile_statements, rotary_check
 from motionsim.sim.pmac.language.fast_line import fast_compile
 from motionsim.sim.pmac.language.parser import parse_program_line
 
@@ -56,13 +56,15 @@ _ASSIGNMENTS = st.tuples(
 
 
 def _general(text: str):
-    return compile_statements(text, parse_program_line(text))
+    line = compile_statements(text, parse_program_line(text))
+    rotary_check(line)  # a rotary line: control flow is refused as not simulated
+    return line
 
 
 def _outcome(fn, text: str):
     try:
         return ("line", fn(text))
-    except ParseError as e:
+    except (ParseError, NotSimulated) as e:
         return ("error", str(e), e.details, type(e))
 
 
