@@ -42,6 +42,10 @@ EVENT_FIELDS: dict[str, tuple[str, ...]] = {
     "mvar": ("name", "value", "sync"),
     "pset": ("cs", "n", "positions"),  # PMAC: PSET gave these axes new present positions
     "program_error": ("cs", "prog", "n", "reason"),  # PMAC: control flow's run-time error
+    "kinematics": ("cs", "program", "error"),  # PMAC: a kinematic program gave no result
+    "pmatch": ("cs", "axes"),  # PMAC: axis positions re-computed from the motors
+    "ubuffer": ("first", "last"),  # PMAC: DEFINE UBUFFER / DELETE ALL (None, None)
+    "undefine": ("cs",),  # PMAC: UNDEFINE (cs None: UNDEFINE ALL)
     "program": ("cs|process", "state", "error"),  # PMAC error: "run_time_error" / "watchdog"
     "axis": ("axis", "mtype", "ntype"),
     "process_buffer": ("process", "axis", "mtype"),

@@ -37,6 +37,7 @@ from motionsim.sim.pmac.card.timers import CountdownTimers
 from motionsim.sim.pmac.card.variables import N_CS, N_MOTORS, Variables, parse_name
 from motionsim.sim.pmac.host.terminal import Terminal
 from motionsim.sim.pmac.language import axis_definitions
+from motionsim.sim.pmac.kinematics.engine import Kinematics
 from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.lookahead import CoordSystem
 from motionsim.sim.pmac.motor.motor_status import motor_status_words
@@ -146,6 +147,7 @@ class PmacController(Controller):
         self.background.power_on()
         self.coord_systems = {n: CoordSystem(self, n) for n in range(1, N_CS + 1)}
         self.vars.mvars.registers = registers.for_controller(self)
+        self.kinematics = Kinematics(self)  # OPEN FORWARD / INVERSE, #n->I (sim.pmac.kinematics)
         self.gather_words: int | None = None
         self.programs = MotionPrograms()
         self.buffer_holder: Port | None = None
@@ -521,6 +523,7 @@ class PmacController(Controller):
                 c.fixed = self.programs.run_of(cs, int(c.program), self.log.emit, self.vars)
             else:
                 run.resume()  # after Q, A, S or a STOP: on from the program counter
+        self.kinematics.program_start(cs)
         c.run(single_step)
 
     def quit(self, cs: int) -> None:
@@ -586,25 +589,34 @@ class PmacController(Controller):
         have = self.motors.get(motor)
         if have is None:
             return None
-        terms = axis_definitions.lookup(have[1]).terms
+        d = axis_definitions.lookup(have[1])
+        if d.inverse:  # #n->I: its position comes from the kinematic programs
+            return have[0], f"I{motor}", 1.0
+        terms = d.terms
         if not terms:
-            return None  # #n->I: positioned by the kinematic programs
+            return None
         return have[0], terms[0][0], terms[0][1]
 
     def _motor_base(self, motor: int, t: float) -> float:
         """Motor ``motor``'s position from its CS axes (counts): the sum of its definition's
-        terms (``#6->-29.1X+100000Y``). The constant offset is reported, not added ``[INF]``:
-        axis positions here start where the motors are, so adding it would move the motor."""
+        terms (``#6->-29.1X+100000Y``), or the inverse kinematics for ``#n->I``. The constant
+        offset is reported, not added ``[INF]``: axis positions here start where the motors
+        are, so adding it would move the motor."""
         have = self.motors.get(motor)
         if have is None:
             return 0.0
-        terms = axis_definitions.lookup(have[1]).terms
+        d = axis_definitions.lookup(have[1])
+        if d.inverse:
+            return self.kinematics.motor_base(have[0], motor, t)
+        terms = d.terms
         if len(terms) == 1:
             return self.coord_systems[have[0]].positions(t).get(terms[0][0], 0.0) * terms[0][1]
         pos = self.coord_systems[have[0]].positions(t) if terms else {}
         return sum(pos.get(a, 0.0) * s for a, s in terms)
 
     def _axis_position(self, cs: int, axis: str, t: float) -> float:
+        if axis[0] == "I":  # ``I{n}``: motor n defined #n->I
+            return self.kinematics.motor_base(cs, int(axis[1:]), t)
         return self.coord_systems[cs].positions(t).get(axis, 0.0)
 
     def _cs_running(self, cs: int) -> bool:

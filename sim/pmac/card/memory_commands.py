@@ -14,23 +14,29 @@ simulated state (motor / CS status, positions). An address the model does not ho
 
 * X / Y: 24-bit words, ``R`` unsigned decimal, ``RH`` six hex digits (``00A03F``);
 * D: 48-bit fixed point, ``R`` signed decimal, ``RH`` twelve hex digits (two's complement);
-* L: 48-bit floating point, ``R`` the value as a variable is reported; ``RHL`` answers
-  ``not_simulated`` (the card's float bit layout is not modelled);
+* L: 48-bit floating point (:mod:`.pmac_float`), ``R`` the value as a variable is reported,
+  ``RH`` its twelve hex digits;
 * several words: one line, separated by blanks.
 
-``W`` stores its values in consecutive words from ``{address}``; a read-only register (a
-status word) ignores the write, as an M-variable write to it does. Nothing is written when
-any value is malformed (the line does not parse).
+``W`` stores its values in consecutive words from ``{address}``. A value written in hex
+(``$…``) is the word's bits — ``WL:$B850,$400000000801`` stores that 48-bit float, as the EPICS
+driver sends its trajectory points (spec §12.7) — a decimal value is a number (``WL:$B850,2``
+stores 2.0; ``WD:`` / ``WX:`` / ``WY:`` integers, negative ones as two's complement) ``[INF]``.
+A read-only register (a status word) ignores the write, as an M-variable write to it does.
+A write that reaches program memory outside the user buffer (:mod:`.memory_map`) answers
+ERR003 and writes nothing; so does a malformed value (the line does not parse).
 """
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Final
 
-from motionsim.sim.errors import NotSimulated
-from motionsim.sim.pmac.card.mvar_defs import MAX_ADDRESS, MDef
+from motionsim.sim.errors import Conflict
+from motionsim.sim.pmac.card import pmac_float
+from motionsim.sim.pmac.card.mvar_defs import MAX_ADDRESS
 from motionsim.sim.pmac.card.variables import format_value
 
 if TYPE_CHECKING:
@@ -62,6 +68,8 @@ class MemoryWrite:
     space: str
     address: int
     values: tuple[float, ...]
+    #: Which values were written in hex (``$…``): their bits, not their number.
+    raw: tuple[bool, ...] = ()
 
 
 def _address(p: Any) -> int:
@@ -92,52 +100,64 @@ def parse_write(p: Any, head: re.Match[str]) -> MemoryWrite:
     space = head.group(1).upper()
     address = _address(p)
     values: list[float] = []
+    raw: list[bool] = []
     while p.at("op", ","):
         p.take()
         tok = p.peek()
         value = p.value_const(tok)
-        if space in ("X", "Y") and value != int(value):
+        if space in ("X", "Y", "D") and value != int(value):
             raise p.error(f"{space} words hold integers", tok)
+        if space == "L" and not math.isfinite(value):
+            raise p.error("L words hold finite numbers", tok)
         values.append(value)
+        raw.append(tok is not None and tok[1].startswith("$"))
     if not values:
         raise p.error("W needs {address},{value}")
     if address + len(values) - 1 > MAX_ADDRESS:
         raise p.error("the values run past $FFFFFF")
-    return MemoryWrite(space, address, tuple(values))
-
-
-def _definition(space: str, address: int) -> MDef:
-    if space in ("X", "Y"):
-        return MDef(space, address, 0, 24)
-    return MDef(space, address)
+    return MemoryWrite(space, address, tuple(values), tuple(raw))
 
 
 def read(cmd: MemoryRead, memory: MVariables) -> str:
-    """The reply line of ``cmd``.
-
-    Raises:
-        NotSimulated: ``RHL`` (the floating-point bit layout is not modelled).
-    """
-    if cmd.hex and cmd.space == "L":
-        raise NotSimulated("RHL: the card's 48-bit floating-point layout is not simulated",
-                           pmac_error="ERR003")
+    """The reply line of ``cmd``."""
     out: list[str] = []
+    space = cmd.space
     for address in range(cmd.address, cmd.address + cmd.count):
-        value = memory.read(_definition(cmd.space, address))
-        if cmd.space in ("X", "Y"):
-            out.append(f"{int(value) & _WORD:06X}" if cmd.hex else str(int(value)))
-        elif cmd.space == "D":
-            raw = int(value)
-            out.append(f"{raw & ((1 << _LONG_BITS) - 1):012X}" if cmd.hex else str(raw))
+        if space in ("X", "Y"):
+            word = memory.word(space, address)
+            out.append(f"{word:06X}" if cmd.hex else str(word))
+            continue
+        bits = memory.long(address)
+        if cmd.hex:
+            out.append(f"{bits:012X}")
+        elif space == "D":
+            out.append(str(bits - (1 << _LONG_BITS) if bits >> (_LONG_BITS - 1) else bits))
         else:
-            out.append(format_value(value))
+            out.append(format_value(pmac_float.decode(bits)))
     return " ".join(out)
 
 
 def write(cmd: MemoryWrite, memory: MVariables) -> None:
-    """Store ``cmd``'s values."""
+    """Store ``cmd``'s values.
+
+    Raises:
+        Conflict: (ERR003) a word falls in program memory outside the user buffer; nothing
+            is written.
+    """
+    for k in range(len(cmd.values)):
+        if not memory.writable(cmd.address + k):
+            raise Conflict(
+                f"${cmd.address + k:X} is program memory outside the user buffer "
+                "(DEFINE UBUFFER): nothing written", pmac_error="ERR003")
+    raw = cmd.raw or (False,) * len(cmd.values)
     for k, value in enumerate(cmd.values):
-        memory.write(_definition(cmd.space, cmd.address + k), value)
+        address = cmd.address + k
+        if cmd.space in ("X", "Y"):
+            memory.store_word(cmd.space, address, int(value))
+        elif cmd.space == "D" or raw[k]:
+            memory.store_long(address, int(value))
+        else:
+            memory.store_long(address, pmac_float.encode(value))
 
 
 __all__ = ["READ_HEAD", "WRITE_HEAD", "MemoryRead", "MemoryWrite", "parse_read", "parse_write",

@@ -18,9 +18,24 @@ checked against public definition files that carry them (``M161->D:$000088``,
 | ``Y:$00203F + $100·(x−1)`` | | CS status word 2 (digits 7–12) |
 | ``Y:$002040 + $100·(x−1)`` | | CS status word 3 (digits 13–18) |
 
+Timing registers (the standard Geo Brick M-variable file's definitions; a CPU-load PLC reads
+M70..M73 and computes duty cycles from them), in DSP clock cycles / 2 at ``CPU_HZ``:
+
+| address | M-variable | what | simulated |
+|---|---|---|---|
+| ``X:$000000`` (24-bit, S) | M100 | servo cycle counter | servo cycles since power-on, mod 2**24 |
+| ``X:$FFFF8C`` | M70 | time between phase interrupts | phase period (servo period / (I7002+1)) |
+| ``X:$000037`` | M71 | time of the phase tasks | 0 (phase tasks are not modelled) |
+| ``Y:$000037`` | M72 | time of the servo tasks | servo share × servo period |
+| ``X:$00000B`` | M73 | time of the RTI tasks | RTI share × RTI period |
+| ``X:$000025`` | M80 | minimum watchdog timer count | 0 (not modelled) |
+
+``CPU_HZ`` is 240 MHz, a DSP56321's clock ``[INF]``.
+
 Everything else (the Geo Brick's general-purpose I/O at ``Y:$078800``/``Y:$078802``, user
-memory, DPRAM) is plain memory: written values stay and read back. Writing Mxx62 sets the
-motor's position through the controller's ``set_motor_position`` where it has one
+memory, DPRAM; :mod:`.memory_map`) is plain memory: written values stay and read back.
+Writing Mxx62 sets the motor's position through the controller's ``set_motor_position``
+where it has one
 (``[INF]``: following error 0, so actual = commanded); status words are read-only.
 """
 
@@ -41,6 +56,8 @@ class Card(Protocol):
     def motor_report(self, motor: int, what: str) -> float: ...
     def cs_status(self, cs: int) -> tuple[int, int, int]: ...
     def ivar(self, n: int) -> float: ...
+    def servo_count(self) -> int: ...
+    def task_shares(self) -> tuple[float, float, float]: ...
 
 
 @dataclass(frozen=True, slots=True)
@@ -52,6 +69,7 @@ class Register:
     write: Callable[[int], None] | None = None
 
 
+CPU_HZ = 240e6
 N_MOTORS = 32
 N_CS = 16
 MOTOR_STEP = 0x80
@@ -81,12 +99,32 @@ def table(card: Card, set_position: Callable[[int, float], None] | None) -> dict
         out[("D", 0x88 + base)] = Register(position)
         out[("D", 0x8B + base)] = Register(position, set_actual)
         out[("X", 0x9D + base)] = Register(velocity)
+    _timing(card, out)
     for x in range(1, N_CS + 1):
         base = CS_STEP * (x - 1)
         out[("X", 0x2040 + base)] = Register(lambda x=x: card.cs_status(x)[0])
         out[("Y", 0x203F + base)] = Register(lambda x=x: card.cs_status(x)[1])
         out[("Y", 0x2040 + base)] = Register(lambda x=x: card.cs_status(x)[2])
     return out
+
+
+def _timing(card: Card, out: dict[tuple[str, int], Register]) -> None:
+    """The servo counter and the task-time registers (table in the module docstring)."""
+
+    def half_cycles(seconds: float) -> int:
+        return min(0xFFFFFF, round(seconds * CPU_HZ / 2))
+
+    def phase_period() -> float:
+        return card.task_shares()[2] / (card.ivar(7002) + 1)
+
+    out[("X", 0x000000)] = Register(lambda: card.servo_count() & 0xFFFFFF)
+    out[("X", 0xFFFF8C)] = Register(lambda: half_cycles(phase_period()))
+    out[("X", 0x000037)] = Register(lambda: 0)
+    out[("Y", 0x000037)] = Register(
+        lambda: half_cycles(card.task_shares()[0] * card.task_shares()[2]))
+    out[("X", 0x00000B)] = Register(
+        lambda: half_cycles(card.task_shares()[1] * card.task_shares()[2] * (card.ivar(8) + 1)))
+    out[("X", 0x000025)] = Register(lambda: 0)
 
 
 class _ControllerCard:
@@ -101,6 +139,15 @@ class _ControllerCard:
     def cs_status(self, cs: int) -> tuple[int, int, int]:
         w1, w2, w3 = self._ctl.coord_system(cs).status_words()
         return w1, w2, w3
+
+    def servo_count(self) -> int:
+        clock = self._ctl.scheduler.clock
+        return int(clock.index(self._ctl.env.now))
+
+    def task_shares(self) -> tuple[float, float, float]:
+        """(servo share, RTI share, servo period s) of the processor now."""
+        load = self._ctl.background.load()
+        return load["servo"], load["rti"], self._ctl.scheduler.period_s
 
 
 def for_controller(ctl: PmacController) -> dict[tuple[str, int], Register]:

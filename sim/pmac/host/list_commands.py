@@ -8,7 +8,7 @@ Forms (spec pmac.md §11.8; the Turbo SRM LIST pages were not found, §11.12):
 * ``LIST ROT`` (``ROTARY``) — the lines of the addressed CS's rotary buffer not yet
   calculated, without offsets and without the ``RET`` ``[INF]``;
 * ``LIST FORWARD`` / ``LIST INVERSE`` ``[,start,len]`` — the addressed CS's kinematic
-  programs; motionsim has none (``OPEN FORWARD`` is not simulated), so they are empty;
+  programs (:mod:`motionsim.sim.pmac.kinematics`), listed as a PROG is;
 * ``LIST GATHER`` — the gather buffer as 12-hex-digit words (DPC ``gather.py``); gathering
   itself is not simulated, so a defined buffer lists no words.
 
@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, Any
 
 from motionsim.sim.errors import Conflict, NotSimulated
 from motionsim.sim.pmac.host import listing
+from motionsim.sim.pmac.kinematics.commands import buffer_key
 
 if TYPE_CHECKING:
     from motionsim.sim.controller import Port
@@ -88,7 +89,13 @@ def run(cmd: ListBuffer, ctl: PmacController, port: Port) -> list[str]:
             raise _err("no gather buffer is defined (DEFINE GATHER)")
         return []  # data gathering is not simulated: the buffer holds no samples
     if buffer in ("FORWARD", "INVERSE"):
-        raise _err(f"CS {port.state['cs']} has no {buffer.lower()}-kinematic program")
+        cs = port.state["cs"]
+        lines = ctl.programs.programs.get(buffer_key(cs, buffer == "INVERSE")) or ()
+        out = listing.window(listing.entries(line.text for line in lines), cmd.start,
+                             cmd.length) if lines else None
+        if out is None:
+            raise _err(f"CS {cs} has no {buffer.lower()}-kinematic program to list there")
+        return out
     assert cmd.number is not None
     if buffer == "PLC":
         if cmd.number >= N_PLCS:

@@ -79,6 +79,24 @@ def _is_report(stmt: Any) -> bool:
     return isinstance(stmt, _REPORTS)
 
 
+#: Parsed lines by ``(text, open)``: a host driver sends the same poll line every cycle
+#: (the EPICS driver's 40-item status request), and parsing is most of its cost. Statements
+#: are immutable, so a cached parse is the same as a new one.
+_PARSE_CACHE: dict[tuple[str, bool], list[tuple[Any, int, int]]] = {}
+_PARSE_CACHE_SIZE = 512
+
+
+def _parsed(text: str, open_: bool) -> list[tuple[Any, int, int]]:
+    key = (text, open_)
+    got = _PARSE_CACHE.get(key)
+    if got is None:
+        got = parse_line(text, open_=open_)
+        if len(_PARSE_CACHE) >= _PARSE_CACHE_SIZE:
+            _PARSE_CACHE.clear()
+        _PARSE_CACHE[key] = got
+    return got
+
+
 def _where(e: ParseError) -> str:
     column = e.details.get("column")
     return f"{e.message} (column {column})" if column else e.message
@@ -166,7 +184,7 @@ class Terminal:
         """
         self.detail = None
         try:
-            stmts = parse_line(text, open_=open_)
+            stmts = _parsed(text, open_)
             failed: ParseError | None = None
         except ParseError as e:
             stmts, failed = self._before(text, open_, e), e
@@ -375,6 +393,8 @@ class Terminal:
             if ctl.programs.editing(port) is None:
                 raise CommandError("ERR005")  # CLEAR needs an open buffer [INF]
             ctl.programs.clear()
+        elif hasattr(stmt, "online"):  # commands that carry their action (card_words)
+            stmt.online(ctl, port, out)
         else:  # pragma: no cover - every parsed statement type is handled above
             raise CommandError("ERR003")
 

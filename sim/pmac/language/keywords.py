@@ -36,6 +36,7 @@ _F = "motionsim.sim.pmac.language.flow_words"
 _AX = "motionsim.sim.pmac.language.axis_definitions"
 _ID = "motionsim.sim.pmac.language.plc_idioms"
 _MS = "motionsim.sim.pmac.language.motor_statements"
+_C = "motionsim.sim.pmac.language.card_words"
 
 
 @dataclass(frozen=True)
@@ -84,14 +85,14 @@ TABLE: Final[tuple[Keyword, ...]] = (
     # buffer management (TSRM p260-420)
     _k("DEFINE", "DEF", builds=f"{_P}:define", where="online", objects={
         "ROTARY": True, "GATHER": True, "LOOKAHEAD": True, "CCBUF": False, "COMP": False,
-        "TCOMP": False, "BLCOMP": False, "UBUFFER": False}, example="DEFINE UBUFFER 1000"),
+        "TCOMP": False, "BLCOMP": False, "UBUFFER": True}, example="DEFINE CCBUF 10"),
     _k("DELETE", "DEL", builds=f"{_P}:delete", where="online", objects={
         "ROTARY": True, "GATHER": True, "LOOKAHEAD": True, "CCBUF": False, "COMP": False,
-        "TCOMP": False, "BLCOMP": False, "PLCC": False, "TEMPS": False, "ALL": False},
-       example="DELETE ALL"),
+        "TCOMP": False, "BLCOMP": False, "PLCC": False, "TEMPS": False, "ALL": True},
+       example="DELETE TEMPS"),
     _k("OPEN", builds=f"{_P}:open_", where="online", objects={
-        "ROTARY": True, "PROGRAM": True, "PLC": True, "PLCC": True, "FORWARD": False,
-        "INVERSE": False, "BINARY": False}, example="OPEN FORWARD"),
+        "ROTARY": True, "PROGRAM": True, "PLC": True, "PLCC": True, "FORWARD": True,
+        "INVERSE": True, "BINARY": False}, example="OPEN BINARY ROT"),
     _k("CLOSE", builds=f"{_P}:close"),
     _k("CLEAR", builds=f"{_P}:clear"),
     _k("LIST", builds=f"{_P}:list_", where="online", objects={
@@ -133,7 +134,6 @@ TABLE: Final[tuple[Keyword, ...]] = (
        "COMMANDA", "CMDA", builds=f"{_ID}:message_word", where="program"),
     _k("ADDRESS", "ADR", builds=f"{_ID}:address_word", where="program"),
     # axis definitions (spec §12.5)
-    _k("UNDEFINE", "UNDEF", builds=f"{_AX}:undefine_word", where="online"),
     _k("FRAX", builds=f"{_AX}:frax_word", where="program"),
     # control flow (spec §12.1): flow_words
     _k("IF", builds=f"{_F}:if_", where="program"),
@@ -151,8 +151,10 @@ TABLE: Final[tuple[Keyword, ...]] = (
     _k("BLOCKSTART", builds=f"{_F}:block_start", where="program"),
     _k("BLOCKSTOP", builds=f"{_F}:block_stop", where="program"),
     # valid, not simulated (TSRM on-line and program command lists)
+    # card memory and kinematics (issue 24): card_words
+    _k("UNDEFINE", "UNDEF", builds=f"{_C}:undefine", where="online"),
+    _k("PMATCH", builds=f"{_C}:pmatch", where="online"),
     _ns("PASSWORD", example="PASSWORD=SECRET"),
-    _ns("PMATCH", example="&1PMATCH"),
     _ns("CHECKSUM"),
     _ns("EAVERSION"),
     _ns("DATE"),

@@ -11,6 +11,7 @@ from typing import Any
 
 from motionsim.sim.pmac.card import card_commands
 from motionsim.sim.pmac.host import list_commands
+from motionsim.sim.pmac.language import card_words
 from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.language import plc_statements as plc_st
 from motionsim.sim.pmac.language import statements as st
@@ -35,6 +36,8 @@ def _object(p: Any, keyword: str, tok: Token) -> tuple[str, Token]:
 
 def define(p: Any, tok: Token) -> Any:
     name, _ = _object(p, "DEFINE", tok)
+    if name == "UBUFFER":
+        return card_words.define_ubuffer(p)
     if name == "ROTARY":
         return st.DefineRotary(p.integer())
     if name == "GATHER":
@@ -48,6 +51,8 @@ def define(p: Any, tok: Token) -> Any:
 
 def delete(p: Any, tok: Token) -> Any:
     name, _ = _object(p, "DELETE", tok)
+    if name == "ALL":
+        return card_words.delete_all(p)
     if name == "ROTARY":
         return st.DeleteRotary()
     if name == "GATHER":
@@ -61,6 +66,8 @@ def open_(p: Any, tok: Token) -> Any:
         return st.OpenRotary()
     if name in ("PLC", "PLCC"):
         return plc_st.OpenPlc(p.plc_number(), compiled=name == "PLCC")
+    if name in ("FORWARD", "INVERSE"):
+        return card_words.open_kinematic(name)
     num = p.peek()
     n = p.integer()
     if not 1 <= n <= 32767:

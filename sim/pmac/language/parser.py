@@ -261,7 +261,9 @@ class _Parser:
                 e.statement_start = start  # type: ignore[attr-defined]
                 raise
             end = self.toks[self.i - 1][3]
-            if isinstance(stmt, (st.OpenRotary, st.OpenProgram)):
+            if isinstance(stmt, (st.OpenRotary, st.OpenProgram)) or getattr(
+                stmt, "opens_buffer", False
+            ):
                 self.open = True
             elif isinstance(stmt, st.Close):
                 self.open = False

@@ -44,6 +44,7 @@ Modelled (TUM p339-341, p250; PUM p213; spec §9.1-9.3):
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any
 
 from motionsim.sim.pmac.card.variables import ixx
@@ -70,6 +71,9 @@ _floor = math.floor
 class Execution:
     """The execution part of :class:`~motionsim.sim.pmac.lookahead.CoordSystem` (a mixin: the
     state it reads and writes is set up in ``CoordSystem.__init__``)."""
+
+    #: Called ``(move, t)`` as each move starts, in a kinematic CS (sim.pmac.kinematics).
+    on_move_start: Callable[[Any, float], None] | None = None
 
     # -- execution ------------------------------------------------------------------------
 
@@ -116,6 +120,8 @@ class Execution:
         emit("move_start", cs=cs, n=n)
         m.b_end = b + m.tm
         self.current = m
+        if self.on_move_start is not None:  # a kinematic CS (sim.pmac.kinematics)
+            self.on_move_start(m, t)
         if self._ver != self.vars.version:
             self._refresh()
         p = self._period

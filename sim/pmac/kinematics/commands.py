@@ -1,0 +1,86 @@
+"""On-line kinematics commands: ``OPEN FORWARD`` / ``OPEN INVERSE``, ``PMATCH``, ``UNDEFINE``.
+
+* ``&n OPEN FORWARD`` / ``&n OPEN INVERSE`` (``FWD`` / ``INV``, TSRM p379) open the addressed
+  CS's forward- or inverse-kinematic buffer for entry on this port; ``CLEAR``, program lines
+  and ``CLOSE`` follow as for a PROG (the lines are held beside the PROGs, one buffer each per
+  CS). ERR007 while another buffer is open, ERR001 while any CS runs a program; while it is
+  open no program may start (``R`` answers ERR015, as with an open PROG).
+* ``PMATCH`` re-computes the addressed CS's axis positions from its motors' positions: with
+  Isx50 = 1 and a forward program through it, otherwise by inverting the axis definitions
+  (TUM p259, p267); reply: the acknowledgement only ``[INF]``.
+* ``UNDEFINE`` clears the addressed CS's axis definitions (``#n->I`` included), ``UNDEFINE
+  ALL`` every CS's (TSRM p269–270); ERR001 while the CS (any CS for ALL) runs ``[INF]``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+from motionsim.sim.errors import Conflict
+from motionsim.sim.pmac.buffers.flow import Structure
+
+if TYPE_CHECKING:
+    from motionsim.sim.pmac.controller import PmacController
+
+N_CS = 16
+
+
+def buffer_key(cs: int, inverse: bool) -> int:
+    """The key of a kinematic buffer beside the PROGs (negative: no PROG number clashes)."""
+    return -(cs + (N_CS if inverse else 0))
+
+
+def _refuse_while_running(ctl: PmacController, cs: int | None, what: str) -> None:
+    running = [c.cs for c in ctl.coord_systems.values() if c.running and cs in (None, c.cs)]
+    if running:
+        raise Conflict(f"CS {running[0]} is running a program: no {what}", pmac_error="ERR001")
+
+
+@dataclass(frozen=True, slots=True)
+class OpenKinematic:
+    """``OPEN FORWARD`` (``inverse`` False) / ``OPEN INVERSE``."""
+
+    inverse: bool
+    opens_buffer = True  # the parser stores the lines that follow
+
+    def online(self, ctl: PmacController, port: Any, out: list[str]) -> None:
+        if ctl.buffer_holder is not None or ctl.programs.editing() is not None:
+            raise Conflict("a buffer is open: CLOSE it first", pmac_error="ERR007")
+        _refuse_while_running(ctl, None, "OPEN FORWARD/INVERSE")
+        key = buffer_key(port.state["cs"], self.inverse)
+        progs = ctl.programs
+        lines = progs.programs.setdefault(key, [])
+        # entered, checked, cleared and closed as a PROG is (buffers.programs), under its key
+        progs._edit = (port, key)
+        progs._structure = Structure(dry=True)
+        for line in lines:
+            progs._structure.feed(line)
+        ctl.buffer_holder = port
+
+
+@dataclass(frozen=True, slots=True)
+class Pmatch:
+    """``PMATCH``."""
+
+    def online(self, ctl: PmacController, port: Any, out: list[str]) -> None:
+        cs = port.state["cs"]
+        _refuse_while_running(ctl, cs, "PMATCH")
+        ctl.kinematics.pmatch(cs)
+
+
+@dataclass(frozen=True, slots=True)
+class Undefine:
+    """``UNDEFINE`` / ``UNDEFINE ALL``."""
+
+    every_cs: bool
+
+    def online(self, ctl: PmacController, port: Any, out: list[str]) -> None:
+        cs = None if self.every_cs else port.state["cs"]
+        _refuse_while_running(ctl, cs, "UNDEFINE")
+        for n in [n for n, (c, _d) in ctl.motors.items() if cs in (None, c)]:
+            del ctl.motors[n]
+        ctl.log.emit("undefine", cs=cs)
+
+
+__all__ = ["OpenKinematic", "Pmatch", "Undefine", "buffer_key"]

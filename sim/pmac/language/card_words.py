@@ -1,0 +1,47 @@
+"""Builders of the card-memory and kinematics command words (rows and objects of
+:mod:`.keywords`): ``DEFINE UBUFFER n``, ``DELETE ALL``, ``OPEN FORWARD`` / ``OPEN INVERSE``,
+``UNDEFINE [ALL]``, ``PMATCH``. The statements carry their own on-line action
+(:mod:`motionsim.sim.pmac.card.user_buffer`, :mod:`motionsim.sim.pmac.kinematics.commands`).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from motionsim.sim.pmac.card.user_buffer import DefineUbuffer, DeleteAll
+from motionsim.sim.pmac.kinematics.commands import OpenKinematic, Pmatch, Undefine
+
+Token = tuple[str, str, int, int]
+
+
+def define_ubuffer(p: Any) -> DefineUbuffer:
+    """``DEFINE UBUFFER {words}`` (after the object word)."""
+    tok = p.peek()
+    words = p.integer()
+    if words < 1:
+        raise p.error("DEFINE UBUFFER needs a size of at least 1 word", tok)
+    return DefineUbuffer(words)
+
+
+def delete_all(p: Any) -> DeleteAll:
+    return DeleteAll()
+
+
+def open_kinematic(name: str) -> OpenKinematic:
+    return OpenKinematic(inverse=name == "INVERSE")
+
+
+def undefine(p: Any, tok: Token) -> Undefine:
+    """``UNDEFINE`` / ``UNDEFINE ALL``."""
+    nxt = p.peek()
+    every = nxt is not None and nxt[0] == "word" and nxt[1] == "ALL"
+    if every:
+        p.take()
+    return Undefine(every_cs=every)
+
+
+def pmatch(p: Any, tok: Token) -> Pmatch:
+    return Pmatch()
+
+
+__all__ = ["define_ubuffer", "delete_all", "open_kinematic", "pmatch", "undefine"]
