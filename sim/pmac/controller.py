@@ -36,8 +36,8 @@ from motionsim.sim.pmac.card.macro_station import MacroStations
 from motionsim.sim.pmac.card.timers import CountdownTimers
 from motionsim.sim.pmac.card.variables import N_CS, N_MOTORS, Variables, parse_name
 from motionsim.sim.pmac.host.terminal import Terminal
-from motionsim.sim.pmac.language import axis_definitions
 from motionsim.sim.pmac.kinematics.engine import Kinematics
+from motionsim.sim.pmac.language import axis_definitions
 from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.lookahead import CoordSystem
 from motionsim.sim.pmac.motor.motor_status import motor_status_words

@@ -88,7 +88,7 @@ def parse(text: str, pos: int) -> tuple[AxisDef | None, int]:
             break
         col = m.start() + 1 + (len(m.group()) - len(m.group().lstrip()))
         if terms and m.group("sign") is None:
-            raise _error("expected + or - before the next term", col, text)
+            break  # a term without + / - starts the next command (``#3->1000X B1``) [INF]
         if offset is not None:
             raise _error("the offset must be the last term", col, text)
         value = float(m.group("scale")) if m.group("scale") else 1.0

@@ -30,7 +30,7 @@ USES: dict[str, tuple[str, bool]] = {
     "ENDWHILE": ("{}", True), "GOTO": ("{}(P1*10)", True), "GOSUB": ("{}101 A1 B(P2)", True),
     "CALL": ("{}35.1 X5", True), "RETURN": ("{}", True), "READ": ("{}(A,B)", True),
     "STOP": ("{}", True), "WAIT": ("{}", True), "BLOCKSTART": ("{}", True),
-    "BLOCKSTOP": ("{}", True), "UNDEFINE": ("&1 {} ALL", False), "PMATCH": ("&1 {}", False),
+    "BLOCKSTOP": ("{}", True), "PMATCH": ("&1 {}", False),
 }
 CASES = [
     (k.name, spelling, *USES[k.name])
