@@ -58,17 +58,16 @@ from __future__ import annotations
 
 from collections import deque
 from collections.abc import Callable
-from heapq import heappush
 from typing import Any
 
 import simpy
 from motionsim.sim.events import EventLog
+from motionsim.sim.simpy_adapter import URGENT, triggered_at
 from motionsim.sim.timing import ServoClock
 from motionsim.sim.trio.axis import Axis
 from motionsim.sim.trio.linked import LinkedMove
 from motionsim.sim.trio.moves import Move
 from motionsim.sim.trio.profile import diverges_at
-from simpy.events import URGENT
 
 Placed = str  # "mtype" | "ntype" | "process_buffer"
 
@@ -84,11 +83,7 @@ def schedule_at(env: simpy.Environment, t: float, callback: Callable[[Any], None
     offers relative delays, and ``now + (t - now)`` can miss ``t`` by a rounding step; the
     event is therefore pushed at ``t`` itself so every servo instant is exactly ``k * period``.
     """
-    ev = simpy.Event(env)
-    ev._ok = True
-    ev._value = None
-    ev.callbacks.append(callback)  # type: ignore[union-attr]
-    heappush(env._queue, (t, URGENT, next(env._eid), ev))  # type: ignore[attr-defined]
+    triggered_at(env, t, callback, URGENT)
 
 
 class Waiter:

@@ -210,18 +210,12 @@ class RotaryBuffer:
         pending = self.pending
         n, line = pending.popleft()
         self.calculated.append((n, line.words))
-        # = self.line_calculated(n), written out (the per-line path)
-        self._emit("line_calculated", cs=self.cs, n=n)
-        if self._ver != self._vars.version:
-            self._limits()
-        if len(pending) < self._i16:
-            self.full = False
-            if not self.breq:
-                self._set(True)
+        self.line_calculated(n)
         return n
 
     def line_calculated(self, n: int) -> None:
-        """Planning has worked through line ``n``: the I16 rule."""
+        """Planning has worked through line ``n``: the I16 rule, written here only (seed 000,
+        TSRM p286): fewer than I16 lines ahead clears the full bit and raises BREQ."""
         self._emit("line_calculated", cs=self.cs, n=n)
         if self._ver != self._vars.version:
             self._limits()

@@ -44,7 +44,6 @@ Modelled (TUM p339-341, p250; PUM p213; spec §9.1-9.3):
 from __future__ import annotations
 
 import math
-from heapq import heappush
 from typing import Any
 
 from motionsim.sim.pmac.card.variables import ixx
@@ -55,7 +54,7 @@ from motionsim.sim.pmac.lookahead.sync_queue import segment_start
 from motionsim.sim.pmac.modes import BLENDS, DELAY, DWELL, LINEAR, PROFILES, SPLINE, Move
 from motionsim.sim.pmac.modes.pset import PsetMove
 from motionsim.sim.pmac.tasks.scheduler import Wake, wake_at
-from simpy.events import NORMAL
+from motionsim.sim.simpy_adapter import push_at
 
 #: Synchronous read-modify-write forms.
 _BITWISE = {"&=": pmac_and, "|=": pmac_or, "^=": pmac_xor}
@@ -128,7 +127,7 @@ class Execution:
             w = self._plan_wake
             if w is not None and w.callbacks is None:  # = wake_at(..., w), written out
                 w.callbacks = [self._plan_cb_bound]
-                heappush(env._queue, (tp, NORMAL, next(env._eid), w))
+                push_at(env, tp, w)
             else:
                 self._plan_wake = Wake(env, tp, self._plan_cb_bound)
         prof = PROFILES[m.kind]
@@ -157,7 +156,7 @@ class Execution:
                     cbs = pend.callbacks
                     if cbs is None:  # processed: re-used (= wake_at(..., pend), written out)
                         pend.callbacks = [self._handoff_cb]
-                        heappush(env._queue, (th, NORMAL, next(env._eid), pend))
+                        push_at(env, th, pend)
                         return
                     cbs.clear()  # still queued: cancelled
                 self._pending = Wake(env, th, self._handoff_cb)

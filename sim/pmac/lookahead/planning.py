@@ -98,18 +98,18 @@ class Planning:
             return
         if self._ver != self.vars.version:
             self._refresh()
-        # The depth: how many moves calculation keeps ready (TUM p339, spec §4.2): 2 beyond
-        # the executing one with Isx13 = 0 for LINEAR, and CIRCLE, which then runs as LINEAR
-        # (TSRM p177), and SPLINE; else 1; one more from rest, where no move executes yet.
-        # Written out here and in _plan_cb (the per-line path).
-        mode = self.mode
-        depth = 2 if (self._isx13 == 0 and mode in _TWO_AHEAD) or mode in _SPLINES else 1
-        if self.current is None:
-            depth += 1
-        if len(self.planned) < depth or (self._la_s > 0 and self._short_of_horizon()):
+        if len(self.planned) < self._depth() or (self._la_s > 0 and self._short_of_horizon()):
             self._request_plan()
             if self.current is None and not self.planned:
                 self._arm_i11()  # (also at I11 = 0: a delay armed under an earlier I11 goes)
+
+    def _depth(self) -> int:
+        """How many moves calculation keeps ready (TUM p339, spec §4.2): 2 beyond the
+        executing one with Isx13 = 0 for LINEAR, and CIRCLE, which then runs as LINEAR
+        (TSRM p177), and SPLINE; else 1; one more from rest, where no move executes yet."""
+        mode = self.mode
+        depth = 2 if (self._isx13 == 0 and mode in _TWO_AHEAD) or mode in _SPLINES else 1
+        return depth + 1 if self.current is None else depth
 
     def _short_of_horizon(self) -> bool:
         """The special lookahead is active (Isx13 > 0, ``DEFINE LOOKAHEAD``, Isx20 > 0) and
@@ -151,11 +151,8 @@ class Planning:
             self._refresh()
         if self.single_step:
             target = 0 if (self.current is not None or planned) else 1
-        else:  # the depth, as in lines_arrived
-            mode = self.mode
-            target = 2 if (self._isx13 == 0 and mode in _TWO_AHEAD) or mode in _SPLINES else 1
-            if self.current is None:
-                target += 1
+        else:
+            target = self._depth()
         if rot is not None:
             self._seen_n = rot.n_loaded
             pending = rot.pending

@@ -12,57 +12,20 @@ The controller's tasks, highest priority first (TUM p236-237, spec §4.1, §9.3)
   4),
   with the watchdog in :mod:`motionsim.sim.pmac.tasks.watchdog`.
 
-Nothing here runs once per servo cycle: a :class:`Wake` puts one already-triggered event on the
-SimPy queue at the instant where something happens (the next RTI, a move's end), computed from
-integer cycle indices.
+Nothing here runs once per servo cycle: a :class:`~motionsim.sim.simpy_adapter.Wake` puts one
+already-triggered event on the SimPy queue at the instant where something happens (the next RTI,
+a move's end), computed from integer cycle indices.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from heapq import heappush
-from typing import Any
 
 import simpy
+from motionsim.sim.simpy_adapter import Wake, wake_at
 from motionsim.sim.timing import ServoClock
-from simpy.events import NORMAL
 
-Callback = Callable[[Any], None]
-
-
-class Wake(simpy.events.Event):
-    """An already-triggered event processed at the absolute instant ``t``, calling ``fn``.
-
-    Like ``env.timeout(t - now)`` but cheaper and exact: it goes on the environment's queue
-    at ``t`` itself, so quantised instants (``k * period``) are not disturbed by
-    ``now + (t - now)`` rounding. Uses SimPy 4's queue layout (``_queue``, ``_eid``), the
-    same thing ``Environment.schedule`` does.
-    """
-
-    # Triggered and successful from birth (class-level, saving two stores per wake-up).
-    _value = None
-    _ok = True
-
-    def __init__(self, env: simpy.Environment, t: float, fn: Callback) -> None:
-        self.env = env
-        self.callbacks = [fn]
-        heappush(env._queue, (t, NORMAL, next(env._eid), self))  # type: ignore[attr-defined]
-
-
-def wake_at(env: simpy.Environment, t: float, fn: Callback, old: Wake | None = None) -> Wake:
-    """Call ``fn(event)`` at the absolute instant ``t``: a :class:`Wake`.
-
-    ``old`` is a wake-up of the caller's that may be re-used: once SimPy has processed it
-    (``callbacks is None``) nothing else refers to it, so it is put on the queue again instead
-    of allocating a new event — one allocation less per move on the streaming path. Cancelled
-    wake-ups (callbacks emptied, still queued) are never re-used. The queue entry is the same
-    as a new Wake's (same ``eid`` order), so the schedule is unchanged.
-    """
-    if old is not None and old.callbacks is None:
-        old.callbacks = [fn]
-        heappush(env._queue, (t, NORMAL, next(env._eid), old))  # type: ignore[attr-defined]
-        return old
-    return Wake(env, t, fn)
+__all__ = ["Scheduler", "Wake", "wake_at"]
 
 
 class Scheduler:

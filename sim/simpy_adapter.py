@@ -1,0 +1,73 @@
+"""The one place motionsim touches SimPy's internals: events queued at an absolute instant.
+
+Both controllers act on servo interrupts whose instants are computed from integer cycle
+indices (``k * period``). SimPy only offers relative delays, and ``now + (t - now)`` can miss
+``t`` by a rounding step, so such events go on the environment's queue at ``t`` itself, as
+``Environment.schedule`` does internally. That needs SimPy 4's queue layout (``_queue`` a heap
+of ``(t, priority, eid, event)``, ``_eid`` the tie-break counter); a SimPy upgrade that changes
+it breaks this module only (``tests/sim/test_simpy_adapter.py`` pins what the rest relies on).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from heapq import heappush
+from typing import Any
+
+import simpy
+from simpy.events import NORMAL, URGENT
+
+__all__ = ["NORMAL", "URGENT", "Wake", "push_at", "triggered_at", "wake_at"]
+
+Callback = Callable[[Any], None]
+
+
+def push_at(env: simpy.Environment, t: float, event: simpy.events.Event,
+            priority: int = NORMAL) -> None:
+    """Put an already-triggered ``event`` on ``env``'s queue, processed at the instant ``t``;
+    ``URGENT`` ones before ``NORMAL`` ones at the same instant, each in the order pushed."""
+    heappush(env._queue, (t, priority, next(env._eid), event))  # type: ignore[attr-defined]
+
+
+class Wake(simpy.events.Event):
+    """An already-triggered event processed at the absolute instant ``t``, calling ``fn``.
+
+    Like ``env.timeout(t - now)`` but cheaper and exact (see the module docstring).
+    """
+
+    # Triggered and successful from birth (class-level, saving two stores per wake-up).
+    _value = None
+    _ok = True
+
+    def __init__(self, env: simpy.Environment, t: float, fn: Callback) -> None:
+        self.env = env
+        self.callbacks = [fn]
+        heappush(env._queue, (t, NORMAL, next(env._eid), self))  # type: ignore[attr-defined]
+
+
+def wake_at(env: simpy.Environment, t: float, fn: Callback, old: Wake | None = None) -> Wake:
+    """Call ``fn(event)`` at the absolute instant ``t``: a :class:`Wake`.
+
+    ``old`` is a wake-up of the caller's that may be re-used: once SimPy has processed it
+    (``callbacks is None``) nothing else refers to it, so it is put on the queue again instead
+    of allocating a new event — one allocation less per move on the streaming path. Cancelled
+    wake-ups (callbacks emptied, still queued) are never re-used. The queue entry is the same
+    as a new Wake's (same ``eid`` order), so the schedule is unchanged.
+    """
+    if old is not None and old.callbacks is None:
+        old.callbacks = [fn]
+        heappush(env._queue, (t, NORMAL, next(env._eid), old))  # type: ignore[attr-defined]
+        return old
+    return Wake(env, t, fn)
+
+
+def triggered_at(env: simpy.Environment, t: float, fn: Callback,
+                 priority: int = URGENT) -> simpy.events.Event:
+    """A plain SimPy event, already succeeded, that calls ``fn`` at the instant ``t``
+    (``URGENT`` by default: before normal events at ``t``)."""
+    ev = simpy.Event(env)
+    ev._ok = True
+    ev._value = None
+    ev.callbacks.append(fn)  # type: ignore[union-attr]
+    push_at(env, t, ev, priority)
+    return ev

@@ -1,0 +1,47 @@
+"""What the rest of the core relies on from SimPy's queue (sim/simpy_adapter.py).
+
+Servo instants are ``k * period`` exactly; at one instant the servo interrupt's URGENT events
+run before NORMAL ones (the Trio servo pre-empts BASIC), each priority in the order pushed.
+"""
+
+import simpy
+from motionsim.sim.simpy_adapter import URGENT, push_at, triggered_at, wake_at
+
+
+def test_events_run_at_the_exact_instant_urgent_first_then_in_push_order():
+    env = simpy.Environment()
+    period = 0.000442700004577637  # an I10-derived servo period that does not round-trip
+    t = 7 * period
+    seen: list[tuple[str, float]] = []
+    wake_at(env, t, lambda ev: seen.append(("normal-1", env.now)))
+    wake_at(env, t, lambda ev: seen.append(("normal-2", env.now)))
+    triggered_at(env, t, lambda ev: seen.append(("urgent", env.now)), URGENT)
+    env.run()
+    assert [name for name, _ in seen] == ["urgent", "normal-1", "normal-2"]
+    assert all(now == t for _, now in seen)  # not now + (t - now)
+
+
+def test_a_processed_wake_is_reused_and_a_cancelled_one_is_not():
+    env = simpy.Environment()
+    calls: list[float] = []
+    first = wake_at(env, 1.0, lambda ev: calls.append(env.now))
+    env.run()
+    again = wake_at(env, 2.0, lambda ev: calls.append(env.now), first)
+    assert again is first
+    queued = wake_at(env, 3.0, lambda ev: calls.append(env.now))
+    queued.callbacks.clear()  # cancelled while still on the queue
+    other = wake_at(env, 4.0, lambda ev: calls.append(env.now), queued)
+    assert other is not queued
+    env.run()
+    assert calls == [1.0, 2.0, 4.0]
+
+
+def test_push_at_places_a_triggered_event_on_the_queue():
+    env = simpy.Environment()
+    ev = simpy.Event(env)
+    ev._ok, ev._value = True, "x"
+    got: list[object] = []
+    ev.callbacks.append(lambda e: got.append((env.now, e.value)))
+    push_at(env, 0.25, ev)
+    env.run()
+    assert got == [(0.25, "x")]
