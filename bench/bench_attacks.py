@@ -6,7 +6,7 @@ on its own keep-alive connection; the figures are ``/health`` p50 / p99 / max du
 attack, with the attack's own figures (requests, answers, refusals, wall time). The reference
 is ``/health`` on the idle server in the same run. Target: p99 under 50 ms during each.
 
-Attacks: a catastrophic fault ``match`` hit over the PMAC port; rotary batches of 4 096 long
+Attacks: a catastrophic fault ``match`` hit over the PMAC port; rotary batches of 1 000 long
 lines and one of 200 000 lines (refused); a 300-KB Trio program and a 4 000-line PLC; 1 100
 half-sent HTTP requests; leaked sockets filling the PMAC port's cap, then a real host; an
 ``advance 1e6`` deleted mid-way; a 20-MB body to a 8-MiB limit, sent whole by ``http.client``.

@@ -57,4 +57,6 @@ TARGETS: tuple[Target, ...] = (
            "<=", 31.0),
     Target("dashboard", "delivered_1000", "dashboard events applied / logged at 1000 events/s",
            ">=", 1.0),
+    Target("attacks", "health_p99_ms_worst_attack",
+           "/health p99 during the worst of issue 23's attacks (ms, absolute)", "<=", 50.0),
 )

@@ -60,7 +60,7 @@ async def test_rotary_batches_publish_first_seq_lines_and_line_length(pmac_api):
     first_seq = _branch(body["properties"]["first_seq"])
     assert (first_seq["minimum"], first_seq["maximum"]) == (0, 2**53 - 1)
     lines = body["properties"]["lines"]
-    assert lines["maxItems"] == 4096 and lines["items"]["maxLength"] == 255
+    assert lines["maxItems"] == 1024 and lines["items"]["maxLength"] == 255
     cs = _param(spec, P + "/coord/{cs}", "get", "cs")
     assert (cs["minimum"], cs["maximum"]) == (1, 16)
 
