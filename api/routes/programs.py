@@ -7,7 +7,6 @@ any) stays as it was.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import Annotated
 
 from fastapi import APIRouter, Path, Request, Response
@@ -17,8 +16,6 @@ from motionsim.api.off_loop import off_loop
 from motionsim.api.routes.axes import trio_of
 from motionsim.api.schemas.programs import ProgramList, ProgramStored, RunIn, RunOut
 from motionsim.sim.errors import InvalidValue
-from motionsim.sim.trio.parser import parse_program
-from motionsim.sim.trio.statements import Program
 
 router = APIRouter(tags=["trio programs"])
 
@@ -41,10 +38,6 @@ def list_programs(handle: HandleDep) -> dict:
     return {"programs": handle.apply(trio_of(handle).program_names)}
 
 
-def _parser(model: str) -> Callable[[str], Program]:
-    """The pure part of storing ``text``: parsing it in the model's language (compiling
-    needs the stored programs it INCLUDEs, so it is done by the store, on the loop)."""
-    return lambda text: parse_program(text, model)
 
 
 @router.put(
@@ -62,9 +55,10 @@ async def put_program(handle: HandleDep, name: NameParam, request: Request) -> d
     except UnicodeDecodeError as exc:
         raise InvalidValue(f"program text is not UTF-8 (byte {exc.start})", field="body") from None
     ctrl = trio_of(handle)
-    # compiling a large text takes seconds: off the loop; an empty one is refused by the store
-    parsed = await off_loop(_parser(ctrl.model.name), text) if text.strip() else None
-    handle.apply(ctrl.store_program, name, text, parsed)
+    # compiling a large text takes a while: off the loop, against a snapshot of what it reads
+    compiler = handle.apply(ctrl.detached_compiler, name) if text.strip() else None
+    pre = await off_loop(compiler, text) if compiler is not None else None
+    handle.apply(ctrl.store_program, name, text, pre)
     return {"name": name.upper(), "lines": len(text.splitlines())}
 
 

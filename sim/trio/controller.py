@@ -21,7 +21,8 @@ The public methods act at the current simulated instant and never step the envir
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from typing import Any
 
 from motionsim.sim.bounds import TRIO_CONFIG
@@ -66,6 +67,18 @@ _CONFIG_DEFAULTS: dict[str, float] = {
 }
 _VARIABLE = re.compile(r"^\s*(VR|TABLE|IN|OP)\s*\(\s*(\d+)\s*\)\s*$", re.I)
 _PROGRAM_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]{0,31}$")
+
+
+@dataclass(frozen=True, slots=True)
+class Precompiled:
+    """A program text parsed and compiled off the event loop (:meth:`TrioController.
+    detached_compiler`), with what the compile read: the GLOBAL / CONSTANT version and the
+    parsed programs it INCLUDEd."""
+
+    parsed: Program
+    code: Code
+    version: int
+    used: dict[str, Program | None]
 
 
 class TrioController(Controller):
@@ -283,24 +296,53 @@ class TrioController(Controller):
             raise NotFound(f"no program {key}", field="name")
         return key
 
-    def store_program(self, name: str, text: str, parsed: Program | None = None) -> None:
+    def detached_compiler(self, name: str) -> Callable[[str], Precompiled]:
+        """A pure ``text -> Precompiled`` for a worker thread (``api/off_loop.py``): it parses
+        and compiles against a snapshot, taken now, of the stored programs and the GLOBAL /
+        CONSTANT names; :meth:`store_program` uses its result when nothing it read has
+        changed since, and compiles again otherwise. A compile error is raised as the store
+        would raise it."""
+        key = self._name(name)
+        model = self.model.name
+        stored = dict(self.parsed)
+        declared = dict(self.declared)
+        version = self.declared_version
+
+        def compile_text(text: str) -> Precompiled:
+            try:
+                parsed = parse_program(text, model)
+            except (ParseError, NotSimulated) as exc:
+                exc.details.setdefault("program", key)
+                raise
+            code = compile_program(
+                parsed, key, lambda n: parsed if n == key else stored.get(n), declared, version)
+            used = {n: stored.get(n) for n in code.includes}
+            return Precompiled(parsed, code, version, used)
+
+        return compile_text
+
+    def store_program(self, name: str, text: str, pre: Precompiled | None = None) -> None:
         """Parse and compile ``text`` in the model's language and store it; the programs that
         INCLUDE it are compiled again with it. A compile error (of it, or of a program that
-        includes it) names the program, line and column and changes nothing. ``parsed``:
-        ``parse_program(text, model)`` already done (off the event loop), or None."""
+        includes it) names the program, line and column and changes nothing. ``pre``: the
+        result of :meth:`detached_compiler` for this text, or None."""
         key = self._name(name)
         if not text.strip():
             raise InvalidValue(
                 f"program {key}: the text is empty (a program needs at least one line)",
                 field="body",
             )
-        try:
-            if parsed is None:
-                parsed = parse_program(text, self.model.name)
-        except (ParseError, NotSimulated) as exc:
-            exc.details.setdefault("program", key)
-            raise
-        code = self._compile(key, parsed, {key: parsed})
+        if pre is not None and pre.version == self.declared_version and all(
+            self.parsed.get(n) is p for n, p in pre.used.items()
+        ):
+            parsed, code = pre.parsed, pre.code
+        else:
+            try:
+                parsed = pre.parsed if pre is not None else parse_program(text, self.model.name)
+            except (ParseError, NotSimulated) as exc:
+                exc.details.setdefault("program", key)
+                raise
+            code = self._compile(key, parsed, {key: parsed})
         dependants = {
             other: self._compile(other, self.parsed[other], {key: parsed})
             for other, (_text, other_code) in self.programs.items()

@@ -49,7 +49,8 @@ async def test_a_large_trio_program_compiles_while_the_loop_serves_others(trio_a
         headers={"content-type": "text/plain"}))
     assert r.status_code == 201, r.text
     assert r.json()["lines"] == 6000
-    assert len(gaps) > 20 and max(gaps) < 0.5
+    # the compile (about 0.3 s here) ran beside the loop: it kept ticking, never held that long
+    assert len(gaps) > 10 and max(gaps) < 0.2
     stored = await trio_api.get("/controllers/t/programs/BIG")
     assert stored.text == TRIO_PROGRAM
 

@@ -38,7 +38,7 @@ OPEN PROG 21
 OPEN PLC 3 CLEAR
 CLOSE
 X5
-PMATCH
+CHECKSUM
 """
 
 
@@ -57,7 +57,7 @@ def test_tsrm_i6_each_refused_line_is_file_line_column_errnnn_meaning(tmp_path):
     for text, (n, column, code) in zip(lines, want, strict=False):
         # the controller's own detail may follow the manual's meaning
         assert text.startswith(f"{path}:{n}:{column}: error: {code} {MEANINGS[code]}"), text
-    assert lines[-1] == (f"{path}:13:1: warning: not_simulated PMATCH is a valid Turbo PMAC "
+    assert lines[-1] == (f"{path}:13:1: warning: not_simulated CHECKSUM is a valid Turbo PMAC "
                          "command that motionsim does not simulate (docs/pmac.md lists what "
                          "is simulated)")
 

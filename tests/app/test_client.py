@@ -103,6 +103,6 @@ def test_tsrm_i6_a_refused_command_reaches_the_client_with_its_meaning(motionsim
     bad = motionsim.terminal("pmac", "X10")
     assert (bad.error, bad.error_meaning) == ("ERR005",
                                               "command allowed only with a buffer open")
-    unsimulated = motionsim.terminal("pmac", "PMATCH")
+    unsimulated = motionsim.terminal("pmac", "CHECKSUM")
     assert (unsimulated.error, unsimulated.not_simulated) == ("ERR003", True)
-    assert "PMATCH" in unsimulated.detail
+    assert "CHECKSUM" in unsimulated.detail
