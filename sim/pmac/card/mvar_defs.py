@@ -75,8 +75,10 @@ class MDefine:
     definition: MDef
 
 
-#: Where a definition's text after ``->`` ends: at a blank (``M1->X:$10,8,1 M2->*``).
-DEFINITION_TEXT: Final = re.compile(r"\*|(?:TW[DBSR]|DP|[XYDLF])(?=[\s:$0-9])\S*", re.IGNORECASE)
+#: Where a definition's text after ``->`` ends: at a blank (``M1->X:$10,8,1 M2->*``); blanks
+#: before it are not significant (TSRM p23: ``M0-> Y:$78800,0,1`` as set-up files write it).
+DEFINITION_TEXT: Final = re.compile(
+    r"[ \t]*(?:\*|(?:TW[DBSR]|DP|[XYDLF])(?=[\s:$0-9])\S*)", re.IGNORECASE)
 
 
 def _int(token: str) -> int:

@@ -144,3 +144,11 @@ def test_writing_mxx62_sets_the_motor_position_without_motion(rig):
     assert float(rig.ok("#1P")) == pytest.approx(1234, abs=0.1)
     assert float(rig.ok("M162")) == pytest.approx(1234 * 3072, rel=1e-6)
     assert rig.ok("#2P") == "0"
+
+
+@pytest.mark.parametrize("typed", ["M0-> Y:$78800,0,1", "M0->  y:$078800,0,1", "M0->\tY:$78800,0,1"])
+def test_tsrm_p23_blanks_after_the_arrow_are_not_significant(rig, typed):
+    """Set-up files write ``M0-> Y:$78800,0,1``: the card ignores blanks outside strings."""
+    rig.ok(typed)
+    assert rig.ok("M0->") == "Y:$78800,0"
+    assert rig.ok("M0-> M0->") == "Y:$78800,0\rY:$78800,0"  # a query is still a query
