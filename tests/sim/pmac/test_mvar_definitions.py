@@ -146,7 +146,8 @@ def test_writing_mxx62_sets_the_motor_position_without_motion(rig):
     assert rig.ok("#2P") == "0"
 
 
-@pytest.mark.parametrize("typed", ["M0-> Y:$78800,0,1", "M0->  y:$078800,0,1", "M0->\tY:$78800,0,1"])
+@pytest.mark.parametrize(
+    "typed", ["M0-> Y:$78800,0,1", "M0->  y:$078800,0,1", "M0->\tY:$78800,0,1"])
 def test_tsrm_p23_blanks_after_the_arrow_are_not_significant(rig, typed):
     """Set-up files write ``M0-> Y:$78800,0,1``: the card ignores blanks outside strings."""
     rig.ok(typed)
