@@ -43,10 +43,10 @@ async def test_a_batch_at_the_limit_is_stored(pmac_api):
 
 
 async def test_health_is_served_while_a_long_batch_is_parsed(pmac_api):
-    """Seconds of parsing (400 lines of 20 expressions each): the loop is never held for more
-    than a fraction of that — a ticker's longest gap stays far below the parse time."""
+    """A long parse (800 lines of 20 expressions each): the loop is never held for more than
+    a fraction of it — a ticker keeps ticking and its longest gap stays far below it."""
     await _rotary(pmac_api)
-    lines = [LONG.format(i=i) for i in range(400)]
+    lines = [LONG.format(i=i) for i in range(800)]
     gaps: list[float] = []
 
     async def ticker() -> None:
@@ -71,8 +71,9 @@ async def test_health_is_served_while_a_long_batch_is_parsed(pmac_api):
     finally:
         ticking.cancel()
         gc.unfreeze()
-    assert r.status_code == 200 and r.json()["stored"] == 400
-    assert len(gaps) > 20 and max(gaps) < 0.5
+    assert r.status_code == 200 and r.json()["stored"] == 800
+    # the work ran beside the loop: never held for more than half of it (or 50 ms)
+    assert len(gaps) >= 5 and max(gaps) < max(sum(gaps) / 2, 0.05)
 
 
 async def test_a_bad_line_in_a_sliced_batch_is_reported_with_its_index(pmac_api):

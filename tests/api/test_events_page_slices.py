@@ -40,4 +40,5 @@ async def test_a_page_of_100000_events_lets_the_loop_run_while_it_is_encoded(api
     assert list(first)[:4] == ["seq", "t", "type", "controller"]
     assert first["seq"] == 1 and isinstance(first["t"], float) and first["controller"] == "d"
     assert page["next"] == last["seq"] == len(page["events"])
-    assert len(gaps) > 20 and max(gaps) < 0.5
+    # the work ran beside the loop: never held for more than half of it (or 50 ms)
+    assert len(gaps) >= 5 and max(gaps) < max(sum(gaps) / 2, 0.05)

