@@ -8,10 +8,11 @@ controller be served while it is parsed, and is then stored all or nothing as be
 from __future__ import annotations
 
 import asyncio
-import gc
 
 import pytest
 from motionsim.api.line_slices import MAX_BATCH_LINES
+
+from tests.api.loop_gaps import assert_served_beside, with_ticker
 
 pytestmark = pytest.mark.anyio
 
@@ -47,33 +48,18 @@ async def test_health_is_served_while_a_long_batch_is_parsed(pmac_api):
     a fraction of it — a ticker keeps ticking and its longest gap stays far below it."""
     await _rotary(pmac_api)
     lines = [LONG.format(i=i) for i in range(800)]
-    gaps: list[float] = []
 
-    async def ticker() -> None:
-        loop = asyncio.get_running_loop()
-        last = loop.time()
-        while True:
-            await asyncio.sleep(0.005)
-            now = loop.time()
-            gaps.append(now - last)
-            last = now
-
-    gc.collect()
-    gc.freeze()  # the test process's own heap (earlier tests) is not what is measured
-    ticking = asyncio.ensure_future(ticker())
-    try:
+    async def store_while_health_is_served():
         store = asyncio.ensure_future(pmac_api.post("/controllers/p/coord/1/rotary/lines",
                                                     json={"lines": lines}))
         await asyncio.sleep(0.05)
         health = await pmac_api.get("/health")
         assert health.status_code == 200
-        r = await store
-    finally:
-        ticking.cancel()
-        gc.unfreeze()
+        return await store
+
+    r, gaps = await with_ticker(store_while_health_is_served())
     assert r.status_code == 200 and r.json()["stored"] == 800
-    # the work ran beside the loop: never held for more than half of it (or 50 ms)
-    assert len(gaps) >= 5 and max(gaps) < max(sum(gaps) / 2, 0.05)
+    assert_served_beside(gaps)
 
 
 async def test_a_bad_line_in_a_sliced_batch_is_reported_with_its_index(pmac_api):
