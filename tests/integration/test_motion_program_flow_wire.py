@@ -9,13 +9,11 @@ of nested WHILEs, GOSUBs to a move routine and to a routine chosen by a variable
 
 from __future__ import annotations
 
-import json
-import subprocess
-import sys
 from pathlib import Path
 
 import httpx
 
+from tests.integration.pmaclib_wire import download, send
 from tests.integration.test_clients_pmac import free_port, motionsim_serve
 
 SCAN_PMC = """\
@@ -114,25 +112,6 @@ Y3
 Close
 """
 
-CLIENT = r"""
-import json, sys
-from dls_pmaclib.dls_pmacremote import PmacEthernetInterface
-
-p = PmacEthernetInterface(verbose=False, timeout=5.0)
-p.setConnectionParams("127.0.0.1", int(sys.argv[1]))
-p.connect()
-print(json.dumps([p.sendCommand(cmd) for cmd in json.loads(sys.argv[2])]))
-p.disconnect()
-"""
-
-
-def _send(port: int, lines: list[str]) -> list[list]:
-    client = subprocess.run([sys.executable, "-c", CLIENT, str(port), json.dumps(lines)],
-                            capture_output=True, text=True, timeout=120)
-    assert client.returncode == 0, client.stderr
-    return json.loads(client.stdout)
-
-
 def _preprocessed(tmp_path: Path) -> list[str]:
     from dls_pmaclib.dls_pmcpreprocessor import ClsPmacParser
 
@@ -160,23 +139,21 @@ def test_spec_12_1_every_control_flow_construct_downloads_over_the_wire_and_runs
     pmac_port = free_port()
     with motionsim_serve("--pmac-port", str(pmac_port), "--trio-port", "0") as svc:
         http = svc.http + "/controllers/pmac"
-        replies = _send(pmac_port, lines)
-        # dls-pmaclib's success flag is only the transport's: a refused line answers BEL ERRnnn
-        refused = [(line, r) for line, r in zip(lines, replies, strict=True)
-                   if not r[1] or "\x07" in r[0] or "ERR" in r[0]]
-        assert refused == []
-        assert _send(pmac_port, ["&1 B12 R"])[0][1]
+        download(pmac_port, lines, timeout_s=120)
+        assert send(pmac_port, ["&1 B12 R"], timeout_s=120)[0][1]
         assert _until(http, {"type": "program", "state": "stopped"}) is not None
-        values = _send(pmac_port, ["P404", "P407", "P408", "P401", "Q124", "Q120", "Q100"])
+        values = send(pmac_port, ["P404", "P407", "P408", "P401", "Q124", "Q120", "Q100"],
+                      timeout_s=120)
         moves = _events(http, "move_start", "move_end")
 
-        _send(pmac_port, ["&1 B14 R"])
+        send(pmac_port, ["&1 B14 R"], timeout_s=120)
         assert _until(http, {"type": "move_start"}, timeout_s=0.5) is None  # WAIT loop
-        assert _send(pmac_port, ["&1 ??"])[0][0][5] in "13579BDF"  # word 1 bit 0: running
-        _send(pmac_port, ["P409=1"])
+        status = send(pmac_port, ["&1 ??"], timeout_s=120)[0][0]
+        assert status[5] in "13579BDF"  # word 1 bit 0: running
+        send(pmac_port, ["P409=1"], timeout_s=120)
         assert _until(http, {"type": "program", "state": "stopped"}) is not None
-        p14 = _send(pmac_port, ["P431", "&1 PC"])
-        _send(pmac_port, ["&1 R"])
+        p14 = send(pmac_port, ["P431", "&1 PC"], timeout_s=120)
+        send(pmac_port, ["&1 R"], timeout_s=120)
         assert _until(http, {"type": "program", "state": "stopped"}) is not None
         y_moves = [e for e in _events(http, "move_start") if e["t"] > moves[-1]["t"]]
 

@@ -11,25 +11,13 @@ servo cycle.
 
 from __future__ import annotations
 
-import json
-import subprocess
-import sys
 from pathlib import Path
 
 import httpx
 
+from tests.integration.pmaclib_wire import download, send
 from tests.integration.test_clients_pmac import free_port, motionsim_serve
 
-CLIENT = r"""
-import json, sys
-from dls_pmaclib.dls_pmacremote import PmacEthernetInterface
-
-p = PmacEthernetInterface(verbose=False, timeout=5.0)
-p.setConnectionParams("127.0.0.1", int(sys.argv[1]))
-p.connect()
-print(json.dumps([p.sendCommand(cmd) for cmd in json.loads(sys.argv[2])]))
-p.disconnect()
-"""
 
 def setup_lines(motors: range) -> list[str]:
     """A Geo Brick set-up as a beamline's base file writes it: the motor status M-variables
@@ -43,15 +31,8 @@ def setup_lines(motors: range) -> list[str]:
     return out
 
 
-def _send(port: int, lines: list[str]) -> list[list]:
-    client = subprocess.run([sys.executable, "-c", CLIENT, str(port), json.dumps(lines)],
-                            capture_output=True, text=True, timeout=300)
-    assert client.returncode == 0, client.stderr
-    return json.loads(client.stdout)
-
-
 def _values(port: int, names: list[str]) -> list[float]:
-    return [float(r[0].strip("\r\x06")) for r in _send(port, names)]
+    return [float(r[0].strip("\r\x06")) for r in send(port, names)]
 
 
 def _preprocessed(path: Path) -> list[str]:
@@ -69,14 +50,6 @@ def _until(http: str, event: dict, timeout_s: float = 60) -> dict | None:
 def _events(http: str, *types: str) -> list[dict]:
     return httpx.get(http + "/events", timeout=5,
                      params={"type": list(types)}).json()["events"]
-
-
-def _download(port: int, lines: list[str]) -> None:
-    replies = _send(port, lines)
-    # dls-pmaclib's success flag is only the transport's: a refused line answers BEL ERRnnn
-    refused = [(line, r) for line, r in zip(lines, replies, strict=True)
-               if not r[1] or "\x07" in r[0] or "ERR" in r[0]]
-    assert refused == []
 
 
 def _homing_plc(tmp_path: Path) -> Path:
@@ -103,9 +76,9 @@ def test_tsrm_p176_a_motorhome_homing_plc_completes_with_its_timer_waits_timed(
     pmac_port = free_port()
     with motionsim_serve("--pmac-port", str(pmac_port), "--trio-port", "0") as svc:
         http = svc.http + "/controllers/pmac"
-        _download(pmac_port, setup_lines(range(1, 4)) + lines)
+        download(pmac_port, setup_lines(range(1, 4)) + lines)
         (i10,) = _values(pmac_port, ["I10"])
-        _download(pmac_port, ["P1102=1", "ENABLE PLC11"])  # HomingGroup 1: every group
+        download(pmac_port, ["P1102=1", "ENABLE PLC11"])  # HomingGroup 1: every group
         assert _until(http, {"type": "plc", "plc": 11, "state": "disabled"}) is not None
         status = _values(pmac_port, ["P1101", "P1100", "M145", "M245", "M345"])
         events = _events(http, "timer", "jog", "home", "plc")
@@ -216,10 +189,10 @@ def test_spec_12_own_plcs_with_every_construct_load_without_a_refused_line_and_r
     pmac_port = free_port()
     with motionsim_serve("--pmac-port", str(pmac_port), "--trio-port", "0") as svc:
         http = svc.http + "/controllers/pmac"
-        _download(pmac_port, lines)
-        listing = _send(pmac_port, ["&3 #6->", "&3 #7->", "&3 #4->", "I6613", "&2 Q99",
+        download(pmac_port, lines)
+        listing = send(pmac_port, ["&3 #6->", "&3 #7->", "&3 #4->", "I6613", "&2 Q99",
                                     "MS0,I910"])
-        _download(pmac_port, ["I5=2", "#1$", "ENABLE PLCC 5", "ENABLE PLC 1"])
+        download(pmac_port, ["I5=2", "#1$", "ENABLE PLCC 5", "ENABLE PLC 1"])
         assert _until(http, {"type": "plc", "plc": 6, "state": "disabled"}) is not None
         values = _values(pmac_port, ["P1001", "P4701", "I5311", "&3 Q77", "&1 Q74",
                                      "P1010", "P1020", "M33"])
