@@ -57,21 +57,18 @@ SIMULATED = _MOTION_INDEX | frozenset({
 #: Words that start a not-simulated statement or value (index entries split into the words a
 #: program writes, plus process commands outside the reachable index).
 NOT_SIMULATED = frozenset({
-    "ACC", "ADD_DAC", "ADDAX", "BACKLASH", "DEC", "DISABLE_GROUP", "ENCODER_RATIO",
-    "MSPHERICAL", "MOVETANG", "REGIST", "REGIST_SPEED", "STEP_RATIO",
+    "ACC", "ADD_DAC", "BACKLASH", "DEC", "DISABLE_GROUP", "MSPHERICAL", "MOVETANG", "REGIST",
+    "REGIST_SPEED",
     "AIN0", "AIN1", "AIN2", "AIN3", "AINBI0", "AINBI1", "AINBI2", "AINBI3", "AOUT0",
     "AOUT1", "AOUT2", "AOUT3", "CHANNEL_READ", "CHANNEL_WRITE", "CHR", "CLOSE", "CURSOR",
     "DEFKEY", "ENABLE_OP", "FILE", "FLAG", "FLAGS", "GET", "INPUT", "INPUTS0",
-    "INPUTS1", "INVERT_IN", "KEY", "LINPUT", "OPEN", "PSWITCH", "READPACKET",
-    "SEND", "SETCOM", "TIMER",
+    "INPUTS1", "KEY", "LINPUT", "OPEN", "PSWITCH", "READPACKET", "SEND", "TIMER",
     "RUNTYPE", "TRON", "TROFF", "ENDMOVE_SPEED", "STARTMOVE_SPEED", "FLEXLINK", "CONNPATH",
-    "MOVELINK_MODIFY", "REP_OPTION", "CLUTCH_RATE", "JERK", "LIMIT_BUFFERED",
+    "MOVELINK_MODIFY", "JERK",
     # parameters of spec §10.11's tables the simulator does not model: refused by name, so a
     # program does not read them as a local variable that is 0
-    "REP_DIST", "DATUM_IN", "FE_LATCH", "TRANS_DPOS", "TRANSITIONS", "D_GAIN", "P_GAIN",
-    "I_GAIN", "VFF_GAIN", "OV_GAIN", "DRIVE_STATUS", "INDEVICE", "LOOKUP", "FRAME",
-    "COMMSERROR", "MSPEEDF",
-}) - MOTION_WORDS
+    "TRANS_DPOS", "TRANSITIONS", "INDEVICE", "LOOKUP", "FRAME", "COMMSERROR", "MSPEEDF",
+})
 
 
 #: Words of the MC4xx / MC6xx language (firmware 2.x, spec §11.1, §11.4) that the earlier

@@ -63,3 +63,11 @@ def test_index_split_into_simulated_and_not():
             "READ_OP", "AIN"} <= SIMULATED
     assert {"BACKLASH", "REGIST", "PSWITCH", "LOOKUP"} <= NOT_SIMULATED
     assert not SIMULATED & NOT_SIMULATED
+
+
+def test_no_word_is_both_simulated_by_the_motion_modules_and_refused():
+    """The refused list names only what no module models: a set-up command or stored
+    parameter that :mod:`~motionsim.sim.trio.parameters` simulates is not in it."""
+    from motionsim.sim.trio.keywords import MOTION_WORDS
+
+    assert not NOT_SIMULATED & MOTION_WORDS
