@@ -57,8 +57,14 @@ class MotionPrograms:
         """``OPEN PROG n`` (the controller has checked the ERR007 / ERR001 rules)."""
         if not 1 <= n <= N_PROGRAMS:
             raise NotFound(f"no PROG {n} (1..{N_PROGRAMS})")
-        lines = self.programs.setdefault(n, [])
-        self._edit = (port, n)
+        self.open_key(n, port)
+
+    def open_key(self, key: int, port: Port) -> None:
+        """Open the buffer stored under ``key`` for entry: a PROG number, or the key of a
+        CS's forward / inverse kinematic buffer (entered, checked, cleared and closed as a
+        PROG is)."""
+        lines = self.programs.setdefault(key, [])
+        self._edit = (port, key)
         self._structure = Structure(dry=True)
         for line in lines:
             self._structure.feed(line)

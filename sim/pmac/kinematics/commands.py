@@ -18,7 +18,6 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from motionsim.sim.errors import Conflict
-from motionsim.sim.pmac.buffers.flow import Structure
 
 if TYPE_CHECKING:
     from motionsim.sim.pmac.controller import PmacController
@@ -48,14 +47,7 @@ class OpenKinematic:
         if ctl.buffer_holder is not None or ctl.programs.editing() is not None:
             raise Conflict("a buffer is open: CLOSE it first", pmac_error="ERR007")
         _refuse_while_running(ctl, None, "OPEN FORWARD/INVERSE")
-        key = buffer_key(port.state["cs"], self.inverse)
-        progs = ctl.programs
-        lines = progs.programs.setdefault(key, [])
-        # entered, checked, cleared and closed as a PROG is (buffers.programs), under its key
-        progs._edit = (port, key)
-        progs._structure = Structure(dry=True)
-        for line in lines:
-            progs._structure.feed(line)
+        ctl.programs.open_key(buffer_key(port.state["cs"], self.inverse), port)
         ctl.buffer_holder = port
 
 
