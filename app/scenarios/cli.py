@@ -265,13 +265,14 @@ def _print_rows(rows: list[dict[str, Any]], params: list[Any], metric: str, cons
     from rich.table import Table
 
     t = Table(title=f"sweep: {metric}")
-    for p in params:
-        t.add_column(p.name, justify="right")
-    t.add_column("seed", justify="right")
+    # the run's seed once: a sweep over ``seed`` already has it as a grid column
+    columns = list(dict.fromkeys([*(p.name for p in params), "seed"]))
+    for name in columns:
+        t.add_column(name, justify="right")
     t.add_column(metric, justify="right")
     for r in rows[:50]:
         v = r.get(metric)
-        t.add_row(*[str(r.get(p.name)) for p in params], str(r.get("seed")),
+        t.add_row(*[str(r.get(name)) for name in columns],
                   f"{v:.6g}" if isinstance(v, float) else str(v))  # fmt: skip
     if len(rows) > 50:
         t.caption = f"{len(rows) - 50} more rows in sweep.csv"

@@ -204,3 +204,15 @@ def test_beside_another_thread_the_pool_spawns_and_gets_the_serial_rows(small, m
         other.join(5)
     assert methods == ["spawn"]
     assert sw.rows_csv(serial) == sw.rows_csv(spawned)
+
+
+def test_cli_sweep_over_the_seed_shows_the_seed_column_once(tmp_path):
+    scn = tmp_path / "s.yaml"
+    scn.write_text(SMALL)
+    res = CliRunner().invoke(
+        cli, ["sweep", str(scn), "--grid", "seed=1,2", "--workers", "1",
+              "--out", str(tmp_path / "out")],  # fmt: skip
+    )
+    assert res.exit_code == 0, res.output
+    header = next(line for line in res.output.splitlines() if "seed" in line)
+    assert header.count("seed") == 1, res.output
