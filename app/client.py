@@ -195,15 +195,20 @@ class MotionSimClient:
     Args:
         base_url: e.g. ``http://127.0.0.1:8000``.
         timeout: seconds per request (a realtime terminal command may wait up to ~5 s).
+        token: the service's ``--token``: sent as ``Authorization: Bearer`` on every request
+            and as ``?token=`` on event streams (None: a service without a token).
     """
 
     def __init__(self, base_url: str, *, timeout: float = 30.0,
-                 transport: httpx.BaseTransport | None = None) -> None:
+                 transport: httpx.BaseTransport | None = None,
+                 token: str | None = None) -> None:
         self.base_url = base_url.rstrip("/")
+        self.token = token
         #: protocol -> TCP port of the service's protocol listeners, when known (fixture).
         self.ports: dict[str, int] = {}
+        headers = {"Authorization": f"Bearer {token}"} if token is not None else None
         self.http = httpx.Client(base_url=self.base_url, timeout=timeout, transport=transport,
-                                 trust_env=False)
+                                 trust_env=False, headers=headers)
 
     @property
     def url(self) -> str:
@@ -296,8 +301,8 @@ class MotionSimClient:
     def host(self, id: str, holder: str, *, register: bool = True) -> PacedHost:
         """A :class:`PacedHost` named ``holder`` on controller ``id`` with its own connection
         (give it to the host's thread); registered at once unless ``register`` is False."""
-        host = PacedHost(MotionSimClient(self.base_url, timeout=self.http.timeout.read or 60.0),
-                         id, holder)
+        host = PacedHost(MotionSimClient(self.base_url, timeout=self.http.timeout.read or 60.0,
+                                         token=self.token), id, holder)
         if register:
             host.client.hold(id, holder)
         return host
@@ -355,7 +360,8 @@ class MotionSimClient:
                 for event in events: ...
         """
         query = "&".join([f"since={since}"] + [f"type={quote(t)}" for t in types or ()]
-                         + ([f"epoch={quote(epoch)}"] if epoch is not None else []))
+                         + ([f"epoch={quote(epoch)}"] if epoch is not None else [])
+                         + ([f"token={quote(self.token)}"] if self.token is not None else []))
         url = self.base_url.replace("http", "ws", 1) + f"/controllers/{id}/events?{query}"
         return Subscription(url, timeout)
 

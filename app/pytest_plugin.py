@@ -34,7 +34,9 @@ controllers' TCP protocols on free ports::
 
 - ``motionsim_server`` (session scope) serves once per session, with no controllers of its
   own; ``--motionsim-url URL`` (or ``MOTIONSIM_URL``) points it at a server already running
-  instead, e.g. ``docker compose up motionsim``, and the same tests run there.
+  instead, e.g. ``docker compose up motionsim``, and the same tests run there
+  (``--motionsim-token`` / ``MOTIONSIM_TOKEN``: that server's ``--token``). The per-test
+  ``motionsim`` fixture above always serves its own service (its settings are the test's).
 - ``motionsim_pmac`` / ``motionsim_trio``: a fresh controller of that kind on it for each
   test (virtual clock, deleted after the test), as a :class:`Controller`: the client's methods
   with the controller's id already given (``motionsim_pmac.advance(0.5)``).
@@ -65,6 +67,8 @@ from motionsim.app.scenarios.fed import assert_fed
 
 #: Environment variable naming an external server (the ``--motionsim-url`` option wins).
 URL_ENV = "MOTIONSIM_URL"
+#: Environment variable with that server's ``--token`` (the ``--motionsim-token`` option wins).
+TOKEN_ENV = "MOTIONSIM_TOKEN"
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:
@@ -73,6 +77,10 @@ def pytest_addoption(parser: pytest.Parser) -> None:
         "--motionsim-url", metavar="URL", default=None,
         help=f"Run the session-scoped motionsim fixtures against this running server instead "
              f"of serving one (env {URL_ENV}).")
+    group.addoption(
+        "--motionsim-token", metavar="TOKEN", default=None,
+        help=f"The --token of the server named by --motionsim-url, sent by every client of "
+             f"the session-scoped fixtures (env {TOKEN_ENV}).")
 
 
 @dataclass(slots=True)
@@ -83,12 +91,13 @@ class Server:
     url: str
     ports: dict[str, int] = field(default_factory=dict)
     external: bool = False
+    token: str | None = None
 
     def client(self) -> Any:
         """A new :class:`motionsim.app.client.MotionSimClient` for this server."""
         from motionsim.app.client import MotionSimClient
 
-        client = MotionSimClient(self.url)
+        client = MotionSimClient(self.url, token=self.token)
         client.ports = dict(self.ports)
         return client
 
@@ -128,7 +137,7 @@ def motionsim(request: pytest.FixtureRequest, motionsim_settings: Any) -> Iterat
 
     settings = motionsim_settings.model_copy(update={"host": "127.0.0.1", "port": 0})
     service = EmbeddedService(settings).start()
-    client = MotionSimClient(service.url)
+    client = MotionSimClient(service.url, token=settings.token)
     client.ports = dict(service.ports)
     _watch(request, client, None)
     try:
@@ -171,7 +180,8 @@ def motionsim_server(request: pytest.FixtureRequest,
     """One service for the whole session; or the ``--motionsim-url`` / ``MOTIONSIM_URL`` one."""
     url = request.config.getoption("motionsim_url") or os.environ.get(URL_ENV)
     if url:
-        server = Server(url.rstrip("/"), external=True)
+        token = request.config.getoption("motionsim_token") or os.environ.get(TOKEN_ENV)
+        server = Server(url.rstrip("/"), external=True, token=token)
         try:
             with server.client() as client:
                 healthy = client.health()
@@ -179,6 +189,12 @@ def motionsim_server(request: pytest.FixtureRequest,
             pytest.exit(f"--motionsim-url {url}: cannot reach it ({exc})", returncode=3)
         if not healthy:
             pytest.exit(f"--motionsim-url {url}: GET /health is not ok", returncode=3)
+        with server.client() as client:
+            try:
+                client.controllers()  # /health needs no token: check it on a guarded route
+            except Exception as exc:
+                pytest.exit(f"--motionsim-url {url}: GET /controllers refused ({exc}); "
+                            f"give its token with --motionsim-token or {TOKEN_ENV}", returncode=3)
         yield server
         return
     from motionsim.app.embedded import EmbeddedService
@@ -186,7 +202,7 @@ def motionsim_server(request: pytest.FixtureRequest,
     settings = motionsim_session_settings.model_copy(update={"host": "127.0.0.1", "port": 0})
     service = EmbeddedService(settings).start()
     try:
-        yield Server(service.url, dict(service.ports))
+        yield Server(service.url, dict(service.ports), token=settings.token)
     finally:
         service.stop()
 

@@ -83,6 +83,59 @@ def test_the_environment_variable_names_the_external_server_too(pytester, extern
     result.assert_outcomes(passed=1)
 
 
+@pytest.fixture
+def guarded():
+    """A server already running with ``--token``."""
+    with EmbeddedService(Settings(port=0, clock={"mode": "virtual"}, pmac_port=0,
+                                  trio_port=0, token="s3cret")) as served:
+        yield served
+
+
+def test_a_token_server_runs_the_suite_with_the_token_option(pytester, guarded):
+    pytester.makepyfile("""
+        def test_on_the_guarded_server(motionsim_pmac):
+            motionsim_pmac.set_variable("P1", 3)
+            assert motionsim_pmac.get_variable("P1") == 3
+            motionsim_pmac.terminal("OPEN PLC 1 CLEAR P2=P2+1 CLOSE")
+            with motionsim_pmac.subscribe(types=["plc"], timeout=10) as events:
+                motionsim_pmac.terminal("ENABLE PLC 1")
+                assert next(iter(events))["state"] == "enabled"
+    """)
+    result = pytester.runpytest_inprocess("-p", "no:cacheprovider",
+                                          f"--motionsim-url={guarded.url}",
+                                          "--motionsim-token=s3cret")
+    result.assert_outcomes(passed=1)
+
+
+def test_a_token_server_without_the_token_stops_the_session_saying_so(pytester, guarded):
+    pytester.makepyfile("def test_x(motionsim_pmac):\n    pass\n")
+    result = pytester.runpytest_inprocess("-p", "no:cacheprovider",
+                                          f"--motionsim-url={guarded.url}")
+    assert result.ret != 0
+    assert "--motionsim-token" in result.stdout.str() + result.stderr.str()
+
+
+def test_the_motionsim_fixture_serving_a_token_gives_its_client_the_token(pytester):
+    pytester.makeconftest("""
+        import pytest
+        from motionsim.app.settings import Settings
+
+        @pytest.fixture
+        def motionsim_settings():
+            return Settings(port=0, clock={"mode": "virtual"}, token="t0k")
+    """)
+    pytester.makepyfile("""
+        import httpx
+
+        def test_guarded(motionsim):
+            assert httpx.get(motionsim.url + "/controllers").status_code == 401
+            motionsim.set_variable("pmac", "P1", 4)
+            assert motionsim.get_variable("pmac", "P1") == 4
+    """)
+    result = pytester.runpytest_inprocess("-p", "no:cacheprovider")
+    result.assert_outcomes(passed=1)
+
+
 def test_an_external_server_that_is_not_there_stops_the_session_with_its_url(pytester):
     pytester.makepyfile("def test_x(motionsim_pmac):\n    pass\n")
     result = pytester.runpytest_inprocess("-p", "no:cacheprovider",
