@@ -31,7 +31,7 @@ from motionsim.sim.pmac.buffers import lookahead_buffer
 from motionsim.sim.pmac.buffers.program import ProgramLine, compile_line
 from motionsim.sim.pmac.buffers.programs import MotionPrograms
 from motionsim.sim.pmac.buffers.rotary import RotaryBuffer
-from motionsim.sim.pmac.card import card_commands, registers
+from motionsim.sim.pmac.card import card_commands, pmac_float, registers
 from motionsim.sim.pmac.card.macro_station import MacroStations
 from motionsim.sim.pmac.card.timers import CountdownTimers
 from motionsim.sim.pmac.card.variables import N_CS, N_MOTORS, Variables, parse_name
@@ -636,7 +636,11 @@ class PmacController(Controller):
         self.motor_table.check_free(n)
         t = type(stmt)
         if t is motor_st.Jog:
-            m.jog(stmt.command, stmt.value)
+            value = stmt.value
+            if stmt.variable:  # J=* J^* J:*: Mxx72, read as the command runs
+                value = pmac_float.decode(
+                    self.vars.mvars.long(registers.variable_jog_address(n)))
+            m.jog(stmt.command, value, stmt.trigger)
         elif t is motor_st.Home:
             if stmt.zero:
                 m.home_zero()

@@ -14,6 +14,7 @@ checked against public definition files that carry them (``M161->D:$000088``,
 | ``D:$000088 + $80·(xx−1)`` | Mxx61 | commanded position, 1/(Ixx08·32) counts |
 | ``D:$00008B + $80·(xx−1)`` | Mxx62 | actual position, 1/(Ixx08·32) counts (writable) |
 | ``X:$00009D + $80·(xx−1)`` | Mxx66 | actual velocity, 1/(Ixx09·32) counts per servo cycle |
+| ``L:$0000D7 + $80·(xx−1)`` | Mxx72 | variable jog target or distance, counts (``J=*``) |
 | ``X:$002040 + $100·(x−1)`` | Msx80.. bits | CS status word 1 (``&x??`` digits 1–6) |
 | ``Y:$00203F + $100·(x−1)`` | | CS status word 2 (digits 7–12) |
 | ``Y:$002040 + $100·(x−1)`` | | CS status word 3 (digits 13–18) |
@@ -74,6 +75,11 @@ N_MOTORS = 32
 N_CS = 16
 MOTOR_STEP = 0x80
 CS_STEP = 0x100
+
+
+def variable_jog_address(motor: int) -> int:
+    """Where motor ``motor``'s variable jog register (Mxx72, a 48-bit float) sits."""
+    return 0xD7 + MOTOR_STEP * (motor - 1)
 
 
 def table(card: Card, set_position: Callable[[int, float], None] | None) -> dict[

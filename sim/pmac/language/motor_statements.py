@@ -18,10 +18,17 @@ _JOG_OPS = frozenset(["+", "-", "/", "=", "^", ":"])
 @dataclass(frozen=True, slots=True)
 class Jog:
     """``J+`` ``J-`` ``J/`` ``J=`` (``value`` None: to the pre-jog position), ``J=pos``,
-    ``J^d``, ``J:d``; ``command`` is the text without the value."""
+    ``J^d``, ``J:d``; ``command`` is the text without the value.
+
+    ``variable``: ``J=*`` / ``J^*`` / ``J:*`` take the target or distance from the motor's
+    variable jog register (Mxx72, ``L:$0000D7`` + $80 per motor, counts) when the command
+    runs. ``trigger``: a definite jog written ``{jog}^{d}`` is a jog-until-trigger, ending
+    ``d`` counts past the position captured at the trigger (PSRM p241; TSRM p282)."""
 
     command: str
     value: float | None = None
+    variable: bool = False
+    trigger: float | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -96,16 +103,27 @@ def parse_jog(parser: Any) -> Jog:
         return Jog("J" + op)
     tok = parser.peek()
     if tok is not None and tok[0] == "op" and tok[1] == "*":
-        # J=* / J^* / J:* (and J^*^{d}, jog until trigger): the target or distance in the
-        # Mxx72 register; valid Turbo PMAC, not simulated (no variable-jog register, no
-        # trigger input) [INF]
-        raise parser.not_simulated(f"J{op}* (variable jog from Mxx72)", tok)
+        parser.take()  # J=* / J^* / J:*: the target or distance in Mxx72
+        return Jog("J" + op, None, True, _trigger(parser))
     if op == "=" and not parser.has_value():
-        return Jog("J=")
+        return Jog("J=", None, False, _trigger(parser))
     value = parser.value()
     if value.const is None:
         raise parser.error(f"J{op} needs a constant", tok)
-    return Jog("J" + op, float(value.const))
+    return Jog("J" + op, float(value.const), False, _trigger(parser))
+
+
+def _trigger(parser: Any) -> float | None:
+    """The ``^{d}`` that makes a definite jog a jog-until-trigger (None without it)."""
+    tok = parser.peek()
+    if tok is None or tok[0] != "op" or tok[1] != "^":
+        return None
+    parser.take()
+    at = parser.peek()
+    value = parser.value()
+    if value.const is None:
+        raise parser.error("a jog-until-trigger's ^ needs a constant distance", at)
+    return float(value.const)
 
 
 __all__ = [

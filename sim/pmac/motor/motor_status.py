@@ -16,12 +16,13 @@ positive end limit set (beyond the software limit Ixx14 / Ixx13), 19 amplifier e
 post-trigger home move, or a program move of its CS ``[INF]``), 16 integration mode
 (Ixx34 = 1), 15 dwell in progress (its CS), 14 data block error (its CS aborted on a
 run-time error), 13 desired velocity zero, 12 abort deceleration (CTRL-A of a jog),
-10 home search in progress.
+10 home search or trigger search in progress.
 
 word 2: 23-20 CS number − 1, 19-16 axis definition code (1 A, 2 B, 3 C, 4 U/V/W, 7 X/Y/Z —
 the codes dls-pmac-control's ``status.py`` decodes), 15 assigned to a CS, 14 set with
 amplifier enabled (reproduces the manual's example; the bit is reserved on Turbo ``[INF]``),
-11 stopped on position limit, 10 home complete, 0 in position (loop closed, desired velocity
+11 stopped on position limit, 10 home complete, 7 trigger move (a jog-until-trigger
+started and found no trigger yet), 0 in position (loop closed, desired velocity
 zero, no move timer).
 """
 
@@ -74,7 +75,7 @@ def motor_status_words(
         w1 |= 1 << 13
     if motor.aborting:
         w1 |= 1 << 12
-    if motor.homing:
+    if motor.homing or motor.trigger_search:
         w1 |= 1 << 10
     hi, lo = motor.soft_limits()
     p = motor.position(t)
@@ -90,6 +91,8 @@ def motor_status_words(
         w2 |= 1 << 15
     if motor.home_complete:
         w2 |= 1 << 10
+    if motor.trigger_move:
+        w2 |= 1 << 7
     if motor.loop == CLOSED and dvz and not timer and motor.command is None:
         w2 |= 1
     return w1, w2

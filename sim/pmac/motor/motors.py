@@ -76,6 +76,11 @@ class Motor:
         self.definite = False  # the move in progress ends at a target (move timer)
         self.homing = False
         self.home_complete = False
+        #: A jog-until-trigger is searching for its trigger (``?`` word 1 bit 10 too).
+        self.trigger_search = False
+        #: ``?`` word 2 bit 7: set at the start of a move-until-trigger, cleared when the
+        #: trigger is found; stays set when the move ends without one (TSRM p282).
+        self.trigger_move = False
         self.aborting = False
         self.limit_stop = False  # stopped on a position limit (stays set until the next move)
         self.pre_jog = 0.0
@@ -129,9 +134,11 @@ class Motor:
         i92 = max(0.0, self._table.vars.I(ixx(self.n, 92)))
         return sched.servo_at_or_after(sched.env.now + i92 / 1000.0)
 
-    def jog(self, command: str, value: float | None = None) -> None:
+    def jog(self, command: str, value: float | None = None,
+            trigger: float | None = None) -> None:
         """``J+`` ``J-`` ``J/`` ``J=`` ``J=pos`` ``J^d`` ``J:d`` (``command`` is the text up to
-        the value)."""
+        the value); with ``trigger`` a definite jog is a jog-until-trigger that ends
+        ``trigger`` counts past the captured trigger position."""
         v = self._table.vars
         now = self._table.sched.env.now
         speed = abs(v.I(ixx(self.n, 22)))  # cts/ms
@@ -156,7 +163,42 @@ class Motor:
                 target = self.position(now) + float(value or 0.0)
             new = jog.to_position(t0, p0, v0, target - base, speed * 1000.0, rate)
             self.definite = True
-        self._begin(command, new)
+        until = trigger is not None and self.definite
+        self.trigger_move = self.trigger_search = until
+        self._begin(command, new, self._until_trigger(new, trigger) if until else None)
+
+    def _until_trigger(self, move: Profile, after: float | None) -> Callable[[], None] | None:
+        """What a jog-until-trigger arms when it starts (``[INF]`` as for ``HM``: no flag
+        input is simulated, so the trigger comes the first servo cycle the jog runs at full
+        speed; a move too short to reach full speed ends at its target with no trigger)."""
+        cruise = next((s.t0 for s in move.segments if s.a == 0 and s.v0 != 0), None)
+        if cruise is None or after is None:
+            return None
+        t_trig = self._table.sched.servo_at_or_after(cruise)
+
+        def armed() -> None:
+            hit = self._limit_crossing()
+            if hit is not None and hit < t_trig:
+                self._schedule_end()  # a software limit comes first
+            else:
+                self._at(t_trig, lambda _e: self._jog_trigger(after))
+
+        return armed
+
+    def _jog_trigger(self, after: float) -> None:
+        """The trigger of a jog-until-trigger: capture the position, move on to capture +
+        ``after`` at Ixx22 (no change of the motor's zero, PSRM p241)."""
+        self._wake = None
+        now = self._table.sched.env.now
+        capture = self.position(now)
+        self.trigger_move = self.trigger_search = False
+        self._emit("jog", state="triggered", command=self.command, position=round(capture, 4))
+        speed = abs(self._table.vars.I(ixx(self.n, 22)))
+        base = self._table.base(self.n, now)
+        on = jog.to_position(now, self.profile.position(now), self.profile.velocity(now),
+                             capture + after - base, speed * 1000.0, self._rate(speed))
+        self.profile = self.profile.then(on)
+        self._schedule_end()
 
     def home(self) -> None:
         """``HM``: the home search (module docstring)."""
@@ -169,22 +211,24 @@ class Motor:
         search = jog.to_velocity(t0, p0, v0, i23 * 1000.0, rate)
         self.homing = True
         self.home_complete = False
-        self.definite = False
-        self._begin("HM", search)
+        self.definite = self.trigger_move = self.trigger_search = False
         ramp_end = search.segments[-1].t0
         t_trig = self._table.sched.servo_at_or_after(ramp_end)
         if t_trig > t0:
-            self._at(t0, lambda _e: self._started(lambda: self._at(t_trig, self._trigger)))
+            self._begin("HM", search, lambda: self._at(t_trig, self._trigger))
         else:
-            self._at(t0, lambda _e: self._started(lambda: self._trigger(None)))
+            self._begin("HM", search, lambda: self._trigger(None))
 
-    def _begin(self, command: str, new: Profile) -> None:
+    def _begin(self, command: str, new: Profile,
+               then: Callable[[], None] | None = None) -> None:
+        """Take ``new`` as the motion from its first instant; when it starts, emit ``jog``
+        "start" and call ``then`` (default: wake at its end or a software limit)."""
         self._close_loop()
         self.aborting = self.limit_stop = False
         self.profile = self.profile.then(new)
         self.command = command
         t0 = new.segments[0].t0
-        self._at(t0, lambda _e: self._started(self._schedule_end))
+        self._at(t0, lambda _e: self._started(then or self._schedule_end))
 
     def _started(self, then: Callable[[], None]) -> None:
         self._emit("jog", state="start", command=self.command, position=self._pos_now())
@@ -236,7 +280,7 @@ class Motor:
     def _ended(self, _ev: Any) -> None:
         self._wake = None
         command, self.command = self.command, None
-        self.definite = self.aborting = False
+        self.definite = self.aborting = self.trigger_search = False
         now = self._table.sched.env.now
         self.profile = Profile.rest(now, self.profile.position(now))
         self._emit("jog", state="end", command=command, position=self._pos_now())
@@ -278,7 +322,7 @@ class Motor:
         if self.command is not None:
             command, self.command = self.command, None
             self._emit("jog", state="end", command=command, position=self._pos_now())
-        self.homing = self.definite = self.aborting = False
+        self.homing = self.definite = self.aborting = self.trigger_search = False
 
     def kill(self) -> None:
         """``K`` / CTRL-K: open loop, zero output, amplifier off; the motor stays put."""

@@ -241,3 +241,13 @@ def test_software_limit_ixx14_also_stops_a_definite_jog_short_of_its_target(rig)
     p = float(rig.ok("#1P"))
     assert -1100 < p < -1000
     assert status(rig)[0] & (1 << 22)
+
+
+def test_a_home_search_with_no_ixx92_delay_starts_once(rig):
+    """PUM-V p128: one search, one "start" on the log, even when Ixx92 = 0 makes the motor
+    start on the command's own servo cycle."""
+    rig.ok(JOG + " I123=10")
+    rig.ok("#1HM")
+    rig.run_until_idle()
+    states = [(e["command"], e["state"]) for _, _, e in jog_events(rig, "jog")]
+    assert states == [("HM", "start"), ("HM", "end")]

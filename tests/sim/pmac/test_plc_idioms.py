@@ -114,12 +114,3 @@ def test_bad_idiom_argument_is_err003_with_its_column(rig, line, column):
     assert (e.value.column, e.value.pmac_error) == (column, "ERR003")
     assert rig.c.plcs.describe(1)["program"] == []
 
-
-@pytest.mark.parametrize("line", ["#1J^*^0", "#1J=*", "#2J:*"])
-def test_variable_jog_from_mxx72_is_not_simulated_and_named(rig, line):
-    """motorhome's ``J^*^0`` (jog until trigger by the Mxx72 distance): valid, not simulated —
-    answered ERR003 on the wire and named on the REST terminal, never a parse error."""
-    reply = rig.cmd(line)
-    assert reply.error == "ERR003"
-    kind, text = rig.c._terminal.detail
-    assert kind == "not_simulated" and "Mxx72" in text
