@@ -11,6 +11,7 @@ servo cycle.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import httpx
@@ -52,20 +53,21 @@ def _events(http: str, *types: str) -> list[dict]:
                      params={"type": list(types)}).json()["events"]
 
 
-def _homing_plc(tmp_path: Path) -> Path:
+def _homing_plc(tmp_path: Path, sequence: str = "home_home") -> Path:
+    from pmac_motorhome import sequences
     from pmac_motorhome.commands import group, motor, plc
     from pmac_motorhome.constants import ControllerType
-    from pmac_motorhome.sequences import home_home
 
+    home = getattr(sequences, sequence)
     out = tmp_path / "PLC11_HM.pmc"
     with plc(plc_num=11, controller=ControllerType.brick, filepath=out, timeout=20000):
         with group(group_num=2):
             motor(axis=1)
             motor(axis=2)
-            home_home()
+            home()
         with group(group_num=3):
             motor(axis=3)
-            home_home()
+            home()
     return out
 
 
@@ -103,6 +105,39 @@ def test_tsrm_p176_a_motorhome_homing_plc_completes_with_its_timer_waits_timed(
     assert cyc(timers[2]) >= max(cyc(e) for e in hm_end if e["motor"] in (1, 2))
     done = [e for e in events if e["type"] == "plc" and e["state"] == "disabled"]
     assert cyc(done[-1]) - cyc(hm_end[-1]) <= 2
+
+
+def test_psrm_p241_a_home_switch_homing_plc_runs_its_jogs_until_trigger(tmp_path: Path) -> None:
+    """motorhome's ``home_hsw``: each phase jogs ``J^*^0`` by the Mxx72 distance it wrote
+    (away from home, towards it, away again) until a trigger, then ``HM``. Every one of those
+    jogs must really move and trigger (none may end at its 10^8-count target), and the PLC
+    completes with home complete on every motor."""
+    lines = _preprocessed(_homing_plc(tmp_path, "home_hsw"))
+    mxx72 = [f"M{m}72->L:${0xD7 + 0x80 * (m - 1):06X}" for m in range(1, 4)]  # Delta Tau's
+    pmac_port = free_port()
+    with motionsim_serve("--pmac-port", str(pmac_port), "--trio-port", "0") as svc:
+        http = svc.http + "/controllers/pmac"
+        download(pmac_port, setup_lines(range(1, 4)) + mxx72 + lines)
+        (i123,) = _values(pmac_port, ["I123"])
+        download(pmac_port, ["P1102=1", "ENABLE PLC11"])
+        assert _until(http, {"type": "plc", "plc": 11, "state": "disabled"}, 300) is not None
+        status = _values(pmac_port, ["P1101", "P1100", "M145", "M245", "M345"])
+        events = _events(http, "jog", "home")
+
+    assert status == [0, 7, 1, 1, 1]
+    for m in (1, 2, 3):
+        mine = [e for e in events if e["motor"] == m]
+        jogs = [e for e in mine if e["type"] == "jog" and e["command"] == "J^"]
+        starts = [e for e in jogs if e["state"] == "start"]
+        triggers = [e for e in jogs if e["state"] == "triggered"]
+        assert len(starts) == len(triggers) == 3  # pre-home move, fast search, away again
+        # away from home (against I123's sign), then towards it, then away again
+        assert [math.copysign(1, t["position"] - s["position"]) for s, t in
+                zip(starts, triggers, strict=True)] == [-math.copysign(1, i123),
+                                                         math.copysign(1, i123),
+                                                         -math.copysign(1, i123)]
+        assert all(abs(e["position"]) < 1e6 for e in jogs)  # stopped at the trigger
+        assert [e["state"] for e in mine if e["type"] == "home"] == ["triggered"]
 
 
 OWN_PMC = """\

@@ -192,7 +192,7 @@ class Motor:
         now = self._table.sched.env.now
         capture = self.position(now)
         self.trigger_move = self.trigger_search = False
-        self._emit("jog", state="triggered", command=self.command, position=round(capture, 4))
+        self._emit("jog", state="triggered", command=self.command, position=self._pos_now())
         speed = abs(self._table.vars.I(ixx(self.n, 22)))
         base = self._table.base(self.n, now)
         on = jog.to_position(now, self.profile.position(now), self.profile.velocity(now),
@@ -295,7 +295,7 @@ class Motor:
         self.profile = self.profile.shifted(-zero)
         self.homing = False
         self.home_complete = True
-        self._emit("home", state="triggered", position=round(capture, 4))
+        self._emit("home", state="triggered", position=round(capture, 4) + 0.0)
         i23 = self._table.vars.I(ixx(self.n, 23))
         base = self._table.base(self.n, now)
         back = jog.to_position(
@@ -375,7 +375,7 @@ class Motor:
     # -- state ----------------------------------------------------------------------------
 
     def _pos_now(self) -> float:
-        return round(self.position(self._table.sched.env.now), 4)
+        return round(self.position(self._table.sched.env.now), 4) + 0.0  # never -0.0
 
     def moving(self, t: float) -> bool:
         """The jog / home part of the motion is under way at ``t`` (desired velocity not 0)."""
