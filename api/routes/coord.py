@@ -10,7 +10,7 @@ from typing import Annotated, Any
 
 from fastapi import APIRouter, Path, Response
 from motionsim.api.deps import HandleDep
-from motionsim.api.line_slices import load_compiled, precompile
+from motionsim.api.line_slices import precompile
 from motionsim.api.schemas.coord import CoordPublic, LinesAccepted, LinesIn, RotaryIn, RotaryPublic
 from motionsim.app.registry import ControllerHandle
 from motionsim.sim.errors import NotFound
@@ -64,7 +64,7 @@ async def post_lines(handle: HandleDep, cs: CS, body: LinesIn) -> dict[str, Any]
     at most ``MAX_BATCH_LINES`` lines, parsed in slices that let other clients be served."""
     ctl = _pmac(handle)
     compiled = await precompile(body.lines)
-    result = handle.apply(load_compiled, ctl, cs, body.lines, body.first_seq, compiled)
+    result = handle.apply(ctl.load_lines, cs, body.lines, body.first_seq, compiled)
     return result._asdict()
 
 
