@@ -9,6 +9,7 @@ from __future__ import annotations
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Path, Response
+from motionsim.api.decoded_json import DecodedJsonRoute
 from motionsim.api.deps import HandleDep
 from motionsim.api.line_slices import precompile
 from motionsim.api.schemas.coord import CoordPublic, LinesAccepted, LinesIn, RotaryIn, RotaryPublic
@@ -16,7 +17,7 @@ from motionsim.app.registry import ControllerHandle
 from motionsim.sim.errors import NotFound
 from motionsim.sim.pmac import PmacController
 
-router = APIRouter(tags=["coord"])
+router = APIRouter(tags=["coord"], route_class=DecodedJsonRoute)
 
 CS = Annotated[int, Path(description="coordinate system number, 1..16 (404 otherwise)",
                          json_schema_extra={"minimum": 1, "maximum": 16})]

@@ -13,6 +13,7 @@ from __future__ import annotations
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Path
+from motionsim.api.decoded_json import DecodedJsonRoute
 from motionsim.api.deps import HandleDep
 from motionsim.api.off_loop import off_loop
 from motionsim.api.schemas.plcs import PlcDetail, PlcList, PlcProgramIn
@@ -20,7 +21,7 @@ from motionsim.app.registry import ControllerHandle
 from motionsim.sim.errors import Halted, NotFound
 from motionsim.sim.pmac.tasks.plc import compile_plc
 
-router = APIRouter(tags=["plcs"])
+router = APIRouter(tags=["plcs"], route_class=DecodedJsonRoute)
 
 BASE = "/controllers/{controller_id}/plcs"
 N = Annotated[int, Path(description="PLC number 0..31 (404 otherwise)",
