@@ -19,7 +19,8 @@ from motionsim.api.off_loop import off_loop
 from motionsim.api.schemas.plcs import PlcDetail, PlcList, PlcProgramIn
 from motionsim.app.registry import ControllerHandle
 from motionsim.sim.errors import Halted, NotFound
-from motionsim.sim.pmac.tasks.plc import compile_plc
+from motionsim.sim.pmac.host import listing
+from motionsim.sim.pmac.tasks.plc import PlcProgram, compile_plc
 
 router = APIRouter(tags=["plcs"], route_class=DecodedJsonRoute)
 
@@ -55,11 +56,18 @@ async def get_plc(handle: HandleDep, n: N) -> dict[str, Any]:
     return handle.apply(_plcs(handle).describe, n)
 
 
+def _compile(text: str) -> PlcProgram:
+    """``compile_plc``, and the program's listing worked out (``LIST PLC`` reads it)."""
+    program = compile_plc(text)
+    listing.stored_entries(program.lines)
+    return program
+
+
 @router.put(BASE + "/{n}", response_model=PlcDetail)
 async def put_plc(handle: HandleDep, n: N, body: PlcProgramIn) -> dict[str, Any]:
     """Replace PLC ``n``'s program (like OPEN PLC n CLEAR ... CLOSE, all or nothing)."""
     plcs = _plcs(handle)
-    program = await off_loop(compile_plc, body.text)  # seconds for a large PLC: off the loop
+    program = await off_loop(_compile, body.text)  # seconds for a large PLC: off the loop
 
     def load() -> dict[str, Any]:
         _running(handle)

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import math
 import re
+import threading
 from collections.abc import Iterable, Sequence
 from typing import Final
 
@@ -103,6 +104,28 @@ def entries(source_lines: Iterable[str], end: str | None = "RET") -> list[Entry]
     return out
 
 
+#: Listings of stored programs by their lines (a tuple: a stored program does not change):
+#: a host reads a program in windows, each a ``LIST``, and a listing of 7 000 lines takes
+#: 0.1 s to work out. The last few are kept.
+_STORED: dict[tuple[tuple[str, ...], str | None], list[Entry]] = {}
+_STORED_KEPT = 8
+_stored_lock = threading.Lock()  # filled beside the event loop too (api/routes/plcs.py)
+
+
+def stored_entries(lines: tuple[str, ...], end: str | None = "RET") -> list[Entry]:
+    """:func:`entries` of a stored program's ``lines``, worked out once."""
+    key = (lines, end)
+    with _stored_lock:
+        found = _STORED.get(key)
+    if found is None:
+        found = entries(lines, end)
+        with _stored_lock:
+            while len(_STORED) >= _STORED_KEPT:
+                del _STORED[next(iter(_STORED))]
+            _STORED[key] = found
+    return found
+
+
 def window(listing: Sequence[Entry], start: int | None = None,
            length: int | None = None) -> list[str] | None:
     """The reply lines of ``LIST ... [,start[,len]]``; None when the card answers ERR003
@@ -120,4 +143,4 @@ def window(listing: Sequence[Entry], start: int | None = None,
     return [f"{off}:{text}" for off, text in listing if start <= off < stop]
 
 
-__all__ = ["SHORT", "Entry", "canonical", "entries", "window", "words"]
+__all__ = ["SHORT", "Entry", "canonical", "entries", "stored_entries", "window", "words"]
