@@ -47,7 +47,7 @@ async def test_a_large_plc_compiles_while_the_loop_serves_others(pmac_api):
 
 async def test_list_plc_of_a_large_stored_plc_is_listed_at_the_store_not_per_list(
         pmac_api, monkeypatch):
-    """``LIST PLC n`` (TSRM p203: the card lists a PLC decompiled): the listing of a PLC
+    """``LIST PLC n`` (spec pmac.md §11.8: the card lists a PLC decompiled): the listing of a PLC
     stored by ``PUT`` is worked out with its compile, beside the loop; each ``LIST`` — a host
     reads a program in windows, ``LIST PLC n,start,len`` — answers from it, rather than
     decompiling 4 000 lines (0.1 s) on the loop again."""
