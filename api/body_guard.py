@@ -15,7 +15,9 @@ An ASGI middleware (no per-request task, no buffering beyond the limit):
   ``MAX_DEPTH`` arrays / objects deep, and hold only finite numbers: ``NaN``, ``Infinity``
   and numbers too large for a double (``1e999``) are 422, wherever they are in the body.
 
-The body is then handed on unchanged; FastAPI parses it into the route's model.
+The body is then handed on unchanged, with what it decodes to (decoded once, in the worker
+thread when large: the routes read it, :mod:`motionsim.api.decoded_json`); FastAPI validates
+that against the route's model.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ from typing import Any
 
 import anyio
 import anyio.to_thread
+from motionsim.api.decoded_json import SCOPE_KEY as DECODED_JSON
 from motionsim.api.off_loop import WORKER, without_gc
 from motionsim.app.settings import DEFAULT_MAX_BODY_BYTES
 from starlette.routing import Match
@@ -82,8 +85,11 @@ def is_json(media: str | None) -> bool:
     return media == "application/json" or (media is not None and media.endswith("+json"))
 
 
-def check_json(body: bytes) -> None:
-    """Refuse (:class:`BodyRejected`, 422) a body that is not finite, shallow, UTF-8 JSON."""
+def check_json(body: bytes) -> Any:
+    """Refuse (:class:`BodyRejected`, 422) a body that is not finite, shallow, UTF-8 JSON;
+    otherwise what it decodes to (what ``json.loads`` gives), or the ``JSONDecodeError`` of
+    a malformed body (FastAPI's 422 reports it: ``UNDECODED`` for a body it decodes
+    differently, one starting with a byte-order mark)."""
     try:
         text = body.decode("utf-8")
     except UnicodeDecodeError as exc:
@@ -96,8 +102,9 @@ def check_json(body: bytes) -> None:
     except RecursionError:
         raise BodyRejected(422, "validation_error",
                            f"JSON nested deeper than {MAX_DEPTH} levels", field="body") from None
-    except json.JSONDecodeError:
-        return  # malformed JSON: FastAPI answers its 422 (line and column) as before
+    except json.JSONDecodeError as exc:
+        # malformed JSON: FastAPI answers its 422 (line and column) as before
+        return UNDECODED if text.startswith("\ufeff") else exc
     except ValueError as exc:  # e.g. an integer of more than 4300 digits
         raise BodyRejected(422, "validation_error", f"request body: {exc}",
                            field="body") from None
@@ -111,6 +118,11 @@ def check_json(body: bytes) -> None:
         raise BodyRejected(422, "validation_error",
                            f"body field {field!r}: {marker.literal[:40]} is not a finite number "
                            "(NaN and Infinity are not allowed)", field=field)
+    return data
+
+
+#: :func:`check_json`'s answer for a body left to FastAPI to decode.
+UNDECODED = object()
 
 
 class _NonFinite:
@@ -224,9 +236,12 @@ class BodyGuard:
                                f"application/json' (got {got})")
         if body and is_json(media):
             if len(body) <= INLINE_CHECK_BYTES:
-                check_json(body)
+                decoded = check_json(body)
             else:  # a large body's scan would hold the loop: one worker thread at a time
-                await anyio.to_thread.run_sync(without_gc, check_json, body, limiter=WORKER)
+                decoded = await anyio.to_thread.run_sync(without_gc, check_json, body,
+                                                         limiter=WORKER)
+            if decoded is not UNDECODED:  # the routes read it (api/decoded_json.py)
+                scope[DECODED_JSON] = decoded
         return body
 
 

@@ -4,11 +4,10 @@ Parsing a program line costs from microseconds (``X1``) to milliseconds (a 255-c
 of expressions); a batch of thousands of them parsed in one go would stop ``/health``, the
 TCP ports and every other client for seconds. :func:`precompile` parses the batch's distinct
 texts here, at most ``SLICE_S`` of wall time at a stretch with the event loop served in
-between (the clock's own slicing, :mod:`motionsim.app.clock`); :func:`load_compiled` then
-hands the compiled lines to the controller's line cache (a memo of the pure
-``compile_line``) and stores the batch in one step at the current instant, all or nothing as
-before — the controller only looks its lines up. A line that does not parse is left to the
-controller, which reports it with its ``index`` as before.
+between (the clock's own slicing, :mod:`motionsim.app.clock`); the route then hands the
+compiled lines to the controller's ``load_lines``, which stores the batch in one
+step at the current instant, all or nothing as before, and only looks its lines up. A line
+that does not parse is left to the controller, which reports it with its ``index`` as before.
 
 Lines per batch are bounded (``MAX_BATCH_LINES``, 422 naming ``lines`` with the limit).
 """
@@ -22,8 +21,8 @@ from typing import Any
 from motionsim.api.off_loop import gc_paused
 from motionsim.app.clock import SLICE_S, loop_turns
 from motionsim.sim.errors import MotionSimError
-from motionsim.sim.pmac import controller as pmac_controller
 from motionsim.sim.pmac.buffers.program import ProgramLine, compile_line
+from motionsim.sim.pmac.controller import MAX_LINE_CHARS, PmacController
 
 #: Most lines in one ``POST .../rotary/lines`` batch [INF: no manual limit; a host streams in
 #: batches, and storing one is a single step on the loop (all or nothing): 1 024 lines take
@@ -32,15 +31,16 @@ MAX_BATCH_LINES = 1024
 
 
 async def precompile(texts: list[Any]) -> dict[str, ProgramLine]:
-    """The compiled form of each distinct text not yet cached, parsed in slices."""
-    cache = pmac_controller._LINE_CACHE
+    """The compiled form of each distinct text the controller has not at hand, parsed in
+    slices."""
+    known = PmacController.line_compiled
     out: dict[str, ProgramLine] = {}
     end = time.monotonic() + SLICE_S
     # A full collection triggered by the objects parsing creates would hold the loop for
     # longer than many slices (its cost grows with the heap): paused while this batch parses.
     with gc_paused():
         for text in dict.fromkeys(t for t in texts if type(t) is str):
-            if text in cache or text in out or len(text) > pmac_controller.MAX_LINE_CHARS:
+            if text in out or len(text) > MAX_LINE_CHARS or known(text):
                 continue
             with contextlib.suppress(MotionSimError):  # the controller reports it, positioned
                 out[text] = compile_line(text)
@@ -50,16 +50,4 @@ async def precompile(texts: list[Any]) -> dict[str, ProgramLine]:
     return out
 
 
-def load_compiled(ctl: Any, cs: int, lines: list[str], first_seq: int | None,
-                  compiled: dict[str, ProgramLine]) -> Any:
-    """``ctl.load_lines`` with ``compiled`` in the line cache first (one synchronous step,
-    so nothing can evict them in between)."""
-    cache = pmac_controller._LINE_CACHE
-    if compiled:
-        if len(cache) + len(compiled) > pmac_controller._LINE_CACHE_SIZE:
-            cache.clear()
-        cache.update(compiled)
-    return ctl.load_lines(cs, lines, first_seq)
-
-
-__all__ = ["MAX_BATCH_LINES", "load_compiled", "precompile"]
+__all__ = ["MAX_BATCH_LINES", "precompile"]

@@ -14,13 +14,14 @@ import contextlib
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Path, Query
+from motionsim.api.decoded_json import DecodedJsonRoute
 from motionsim.api.deps import HandleDep
 from motionsim.api.schemas.axes import AxisOut, AxisPatch, MoveIn, MovePlaced
 from motionsim.app.clock import RealtimeClock
 from motionsim.app.registry import RUN_UNTIL_WALL_CAP_S, ControllerHandle
 from motionsim.sim.errors import BufferFull, NotFound
 
-router = APIRouter(tags=["trio axes"])
+router = APIRouter(tags=["trio axes"], route_class=DecodedJsonRoute)
 
 AxisParam = Annotated[int, Path(ge=0, description="axis number, from 0 (404 beyond the "
                                                   "controller's axes)",

@@ -12,6 +12,7 @@ from collections.abc import Awaitable
 from typing import Annotated, TypeVar
 
 from fastapi import APIRouter, Path, Request
+from motionsim.api.decoded_json import DecodedJsonRoute
 from motionsim.api.deps import HandleDep
 from motionsim.api.schemas.clock import AdvanceIn, ClockOut, ClockPatch, RunUntilIn, RunUntilOut
 from motionsim.app.host_paced import HostPacedClock
@@ -19,7 +20,7 @@ from motionsim.app.registry import ControllerHandle
 from motionsim.sim.errors import Conflict
 from motionsim.sim.events import Event
 
-router = APIRouter(tags=["clock"])
+router = APIRouter(tags=["clock"], route_class=DecodedJsonRoute)
 
 T = TypeVar("T")
 

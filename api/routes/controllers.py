@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 from fastapi import APIRouter, Response
+from motionsim.api.decoded_json import DecodedJsonRoute
 from motionsim.api.deps import HandleDep, RegistryDep
 from motionsim.api.schemas.controllers import ControllerIn, ControllerOut
 
-router = APIRouter(tags=["controllers"])
+router = APIRouter(tags=["controllers"], route_class=DecodedJsonRoute)
 
 
 @router.get("/controllers", response_model=list[ControllerOut])

@@ -9,14 +9,15 @@ from __future__ import annotations
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Path, Response
+from motionsim.api.decoded_json import DecodedJsonRoute
 from motionsim.api.deps import HandleDep
-from motionsim.api.line_slices import load_compiled, precompile
+from motionsim.api.line_slices import precompile
 from motionsim.api.schemas.coord import CoordPublic, LinesAccepted, LinesIn, RotaryIn, RotaryPublic
 from motionsim.app.registry import ControllerHandle
 from motionsim.sim.errors import NotFound
 from motionsim.sim.pmac import PmacController
 
-router = APIRouter(tags=["coord"])
+router = APIRouter(tags=["coord"], route_class=DecodedJsonRoute)
 
 CS = Annotated[int, Path(description="coordinate system number, 1..16 (404 otherwise)",
                          json_schema_extra={"minimum": 1, "maximum": 16})]
@@ -64,7 +65,7 @@ async def post_lines(handle: HandleDep, cs: CS, body: LinesIn) -> dict[str, Any]
     at most ``MAX_BATCH_LINES`` lines, parsed in slices that let other clients be served."""
     ctl = _pmac(handle)
     compiled = await precompile(body.lines)
-    result = handle.apply(load_compiled, ctl, cs, body.lines, body.first_seq, compiled)
+    result = handle.apply(ctl.load_lines, cs, body.lines, body.first_seq, compiled)
     return result._asdict()
 
 

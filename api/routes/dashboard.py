@@ -12,6 +12,7 @@ from pathlib import Path
 
 from fastapi import APIRouter
 from fastapi.responses import FileResponse
+from motionsim.api.decoded_json import DecodedJsonRoute
 from motionsim.sim.errors import NotFound
 
 #: The dashboard's files (package data, see pyproject.toml).
@@ -21,7 +22,7 @@ STATIC_DIR = Path(__file__).resolve().parent.parent / "static" / "dashboard"
 _TYPES = {".html": "text/html", ".css": "text/css", ".js": "text/javascript",
           ".png": "image/png", ".svg": "image/svg+xml", ".txt": "text/plain"}
 
-router = APIRouter(tags=["service"])
+router = APIRouter(tags=["service"], route_class=DecodedJsonRoute)
 
 
 @router.get("/dashboard", include_in_schema=False)

@@ -25,6 +25,7 @@ import time
 from typing import Annotated
 
 from fastapi import APIRouter, Query, Response, WebSocket, WebSocketDisconnect
+from motionsim.api.decoded_json import DecodedJsonRoute
 from motionsim.api.deps import HandleDep
 from motionsim.api.schemas.events import EventsPage, StreamQuery, stream_query
 from motionsim.app.bus import Cursor, epoch_message
@@ -33,7 +34,7 @@ from motionsim.sim.controller import Controller
 from motionsim.sim.errors import InvalidValue, NotFound
 from pydantic import Field
 
-router = APIRouter(tags=["events"])
+router = APIRouter(tags=["events"], route_class=DecodedJsonRoute)
 
 #: Events read from the ring per batch before yielding to the event loop.
 WS_BATCH = 256

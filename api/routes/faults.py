@@ -9,11 +9,12 @@ from __future__ import annotations
 
 from fastapi import APIRouter, Path
 from fastapi.responses import Response
+from motionsim.api.decoded_json import DecodedJsonRoute
 from motionsim.api.deps import HandleDep
 from motionsim.api.schemas.faults import FaultList, FaultOut
 from motionsim.app.faults import FaultSpec, faults_of
 
-router = APIRouter(tags=["faults"])
+router = APIRouter(tags=["faults"], route_class=DecodedJsonRoute)
 
 
 @router.post("/controllers/{controller_id}/faults", response_model=FaultOut, status_code=201)

@@ -5,8 +5,9 @@ from __future__ import annotations
 
 from fastapi import APIRouter
 from fastapi.responses import Response
+from motionsim.api.decoded_json import DecodedJsonRoute
 
-router = APIRouter(tags=["service"])
+router = APIRouter(tags=["service"], route_class=DecodedJsonRoute)
 
 FAVICON_URL = "/favicon.ico"
 

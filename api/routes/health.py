@@ -4,10 +4,11 @@ from __future__ import annotations
 
 from fastapi import APIRouter, Request
 from fastapi.responses import JSONResponse
+from motionsim.api.decoded_json import DecodedJsonRoute
 from motionsim.api.schemas.common import Health, ServiceInfo
 from motionsim.app import __version__
 
-router = APIRouter(tags=["service"])
+router = APIRouter(tags=["service"], route_class=DecodedJsonRoute)
 
 
 @router.get("/health", response_model=Health,

@@ -13,14 +13,16 @@ from __future__ import annotations
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Path
+from motionsim.api.decoded_json import DecodedJsonRoute
 from motionsim.api.deps import HandleDep
 from motionsim.api.off_loop import off_loop
 from motionsim.api.schemas.plcs import PlcDetail, PlcList, PlcProgramIn
 from motionsim.app.registry import ControllerHandle
 from motionsim.sim.errors import Halted, NotFound
-from motionsim.sim.pmac.tasks.plc import compile_plc
+from motionsim.sim.pmac.host import listing
+from motionsim.sim.pmac.tasks.plc import PlcProgram, compile_plc
 
-router = APIRouter(tags=["plcs"])
+router = APIRouter(tags=["plcs"], route_class=DecodedJsonRoute)
 
 BASE = "/controllers/{controller_id}/plcs"
 N = Annotated[int, Path(description="PLC number 0..31 (404 otherwise)",
@@ -54,11 +56,18 @@ async def get_plc(handle: HandleDep, n: N) -> dict[str, Any]:
     return handle.apply(_plcs(handle).describe, n)
 
 
+def _compile(text: str) -> PlcProgram:
+    """``compile_plc``, and the program's listing worked out (``LIST PLC`` reads it)."""
+    program = compile_plc(text)
+    listing.stored_entries(program.lines)
+    return program
+
+
 @router.put(BASE + "/{n}", response_model=PlcDetail)
 async def put_plc(handle: HandleDep, n: N, body: PlcProgramIn) -> dict[str, Any]:
     """Replace PLC ``n``'s program (like OPEN PLC n CLEAR ... CLOSE, all or nothing)."""
     plcs = _plcs(handle)
-    program = await off_loop(compile_plc, body.text)  # seconds for a large PLC: off the loop
+    program = await off_loop(_compile, body.text)  # seconds for a large PLC: off the loop
 
     def load() -> dict[str, Any]:
         _running(handle)

@@ -5,11 +5,12 @@ from __future__ import annotations
 from typing import Annotated
 
 from fastapi import APIRouter, Path
+from motionsim.api.decoded_json import DecodedJsonRoute
 from motionsim.api.deps import HandleDep
 from motionsim.api.routes.axes import trio_of
 from motionsim.api.schemas.processes import ProcessOut
 
-router = APIRouter(tags=["trio processes"])
+router = APIRouter(tags=["trio processes"], route_class=DecodedJsonRoute)
 
 
 @router.get("/controllers/{controller_id}/processes", response_model=list[ProcessOut])

@@ -11,13 +11,14 @@ from typing import Annotated
 
 from fastapi import APIRouter, Path, Request, Response
 from fastapi.responses import PlainTextResponse
+from motionsim.api.decoded_json import DecodedJsonRoute
 from motionsim.api.deps import HandleDep
 from motionsim.api.off_loop import off_loop
 from motionsim.api.routes.axes import trio_of
 from motionsim.api.schemas.programs import ProgramList, ProgramStored, RunIn, RunOut
 from motionsim.sim.errors import InvalidValue
 
-router = APIRouter(tags=["trio programs"])
+router = APIRouter(tags=["trio programs"], route_class=DecodedJsonRoute)
 
 NameParam = Annotated[str, Path(min_length=1, max_length=32, pattern=r"^[A-Za-z_][A-Za-z0-9_]*$",
                                 description="program name: a letter or _, then letters, "

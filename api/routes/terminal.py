@@ -7,11 +7,12 @@ port). Timing per API.md: see :meth:`app.registry.ControllerHandle.command`.
 from __future__ import annotations
 
 from fastapi import APIRouter
+from motionsim.api.decoded_json import DecodedJsonRoute
 from motionsim.api.deps import HandleDep
 from motionsim.api.schemas.terminal import TerminalIn, TerminalOut, TerminalState
 from motionsim.sim.pmac.card.error_codes import meaning
 
-router = APIRouter(tags=["terminal"])
+router = APIRouter(tags=["terminal"], route_class=DecodedJsonRoute)
 
 
 @router.post(

@@ -11,11 +11,12 @@ from __future__ import annotations
 from typing import Annotated
 
 from fastapi import APIRouter, Path
+from motionsim.api.decoded_json import DecodedJsonRoute
 from motionsim.api.deps import HandleDep
 from motionsim.api.schemas.variables import VariableIn, VariableOut, VariablesIn, VariablesOut
 from motionsim.sim.errors import InvalidValue, NotFound
 
-router = APIRouter(tags=["variables"])
+router = APIRouter(tags=["variables"], route_class=DecodedJsonRoute)
 
 NameParam = Annotated[str, Path(min_length=1, max_length=64, description="e.g. I16, P5, VR(5)")]
 

@@ -389,7 +389,8 @@ class PmacController(Controller):
         c.lines_arrived()
 
     def load_lines(
-        self, cs: int, lines: Iterable[str], first_seq: int | None = None
+        self, cs: int, lines: Iterable[str], first_seq: int | None = None,
+        precompiled: Mapping[str, ProgramLine] | None = None,
     ) -> LoadResult:
         """Store a batch of program lines in ``cs``'s rotary buffer, all or nothing.
 
@@ -397,6 +398,10 @@ class PmacController(Controller):
         ``first_seq`` the lines are numbered ``first_seq, first_seq+1, ...``; a line whose
         number was already stored with exactly this text is acknowledged and not stored
         again (the rules: :mod:`motionsim.sim.pmac.buffers.line_numbers`).
+        ``precompiled``: lines the caller has compiled already (by text, e.g. in slices beside
+        the event loop: ``api/line_slices.py``), used instead of parsing them again (a text
+        missing from it is parsed here); like the lines parsed here, they are remembered for
+        the next batches once stored.
 
         Raises:
             NotFound: no such CS or no rotary buffer.
@@ -413,13 +418,14 @@ class PmacController(Controller):
             c = self.coord_systems[cs]
         texts = lines if type(lines) is list else list(lines)
         cache = _LINE_CACHE
+        pre = precompiled or {}
         if first_seq is None and len(texts) == 1:
             # The streaming case: one line, no sequence numbers.
             text = texts[0]
             line = cache.get(text) if type(text) is str else None
             fresh = line is None
             if line is None:
-                line = self._compile(text, 0)
+                line = (pre.get(text) if type(text) is str else None) or self._compile(text, 0)
             if rot.used_words + line.words > rot.size_words:
                 raise BufferFull(
                     f"line of {line.words} words does not fit ({rot.free_words} words free)",
@@ -438,7 +444,7 @@ class PmacController(Controller):
         for i, text in enumerate(texts):
             line = cache.get(text) if type(text) is str else None
             if line is None:
-                line = self._compile(text, i)
+                line = (pre.get(text) if type(text) is str else None) or self._compile(text, i)
                 fresh.append(i)
             compiled.append(line)
         skip = 0 if first_seq is None else rot.numbering.repeated(first_seq, texts)
@@ -460,6 +466,12 @@ class PmacController(Controller):
         if first_seq is not None:
             rot.numbering.record(first_seq, texts, skip)
         return LoadResult(len(texts), len(new), rot.lines_ahead, rot.free_words, rot.breq)
+
+    @staticmethod
+    def line_compiled(text: str) -> bool:
+        """Whether ``text``'s compiled form is at hand (streams repeat their line texts): a
+        caller compiling a batch beforehand leaves it out."""
+        return text in _LINE_CACHE
 
     @staticmethod
     def _compile(text: Any, index: int) -> ProgramLine:

@@ -71,3 +71,21 @@ async def test_a_bad_line_in_a_sliced_batch_is_reported_with_its_index(pmac_api)
     assert r.json()["code"] == "parse_error" and r.json()["index"] == 37
     rotary = (await pmac_api.get("/controllers/p/coord/1")).json()["rotary"]
     assert rotary["used_words"] == 0
+
+
+async def test_a_refused_sliced_batch_leaves_nothing_remembered(pmac_api):
+    """A batch parsed in slices and then refused (409 ``buffer_full``) changes nothing: not
+    the buffer, and not the controller's memo of compiled lines, which holds stored lines
+    only (the compiled lines are handed to ``load_lines``, not put in the memo first)."""
+    from motionsim.sim.pmac.controller import PmacController
+
+    await _rotary(pmac_api, words=100)
+    lines = ["Y" + LONG.format(i=900 + i)[1:] for i in range(40)]  # 21 words each: 840 > 100
+    r = await pmac_api.post("/controllers/p/coord/1/rotary/lines", json={"lines": lines})
+    assert r.status_code == 409 and r.json()["code"] == "buffer_full", r.text
+    assert not any(PmacController.line_compiled(text) for text in lines)
+    rotary = (await pmac_api.get("/controllers/p/coord/1")).json()["rotary"]
+    assert rotary["used_words"] == 0
+    stored = await pmac_api.post("/controllers/p/coord/1/rotary/lines", json={"lines": lines[:4]})
+    assert stored.status_code == 200 and stored.json()["stored"] == 4
+    assert all(PmacController.line_compiled(text) for text in lines[:4])

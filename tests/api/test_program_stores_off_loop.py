@@ -43,3 +43,36 @@ async def test_a_large_plc_compiles_while_the_loop_serves_others(pmac_api):
     assert r.status_code == 200, r.text
     assert r.json()["lines"] >= 4000
     assert_served_beside(gaps)
+
+
+async def test_list_plc_of_a_large_stored_plc_is_listed_at_the_store_not_per_list(
+        pmac_api, monkeypatch):
+    """``LIST PLC n`` (spec pmac.md §11.8: the card lists a PLC decompiled): the listing of a PLC
+    stored by ``PUT`` is worked out with its compile, beside the loop; each ``LIST`` — a host
+    reads a program in windows, ``LIST PLC n,start,len`` — answers from it, rather than
+    decompiling 4 000 lines (0.1 s) on the loop again."""
+    import threading
+
+    from motionsim.sim.pmac.host import listing
+
+    assert (await pmac_api.put("/controllers/p/plcs/1", json={"text": PLC_TEXT})).is_success
+    loop_thread = threading.get_ident()
+    decompiled: list[str] = []
+    canonical = listing.canonical
+
+    def spied(source: str) -> str:
+        if threading.get_ident() == loop_thread:
+            decompiled.append(source)
+        return canonical(source)
+
+    monkeypatch.setattr(listing, "canonical", spied)
+    whole = await pmac_api.post("/controllers/p/terminal", json={"command": "LIST PLC 1"})
+    part = await pmac_api.post("/controllers/p/terminal", json={"command": "LIST PLC 1,100,20"})
+    assert not decompiled, len(decompiled)
+    monkeypatch.undo()
+    expected = [text for _, text in listing.entries(PLC_TEXT.splitlines())]
+    assert whole.json()["reply"].split("\r") == expected
+    assert expected[-1] == "RET"
+    window = [f"{off}:{text}" for off, text in listing.entries(PLC_TEXT.splitlines())
+              if 100 <= off < 120]
+    assert part.json()["reply"].split("\r") == window

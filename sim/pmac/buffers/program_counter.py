@@ -44,12 +44,8 @@ class ProgramCounter:
 def line_offset(texts: Sequence[str], n: int) -> int:
     """Word offset of 1-based line ``n`` of a program whose lines are ``texts`` (``n`` one
     past the last line is the card's closing ``RET``)."""
-    offset = 0
-    for text in texts[: n - 1]:
-        listed = listing.canonical(text)
-        if listed:
-            offset += listing.words(listed)
-    return offset
+    offsets = listing.stored_offsets(tuple(texts))  # (polled: worked out once per program)
+    return offsets[min(n - 1, len(texts))] if n >= 1 else offsets[max(len(texts) + n - 1, 0)]
 
 
 def report(cmd: ProgramCounter, ctl: PmacController, cs_n: int) -> str:

@@ -107,8 +107,9 @@ def run(cmd: ListBuffer, ctl: PmacController, port: Port) -> list[str]:
         if lines_of is None:
             raise NotSimulated("LIST PROG: fixed motion programs are not simulated",
                                pmac_error="ERR003")
-        source = lines_of(cmd.number) or ()
-    out = listing.window(listing.entries(source), cmd.start, cmd.length) if source else None
+        source = tuple(lines_of(cmd.number) or ())
+    listed = listing.stored_entries(source) if type(source) is tuple else listing.entries(source)
+    out = listing.window(listed, cmd.start, cmd.length) if source else None
     if out is None:
         raise _err(f"{buffer} {cmd.number}: nothing to list there")
     return out

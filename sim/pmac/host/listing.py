@@ -27,8 +27,9 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Iterable, Sequence
-from typing import Final
+import threading
+from collections.abc import Callable, Iterable, Sequence
+from typing import Any, Final
 
 from motionsim.sim.pmac.card.variables import format_value
 
@@ -103,6 +104,45 @@ def entries(source_lines: Iterable[str], end: str | None = "RET") -> list[Entry]
     return out
 
 
+#: Listings of stored programs by their lines (a tuple: a stored program does not change):
+#: a host reads a program in windows, each a ``LIST``, and polls ``PC``; working out the
+#: listing of 7 000 lines takes 0.1 s. The last few are kept.
+_STORED: dict[tuple[tuple[str, ...], str | None], list[Any]] = {}
+_STORED_KEPT = 8
+_stored_lock = threading.Lock()  # filled beside the event loop too (api/routes/plcs.py)
+
+
+def _stored(lines: tuple[str, ...], key: str | None, work: Callable[[], list[Any]]) -> list[Any]:
+    with _stored_lock:
+        found = _STORED.get((lines, key))
+    if found is None:
+        found = work()
+        with _stored_lock:
+            while len(_STORED) >= _STORED_KEPT:
+                del _STORED[next(iter(_STORED))]
+            _STORED[(lines, key)] = found
+    return found
+
+
+def stored_entries(lines: tuple[str, ...], end: str | None = "RET") -> list[Entry]:
+    """:func:`entries` of a stored program's ``lines``, worked out once."""
+    return _stored(lines, end, lambda: entries(lines, end))
+
+
+def stored_offsets(lines: tuple[str, ...]) -> list[int]:
+    """The word offset of each of a stored program's ``lines`` and, last, of the ``RET``
+    after them (a line listed as nothing takes no words), worked out once."""
+
+    def work() -> list[int]:
+        out = [0]
+        for text in lines:
+            listed = canonical(text)
+            out.append(out[-1] + (words(listed) if listed else 0))
+        return out
+
+    return _stored(lines, "#offsets", work)
+
+
 def window(listing: Sequence[Entry], start: int | None = None,
            length: int | None = None) -> list[str] | None:
     """The reply lines of ``LIST ... [,start[,len]]``; None when the card answers ERR003
@@ -120,4 +160,5 @@ def window(listing: Sequence[Entry], start: int | None = None,
     return [f"{off}:{text}" for off, text in listing if start <= off < stop]
 
 
-__all__ = ["SHORT", "Entry", "canonical", "entries", "window", "words"]
+__all__ = ["SHORT", "Entry", "canonical", "entries", "stored_entries", "stored_offsets", "window",
+           "words"]

@@ -100,3 +100,28 @@ def test_pe_of_the_rotary_buffer_is_the_executing_moves_line(rig):
         rig.c.env.step()
     assert rig.events("move_start")[-1][2]["n"] == 2
     assert rig.ok("&1PE") == "P0:1"  # line 2, the buffer's second line
+
+
+def test_pc_polled_and_list_prog_read_in_windows_decompile_a_large_program_once(
+        rig, monkeypatch):
+    """A host polls ``PC`` and reads a program back in windows (``LIST PROG n,start,len``,
+    as dls-pmacanalyse does): the program's listing offsets are worked out once while it
+    does not change, not once per poll or window — 3 000 lines take 40 ms each time, on the
+    event loop."""
+    from motionsim.sim.pmac.host import listing
+
+    lines = [f"X{i} P{i % 900}=P{i % 900}+{i}" for i in range(3000)]
+    load(rig, 3, lines)
+    rig.ok("&1 B3")
+    assert rig.ok("&1 PC") == "P3:0"
+    first = rig.ok("LIST PROG 3,0,40").split("\r")
+    calls: list[str] = []
+    canonical = listing.canonical
+    monkeypatch.setattr(listing, "canonical", lambda text: calls.append(text) or canonical(text))
+    windows = [rig.ok(f"LIST PROG 3,{start},40").split("\r") for start in (0, 40, 80)]
+    polls = [rig.ok("&1 PC") for _ in range(3)]
+    assert not calls, len(calls)
+    assert windows[0] == first and polls == ["P3:0"] * 3
+    every = [f"{off}:{text}" for off, text in entries(lines)]
+    assert windows == [[e for e in every if start <= int(e.split(":")[0]) < start + 40]
+                       for start in (0, 40, 80)]
