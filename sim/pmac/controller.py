@@ -35,6 +35,8 @@ from motionsim.sim.pmac.card import card_commands, registers
 from motionsim.sim.pmac.card.macro_station import MacroStations
 from motionsim.sim.pmac.card.timers import CountdownTimers
 from motionsim.sim.pmac.card.variables import N_CS, N_MOTORS, Variables, parse_name
+from motionsim.sim.pmac.host.messages import HostMessages
+from motionsim.sim.pmac.host.messages import frame as frame_message
 from motionsim.sim.pmac.host.terminal import Terminal
 from motionsim.sim.pmac.kinematics.engine import Kinematics
 from motionsim.sim.pmac.language import axis_definitions
@@ -144,6 +146,9 @@ class PmacController(Controller):
             )
         self.halted = False  # the watchdog tripped (sim.pmac.watchdog); until reset
         self.plcs = PlcTable(self)
+        #: SEND lines on their way to the host ports (sim.pmac.host.messages).
+        self.messages = HostMessages(self.log.emit, lambda: self.env.now)
+        self._message_cursors: dict[str, int] = {}
         self.background.power_on()
         self.coord_systems = {n: CoordSystem(self, n) for n in range(1, N_CS + 1)}
         self.vars.mvars.registers = registers.for_controller(self)
@@ -205,6 +210,7 @@ class PmacController(Controller):
         t0 = self.env.now
 
         def job() -> None:
+            self.messages.active = port  # the active response port (PSRM p347)
             text, error = self._terminal.execute(command, port)
             reply.detail = self._terminal.detail if error is not None else None
             reply.resolve(text, error, self.env.now)
@@ -213,6 +219,28 @@ class PmacController(Controller):
 
         self.background.submit(job)
         return reply
+
+    def unread_output(self, reader: str) -> list[str]:
+        """The ``SEND`` lines of the card's programs since ``reader`` last asked, whatever
+        port they were sent to (the REST terminal: ``"rest"``; the first call returns the
+        lines kept since power-up, at most ``MAX_LINES``)."""
+        port = self.rest_port if reader == "rest" else None
+        lines, self._message_cursors[reader] = self.messages.since(
+            self._message_cursors.get(reader, 0), port)
+        return lines
+
+    def host_messages(self, port: Port) -> list[tuple[bytes, str]]:
+        """The ``SEND`` lines sent to host port ``port`` not yet delivered to it, framed per
+        I3 and I64 (``(bytes, text)``, oldest first): the Ethernet port queues them."""
+        msgs = self.messages.take_for(port)
+        if not msgs:
+            return []
+        i3, i64 = int(self.vars.I(3)), int(self.vars.I(64))
+        return [(frame_message(m.text, i3, i64), m.text) for m in msgs]
+
+    def send_message(self, source: str, port: str, text: str) -> None:
+        """``SEND{port}"text"`` from a PLC or motion program (sim.pmac.host.messages)."""
+        self.messages.send(source, port, text)
 
     def submit_program_command(self, text: str, cs: int = 1, motor: int = 1) -> None:
         """``CMD"text"`` from a PLC: queued for the background command interpreter.

@@ -126,9 +126,10 @@ class Cmd:
 
 @dataclass(frozen=True, slots=True)
 class Send:
-    """``SEND"text"``: a message to the host."""
+    """``SEND{port}"text"``: a message to the host."""
 
     text: str
+    port: str = ""
 
 
 @dataclass(frozen=True, slots=True)
@@ -263,7 +264,7 @@ def _segment(text: str, start: int, end: int) -> list[Any]:
         elif getattr(stmt, "run_online", None) is not None and getattr(stmt, "in_program", True):
             out.append(stmt)  # a family that runs itself (MSR / MSW...)
         elif isinstance(stmt, st.Message):
-            out.append(Cmd(stmt.text) if stmt.kind == "CMD" else Send(stmt.text))
+            out.append(Cmd(stmt.text) if stmt.kind == "CMD" else Send(stmt.text, stmt.port))
         else:
             raise _error(f"{type(stmt).__name__} is not a PLC statement", col, text)
     return out

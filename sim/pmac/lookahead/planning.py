@@ -54,6 +54,7 @@ from motionsim.sim.pmac.buffers.program import (
     OP_MODE,
     OP_MOVE,
     OP_PSET,
+    OP_SEND,
     ProgramLine,
 )
 from motionsim.sim.pmac.card.variables import isx
@@ -339,6 +340,10 @@ class Planning:
                 self.blocked = True
             elif code == OP_FRAX:
                 self.frax = op[1]
+            elif code == OP_SEND:  # when the line is calculated, ahead of its move's run
+                self.ctl.log.emit("program_send", cs=cs, line=n, port=op[1] or "host",
+                                  text=op[2])
+                self.ctl.send_message(f"cs{cs}", op[1], op[2])
             elif code == OP_PSET:
                 self._spline_close()
                 self._lin_w = None  # the move after PSET starts from rest (no corner)

@@ -25,7 +25,8 @@ What is modelled (seed 003; TUM p237, p253, p376; TSRM p39, p381, p422-424; spec
 * ``CMD"..."`` queues the text for the background command interpreter: it is executed as a
   host command line on a port of its own whose ``&n``/``#n`` addressing is not modal (every
   command starts at motor 1, CS 1, TSRM p422); it is not interpreted before the scan ends.
-  ``SEND"..."`` sends a line to the host: it is recorded as the PLC's ``last_send``.
+  ``SEND"..."`` sends a line to the host: it is recorded as the PLC's ``last_send`` and
+  queued for the host port (:mod:`motionsim.sim.pmac.host.messages`).
 * ``DISABLE PLC n`` inside PLC ``n`` lets the current scan run to its end (a scan is not
   interrupted by other background work, seed 003); the next scan of ``n`` starts at the top
   once it is enabled again ``[INF]``.
@@ -162,9 +163,7 @@ class _Builder:
             ops[pc][2] = len(ops)
         elif t is pp.Cmd or t is idioms.Command:
             ops.append([OP_CMD, s.text])
-        elif t is pp.Send:
-            ops.append([OP_SEND, s.text, ""])
-        elif t is idioms.SendText:
+        elif t is pp.Send or t is idioms.SendText:
             ops.append([OP_SEND, s.text, s.port])
         elif t is idioms.Address:
             ops.append([OP_ADDRESS, s.kind, s.n])
@@ -514,11 +513,12 @@ class PlcTable:
         return count
 
     def _send(self, plc: Plc, text: str, port: str) -> None:
-        """``SEND{port}"text"``: the PLC's ``last_send``, a ``plc_send`` event and the
-        controller's host output (:meth:`PmacController.host_output`)."""
+        """``SEND{port}"text"``: the PLC's ``last_send``, a ``plc_send`` event and the line
+        queued for the host port (:meth:`PmacController.send_message`)."""
         plc.last_send = text
         self.sent.append((plc.n, port, text))
         self.ctl.log.emit("plc_send", plc=plc.n, port=port or "host", text=text)
+        self.ctl.send_message(f"plc{plc.n}", port, text)
 
     def _item(self, p: Plc, i5: int, editing: int | None) -> dict[str, Any]:
         """``p``'s API shape: its state as I5, entry and the watchdog make it."""
