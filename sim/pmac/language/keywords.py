@@ -88,7 +88,7 @@ TABLE: Final[tuple[Keyword, ...]] = (
         "TCOMP": False, "BLCOMP": False, "UBUFFER": True}, example="DEFINE CCBUF 10"),
     _k("DELETE", "DEL", builds=f"{_P}:delete", where="online", objects={
         "ROTARY": True, "GATHER": True, "LOOKAHEAD": True, "CCBUF": False, "COMP": False,
-        "TCOMP": False, "BLCOMP": False, "PLCC": False, "TEMPS": False, "ALL": True},
+        "TCOMP": False, "BLCOMP": False, "PLCC": True, "TEMPS": False, "ALL": True},
        example="DELETE TEMPS"),
     _k("OPEN", builds=f"{_P}:open_", where="online", objects={
         "ROTARY": True, "PROGRAM": True, "PLC": True, "PLCC": True, "FORWARD": True,

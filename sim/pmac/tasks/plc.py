@@ -383,6 +383,22 @@ class PlcTable:
             plc.program = None
             plc.pc = 0
 
+    def delete_compiled(self, numbers: Iterable[int]) -> None:
+        """``DELETE PLCC``: compiled PLCs ``numbers`` erased; an enabled one stops first.
+
+        Raises:
+            Conflict: one of them is open for entry (ERR007) ``[INF]``; nothing changed.
+        """
+        numbers = tuple(numbers)
+        if self._edit is not None and self._edit_table is self.compiled \
+                and self._edit[1] in numbers:
+            raise Conflict(f"PLCC {self._edit[1]} is open for entry", pmac_error="ERR007")
+        self.set_enabled(numbers, False, compiled=True)
+        for n in numbers:
+            plcc = self.compiled[n]
+            plcc.program = None
+            plcc.pc = 0
+
     def plc(self, n: int) -> Plc:
         if isinstance(n, bool) or not isinstance(n, int) or not 0 <= n < plc_st.N_PLCS:
             raise NotFound(f"no PLC {n!r} (0..{plc_st.N_PLCS - 1})")
@@ -527,19 +543,29 @@ class PlcTable:
             item["state"] = "stopped"  # the watchdog tripped: nothing runs
         return item
 
-    def to_list(self) -> list[dict[str, Any]]:
+    def _editing_in(self, table: list[Plc]) -> int | None:
+        return self.editing() if self._edit_table is table else None
+
+    def to_list(self, compiled: bool = False) -> list[dict[str, Any]]:
+        """The PLCs holding a program, enabled or open (``compiled``: the PLCCs, each marked
+        ``"compiled": True``)."""
         i5 = self.i5()
-        editing = self.editing()
-        return [
+        table = self.compiled if compiled else self.plcs
+        editing = self._editing_in(table)
+        out = [
             self._item(p, i5, editing)
-            for p in self.plcs
+            for p in table
             if p.program is not None or p.enabled or editing == p.n
         ]
+        if compiled:
+            for item in out:
+                item["compiled"] = True
+        return out
 
     def describe(self, n: int) -> dict[str, Any]:
         """PLC ``n`` in the API's detail shape, with its program lines. Raises NotFound."""
         plc = self.plc(n)
-        out = self._item(plc, self.i5(), self.editing())
+        out = self._item(plc, self.i5(), self._editing_in(self.plcs))
         out["program"] = list(plc.program.lines) if plc.program is not None else []
         return out
 
