@@ -42,6 +42,7 @@ from motionsim.sim.pmac.kinematics.engine import Kinematics
 from motionsim.sim.pmac.language import axis_definitions
 from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.lookahead import CoordSystem
+from motionsim.sim.pmac.motor.jog import Profile
 from motionsim.sim.pmac.motor.motor_status import motor_status_words
 from motionsim.sim.pmac.motor.motors import Motor, MotorTable
 from motionsim.sim.pmac.tasks.cpu import CONFIG_KEYS as CPU_CONFIG_KEYS
@@ -627,9 +628,8 @@ class PmacController(Controller):
 
     def _motor_base(self, motor: int, t: float) -> float:
         """Motor ``motor``'s position from its CS axes (counts): the sum of its definition's
-        terms (``#6->-29.1X+100000Y``), or the inverse kinematics for ``#n->I``. The constant
-        offset is reported, not added ``[INF]``: axis positions here start where the motors
-        are, so adding it would move the motor."""
+        terms plus its constant offset (``#3->2000Z-6000``: Z=3 puts the motor at 0, TSRM
+        p268), or the inverse kinematics for ``#n->I``."""
         have = self.motors.get(motor)
         if have is None:
             return 0.0
@@ -638,9 +638,19 @@ class PmacController(Controller):
             return self.kinematics.motor_base(have[0], motor, t)
         terms = d.terms
         if len(terms) == 1:
-            return self.coord_systems[have[0]].positions(t).get(terms[0][0], 0.0) * terms[0][1]
+            return (self.coord_systems[have[0]].positions(t).get(terms[0][0], 0.0)
+                    * terms[0][1] + d.offset)
         pos = self.coord_systems[have[0]].positions(t) if terms else {}
-        return sum(pos.get(a, 0.0) * s for a, s in terms)
+        return sum(pos.get(a, 0.0) * s for a, s in terms) + d.offset
+
+    def axis_offset_changed(self, motor: int, delta: float) -> None:
+        """A new axis definition moved motor ``motor``'s offset by ``delta`` counts: a
+        definition commands no motion, so a motor at rest keeps its position (its jog offset
+        absorbs the change) until ``PMATCH`` starts the axes from the motors ``[INF]``."""
+        m = self.motor_table[motor]
+        if delta and m.command is None:
+            now = self.env.now
+            m.profile = Profile.rest(now, m.profile.position(now) - delta)
 
     def _axis_position(self, cs: int, axis: str, t: float) -> float:
         if axis[0] == "I":  # ``I{n}``: motor n defined #n->I

@@ -115,7 +115,8 @@ def run(cmd: ListBuffer, ctl: PmacController, port: Port) -> list[str]:
             raise NotSimulated("LIST PROG: fixed motion programs are not simulated",
                                pmac_error="ERR003")
         source = lines_of(cmd.number) or ()
-    out = listing.window(listing.entries(source), cmd.start, cmd.length) if source else None
+    out = (listing.window(listing.entries(source, plc=buffer == "PLC"), cmd.start, cmd.length)
+           if source else None)
     if out is None:
         raise _err(f"{buffer} {cmd.number}: nothing to list there")
     return out

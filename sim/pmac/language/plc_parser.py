@@ -208,6 +208,12 @@ def parse_condition(s: str, offset: int, line: str) -> Cond:
     m = _comparator_at_top(s)
     if m is None:
         if stripped.startswith("(") and stripped.endswith(")"):
+            if _comparator_at_top(stripped[1:-1]) is not None:
+                # TUM p252: parentheses around the simple conditions of a condition are illegal
+                # (IF((P1>-20) AND (P1<20)) is an error); inside expressions they are fine
+                raise _error("no parentheses around a simple condition: write "
+                             "(P1>-20 AND P1<20), not ((P1>-20) AND (P1<20))",
+                             offset + lead + 1, line)
             return parse_condition(stripped[1:-1], offset + lead + 1, line)
         raise _error("expected a comparison (= != > !> < !< ~ !~)", offset + lead + 1, line)
     op = m.group(0)
