@@ -157,6 +157,8 @@ class Planning:
         if rot is not None:
             self._seen_n = rot.n_loaded
             pending = rot.pending
+            tag = getattr(rot, "taken_prog", None) is not None  # a fixed program: moves say
+            # which program (a CALLed one) their line is in, for PE
             # (_short_of_horizon is False unless the special lookahead is active: _la_s > 0)
             while (
                 pending
@@ -180,6 +182,8 @@ class Planning:
                     if self.sync_pending:
                         move.sync = self.sync_pending
                         self.sync_pending = []
+                    if tag:
+                        move.prog = rot.taken_prog
                     planned.append(move)
                 elif simple is not None and fast == _FAST_LINEAR and self._ver == vars_.version:
                     n = rot.take_simple()
@@ -195,18 +199,24 @@ class Planning:
                     if self.sync_pending:
                         move.sync = self.sync_pending
                         self.sync_pending = []
+                    if tag:
+                        move.prog = rot.taken_prog
                     planned.append(move)
                 else:
                     taken = rot.take()
                     if taken is None:
                         break  # control flow ends this pass (rot.interrupt says why)
                     n, line = taken
+                    before = len(planned)
                     try:
                         self._calculate(n, line)
                     except RunTimeError:
                         rot.line_calculated(n)
                         self.abort("run_time_error")
                         return
+                    if tag:
+                        for k in range(1, len(planned) - before + 1):
+                            planned[-k].prog = rot.taken_prog
                     self._fast = self._fast_kind()
                     rot.line_calculated(n)
             if rot.interrupt is not None and self._flow_interrupt(rot):
