@@ -17,8 +17,9 @@ Offsets ``[INF]``:
   minus one); its lines are freed as they run, so there is no listing offset to give.
 
 ``PE`` with no move executing reports where ``PC`` points ``[INF]``. Both follow into a
-``CALL``ed program: ``PE`` names the program whose line the executing move is. A CS that points at no
-program (after ``OPEN PROG``, before the next ``B{n}``) answers ERR003 ``[INF]``.
+``CALL``ed program: ``PE`` names the program whose line the executing move is. A CS that
+points at no program (after ``OPEN PROG``, before the next ``B{n}``) answers ERR003
+``[INF]``.
 """
 
 from __future__ import annotations
