@@ -58,7 +58,7 @@ from motionsim.sim.pmac.buffers.program import (
     ProgramLine,
 )
 from motionsim.sim.pmac.card.variables import isx
-from motionsim.sim.pmac.lookahead.states import RUNNING, WAITING
+from motionsim.sim.pmac.lookahead.states import RUNNING, STOPPED, WAITING
 from motionsim.sim.pmac.modes import (
     LINEAR,
     PROFILES,
@@ -160,15 +160,19 @@ class Planning:
             tag = getattr(rot, "taken_prog", None) is not None  # a fixed program: moves say
             # which program (a CALLed one) their line is in, for PE
             # (_short_of_horizon is False unless the special lookahead is active: _la_s > 0)
+            lines_left = self.step_lines if stepping else None
             while (
                 pending
                 and (
-                    len(planned) < target
+                    (len(planned) < target if lines_left is None else lines_left > 0)
                     or (self._la_s > 0 and self._short_of_horizon())
                     or (stepping and rot.in_block)  # S runs on to BLOCKSTOP (TSRM p182)
                 )
                 and not self.blocked
             ):
+                if lines_left is not None:  # Isx53 = 1: a step executes one line
+                    lines_left -= 1
+                    self.step_lines = lines_left
                 line = pending[0][1]
                 simple = line.simple
                 fast = self._fast
@@ -221,6 +225,9 @@ class Planning:
                     rot.line_calculated(n)
             if rot.interrupt is not None and self._flow_interrupt(rot):
                 return
+            if lines_left == 0 and self.current is None and not planned:
+                self._step_done()  # the stepped line held no move: the step ends here
+                return
             if planned and self.current is not None and self._isx13 > 0:
                 self._successor_planned()  # (a longer blend ramp is decided earlier)
         if self.current is None and not planned and self.spline is not None:
@@ -242,6 +249,13 @@ class Planning:
                     self._start_next()
             elif self.state == RUNNING:
                 self._ran_out()
+
+    def _step_done(self) -> None:
+        """A step (Isx53 = 1) whose one line calculated no move: the program stops there,
+        ready for the next ``S`` or ``R`` ``[INF]``."""
+        self.single_step = False
+        self.step_lines = None
+        self._set_state(STOPPED)
 
     def _flow_interrupt(self, rot: Any) -> bool:
         """A fixed program's control flow ended the pass (:mod:`..buffers.programs`): a
