@@ -43,7 +43,7 @@ MAX_LINES: Final = 256
 #: response port); the others name ports the simulated card does not have ``[INF]``.
 ROUTES: Final[dict[str, bool]] = {"": True, "P": True, "S": False, "A": False, "R": False}
 
-#: Per-port state key: the sequence number of the last message the port has read.
+#: Per-port state key: ``(store, sequence number)`` of the last message the port has read.
 _READ: Final = "messages_read"
 
 STX: Final = "\x02"
@@ -91,9 +91,15 @@ class HostMessages:
         self.lines.append(msg)
         return msg
 
+    def _read(self, port: Port) -> int:
+        """The last sequence number ``port`` has read from this store (a reset makes a new
+        store: marks of the old one count as nothing read)."""
+        mark = port.state.get(_READ)
+        return mark[1] if mark is not None and mark[0] is self else 0
+
     def _drop(self, old: Message) -> None:
         target = old.target
-        if target is None or target.closed or target.state.get(_READ, 0) >= old.seq:
+        if target is None or target.closed or self._read(target) >= old.seq:
             return
         self.dropped += 1
         self._emit("host_message_dropped", source=old.source, port=old.port or "host",
@@ -101,18 +107,18 @@ class HostMessages:
 
     def take_for(self, port: Port) -> list[Message]:
         """The lines sent to ``port`` that it has not read yet, oldest first; marks them read."""
-        read = port.state.get(_READ, 0)
+        read = self._read(port)
         if not self.lines or self.lines[-1].seq <= read:
             return []
         out = [m for m in self.lines if m.seq > read and m.target is port]
-        port.state[_READ] = self.lines[-1].seq
+        port.state[_READ] = (self, self.lines[-1].seq)
         return out
 
     def since(self, cursor: int, port: Port | None = None) -> tuple[list[str], int]:
         """Every line's text after sequence number ``cursor``, and the new cursor; ``port``
         (the REST terminal's) has then read the lines sent to it."""
         if port is not None:
-            port.state[_READ] = self.seq
+            port.state[_READ] = (self, self.seq)
         return [m.text for m in self.lines if m.seq > cursor], self.seq
 
 

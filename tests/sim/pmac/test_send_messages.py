@@ -104,3 +104,20 @@ def test_tsrm_p470_send_in_a_motion_program_reaches_the_host_when_its_line_is_ca
         (1, 1, "host", "START"), (1, 3, "host", "DONE")]
     assert [t for _, t in rig.c.host_messages(port)] == ["START", "DONE"]
     assert rig.c.unread_output("rest") == ["START", "DONE"]
+
+
+def test_after_a_reset_send_lines_reach_the_port_again(rig):
+    """A reset ($$$) empties the card's output; later lines still reach the port that read
+    lines before it."""
+    port = rig.c.open_port("tcp")
+    rig.ok("I5=2", port)
+    enter(rig, 'SEND"ONE"', "DIS PLC 1")
+    rig.ok("ENA PLC 1", port)
+    rig.run_for(rig.period * 5)
+    assert [t for _, t in rig.c.host_messages(port)] == ["ONE"]
+    rig.c.reset()
+    rig.ok("I5=2", port)
+    enter(rig, 'SEND"TWO"', "DIS PLC 1")
+    rig.ok("ENA PLC 1", port)
+    rig.run_for(rig.period * 5)
+    assert [t for _, t in rig.c.host_messages(port)] == ["TWO"]
