@@ -533,8 +533,10 @@ class PlcTable:
         queued for the host port (:meth:`PmacController.send_message`)."""
         plc.last_send = text
         self.sent.append((plc.n, port, text))
-        self.ctl.log.emit("plc_send", plc=plc.n, port=port or "host", text=text)
-        self.ctl.send_message(f"plc{plc.n}", port, text)
+        compiled = self.compiled[plc.n] is plc
+        extra = {"compiled": True} if compiled else {}
+        self.ctl.log.emit("plc_send", plc=plc.n, port=port or "host", text=text, **extra)
+        self.ctl.send_message(f"plcc{plc.n}" if compiled else f"plc{plc.n}", port, text)
 
     def _item(self, p: Plc, i5: int, editing: int | None) -> dict[str, Any]:
         """``p``'s API shape: its state as I5, entry and the watchdog make it."""

@@ -121,3 +121,17 @@ def test_after_a_reset_send_lines_reach_the_port_again(rig):
     rig.ok("ENA PLC 1", port)
     rig.run_for(rig.period * 5)
     assert [t for _, t in rig.c.host_messages(port)] == ["TWO"]
+
+
+def test_pum_v_p238_a_compiled_plcs_send_is_marked_compiled(rig):
+    port = rig.c.open_port("tcp")
+    rig.ok("I5=2", port)
+    rig.ok("OPEN PLCC 4 CLEAR", port)
+    rig.ok('SEND"FROM PLCC"', port)
+    rig.ok("DIS PLCC 4", port)
+    rig.ok("CLOSE", port)
+    rig.ok("ENA PLCC 4", port)
+    rig.run_for(rig.period * 5)
+    (_, _, f), = rig.events("plc_send")
+    assert f == {"plc": 4, "port": "host", "text": "FROM PLCC", "compiled": True}
+    assert [t for _, t in rig.c.host_messages(port)] == ["FROM PLCC"]
