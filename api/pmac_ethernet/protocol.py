@@ -310,6 +310,10 @@ def split_lines(payload: bytes) -> tuple[str, ...]:
 # -- the connection ----------------------------------------------------------------------
 
 
+class _Unsolicited(bytearray):
+    """A queued program-originated line (``SEND``), not the answer to a host command."""
+
+
 class PmacEthernetCodec:
     """One TCP connection's protocol state: input framing and the port's output queue.
 
@@ -429,11 +433,28 @@ class PmacEthernetCodec:
         if response:
             self._queue.append(bytearray(response))
 
+    def unsolicited(self, line: bytes) -> None:
+        """Queue one program-originated line (``SEND``, framed by the controller: no ACK,
+        ``<STX>`` first when I64=1) behind what is already queued."""
+        if line:
+            self._queue.append(_Unsolicited(line))
+
     def take(self, max_bytes: int = MAX_REPLY) -> bytes:
-        """The rest of the queue's first response, at most ``max_bytes``; :data:`EMPTY` if none."""
+        """The rest of the queue's first response, at most ``max_bytes``; :data:`EMPTY` if none.
+
+        A program line at the head that starts with ``<STX>`` is returned alone (the
+        firmware returns only up to the ``<CR>`` after an STX, spec §5.1); one without STX
+        (I64=0) has no terminator of its own, so it is returned together with what follows
+        it, up to that response's ACK ``[INF]``.
+        """
         if not self._queue:
             return EMPTY
         head = self._queue[0]
+        while isinstance(head, _Unsolicited) and STX not in head and len(self._queue) > 1:
+            self._queue.popleft()
+            nxt = self._queue[0]
+            nxt[:0] = head  # prepended in place: the piece keeps the next one's kind
+            head = nxt
         n = max(1, min(max_bytes, MAX_REPLY))
         while n < len(head) and head[n - 1] in (CR, ACK) and n < MAX_PIECE:
             # A piece that ends in CR while more of the response follows would read as a

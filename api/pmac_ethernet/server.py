@@ -83,7 +83,17 @@ class PmacSession(WireSession):
                 continue
             yield self._out(out)
 
+    def _deliver(self) -> None:
+        """Queue the ``SEND`` lines the card's programs sent to this port since the last
+        request, ahead of what this request produces (sim.pmac.host.messages)."""
+        take = getattr(self.handle.controller, "host_messages", None)
+        if take is None or self.port is None:
+            return
+        for data, _text in take(self.port):
+            self.codec.unsolicited(data)
+
     async def _answer(self, request: Any) -> bytes:
+        self._deliver()
         if isinstance(request, (GetResponse, SendLine)):
             answers = [await self.execute(line) for line in request.lines]
             return self.codec.reply(request, answers, **self._handshake())

@@ -1,6 +1,7 @@
 """``/controllers/{id}/plcs``: the PMAC's PLC programs (TSRM p39, p381; TUM p236-237).
 
-``GET /plcs`` lists each PLC with a program (state, scans, last scan time) and I5;
+``GET /plcs`` lists each PLC with a program (state, scans, last scan time) and I5, and in
+``compiled_plcs`` the compiled PLCs (``OPEN PLCC n``) the same way;
 ``GET|PUT /plcs/{n}`` reads / replaces one program whole (422 ``parse_error`` with ``line``
 and ``column``, nothing changed); ``POST /plcs/{n}/enable|disable`` are ``ENABLE PLC n`` /
 ``DISABLE PLC n``. Everything acts at the current simulated instant and never moves the clock.
@@ -46,7 +47,8 @@ async def list_plcs(handle: HandleDep) -> dict[str, Any]:
     plcs = _plcs(handle)
 
     def read() -> dict[str, Any]:
-        return {"i5": plcs.i5(), "plcs": plcs.to_list()}
+        return {"i5": plcs.i5(), "plcs": plcs.to_list(),
+                "compiled_plcs": plcs.to_list(compiled=True)}
 
     return handle.apply(read)
 
@@ -59,7 +61,7 @@ async def get_plc(handle: HandleDep, n: N) -> dict[str, Any]:
 def _compile(text: str) -> PlcProgram:
     """``compile_plc``, and the program's listing worked out (``LIST PLC`` reads it)."""
     program = compile_plc(text)
-    listing.stored_entries(program.lines)
+    listing.stored_entries(program.lines, plc=True)
     return program
 
 

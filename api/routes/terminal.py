@@ -33,7 +33,7 @@ async def post_terminal(body: TerminalIn, handle: HandleDep) -> dict:
         out["error_meaning"] = meaning(reply.error)
         out["not_simulated"] = detail is not None and detail[0] == "not_simulated"
         out["detail"] = detail[1] if detail is not None else None
-    if output:  # Trio program output (channel 0) since the previous command
+    if output:  # Trio channel-0 output / PMAC SEND lines since the previous command
         out["output"] = output
     return out
 

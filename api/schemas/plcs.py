@@ -19,6 +19,9 @@ class PlcPublic(BaseModel):
     last_scan_t: float | None = Field(description="simulated time of the last scan")
     last_scan_statements: int = Field(description="statements executed by the last scan")
     last_send: str | None = Field(description='text of the last SEND"..."')
+    compiled: bool = Field(
+        default=False, description="a compiled PLC (PLCC n, in `compiled_plcs`); its `lines` "
+        "count the source lines downloaded, which the card does not keep (no LIST PLCC)")
 
 
 class PlcDetail(PlcPublic):
@@ -28,6 +31,9 @@ class PlcDetail(PlcPublic):
 class PlcList(BaseModel):
     i5: int = Field(description="I5: 0 none, 1 PLC 0 only (default), 2 PLCs 1-31 only, 3 both")
     plcs: list[PlcPublic] = Field(description="PLCs that hold a program, are enabled or open")
+    compiled_plcs: list[PlcPublic] = Field(
+        default_factory=list,
+        description="compiled PLCs (OPEN PLCC n) that hold a program, are enabled or open")
 
 
 class PlcProgramIn(BaseModel):

@@ -31,8 +31,9 @@ class TerminalOut(BaseModel):
     output: list[str] = Field(
         default_factory=list,
         description="Trio: lines a program printed on channel 0 (the command line) since the "
-        "REST terminal's previous command, oldest first; the key is present only when there "
-        "are some (never for PMAC)",
+        "REST terminal's previous command, oldest first; PMAC: the SEND lines of its PLCs and "
+        "motion programs since then, whatever their port; the key is present only when there "
+        "are some",
     )
 
 

@@ -35,11 +35,14 @@ from motionsim.sim.pmac.card import card_commands, pmac_float, registers
 from motionsim.sim.pmac.card.macro_station import MacroStations
 from motionsim.sim.pmac.card.timers import CountdownTimers
 from motionsim.sim.pmac.card.variables import N_CS, N_MOTORS, Variables, parse_name
+from motionsim.sim.pmac.host.messages import HostMessages
+from motionsim.sim.pmac.host.messages import frame as frame_message
 from motionsim.sim.pmac.host.terminal import Terminal
 from motionsim.sim.pmac.kinematics.engine import Kinematics
 from motionsim.sim.pmac.language import axis_definitions
 from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.lookahead import CoordSystem
+from motionsim.sim.pmac.motor.jog import Profile
 from motionsim.sim.pmac.motor.motor_status import motor_status_words
 from motionsim.sim.pmac.motor.motors import Motor, MotorTable
 from motionsim.sim.pmac.tasks.cpu import CONFIG_KEYS as CPU_CONFIG_KEYS
@@ -144,6 +147,9 @@ class PmacController(Controller):
             )
         self.halted = False  # the watchdog tripped (sim.pmac.watchdog); until reset
         self.plcs = PlcTable(self)
+        #: SEND lines on their way to the host ports (sim.pmac.host.messages).
+        self.messages = HostMessages(self.log.emit, lambda: self.env.now)
+        self._message_cursors: dict[str, int] = {}
         self.background.power_on()
         self.coord_systems = {n: CoordSystem(self, n) for n in range(1, N_CS + 1)}
         self.vars.mvars.registers = registers.for_controller(self)
@@ -205,6 +211,7 @@ class PmacController(Controller):
         t0 = self.env.now
 
         def job() -> None:
+            self.messages.active = port  # the active response port (PSRM p347)
             text, error = self._terminal.execute(command, port)
             reply.detail = self._terminal.detail if error is not None else None
             reply.resolve(text, error, self.env.now)
@@ -213,6 +220,28 @@ class PmacController(Controller):
 
         self.background.submit(job)
         return reply
+
+    def unread_output(self, reader: str) -> list[str]:
+        """The ``SEND`` lines of the card's programs since ``reader`` last asked, whatever
+        port they were sent to (the REST terminal: ``"rest"``; the first call returns the
+        lines kept since power-up, at most ``MAX_LINES``)."""
+        port = self.rest_port if reader == "rest" else None
+        lines, self._message_cursors[reader] = self.messages.since(
+            self._message_cursors.get(reader, 0), port)
+        return lines
+
+    def host_messages(self, port: Port) -> list[tuple[bytes, str]]:
+        """The ``SEND`` lines sent to host port ``port`` not yet delivered to it, framed per
+        I3 and I64 (``(bytes, text)``, oldest first): the Ethernet port queues them."""
+        msgs = self.messages.take_for(port)
+        if not msgs:
+            return []
+        i3, i64 = int(self.vars.I(3)), int(self.vars.I(64))
+        return [(frame_message(m.text, i3, i64), m.text) for m in msgs]
+
+    def send_message(self, source: str, port: str, text: str) -> None:
+        """``SEND{port}"text"`` from a PLC or motion program (sim.pmac.host.messages)."""
+        self.messages.send(source, port, text)
 
     def submit_program_command(self, text: str, cs: int = 1, motor: int = 1) -> None:
         """``CMD"text"`` from a PLC: queued for the background command interpreter.
@@ -611,9 +640,8 @@ class PmacController(Controller):
 
     def _motor_base(self, motor: int, t: float) -> float:
         """Motor ``motor``'s position from its CS axes (counts): the sum of its definition's
-        terms (``#6->-29.1X+100000Y``), or the inverse kinematics for ``#n->I``. The constant
-        offset is reported, not added ``[INF]``: axis positions here start where the motors
-        are, so adding it would move the motor."""
+        terms plus its constant offset (``#3->2000Z-6000``: Z=3 puts the motor at 0, TSRM
+        p268), or the inverse kinematics for ``#n->I``."""
         have = self.motors.get(motor)
         if have is None:
             return 0.0
@@ -622,9 +650,19 @@ class PmacController(Controller):
             return self.kinematics.motor_base(have[0], motor, t)
         terms = d.terms
         if len(terms) == 1:
-            return self.coord_systems[have[0]].positions(t).get(terms[0][0], 0.0) * terms[0][1]
+            return (self.coord_systems[have[0]].positions(t).get(terms[0][0], 0.0)
+                    * terms[0][1] + d.offset)
         pos = self.coord_systems[have[0]].positions(t) if terms else {}
-        return sum(pos.get(a, 0.0) * s for a, s in terms)
+        return sum(pos.get(a, 0.0) * s for a, s in terms) + d.offset
+
+    def axis_offset_changed(self, motor: int, delta: float) -> None:
+        """A new axis definition moved motor ``motor``'s offset by ``delta`` counts: a
+        definition commands no motion, so a motor at rest keeps its position (its jog offset
+        absorbs the change) until ``PMATCH`` starts the axes from the motors ``[INF]``."""
+        m = self.motor_table[motor]
+        if delta and m.command is None:
+            now = self.env.now
+            m.profile = Profile.rest(now, m.profile.position(now) - delta)
 
     def _axis_position(self, cs: int, axis: str, t: float) -> float:
         if axis[0] == "I":  # ``I{n}``: motor n defined #n->I

@@ -150,3 +150,20 @@ def test_a_tripped_card_is_silent_on_its_tcp_port():
     before, after = asyncio.run(main())
     assert before == b"0\r\x06"
     assert after == b""
+
+
+async def test_compiled_plcs_are_listed_beside_the_interpreted_ones(pmac_api):
+    """PUM-V p238, p245: compiled PLCs (OPEN PLCC n) in ``compiled_plcs``, marked compiled;
+    DELETE PLCC takes one out."""
+    for line in ["I5=2", "OPEN PLCC 4 CLEAR", "P4=P4+1", "CLOSE", "OPEN PLC 2 CLEAR", "P2=1",
+                 "CLOSE", "ENABLE PLCC 4"]:
+        r = (await pmac_api.post(f"{BASE}/terminal", json={"command": line})).json()
+        assert r["error"] is None, line
+    await advance(pmac_api, 0.01)
+    body = (await pmac_api.get(f"{BASE}/plcs")).json()
+    assert [(p["plc"], p["compiled"]) for p in body["plcs"]] == [(2, False)]
+    (plcc,) = body["compiled_plcs"]
+    assert (plcc["plc"], plcc["compiled"], plcc["state"], plcc["lines"]) == (4, True, "running", 1)
+    assert plcc["scans"] > 0
+    await pmac_api.post(f"{BASE}/terminal", json={"command": "DELETE PLCC 4"})
+    assert (await pmac_api.get(f"{BASE}/plcs")).json()["compiled_plcs"] == []

@@ -250,3 +250,24 @@ def test_spec_12_own_plcs_with_every_construct_load_without_a_refused_line_and_r
     assert (5, "disabled", True) in states
     jogs = [(e["state"], e["command"]) for e in events if e["type"] == "jog" and e["motor"] == 1]
     assert jogs[:1] == [("start", "J=")]  # the one-shot CMD"#1J=100"
+
+
+def test_tsrm_p470_a_plc_send_line_reaches_the_dls_pmaclib_client_that_enabled_it() -> None:
+    """PSRM p347: the line goes to the active response port — here the dls-pmaclib
+    connection whose ``ENA PLC`` ran last. With I64=0 (no ``<STX>``) the Ethernet
+    GETRESPONSE returns it ahead of the next command's reply, up to that reply's ACK; the
+    REST terminal's ``output`` and the event log carry it too."""
+    pmac_port = free_port()
+    plc = ["I5=2", "I64=0", "OPEN PLC 9 CLEAR", "P9=P9+1", "IF (P9=2)", 'SEND"AXIS 3 HOMED"',
+           "DIS PLC 9", "ENDIF", "CLOSE"]
+    with motionsim_serve("--pmac-port", str(pmac_port), "--trio-port", "0") as svc:
+        http = svc.http + "/controllers/pmac"
+        replies = [r[0] for r in send(pmac_port, [*plc, "ENA PLC 9", "P9", "P9", "P9"])]
+        after = replies[-3:]
+        carrying = [r for r in after if r.startswith("AXIS 3 HOMED\r")]
+        assert len(carrying) == 1 and "".join(after).count("HOMED") == 1
+        assert all(r.removeprefix("AXIS 3 HOMED\r") in ("1\r\x06", "2\r\x06") for r in after)
+        (event,) = _events(http, "plc_send")
+        assert (event["plc"], event["port"], event["text"]) == (9, "host", "AXIS 3 HOMED")
+        r = httpx.post(http + "/terminal", json={"command": "P9"}, timeout=5).json()
+        assert r["output"] == ["AXIS 3 HOMED"]

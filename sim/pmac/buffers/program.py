@@ -38,6 +38,7 @@ OP_DWELL = 5  # (OP_DWELL, expr)
 OP_DELAY = 6  # (OP_DELAY, expr)
 OP_PSET = 7  # (OP_PSET, ((axis, expr), ...))
 OP_FRAX = 8  # (OP_FRAX, axes)
+OP_SEND = 9  # (OP_SEND, port letter, text)
 
 #: Statements that make a line a control-flow line (:attr:`ProgramLine.flow`).
 _MARKS = (st.Label, *FLOW_TYPES)
@@ -141,7 +142,9 @@ def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:
             words += len(s.axes) - 1  # one word per value, like axis words [INF]
         elif isinstance(s, _MARKS):
             flow = tuple(stmts)  # labels and control flow: split by .flow when run
-        # Message: stored, no action.
+        elif isinstance(s, st.Message) and s.kind == "SEND":
+            ops.append((OP_SEND, s.port, s.text))
+        # CMD messages: stored, no action.
     flush()
     simple = None
     if (
@@ -213,6 +216,7 @@ __all__ = [
     "OP_MOVE",
     "OP_FRAX",
     "OP_PSET",
+    "OP_SEND",
     "ProgramLine",
     "compile_line",
     "compile_statements",

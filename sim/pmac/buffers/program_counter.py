@@ -16,8 +16,10 @@ Offsets ``[INF]``:
 * the rotary buffer: the line's position in the buffer's numbering from 0 (the REST ``line``
   minus one); its lines are freed as they run, so there is no listing offset to give.
 
-``PE`` with no move executing reports where ``PC`` points ``[INF]``. A CS that points at no
-program (after ``OPEN PROG``, before the next ``B{n}``) answers ERR003 ``[INF]``.
+``PE`` with no move executing reports where ``PC`` points ``[INF]``. Both follow into a
+``CALL``ed program: ``PE`` names the program whose line the executing move is. A CS that
+points at no program (after ``OPEN PROG``, before the next ``B{n}``) answers ERR003
+``[INF]``.
 """
 
 from __future__ import annotations
@@ -59,6 +61,8 @@ def report(cmd: ProgramCounter, ctl: PmacController, cs_n: int) -> str:
     if program is None:
         raise Conflict(f"CS {cs_n} points at no program (B{{n}} first)", pmac_error="ERR003")
     n = _executing_line(cs) if cmd.executing else None
+    if n is not None and getattr(cs.current, "prog", None) is not None:
+        program = cs.current.prog  # the executing move's program: a CALLed one inside it
     if n is None:
         src = cs.lines()
         where = getattr(src, "where", None)

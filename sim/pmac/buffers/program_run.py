@@ -117,6 +117,9 @@ class ProgramRun:
         self.halted = False  # STOP: R resumes at the next line
         self.failed = False  # a run-time error
         self._block = False  # between BLOCKSTART and BLOCKSTOP
+        #: The program of the line taken last (a CALLed program's number inside it): the
+        #: moves planned from that line carry it, for ``PE``.
+        self.taken_prog = number
 
     # -- where it is ------------------------------------------------------------------------
 
@@ -163,6 +166,7 @@ class ProgramRun:
         n = self._code.instrs[self._pc][1]
         self._pc += 1
         self._jumps = 0
+        self.taken_prog = self._prog
         self.line_calculated(n)
         return n
 
@@ -184,6 +188,7 @@ class ProgramRun:
             kind = ins[0]
             if kind == I_LINE:
                 self._pc = pc + 1
+                self.taken_prog = self._prog
                 line = ins[2]
                 if line.moves:
                     self._jumps = 0

@@ -9,6 +9,8 @@ Forms (spec pmac.md §11.8; the Turbo SRM LIST pages were not found, §11.12):
   calculated, without offsets and without the ``RET`` ``[INF]``;
 * ``LIST FORWARD`` / ``LIST INVERSE`` ``[,start,len]`` — the addressed CS's kinematic
   programs (:mod:`motionsim.sim.pmac.kinematics`), listed as a PROG is;
+* ``LIST PLCC n`` — ERR003: a compiled PLC is machine code on the card, with no text to list
+  ``[INF]`` (the SRM has no LIST PLCC);
 * ``LIST GATHER`` — the gather buffer as 12-hex-digit words (DPC ``gather.py``); gathering
   itself is not simulated, so a defined buffer lists no words.
 
@@ -52,6 +54,11 @@ def parse(p: Any) -> ListBuffer:
     """Read a LIST command after the ``LIST`` word from parser ``p`` (``motionsim.sim.pmac
     .parser._Parser``)."""
     tok = p.take()
+    if tok[0] == "word" and tok[1] == "PLCC":
+        # [INF] the card holds a compiled PLC as machine code from the PC-side compiler, not
+        # its text; the SRM lists no LIST PLCC, so the card does not recognise it (ERR003).
+        raise p.error("LIST PLCC: the card keeps no source text for a compiled PLC "
+                      "(list the source on the PC; LIST PLC lists interpreted PLCs)", tok)
     buffer = _BUFFERS.get(tok[1]) if tok[0] == "word" else None
     if buffer is None:
         raise p.error("LIST what? (PLC, PROG, ROT, FORWARD, INVERSE, GATHER)", tok)
@@ -108,7 +115,9 @@ def run(cmd: ListBuffer, ctl: PmacController, port: Port) -> list[str]:
             raise NotSimulated("LIST PROG: fixed motion programs are not simulated",
                                pmac_error="ERR003")
         source = tuple(lines_of(cmd.number) or ())
-    listed = listing.stored_entries(source) if type(source) is tuple else listing.entries(source)
+    plc = buffer == "PLC"
+    listed = (listing.stored_entries(source, plc=plc) if type(source) is tuple
+              else listing.entries(source, plc=plc))
     out = listing.window(listed, cmd.start, cmd.length) if source else None
     if out is None:
         raise _err(f"{buffer} {cmd.number}: nothing to list there")

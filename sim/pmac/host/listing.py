@@ -55,7 +55,9 @@ Entry = tuple[int, str]
 
 def canonical(source: str) -> str:
     """A program line as the card lists it (``IF (runFlag = 0) ; c`` → ``IF(RUNFLAG=0)``;
-    ``End If`` → ``ENDI``; an ``O`` label as ``N``, TSRM p458)."""
+    ``End If`` → ``ENDI``; an ``O`` label as ``N``, TSRM p458). A one-line ``ELSE`` keeps one
+    blank before its statement (``ELSE X-10``, spec §12.9 ``[INF]``): ``ELSEX-10`` would not
+    read back as an ELSE."""
     out: list[str] = []
     source = _END_BLANK.sub(r"END\1", source)
     for m in _TOKEN.finditer(source):
@@ -63,6 +65,8 @@ def canonical(source: str) -> str:
         text = m.group()
         if kind in ("comment", "blank"):
             continue
+        if out and out[-1] == "ELSE":
+            out.append(" ")
         if kind == "hex":
             out.append(str(int(text[1:], 16)))
         elif kind == "num":
@@ -88,12 +92,24 @@ def words(listed: str) -> int:
     return max(1, values + (1 if listed.startswith("IF") else 0))
 
 
-def entries(source_lines: Iterable[str], end: str | None = "RET") -> list[Entry]:
+def _plc_lines(listed: str) -> list[str]:
+    """A PLC line as the card stores it: a one-line ``ELSE`` is not a PLC form, the card
+    moves its statements to the next program line (PSRM p313), so it lists as two."""
+    if listed.startswith("ELSE "):
+        return ["ELSE", listed[5:]]
+    return [listed]
+
+
+def entries(source_lines: Iterable[str], end: str | None = "RET",
+            plc: bool = False) -> list[Entry]:
     """Listed lines with their word offsets from the lines as entered; ``end`` is appended
-    (the ``RET`` the card adds to PLC and PROG buffers; ``None`` for a rotary buffer)."""
+    (the ``RET`` the card adds to PLC and PROG buffers; ``None`` for a rotary buffer);
+    ``plc``: the lines of a PLC program (a one-line ELSE lists as two lines)."""
     out: list[Entry] = []
     offset = 0
     listed = [canonical(s) for s in source_lines]
+    if plc:
+        listed = [part for text in listed for part in _plc_lines(text)]
     if end is not None:
         listed.append(end)
     for text in listed:
@@ -124,9 +140,10 @@ def _stored(lines: tuple[str, ...], key: str | None, work: Callable[[], list[Any
     return found
 
 
-def stored_entries(lines: tuple[str, ...], end: str | None = "RET") -> list[Entry]:
+def stored_entries(lines: tuple[str, ...], end: str | None = "RET",
+                   plc: bool = False) -> list[Entry]:
     """:func:`entries` of a stored program's ``lines``, worked out once."""
-    return _stored(lines, end, lambda: entries(lines, end))
+    return _stored(lines, f"{end}|plc" if plc else end, lambda: entries(lines, end, plc))
 
 
 def stored_offsets(lines: tuple[str, ...]) -> list[int]:

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from motionsim.sim.errors import Conflict
+from motionsim.sim.pmac.language.axis_definitions import lookup
 
 if TYPE_CHECKING:
     from motionsim.sim.pmac.controller import PmacController
@@ -71,7 +72,10 @@ class Undefine:
         cs = None if self.every_cs else port.state["cs"]
         _refuse_while_running(ctl, cs, "UNDEFINE")
         for n in [n for n, (c, _d) in ctl.motors.items() if cs in (None, c)]:
+            offset = lookup(ctl.motors[n][1]).offset
             del ctl.motors[n]
+            if offset:
+                ctl.axis_offset_changed(n, -offset)  # no motion: the motor stays put
         ctl.log.emit("undefine", cs=cs)
 
 

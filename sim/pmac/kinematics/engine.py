@@ -34,6 +34,7 @@ from typing import TYPE_CHECKING, Any, Final
 from motionsim.sim.pmac.card.variables import isx
 from motionsim.sim.pmac.kinematics.commands import buffer_key
 from motionsim.sim.pmac.kinematics.subroutine import Q_TAG, KinematicFailure, Subroutine
+from motionsim.sim.pmac.language import axis_definitions
 from motionsim.sim.pmac.motor.jog import Profile
 from motionsim.sim.pmac.tasks.scheduler import wake_at
 
@@ -144,7 +145,8 @@ class Kinematics:
             for n in self.motors(cs, inverse_only=False):
                 have = ctl._motor_axis(n)
                 if have is not None and have[1] in AXES_Q and have[2] != 0:
-                    axes[have[1]] = before[n] / have[2]
+                    offset = axis_definitions.lookup(ctl.motors[n][1]).offset
+                    axes[have[1]] = (before[n] - offset) / have[2]
         c.rest_pos = {**c.rest_pos, **axes}
         c.calc_pos = {**c.calc_pos, **axes}
         self._matched.add(cs)

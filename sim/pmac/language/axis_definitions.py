@@ -4,7 +4,9 @@
 
 * ``{scale}`` is counts per user unit, any real number, omitted = 1 (``#1->X``,
   ``#6->-29.1X+100000Y``, ``#9->3333.333Z-666.667``); the motor's position is the sum of its
-  terms plus the offset (counts);
+  terms plus the offset (counts). A definition commands no motion: a motor at rest stays
+  where it is (the offset change goes into its jog offset) until ``PMATCH`` starts the axes
+  from the motors through the equation, offset included (TUM p259) ``[INF]``;
 * up to three axes in one definition, all from one triplet **XYZ** or **UVW**; ``A``, ``B``,
   ``C`` only alone; an axis at most once;
 * ``#{n}->0`` removes the definition; ``#{n}->I`` makes motor n an inverse-kinematic axis
@@ -140,16 +142,20 @@ class AxisDefinition:
             raise InvalidValue(f"no motor {self.motor} (1..{N_MOTORS})", pmac_error="ERR003")
         cs = state["cs"]
         have = ctl.motors.get(self.motor)
+        old = lookup(have[1]).offset if have is not None else 0.0
         if self.definition is None:
             out.append(have[1] if have is not None and have[0] == cs else "0")
-        elif not self.definition.terms and not self.definition.inverse:
-            if have is not None and have[0] == cs:
-                del ctl.motors[self.motor]
+            return
+        if not self.definition.terms and not self.definition.inverse:
+            if have is None or have[0] != cs:
+                return
+            del ctl.motors[self.motor]
         elif have is not None and have[0] != cs:
             raise Conflict(f"motor {self.motor} is defined in coordinate system {have[0]}",
                            pmac_error="ERR003")
         else:
             ctl.motors[self.motor] = (cs, self.definition.report())
+        _offset_changed(ctl, self.motor, self.definition.offset - old)
 
 
 @dataclass(frozen=True, slots=True)
@@ -161,7 +167,15 @@ class Undefine:
     def run_online(self, ctl: Any, state: dict[str, Any], out: list[str]) -> None:
         cs = state["cs"]
         for n in [n for n, (c, _) in ctl.motors.items() if self.all or c == cs]:
+            offset = lookup(ctl.motors[n][1]).offset
             del ctl.motors[n]
+            _offset_changed(ctl, n, -offset)
+
+
+def _offset_changed(ctl: Any, motor: int, delta: float) -> None:
+    changed = getattr(ctl, "axis_offset_changed", None)
+    if changed is not None and delta:
+        changed(motor, delta)
 
 
 @dataclass(frozen=True, slots=True)

@@ -1,11 +1,13 @@
 """Builders of the card-memory and kinematics command words (rows and objects of
-:mod:`.keywords`): ``DEFINE UBUFFER n``, ``DELETE ALL``, ``OPEN FORWARD`` / ``OPEN INVERSE``,
+:mod:`.keywords`): ``DEFINE UBUFFER n``, ``DELETE ALL``, ``DELETE TRACE``,
+``OPEN FORWARD`` / ``OPEN INVERSE``,
 ``UNDEFINE [ALL]``, ``PMATCH``. The statements carry their own on-line action
 (:mod:`motionsim.sim.pmac.card.user_buffer`, :mod:`motionsim.sim.pmac.kinematics.commands`).
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 from motionsim.sim.pmac.card.user_buffer import DefineUbuffer, DeleteAll
@@ -27,6 +29,25 @@ def delete_all(p: Any) -> DeleteAll:
     return DeleteAll()
 
 
+@dataclass(frozen=True, slots=True)
+class DeleteTrace:
+    """``DELETE TRACE``: erase the card's motion-program trace buffer ``[BK]`` (Delta Tau's
+    set-up tool writes it after ``DELETE GATHER`` at the top of a Clipper start-up file;
+    the Turbo page was not retrieved). No trace buffer is simulated, so there is nothing to
+    erase: the command is accepted and changes nothing. An on-line command only."""
+
+    @property
+    def in_program(self) -> bool:
+        return False
+
+    def run_online(self, ctl: Any, state: dict[str, Any], out: list[str]) -> None:
+        return None
+
+
+def delete_trace(p: Any) -> DeleteTrace:
+    return DeleteTrace()
+
+
 def open_kinematic(name: str) -> OpenKinematic:
     return OpenKinematic(inverse=name == "INVERSE")
 
@@ -44,4 +65,5 @@ def pmatch(p: Any, tok: Token) -> Pmatch:
     return Pmatch()
 
 
-__all__ = ["define_ubuffer", "delete_all", "open_kinematic", "pmatch", "undefine"]
+__all__ = ["DeleteTrace", "define_ubuffer", "delete_all", "delete_trace", "open_kinematic",
+           "pmatch", "undefine"]

@@ -88,7 +88,8 @@ TABLE: Final[tuple[Keyword, ...]] = (
         "TCOMP": False, "BLCOMP": False, "UBUFFER": True}, example="DEFINE CCBUF 10"),
     _k("DELETE", "DEL", builds=f"{_P}:delete", where="online", objects={
         "ROTARY": True, "GATHER": True, "LOOKAHEAD": True, "CCBUF": False, "COMP": False,
-        "TCOMP": False, "BLCOMP": False, "PLCC": False, "TEMPS": False, "ALL": True},
+        "TCOMP": False, "BLCOMP": False, "PLCC": True, "TEMPS": False, "TRACE": True,
+        "ALL": True},
        example="DELETE TEMPS"),
     _k("OPEN", builds=f"{_P}:open_", where="online", objects={
         "ROTARY": True, "PROGRAM": True, "PLC": True, "PLCC": True, "FORWARD": True,
@@ -190,7 +191,7 @@ _OBJECT_SPELLINGS: Final[dict[str, tuple[str, ...]]] = {
     "ROTARY": ("ROT",), "GATHER": ("GAT",), "LOOKAHEAD": ("LOOK",), "PROGRAM": ("PROG",),
     "PLC": (), "PLCC": (), "FORWARD": ("FWD",), "INVERSE": ("INV",), "BINARY": (),
     "CCBUF": (), "COMP": (), "TCOMP": (), "BLCOMP": (), "UBUFFER": ("UBUF",), "TEMPS": (),
-    "LDS": (), "LINK": (), "ALL": (),
+    "LDS": (), "LINK": (), "ALL": (), "TRACE": (),
 }  # fmt: skip
 
 #: Every accepted spelling of a command word (blanks removed) -> its row.

@@ -57,6 +57,12 @@ def delete(p: Any, tok: Token) -> Any:
         return st.DeleteRotary()
     if name == "GATHER":
         return st.DeleteGather()
+    if name == "TRACE":
+        return card_words.delete_trace(p)
+    if name == "PLCC":
+        if not p.at("num"):
+            return plc_st.DeletePlcc(tuple(range(plc_st.N_PLCS)))
+        return plc_st.DeletePlcc(p.number_list(0, plc_st.N_PLCS - 1, "PLCC"))
     return st.DeleteLookahead()
 
 

@@ -123,15 +123,16 @@ def build(word: str, text: str, pos: int) -> tuple[object, int]:
 
 def message_word(p: Any, tok: tuple[str, str, int, int]) -> Any:
     """Keyword-table builder for a motion-program line: ``CMD``/``SEND`` with any port letter
-    become a stored message (motion programs store them, they take no action there ``[INF]``);
-    ``CMD^{letter}`` stores the control character."""
+    become a stored message (a ``SEND`` reaches the host when the line is calculated; a
+    ``CMD`` takes no action in a motion program ``[INF]``); ``CMD^{letter}`` stores the
+    control character."""
     from motionsim.sim.pmac.language import statements as st  # statements imports this module
 
     word = tok[1]
     stmt, end = build(word, p.text, tok[3])
     p.skip_to(end)
     kind = "SEND" if word.startswith("SEND") else "CMD"
-    return st.Message(kind, stmt.text)  # type: ignore[attr-defined]
+    return st.Message(kind, stmt.text, stmt.port)  # type: ignore[attr-defined]
 
 
 def address_word(p: Any, tok: tuple[str, str, int, int]) -> Any:

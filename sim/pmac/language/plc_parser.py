@@ -126,9 +126,10 @@ class Cmd:
 
 @dataclass(frozen=True, slots=True)
 class Send:
-    """``SEND"text"``: a message to the host."""
+    """``SEND{port}"text"``: a message to the host."""
 
     text: str
+    port: str = ""
 
 
 @dataclass(frozen=True, slots=True)
@@ -207,6 +208,12 @@ def parse_condition(s: str, offset: int, line: str) -> Cond:
     m = _comparator_at_top(s)
     if m is None:
         if stripped.startswith("(") and stripped.endswith(")"):
+            if _comparator_at_top(stripped[1:-1]) is not None:
+                # TUM p252: parentheses around the simple conditions of a condition are illegal
+                # (IF((P1>-20) AND (P1<20)) is an error); inside expressions they are fine
+                raise _error("no parentheses around a simple condition: write "
+                             "(P1>-20 AND P1<20), not ((P1>-20) AND (P1<20))",
+                             offset + lead + 1, line)
             return parse_condition(stripped[1:-1], offset + lead + 1, line)
         raise _error("expected a comparison (= != > !> < !< ~ !~)", offset + lead + 1, line)
     op = m.group(0)
@@ -263,7 +270,7 @@ def _segment(text: str, start: int, end: int) -> list[Any]:
         elif getattr(stmt, "run_online", None) is not None and getattr(stmt, "in_program", True):
             out.append(stmt)  # a family that runs itself (MSR / MSW...)
         elif isinstance(stmt, st.Message):
-            out.append(Cmd(stmt.text) if stmt.kind == "CMD" else Send(stmt.text))
+            out.append(Cmd(stmt.text) if stmt.kind == "CMD" else Send(stmt.text, stmt.port))
         else:
             raise _error(f"{type(stmt).__name__} is not a PLC statement", col, text)
     return out

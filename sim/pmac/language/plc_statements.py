@@ -10,6 +10,7 @@ are in :mod:`motionsim.sim.pmac.language.plc_parser`.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 
 @dataclass(frozen=True, slots=True)
@@ -41,6 +42,23 @@ class ClearAllPlcs:
     """``CLEAR ALL PLCS``: erase every PLC program buffer (TSRM on-line commands ``[BK]``)."""
 
 
+@dataclass(frozen=True, slots=True)
+class DeletePlcc:
+    """``DELETE PLCC n[,n...|..m]``, or ``DELETE PLCC`` alone for all: erase compiled PLCs
+    (PUM-V p245: they stay until ``DELETE PLCC`` or a new compiled download). An erased PLCC
+    that was enabled stops (its ``plc`` event says ``disabled``) ``[INF]``; an on-line command
+    only, refused inside a PLC (``in_program``)."""
+
+    numbers: tuple[int, ...]
+
+    @property
+    def in_program(self) -> bool:
+        return False
+
+    def run_online(self, ctl: Any, state: dict[str, Any], out: list[str]) -> None:
+        ctl.plcs.delete_compiled(self.numbers)
+
+
 N_PLCS = 32
 
-__all__ = ["N_PLCS", "Clear", "ClearAllPlcs", "EnablePlc", "OpenPlc"]
+__all__ = ["N_PLCS", "Clear", "ClearAllPlcs", "DeletePlcc", "EnablePlc", "OpenPlc"]

@@ -285,10 +285,13 @@ class Label:
 
 @dataclass(frozen=True, slots=True)
 class Message:
-    """``SEND"..."`` / ``CMD"..."``: stored and ignored by this simulator."""
+    """``SEND{port}"..."`` / ``CMD{port}"..."`` in a motion program: a ``SEND`` line goes to
+    the host when the line is calculated (sim.pmac.host.messages); a ``CMD`` is stored and
+    takes no action there."""
 
     kind: str
     text: str
+    port: str = ""
 
 
 OnlineStatement = (

@@ -69,6 +69,9 @@ class CoordSystem(Planning, Execution, TimeBase):
         self.blocked = False
         self.quitting = False
         self.single_step = False
+        #: With Isx53 = 1 a step (``S``) executes one program line: the lines it may still
+        #: take (TSRM p182); None otherwise.
+        self.step_lines: int | None = None
         self._plan_due: float | None = None
         self._plan_wake: Wake | None = None  # the last planning wake-up (re-used, wake_at)
         #: The pending execution wake-up (handoff, decision, stop); cancelled by emptying its
@@ -223,6 +226,7 @@ class CoordSystem(Planning, Execution, TimeBase):
             self._held = False
             self._slew_to(self.commanded_override, 95)  # R after H ramps back at Isx95
         self.single_step = single_step
+        self.step_lines = 1 if single_step and self.vars.I(isx(self.cs, 53)) == 1 else None
         self.quitting = False
         self.error = None
         # Isx92 (move blend disable) is read only at R / S (TSRM p190).

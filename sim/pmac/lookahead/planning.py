@@ -54,10 +54,11 @@ from motionsim.sim.pmac.buffers.program import (
     OP_MODE,
     OP_MOVE,
     OP_PSET,
+    OP_SEND,
     ProgramLine,
 )
 from motionsim.sim.pmac.card.variables import isx
-from motionsim.sim.pmac.lookahead.states import RUNNING, WAITING
+from motionsim.sim.pmac.lookahead.states import RUNNING, STOPPED, WAITING
 from motionsim.sim.pmac.modes import (
     LINEAR,
     PROFILES,
@@ -156,16 +157,22 @@ class Planning:
         if rot is not None:
             self._seen_n = rot.n_loaded
             pending = rot.pending
+            tag = getattr(rot, "taken_prog", None) is not None  # a fixed program: moves say
+            # which program (a CALLed one) their line is in, for PE
             # (_short_of_horizon is False unless the special lookahead is active: _la_s > 0)
+            lines_left = self.step_lines if stepping else None
             while (
                 pending
                 and (
-                    len(planned) < target
+                    (len(planned) < target if lines_left is None else lines_left > 0)
                     or (self._la_s > 0 and self._short_of_horizon())
                     or (stepping and rot.in_block)  # S runs on to BLOCKSTOP (TSRM p182)
                 )
                 and not self.blocked
             ):
+                if lines_left is not None:  # Isx53 = 1: a step executes one line
+                    lines_left -= 1
+                    self.step_lines = lines_left
                 line = pending[0][1]
                 simple = line.simple
                 fast = self._fast
@@ -179,6 +186,8 @@ class Planning:
                     if self.sync_pending:
                         move.sync = self.sync_pending
                         self.sync_pending = []
+                    if tag:
+                        move.prog = rot.taken_prog
                     planned.append(move)
                 elif simple is not None and fast == _FAST_LINEAR and self._ver == vars_.version:
                     n = rot.take_simple()
@@ -194,21 +203,30 @@ class Planning:
                     if self.sync_pending:
                         move.sync = self.sync_pending
                         self.sync_pending = []
+                    if tag:
+                        move.prog = rot.taken_prog
                     planned.append(move)
                 else:
                     taken = rot.take()
                     if taken is None:
                         break  # control flow ends this pass (rot.interrupt says why)
                     n, line = taken
+                    before = len(planned)
                     try:
                         self._calculate(n, line)
                     except RunTimeError:
                         rot.line_calculated(n)
                         self.abort("run_time_error")
                         return
+                    if tag:
+                        for k in range(1, len(planned) - before + 1):
+                            planned[-k].prog = rot.taken_prog
                     self._fast = self._fast_kind()
                     rot.line_calculated(n)
             if rot.interrupt is not None and self._flow_interrupt(rot):
+                return
+            if lines_left == 0 and self.current is None and not planned:
+                self._step_done()  # the stepped line held no move: the step ends here
                 return
             if planned and self.current is not None and self._isx13 > 0:
                 self._successor_planned()  # (a longer blend ramp is decided earlier)
@@ -231,6 +249,13 @@ class Planning:
                     self._start_next()
             elif self.state == RUNNING:
                 self._ran_out()
+
+    def _step_done(self) -> None:
+        """A step (Isx53 = 1) whose one line calculated no move: the program stops there,
+        ready for the next ``S`` or ``R`` ``[INF]``."""
+        self.single_step = False
+        self.step_lines = None
+        self._set_state(STOPPED)
 
     def _flow_interrupt(self, rot: Any) -> bool:
         """A fixed program's control flow ended the pass (:mod:`..buffers.programs`): a
@@ -339,6 +364,10 @@ class Planning:
                 self.blocked = True
             elif code == OP_FRAX:
                 self.frax = op[1]
+            elif code == OP_SEND:  # when the line is calculated, ahead of its move's run
+                self.ctl.log.emit("program_send", cs=cs, line=n, port=op[1] or "host",
+                                  text=op[2])
+                self.ctl.send_message(f"cs{cs}", op[1], op[2])
             elif code == OP_PSET:
                 self._spline_close()
                 self._lin_w = None  # the move after PSET starts from rest (no corner)

@@ -36,7 +36,7 @@ class Move:
 
     __slots__ = (
         "n", "kind", "tm", "ta", "start", "end", "sync", "prev", "_v",
-        "b_start", "b_end", "ta_in", "ta_out", "stopping", "ta_stop",
+        "b_start", "b_end", "ta_in", "ta_out", "stopping", "ta_stop", "prog",
     )  # fmt: skip
 
     def __init__(
@@ -64,6 +64,9 @@ class Move:
         #: The shortest decel to a stop from this move's speed that Ixx17 allows (program
         #: seconds; 0 = no limit), :mod:`.accel_limit`.
         self.ta_stop = 0.0
+        #: The fixed program whose line this move is (a CALLed one too), for ``PE``; None
+        #: for the rotary buffer.
+        self.prog: int | None = None
 
     @property
     def v(self) -> dict[str, float]:

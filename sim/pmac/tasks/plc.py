@@ -25,7 +25,8 @@ What is modelled (seed 003; TUM p237, p253, p376; TSRM p39, p381, p422-424; spec
 * ``CMD"..."`` queues the text for the background command interpreter: it is executed as a
   host command line on a port of its own whose ``&n``/``#n`` addressing is not modal (every
   command starts at motor 1, CS 1, TSRM p422); it is not interpreted before the scan ends.
-  ``SEND"..."`` sends a line to the host: it is recorded as the PLC's ``last_send``.
+  ``SEND"..."`` sends a line to the host: it is recorded as the PLC's ``last_send`` and
+  queued for the host port (:mod:`motionsim.sim.pmac.host.messages`).
 * ``DISABLE PLC n`` inside PLC ``n`` lets the current scan run to its end (a scan is not
   interrupted by other background work, seed 003); the next scan of ``n`` starts at the top
   once it is enabled again ``[INF]``.
@@ -162,9 +163,7 @@ class _Builder:
             ops[pc][2] = len(ops)
         elif t is pp.Cmd or t is idioms.Command:
             ops.append([OP_CMD, s.text])
-        elif t is pp.Send:
-            ops.append([OP_SEND, s.text, ""])
-        elif t is idioms.SendText:
+        elif t is pp.Send or t is idioms.SendText:
             ops.append([OP_SEND, s.text, s.port])
         elif t is idioms.Address:
             ops.append([OP_ADDRESS, s.kind, s.n])
@@ -384,6 +383,22 @@ class PlcTable:
             plc.program = None
             plc.pc = 0
 
+    def delete_compiled(self, numbers: Iterable[int]) -> None:
+        """``DELETE PLCC``: compiled PLCs ``numbers`` erased; an enabled one stops first.
+
+        Raises:
+            Conflict: one of them is open for entry (ERR007) ``[INF]``; nothing changed.
+        """
+        numbers = tuple(numbers)
+        if self._edit is not None and self._edit_table is self.compiled \
+                and self._edit[1] in numbers:
+            raise Conflict(f"PLCC {self._edit[1]} is open for entry", pmac_error="ERR007")
+        self.set_enabled(numbers, False, compiled=True)
+        for n in numbers:
+            plcc = self.compiled[n]
+            plcc.program = None
+            plcc.pc = 0
+
     def plc(self, n: int) -> Plc:
         if isinstance(n, bool) or not isinstance(n, int) or not 0 <= n < plc_st.N_PLCS:
             raise NotFound(f"no PLC {n!r} (0..{plc_st.N_PLCS - 1})")
@@ -514,11 +529,14 @@ class PlcTable:
         return count
 
     def _send(self, plc: Plc, text: str, port: str) -> None:
-        """``SEND{port}"text"``: the PLC's ``last_send``, a ``plc_send`` event and the
-        controller's host output (:meth:`PmacController.host_output`)."""
+        """``SEND{port}"text"``: the PLC's ``last_send``, a ``plc_send`` event and the line
+        queued for the host port (:meth:`PmacController.send_message`)."""
         plc.last_send = text
         self.sent.append((plc.n, port, text))
-        self.ctl.log.emit("plc_send", plc=plc.n, port=port or "host", text=text)
+        compiled = self.compiled[plc.n] is plc
+        extra = {"compiled": True} if compiled else {}
+        self.ctl.log.emit("plc_send", plc=plc.n, port=port or "host", text=text, **extra)
+        self.ctl.send_message(f"plcc{plc.n}" if compiled else f"plc{plc.n}", port, text)
 
     def _item(self, p: Plc, i5: int, editing: int | None) -> dict[str, Any]:
         """``p``'s API shape: its state as I5, entry and the watchdog make it."""
@@ -527,19 +545,29 @@ class PlcTable:
             item["state"] = "stopped"  # the watchdog tripped: nothing runs
         return item
 
-    def to_list(self) -> list[dict[str, Any]]:
+    def _editing_in(self, table: list[Plc]) -> int | None:
+        return self.editing() if self._edit_table is table else None
+
+    def to_list(self, compiled: bool = False) -> list[dict[str, Any]]:
+        """The PLCs holding a program, enabled or open (``compiled``: the PLCCs, each marked
+        ``"compiled": True``)."""
         i5 = self.i5()
-        editing = self.editing()
-        return [
+        table = self.compiled if compiled else self.plcs
+        editing = self._editing_in(table)
+        out = [
             self._item(p, i5, editing)
-            for p in self.plcs
+            for p in table
             if p.program is not None or p.enabled or editing == p.n
         ]
+        if compiled:
+            for item in out:
+                item["compiled"] = True
+        return out
 
     def describe(self, n: int) -> dict[str, Any]:
         """PLC ``n`` in the API's detail shape, with its program lines. Raises NotFound."""
         plc = self.plc(n)
-        out = self._item(plc, self.i5(), self.editing())
+        out = self._item(plc, self.i5(), self._editing_in(self.plcs))
         out["program"] = list(plc.program.lines) if plc.program is not None else []
         return out
 

@@ -114,3 +114,48 @@ def test_pum_v_p245_saved_plccs_come_back_after_a_reset_and_unsaved_ones_do_not(
     rig.run_for(rig.period * 10)
     assert rig.c.plcs.compiled[1].program is not None and rig.c.plcs.compiled[2].program is None
     assert [f["name"] for _, _, f in rig.events("mvar")][-1] == "M1"
+
+
+def test_pum_v_p245_delete_plcc_erases_that_compiled_plc_and_stops_it(rig):
+    rig.ok("I5=2")
+    enter(rig, "M1=M1+1", n=3)
+    enter(rig, "M2=M2+1", n=5)
+    rig.ok("ENABLE PLCC 3,5")
+    rig.run_for(rig.period * 6)
+    rig.ok("DELETE PLCC 3")
+    k_deleted = rig.cyc(rig.c.env.now)
+    rig.run_for(rig.period * 6)
+    assert max(cycles_of(rig, "M1")) < k_deleted < max(cycles_of(rig, "M2"))
+    (k, _, f), = [e for e in rig.events("plc") if e[2]["state"] == "disabled"]
+    assert f == {"plc": 3, "state": "disabled", "compiled": True}
+    assert rig.c.plcs.compiled[3].program is None
+    rig.ok("ENABLE PLCC 3")  # nothing left to run: no event
+    assert len(rig.events("plc")) == 3
+    assert [p["plc"] for p in rig.c.plcs.to_list(compiled=True)] == [5]
+
+
+def test_pum_v_p245_delete_plcc_alone_erases_every_compiled_plc(rig):
+    enter(rig, "M1=M1+1", n=0)
+    enter(rig, "M2=M2+1", n=31)
+    enter(rig, "M3=M3+1", n=2, compiled=False)
+    rig.ok("DEL PLCC")
+    assert rig.c.plcs.to_list(compiled=True) == []
+    assert [p["plc"] for p in rig.c.plcs.to_list()] == [2]  # interpreted PLCs stay
+
+
+def test_delete_plcc_while_another_port_has_it_open_is_err007_and_keeps_it(rig):
+    enter(rig, "M1=M1+1", n=3)
+    other = rig.c.open_port("tcp")
+    rig.ok("OPEN PLCC 3", other)
+    reply = rig.cmd("DELETE PLCC 3")
+    assert reply.error == "ERR007"
+    rig.ok("CLOSE", other)
+    assert rig.c.plcs.compiled[3].program is not None
+
+
+def test_list_plcc_is_err003_naming_that_the_card_keeps_no_source(rig):
+    enter(rig, "M1=M1+1", n=3)
+    reply = rig.cmd("LIST PLCC 3")
+    assert reply.error == "ERR003"
+    assert "no source" in reply.detail[1] and "column 6" in reply.detail[1]
+

@@ -125,3 +125,20 @@ def test_pc_polled_and_list_prog_read_in_windows_decompile_a_large_program_once(
     every = [f"{off}:{text}" for off, text in entries(lines)]
     assert windows == [[e for e in every if start <= int(e.split(":")[0]) < start + 40]
                        for start in (0, 40, 80)]
+
+
+def test_pe_follows_the_executing_move_into_a_called_program(rig):
+    """TSRM p416 CALL: the moves of PROG 7 run inside PROG 3; while one of them executes
+    ``PE`` names PROG 7 and that line's offset, and after the RETURN PROG 3 again."""
+    load(rig, 7, ["X15", "X16"])  # offsets 0, 1 (RET 2)
+    load(rig, 3, ["TM200", "X10", "CALL7", "X30"])  # offsets 0, 1, 2, 3
+    rig.ok("&1 B3 R")
+    seen: list[tuple[int, str]] = []
+    done = 0
+    while done < 4:
+        rig.c.env.step()
+        starts = rig.events("move_start")
+        if len(starts) > done:
+            done = len(starts)
+            seen.append((starts[-1][2]["n"], rig.ok("&1PE")))
+    assert seen == [(2, "P3:1"), (1, "P7:0"), (2, "P7:1"), (4, "P3:3")]
