@@ -44,9 +44,13 @@ OP_SEND = 9  # (OP_SEND, port letter, text)
 _MARKS = (st.Label, *FLOW_TYPES)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(eq=True, unsafe_hash=True, slots=True)
 class ProgramLine:
-    """One line of a motion program, parsed and compiled once."""
+    """One line of a motion program, parsed and compiled once.
+
+    Immutable once built (lines are cached by text and shared); not a frozen dataclass, for
+    the reason :class:`~motionsim.sim.pmac.language.expressions.Expr` is not (one per streamed
+    line). Equality and hash are the frozen class's."""
 
     text: str
     words: int
@@ -68,19 +72,13 @@ class ProgramLine:
         simple_pvt: tuple[tuple[str, float, float], ...] | None = None,
         flow: tuple[Any, ...] | None = None,
     ) -> None:
-        # One per streamed line: the slots' own setters, not the generated frozen
-        # ``__init__``'s ``object.__setattr__`` per field (same object, still frozen).
-        _set_text(self, text)
-        _set_words(self, words)
-        _set_ops(self, ops)
-        _set_moves(self, moves)
-        _set_simple(self, simple)
-        _set_simple_pvt(self, simple_pvt)
-        _set_flow(self, flow)
-
-
-_set_text, _set_words, _set_ops, _set_moves, _set_simple, _set_simple_pvt, _set_flow = (
-    getattr(ProgramLine, name).__set__ for name in ProgramLine.__slots__)
+        self.text = text
+        self.words = words
+        self.ops = ops
+        self.moves = moves
+        self.simple = simple
+        self.simple_pvt = simple_pvt
+        self.flow = flow
 
 
 def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:

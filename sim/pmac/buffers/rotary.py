@@ -215,18 +215,16 @@ class RotaryBuffer:
         self.calculated.append((item[0], item[1].words))
         return item
 
-    def take_simple(self) -> int:
-        """Take the next line when its calculation emits nothing (a plain move line) and
-        return its number: the ``line_calculated`` event and the I16 rule follow at once."""
-        pending = self.pending
-        n, line = pending.popleft()
-        self.calculated.append((n, line.words))
-        self.line_calculated(n)
-        return n
-
-    def line_calculated(self, n: int) -> None:
+    def line_calculated(self, n: int | None = None) -> int:
         """Planning has worked through line ``n``: the I16 rule, written here only (seed 000,
-        TSRM p286): fewer than I16 lines ahead clears the full bit and raises BREQ."""
+        TSRM p286): fewer than I16 lines ahead clears the full bit and raises BREQ.
+
+        Without ``n`` (as :meth:`take_simple`): the next line is taken here first, one whose
+        calculation emits nothing (a plain move line), so the event and the rule follow at
+        once. Returns the line's number."""
+        if n is None:
+            n, line = self.pending.popleft()
+            self.calculated.append((n, line.words))
         self._emit("line_calculated", cs=self.cs, n=n)
         if self._ver != self._vars.version:
             self._limits()
@@ -234,6 +232,12 @@ class RotaryBuffer:
             self.full = False
             if not self.breq:
                 self._set(True)
+        return n
+
+    #: Take the next line when its calculation emits nothing (a plain move line) and return
+    #: its number, the ``line_calculated`` event and the I16 rule following at once (one call
+    #: on the streaming path).
+    take_simple = line_calculated
 
     def free_calculated(self) -> None:
         """Release every calculated line (motion stopped, or lookahead discarded by ``A``)."""

@@ -138,29 +138,27 @@ FUNCTIONS: dict[str, Callable[[Any, float], float]] = {
 }
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(eq=True, unsafe_hash=True, slots=True)
 class Expr:
-    """A compiled expression: ``text`` as written, ``const`` when it has no variables."""
+    """A compiled expression: ``text`` as written, ``const`` when it has no variables.
+
+    Immutable once built (compiled lines are cached and shared), but not a frozen dataclass:
+    every streamed word builds one, and a frozen class's fields can only be set through
+    ``object.__setattr__`` or the slot descriptors, which cost a third of a streamed line's
+    parse; plain slot stores in ``__init__`` do not. Equality and hash are the frozen
+    class's (``text`` and ``const``)."""
 
     text: str
     fn: Fn = field(compare=False, repr=False)
     const: float | None = None
 
     def __init__(self, text: str, fn: Fn, const: float | None = None) -> None:
-        # Every streamed word builds one: the slots' own setters instead of the generated
-        # frozen ``__init__``'s ``object.__setattr__`` per field (a third cheaper; the object
-        # is the same and stays frozen).
-        _set_text(self, text)
-        _set_fn(self, fn)
-        _set_const(self, const)
+        self.text = text
+        self.fn = fn
+        self.const = const
 
     def __call__(self, vars_: Any, cs: int) -> float:
         return self.const if self.const is not None else self.fn(vars_, cs)
-
-
-_set_text = Expr.text.__set__  # type: ignore[attr-defined]
-_set_fn = Expr.fn.__set__  # type: ignore[attr-defined]
-_set_const = Expr.const.__set__  # type: ignore[attr-defined]
 
 
 def constant(value: float, text: str | None = None) -> Expr:

@@ -18,7 +18,8 @@ words, longer expressions, comments, hex constants, PVT ``:v``, errors...) retur
 takes the general parser, which alone reports errors: the fast path never raises. Tokens agree
 with the general tokenizer because every word accepted here is the longest word of the general
 word list at its position (a single letter followed by a number, sign or space cannot begin a
-longer word). The equivalence is pinned by a property test
+longer word, and a mode word is refused where the lexer would read a longer word, see
+``_whole``). The equivalence is pinned by a property test
 (``tests/sim/pmac/test_fast_line_properties.py``).
 """
 
@@ -37,13 +38,33 @@ from motionsim.sim.pmac.buffers.program import (
     ProgramLine,
 )
 from motionsim.sim.pmac.language import expressions as ex
+from motionsim.sim.pmac.language.parser import _WORDS as _LEXER_WORDS  # the general lexer's
+
+
+def _whole(*words: str) -> str:
+    """``words`` as an alternation, each only where the general lexer reads it whole: not
+    followed by what would make it one of the lexer's longer words (``LIN`` not in ``LINK1``,
+    which the lexer reads as the word ``LINK``). Derived from the lexer's own word list."""
+    alts = []
+    for w in words:
+        longer = {g.upper()[len(w):] for g in _LEXER_WORDS if g.upper().startswith(w)} - {""}
+        rests = [r"\s*".join(map(re.escape, r.split(" "))) for r in sorted(longer, key=len)]
+        alts.append(w + (f"(?!{'|'.join(reversed(rests))})" if rests else ""))
+    return "|".join(alts)
+
 
 # Same number syntax as the general tokenizer (decimal only; ``$hex`` takes the general path).
 _NUM = r"\d*\.\d+|\d+(?:\.(?!\.)\d*)?"
+#: A valued word is followed by a number (after blanks and a sign), which no longer word of the
+#: lexer continues a single letter with: checked here, so the letters stay one character class.
+_LETTERS = "XYZABCUVWIJKRF"
+if any(len(g) > 1 and g[0].upper() in _LETTERS and g[1] in " -.0123456789" for g in _LEXER_WORDS):
+    raise RuntimeError("fast_line: a lexer word continues an axis letter with a number or blank")
 _ITEM = (
-    r"\s*(?:(DWELL|DWE|DELAY|DLY|TA|TS|TM|[XYZABCUVWIJKRF])\s*(-?)\s*(" + _NUM + r")"
-    r"|(LINEAR|LIN|RAPID|RPD|INC|ABS)(?!\s*\()"
-    r"|(?:CIRCLE|CIR)\s*([12])(?![\d.])"
+    r"\s*(?:(" + _whole("DWELL", "DWE", "DELAY", "DLY", "TA", "TS", "TM") + "|[" + _LETTERS
+    + r"])\s*(-?)\s*(" + _NUM + r")"
+    r"|(" + _whole("LINEAR", "LIN", "RAPID", "RPD", "INC", "ABS") + r")(?!\s*\()"
+    r"|(?:" + _whole("CIRCLE", "CIR") + r")\s*([12])(?![\d.])"
     r"|(\S))"  # anything else: the line takes the general path
 )
 #: One pass over the line: every non-blank character is either in a plain item or is caught by

@@ -82,8 +82,9 @@ class CoordSystem(Planning, Execution, TimeBase):
         self._stop_end_cb = self._stop_end
         self._decide_cb = self._decide
         self._abort: AbortStop | None = None  # the A deceleration under way
+        self._isx13 = 0.0
         # Modal program state.
-        self.mode = "LINEAR"
+        self.mode = "LINEAR"  # (sets the lookahead depth, Planning._depths)
         self.time_mode = False
         self.incremental: set[str] = set()
         self.frax: tuple[str, ...] = ("X", "Y", "Z")  # FRAX (axis_definitions)
@@ -101,7 +102,6 @@ class CoordSystem(Planning, Execution, TimeBase):
         #: The open SPLINE1 / SPLINE2 series: its last point waits for the next one.
         self.spline: spline.Series | None = None
         self._ver = -1
-        self._isx13 = 0.0
         self._ta_s = 0.0
         self._ta_prog = 0.0
         self._ts_prog = 0.0  # TS (Isx88) in whole ms, program seconds
@@ -178,6 +178,7 @@ class CoordSystem(Planning, Execution, TimeBase):
         self._ver = v.version
         self._fast = 0  # the short cut is re-derived from these settings at the next line
         self._isx13 = v.I(isx(cs, 13))
+        self._depth_at = self._depths()
         la, isx20 = self._lookahead, int(v.I(isx(cs, 20)))
         segs = min(isx20, la.segments) if la is not None else 0
         self._la_s = segs * self._isx13 / 1000.0 if self._isx13 > 0 and segs > 0 else 0.0

@@ -100,18 +100,32 @@ class Planning:
             return
         if self._ver != self.vars.version:
             self._refresh()
-        if len(self.planned) < self._depth() or (self._la_s > 0 and self._short_of_horizon()):
+        if len(self.planned) < self._depth_at[self.current is None] or (
+            self._la_s > 0 and self._short_of_horizon()
+        ):
             self._request_plan()
             if self.current is None and not self.planned:
                 self._arm_i11()  # (also at I11 = 0: a delay armed under an earlier I11 goes)
 
-    def _depth(self) -> int:
+    @property
+    def mode(self) -> str:
+        """The move mode (LINEAR, CIRCLE1, PVT, SPLINE1, ...) of the lines calculated next."""
+        return self._mode
+
+    @mode.setter
+    def mode(self, mode: str) -> None:
+        self._mode = mode
+        self._depth_at = self._depths()
+
+    def _depths(self) -> tuple[int, int]:
         """How many moves calculation keeps ready (TUM p339, spec §4.2): 2 beyond the
         executing one with Isx13 = 0 for LINEAR, and CIRCLE, which then runs as LINEAR
-        (TSRM p177), and SPLINE; else 1; one more from rest, where no move executes yet."""
-        mode = self.mode
+        (TSRM p177), and SPLINE; else 1; one more from rest, where no move executes yet.
+        Returns (with a move executing, from rest), kept as ``_depth_at`` — indexed by
+        ``current is None`` — and re-derived whenever the mode or Isx13 changes."""
+        mode = self._mode
         depth = 2 if (self._isx13 == 0 and mode in _TWO_AHEAD) or mode in _SPLINES else 1
-        return depth + 1 if self.current is None else depth
+        return depth, depth + 1
 
     def _short_of_horizon(self) -> bool:
         """The special lookahead is active (Isx13 > 0, ``DEFINE LOOKAHEAD``, Isx20 > 0) and
@@ -153,7 +167,11 @@ class Planning:
             self._refresh()
         stepping = self.single_step
         # a step calculates one move; otherwise the depth
-        target = (0 if self.current is not None or planned else 1) if stepping else self._depth()
+        target = (
+            (0 if self.current is not None or planned else 1)
+            if stepping
+            else self._depth_at[self.current is None]
+        )
         if rot is not None:
             self._seen_n = rot.n_loaded
             pending = rot.pending

@@ -85,6 +85,7 @@ def _check_same(text: str) -> None:
 @example("CIRCLE1 X1 Y2 I-1 J.5 K0 R3")
 @example("")
 @example("  x 1 - 2 ")
+@example("LIN X1 LINK2")  # the lexer reads LINK (LIST LINK's object word), not LIN K2
 def test_plain_line_compiles_exactly_as_the_general_parser(text):
     _check_same(text)
 
