@@ -149,6 +149,10 @@ def limited_protocol(limits: HttpLimits) -> type[HttpToolsProtocol]:
         def _refuse(self, status: int, code: str, message: str, limit: float) -> None:
             self._refused = True
             self._cancel_header_timer()
+            # no longer open from here on: while it closes it must not count towards the
+            # cap (uvicorn's ``limit_concurrency`` would answer an admitted client's next
+            # request 503 during a flood of refused connections)
+            self.connections.discard(self)
             if not self.transport.is_closing():
                 self.transport.write(_error_response(status, code, message, limit))
                 self.transport.close()

@@ -148,3 +148,45 @@ def test_an_over_limit_body_with_content_length_gets_a_readable_413(served, size
     assert answer["code"] == "body_too_large" and answer["limit"] == 4096
     assert str(len(body)) in answer["message"] and "max_body_bytes" in answer["message"]
     assert _health(served) == 200
+
+
+def test_connections_refused_over_the_cap_never_refuse_an_admitted_clients_requests():
+    """Issue 23 item 4's rule on the HTTP port: a flood of connections over the cap is refused
+    at the door; a client already connected (the real host, on its keep-alive connection)
+    keeps being served — a refused connection no longer counts as open while it closes."""
+    import threading
+
+    settings = Settings(port=0, clock={"mode": "virtual"}, pmac_port=0, trio_port=0,
+                        controllers=[], http_max_connections=3, http_header_timeout_s=30.0)
+    with EmbeddedService(settings) as service:
+        host = http.client.HTTPConnection("127.0.0.1", service.port, timeout=5)
+        host.request("GET", "/health")
+        assert host.getresponse().read() and True
+        stuck = [_connect(service) for _ in range(2)]  # the cap is now full
+        for s in stuck:
+            s.sendall(b"GET /health HTTP/1.1\r\nHost: x\r\n")
+        stop = threading.Event()
+
+        def flood() -> None:
+            while not stop.is_set():
+                with socket.create_connection(("127.0.0.1", service.port), timeout=5) as s:
+                    s.recv(1024)
+
+        floods = [threading.Thread(target=flood) for _ in range(4)]
+        for t in floods:
+            t.start()
+        statuses = []
+        try:
+            for _ in range(200):
+                host.request("GET", "/health")
+                r = host.getresponse()
+                r.read()
+                statuses.append(r.status)
+        finally:
+            stop.set()
+            for t in floods:
+                t.join()
+            for s in stuck:
+                s.close()
+            host.close()
+    assert set(statuses) == {200}, statuses.count(503)
