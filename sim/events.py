@@ -54,6 +54,8 @@ EVENT_FIELDS: dict[str, tuple[str, ...]] = {
     "terminal_reply": ("command", "reply", "error"),
     "plc": ("plc", "state"),  # PMAC: ``compiled: True`` too for a PLCC
     "plc_send": ("plc", "port", "text"),  # PMAC: a PLC's SEND"..." line (port S/P/R/A/host)
+    "program_send": ("cs", "line", "port", "text"),  # PMAC: a motion program's SEND"..." line
+    "host_message_dropped": ("source", "port", "text", "dropped"),  # PMAC: a SEND line lost
     "timer": ("var", "value"),  # PMAC: an Isx11/Isx12 countdown timer was written (cycles)
     "rti_overrun": ("over_s",),
     "watchdog": ("reason",),

@@ -135,3 +135,22 @@ def test_pum_v_p238_a_compiled_plcs_send_is_marked_compiled(rig):
     (_, _, f), = rig.events("plc_send")
     assert f == {"plc": 4, "port": "host", "text": "FROM PLCC", "compiled": True}
     assert [t for _, t in rig.c.host_messages(port)] == ["FROM PLCC"]
+
+
+def test_every_event_type_the_simulator_emits_can_be_asked_for_before_it_happens():
+    """A host subscribes to ``program_send`` / ``host_message_dropped`` before any SEND ran:
+    each type any controller emits is a known type of its kind (API.md's event table), not
+    a 422 / 4422 until the first one is logged. Read from the sources' ``emit("...")`` calls."""
+    import re
+    from pathlib import Path
+
+    from motionsim.sim.pmac.controller import PmacController
+    from motionsim.sim.trio.controller import TrioController
+
+    root = Path(__file__).resolve().parents[3]
+    emitted = {m for package in ("sim", "app", "api") for path in (root / package).rglob("*.py")
+               for m in re.findall(r'emit\(\s*"([a-z_]+)"', path.read_text())}
+    known = set(PmacController("k").known_event_types()) | set(
+        TrioController("t").known_event_types())
+    assert {"program_send", "host_message_dropped"} <= emitted
+    assert emitted - known == set()
