@@ -42,7 +42,6 @@ from motionsim.sim.pmac.kinematics.engine import Kinematics
 from motionsim.sim.pmac.language import axis_definitions
 from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.lookahead import CoordSystem
-from motionsim.sim.pmac.motor.jog import Profile
 from motionsim.sim.pmac.motor.motor_status import motor_status_words
 from motionsim.sim.pmac.motor.motors import Motor, MotorTable
 from motionsim.sim.pmac.tasks.cpu import CONFIG_KEYS as CPU_CONFIG_KEYS
@@ -659,10 +658,7 @@ class PmacController(Controller):
         """A new axis definition moved motor ``motor``'s offset by ``delta`` counts: a
         definition commands no motion, so a motor at rest keeps its position (its jog offset
         absorbs the change) until ``PMATCH`` starts the axes from the motors ``[INF]``."""
-        m = self.motor_table[motor]
-        if delta and m.command is None:
-            now = self.env.now
-            m.profile = Profile.rest(now, m.profile.position(now) - delta)
+        self.motor_table[motor].offset_moved(delta)
 
     def _axis_position(self, cs: int, axis: str, t: float) -> float:
         if axis[0] == "I":  # ``I{n}``: motor n defined #n->I

@@ -74,8 +74,7 @@ class Undefine:
         for n in [n for n, (c, _d) in ctl.motors.items() if cs in (None, c)]:
             offset = lookup(ctl.motors[n][1]).offset
             del ctl.motors[n]
-            if offset:
-                ctl.axis_offset_changed(n, -offset)  # no motion: the motor stays put
+            ctl.axis_offset_changed(n, -offset)  # no motion: the motor stays put
         ctl.log.emit("undefine", cs=cs)
 
 

@@ -155,27 +155,7 @@ class AxisDefinition:
                            pmac_error="ERR003")
         else:
             ctl.motors[self.motor] = (cs, self.definition.report())
-        _offset_changed(ctl, self.motor, self.definition.offset - old)
-
-
-@dataclass(frozen=True, slots=True)
-class Undefine:
-    """``UNDEFINE`` (the addressed CS) / ``UNDEFINE ALL`` (every CS)."""
-
-    all: bool = False
-
-    def run_online(self, ctl: Any, state: dict[str, Any], out: list[str]) -> None:
-        cs = state["cs"]
-        for n in [n for n, (c, _) in ctl.motors.items() if self.all or c == cs]:
-            offset = lookup(ctl.motors[n][1]).offset
-            del ctl.motors[n]
-            _offset_changed(ctl, n, -offset)
-
-
-def _offset_changed(ctl: Any, motor: int, delta: float) -> None:
-    changed = getattr(ctl, "axis_offset_changed", None)
-    if changed is not None and delta:
-        changed(motor, delta)
+        ctl.axis_offset_changed(self.motor, self.definition.offset - old)
 
 
 @dataclass(frozen=True, slots=True)
@@ -183,15 +163,6 @@ class Frax:
     """``FRAX({axes})``: the vector-feedrate axes of the program's following moves."""
 
     axes: tuple[str, ...]
-
-
-def undefine_word(p: Any, tok: tuple[str, str, int, int]) -> Undefine:
-    """Keyword-table builder: ``UNDEFINE [ALL]``."""
-    nxt = p.peek()
-    if nxt is not None and nxt[0] == "word" and nxt[1] == "ALL":
-        p.i += 1
-        return Undefine(True)
-    return Undefine(False)
 
 
 def frax_word(p: Any, tok: tuple[str, str, int, int]) -> Frax:
@@ -207,5 +178,5 @@ def motor_terms(ctl: Any, motor: int) -> tuple[int, AxisDef] | None:
     return have[0], lookup(have[1])
 
 
-__all__ = ["AxisDef", "AxisDefinition", "Frax", "Undefine", "frax_word",
-           "lookup", "motor_terms", "parse", "undefine_word"]
+__all__ = ["AxisDef", "AxisDefinition", "Frax", "frax_word",
+           "lookup", "motor_terms", "parse"]

@@ -306,6 +306,14 @@ class Motor:
         self.definite = True
         self._schedule_end()
 
+    def offset_moved(self, delta: float) -> None:
+        """Its axis definition's constant offset moved by ``delta`` counts: a definition
+        commands no motion, so a motor at rest stays where it is (its jog part takes the
+        change) ``[INF]``; a motor in a jog or home move is left to it."""
+        if delta and self.command is None:
+            now = self._table.sched.env.now
+            self.profile = Profile.rest(now, self.profile.position(now) - delta)
+
     def home_zero(self) -> None:
         """``HMZ``: the present position is zero; home complete, no motion ``[BK]``."""
         self._stop_now()
