@@ -35,7 +35,6 @@ What is modelled (seed 003; TUM p237, p253, p376; TSRM p39, p381, p422-424; spec
 
 from __future__ import annotations
 
-from collections import deque
 from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -265,8 +264,6 @@ class PlcTable:
         self._edit: tuple[Port, int, _Builder, list[str]] | None = None
         self._rr = 0  # background round robin: the last PLC scanned
         self._cmd_port = Port("plc-cmd")
-        #: Lines sent by ``SEND`` statements, oldest first: ``(plc, port letter, text)``.
-        self.sent: deque[tuple[int, str, str]] = deque(maxlen=256)
 
     # -- entry ----------------------------------------------------------------------------
 
@@ -532,7 +529,6 @@ class PlcTable:
         """``SEND{port}"text"``: the PLC's ``last_send``, a ``plc_send`` event and the line
         queued for the host port (:meth:`PmacController.send_message`)."""
         plc.last_send = text
-        self.sent.append((plc.n, port, text))
         compiled = self.compiled[plc.n] is plc
         extra = {"compiled": True} if compiled else {}
         self.ctl.log.emit("plc_send", plc=plc.n, port=port or "host", text=text, **extra)

@@ -82,7 +82,8 @@ def test_tsrm_p421_send_reaches_the_host_output_and_the_log(rig, word):
     (k, _, f), = rig.events("plc_send")
     port = word[4:].upper() or "host"
     assert (f["plc"], f["port"], f["text"]) == (1, port, "HOMED 3")
-    assert list(rig.c.plcs.sent) == [(1, word[4:].upper(), "HOMED 3")]
+    sent = [(m.source, m.port, m.text) for m in rig.c.messages.lines]
+    assert sent == [("plc1", word[4:].upper(), "HOMED 3")]
 
 
 def test_a_plc_enables_another_and_disables_itself_written_without_blanks(rig):
