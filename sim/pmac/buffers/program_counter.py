@@ -44,10 +44,10 @@ class ProgramCounter:
 
 
 def line_offset(texts: Sequence[str], n: int) -> int:
-    """Word offset of 1-based line ``n`` of a program whose lines are ``texts`` (``n`` one
-    past the last line is the card's closing ``RET``)."""
+    """Word offset of 1-based line ``n`` (``n`` >= 1) of a program whose lines are ``texts``
+    (``n`` past the last line is the card's closing ``RET``)."""
     offsets = listing.stored_offsets(tuple(texts))  # (polled: worked out once per program)
-    return offsets[min(n - 1, len(texts))] if n >= 1 else offsets[max(len(texts) + n - 1, 0)]
+    return offsets[min(n, len(texts) + 1) - 1]
 
 
 def report(cmd: ProgramCounter, ctl: PmacController, cs_n: int) -> str:
