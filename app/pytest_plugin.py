@@ -182,14 +182,13 @@ def motionsim_server(request: pytest.FixtureRequest,
     if url:
         token = request.config.getoption("motionsim_token") or os.environ.get(TOKEN_ENV)
         server = Server(url.rstrip("/"), external=True, token=token)
-        try:
-            with server.client() as client:
-                healthy = client.health()
-        except Exception as exc:  # refused, unresolvable, timed out: all the same to the user
-            pytest.exit(f"--motionsim-url {url}: cannot reach it ({exc})", returncode=3)
-        if not healthy:
-            pytest.exit(f"--motionsim-url {url}: GET /health is not ok", returncode=3)
         with server.client() as client:
+            try:
+                healthy = client.health()
+            except Exception as exc:  # refused, unresolvable, timed out: all the same here
+                pytest.exit(f"--motionsim-url {url}: cannot reach it ({exc})", returncode=3)
+            if not healthy:
+                pytest.exit(f"--motionsim-url {url}: GET /health is not ok", returncode=3)
             try:
                 client.controllers()  # /health needs no token: check it on a guarded route
             except Exception as exc:
