@@ -31,7 +31,7 @@ from motionsim.sim.pmac.buffers import lookahead_buffer
 from motionsim.sim.pmac.buffers.program import ProgramLine, compile_line
 from motionsim.sim.pmac.buffers.programs import MotionPrograms
 from motionsim.sim.pmac.buffers.rotary import RotaryBuffer
-from motionsim.sim.pmac.card import card_commands, pmac_float, registers
+from motionsim.sim.pmac.card import card_commands, pmac_float, registers, servo_ic
 from motionsim.sim.pmac.card.macro_station import MacroStations
 from motionsim.sim.pmac.card.timers import CountdownTimers
 from motionsim.sim.pmac.card.variables import N_CS, N_MOTORS, Variables, parse_name
@@ -42,6 +42,7 @@ from motionsim.sim.pmac.kinematics.engine import Kinematics
 from motionsim.sim.pmac.language import axis_definitions
 from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.lookahead import CoordSystem
+from motionsim.sim.pmac.lookahead.start_checks import check_start
 from motionsim.sim.pmac.motor.motor_status import motor_status_words
 from motionsim.sim.pmac.motor.motors import Motor, MotorTable
 from motionsim.sim.pmac.tasks.cpu import CONFIG_KEYS as CPU_CONFIG_KEYS
@@ -65,6 +66,9 @@ MAX_LINE_CHARS = 255
 #: returned is not also announced as a ``terminal_reply`` event.
 _WAIT_EPS_S = 1e-9
 _CONFIG_KEY = re.compile(r"^i(\d{1,4})$")
+#: Config keys that are true / false: ``strict_cs_motors`` — ``R`` / ``S`` in a coordinate
+#: system with no motors answers ERR014 as the card does (sim.pmac.lookahead.start_checks).
+FLAG_CONFIG = ("strict_cs_motors",)
 
 
 class LoadResult(NamedTuple):
@@ -116,14 +120,17 @@ class PmacController(Controller):
                 PMAC_CPU_COST.check(value, key)  # processor-time costs in µs (sim.pmac.cpu)
                 continue
             m = _CONFIG_KEY.match(key)
-            if key in PMAC_CONFIG:
+            if key in FLAG_CONFIG:
+                if not isinstance(value, bool):
+                    raise InvalidValue(f"{key} is true or false, not {value!r}", field=key)
+            elif key in PMAC_CONFIG:
                 PMAC_CONFIG[key].check(value, key)
             elif m:
                 if int(m.group(1)) > 8191:
                     raise InvalidValue(f"no I-variable {key}", field=key)
                 FINITE.check(value, key)
             else:
-                known = ", ".join(sorted([*PMAC_CONFIG, *CPU_CONFIG_KEYS]))
+                known = ", ".join(sorted([*PMAC_CONFIG, *FLAG_CONFIG, *CPU_CONFIG_KEYS]))
                 raise InvalidValue(f"unknown PMAC config key {key!r}; known: {known} and "
                                    "i0 .. i8191 (I-variables)", field=key)
 
@@ -135,6 +142,9 @@ class PmacController(Controller):
                 self.vars.write("I", int(m.group(1)), float(value))
         hz = self.config.get("servo_hz")
         period = 1.0 / hz if hz else pmac_servo_period_s(int(self.vars.I(10)))
+        for n, value in servo_ic.ivars(period).items():  # the clock chain gives this period
+            if f"i{n}" not in self.config:
+                self.vars.i[n] = value
         if not hasattr(self, "scheduler"):
             self.scheduler = Scheduler(self.env, period, lambda: int(self.vars.I(8)) + 1)
             self.background = Processor(self, int(self.config.get("background_cycles", 1)))
@@ -547,6 +557,9 @@ class PmacController(Controller):
         """
         self._alive()
         c = self.coord_system(cs)
+        if not c.running:  # a running CS's R / S only changes its mode
+            check_start(cs, self._cs_motors(cs), self.vars, bool(self.config.get(
+                "strict_cs_motors", False)))
         if pointer is not None and not c.running:
             c.program = pointer
         if c.program is None or (c.program == 0 and c.rotary is None):
@@ -565,6 +578,18 @@ class PmacController(Controller):
                 run.resume()  # after Q, A, S or a STOP: on from the program counter
         self.kinematics.program_start(cs)
         c.run(single_step)
+
+    def _cs_motors(self, cs: int) -> list[Motor]:
+        """The motors with an axis definition in ``cs``."""
+        return [self.motor_table[n] for n, (c, _d) in self.motors.items() if c == cs]
+
+    def enable_cs(self, cs: int) -> None:
+        """``E``: close the loop of every killed / open-loop motor of ``cs`` at its present
+        position (:mod:`motionsim.sim.pmac.language.cs_enable`)."""
+        self._alive()
+        for m in self._cs_motors(cs):
+            if m.loop != "closed_loop":
+                m.enable()
 
     def quit(self, cs: int) -> None:
         """``Q``."""

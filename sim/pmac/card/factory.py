@@ -12,6 +12,11 @@ departures (``MANUAL_OVERRIDES`` / ``CARD_OVERRIDES``):
 * I10 = 3 713 707 (442.708 µs servo cycle), the simulator's clock (spec §6) on which all of its
   timing is calibrated; the dump has 3 713 991 and TSRM p216 quotes 3 713 992 for the Turbo
   PMAC2 default clock, 0.008 % apart ``[INF]``;
+* Ixx00 = 1 for motors 1–8: a Geo Brick's 8 local axes are activated (the dump's MACRO card
+  activates motor 1 only) ``[INF]``; motors 9–32 stay 0 (``R`` in a CS with one of them
+  answers ERR013, :mod:`motionsim.sim.pmac.lookahead.start_checks`);
+* I7000–I7199: the Servo-IC clock and channel variables of those 8 axes
+  (:mod:`.servo_ic`), all 0 in the dump;
 * I20 = $0: this card has no MACRO IC (I20–I23 are found by auto-detection at
   re-initialisation, TSRM p50; dls-pmaclib and dls-pmacanalyse count 8 axes per non-zero one);
 * live registers (Isx11/Isx12 timers, I4909) start at 0.
@@ -27,6 +32,9 @@ with I9 = 2) reports with ``$``. ``[INF]`` MACRO ICs 1–3 use the same offsets 
 from __future__ import annotations
 
 from typing import Final
+
+from motionsim.sim.pmac.card import servo_ic
+from motionsim.sim.timing import pmac_servo_period_s
 
 N_IVARS: Final = 8192
 
@@ -70,11 +78,17 @@ MANUAL_OVERRIDES: Final[dict[int, tuple[float, str]]] = {
     **{5000 + 100 * cs + 98: (1000, "TSRM p193") for cs in range(1, 17)},
 }
 
+#: The simulator's servo clock (I10, spec §6).
+SERVO_CLOCK_I10: Final = 3_713_707
+
 #: Where this card is not the dump's card (see the module docstring).
 CARD_OVERRIDES: Final[dict[int, tuple[float, str]]] = {
     4: (0, "no checksums [INF]"),
-    10: (3_713_707, "the simulator's servo clock (spec §6)"),
+    10: (SERVO_CLOCK_I10, "the simulator's servo clock (spec §6)"),
     20: (0, "no MACRO IC on this card"),
+    **{100 * xx: (1, "a Geo Brick activates its 8 local axes [INF]") for xx in range(2, 9)},
+    **{n: (v, "Servo ICs 0 and 1 of the 8 local axes (servo_ic.py)")
+       for n, v in servo_ic.ivars(pmac_servo_period_s(SERVO_CLOCK_I10)).items() if v},
     4909: (0, "live register"),
     **{5000 + 100 * cs + nn: (0, "live timer") for cs in range(1, 17) for nn in (11, 12)},
 }

@@ -8,14 +8,19 @@ Forms (spec pmac.md §11.8; the Turbo SRM LIST pages were not found, §11.12):
 * ``LIST ROT`` (``ROTARY``) — the lines of the addressed CS's rotary buffer not yet
   calculated, without offsets and without the ``RET`` ``[INF]``;
 * ``LIST FORWARD`` / ``LIST INVERSE`` ``[,start,len]`` — the addressed CS's kinematic
-  programs (:mod:`motionsim.sim.pmac.kinematics`), listed as a PROG is;
+  programs (:mod:`motionsim.sim.pmac.kinematics`), listed as a PROG is. Every CS has both
+  buffers, so an empty one (never written, or cleared) answers no lines and no error
+  ``[INF]``: the EPICS driver lists them word by word (``&1 list forward,0,1``,
+  ``pmacCSController::listKinematic``) and takes an empty reply as the end, and
+  dls-pmacanalyse returns what it has read on a reply with no offset; a start beyond the
+  last line of a non-empty one is ERR003 as below;
 * ``LIST PLCC n`` — ERR003: a compiled PLC is machine code on the card, with no text to list
   ``[INF]`` (the SRM has no LIST PLCC);
 * ``LIST GATHER`` — the gather buffer as 12-hex-digit words (DPC ``gather.py``); gathering
   itself is not simulated, so a defined buffer lists no words.
 
-An empty or missing buffer, a start beyond the last line, a PLC number above 31: ERR003
-``[INF]`` (the end of dls-pmacanalyse's chunked read).
+An empty or missing buffer (other than a kinematic one), a start beyond the last line, a PLC
+number above 31: ERR003 ``[INF]`` (the end of dls-pmacanalyse's chunked read).
 """
 
 from __future__ import annotations
@@ -98,8 +103,10 @@ def run(cmd: ListBuffer, ctl: PmacController, port: Port) -> list[str]:
     if buffer in ("FORWARD", "INVERSE"):
         cs = port.state["cs"]
         lines = ctl.programs.programs.get(buffer_key(cs, buffer == "INVERSE")) or ()
+        if not lines:
+            return []  # an empty kinematic buffer lists nothing (module docstring)
         out = listing.window(listing.entries(line.text for line in lines), cmd.start,
-                             cmd.length) if lines else None
+                             cmd.length)
         if out is None:
             raise _err(f"CS {cs} has no {buffer.lower()}-kinematic program to list there")
         return out

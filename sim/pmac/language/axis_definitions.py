@@ -13,6 +13,8 @@
   (stored and reported, its position then comes from the kinematic programs, which the
   simulator does not run here ``[INF]``);
 * ``#{n}->`` reports the definition in the card's form (``-29.1X+100000Y``), ``0`` if none;
+  ``#{n}->,`` is the same query: a comma right after the arrow ends it (the EPICS driver's
+  batched poll sends ``&1#7->,`` between other items) ``[INF]``;
 * ``UNDEFINE`` clears every definition of the addressed CS, ``UNDEFINE ALL`` those of all CSs.
 
 ``FRAX({axes})`` picks the feedrate axes of a program's vector-feedrate moves (default X, Y, Z;
@@ -36,6 +38,9 @@ _TERM = re.compile(rf"\s*(?P<sign>[+-])?\s*(?P<scale>{_NUMBER})?\s*(?P<axis>[XYZ
                    re.IGNORECASE)
 _INVERSE = re.compile(r"\s*I(?![A-Za-z0-9])", re.IGNORECASE)
 _TRIPLETS = ("XYZ", "UVW")
+#: ``#n->,``: the query with the comma the EPICS driver puts after it in a batched poll
+#: (``pmacHardwareTurbo::CS_AXIS_MAPPING`` "&%d#%d->,") — the comma ends the query ``[INF]``.
+_QUERY_COMMA = re.compile(r"\s*,")
 
 
 @dataclass(frozen=True, slots=True)
@@ -105,7 +110,8 @@ def parse(text: str, pos: int) -> tuple[AxisDef | None, int]:
             terms.append((axis, value))
         end = m.end()
     if not terms and offset is None:
-        return None, pos
+        comma = _QUERY_COMMA.match(text, pos)
+        return None, comma.end() if comma else pos
     if not terms:
         if offset:
             raise _error("expected an axis letter after the scale factor", end + 1, text)

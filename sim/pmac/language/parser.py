@@ -34,6 +34,7 @@ from motionsim.sim.pmac.language import expressions as ex
 from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.language import plc_statements as plc_st
 from motionsim.sim.pmac.language import statements as st
+from motionsim.sim.pmac.language.cs_enable import EnableCS
 
 #: Words the lexer reads whole: the keyword table's spellings and objects, and the functions.
 _WORDS = keywords.lexer_words(tuple(ex.FUNCTIONS))
@@ -439,6 +440,8 @@ class _Parser:
                 return st.Abort()
             if word == "H":
                 return st.Hold()
+            if word == "E":
+                return EnableCS()
             if word in ("P", "V", "F"):
                 return st.Query(word)
             raise self.error(f"{word} needs a value", tok)

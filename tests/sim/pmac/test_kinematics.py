@@ -42,10 +42,11 @@ def test_tsrm_p379_open_forward_and_inverse_are_stored_listed_and_cleared(rig):
     _kinematic_cs(rig)
     assert rig.ok("&1 LIST FORWARD") == "Q7=(P1+P2)/2000\rQ8=(P2-P1)/1000\rRET"
     assert rig.ok("&1 LIST INVERSE").split("\r")[0] == "P1=(Q7-Q8/2)*1000"
-    assert "ERR003" in _err(rig, "&2 LIST FORWARD")  # one buffer per CS: CS 2 has none
+    assert rig.ok("&2 LIST FORWARD") == ""  # one buffer per CS: CS 2's is empty
+    assert "ERR003" in _err(rig, "&1 LIST FORWARD,9,1")  # beyond the last line
     rig.ok("&1 OPEN FWD CLEAR")
     rig.ok("CLOSE")
-    assert "ERR003" in _err(rig, "&1 LIST FORWARD")
+    assert rig.ok("&1 LIST FORWARD") == ""  # cleared: nothing to list
 
 
 def test_tsrm_p379_open_forward_refused_with_a_buffer_open_or_a_program_running(rig):

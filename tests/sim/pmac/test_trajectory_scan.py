@@ -71,7 +71,11 @@ def test_tum_p246_trajectory_scan_completes_through_both_half_buffers(rig):
     assert float(rig.ok("#1P")) == pytest.approx(pts[-1].pos["X"] * 1000, abs=0.1)
 
 
-def test_late_buffer_fill_gives_the_programs_underrun_error(rig):
+def test_an_empty_half_after_a_full_one_ends_the_scan_at_its_last_point(rig):
+    """Diamond's protocol (trajectory_scan_code.pmc, spec §12.7): when the program moves on
+    from a full half to one whose fill is 0, the scan ends at the full half's last point, at
+    rest — a scan whose points fill its last half exactly, or a host that has stopped
+    filling; the host sees status 2 with fewer points done than it had."""
     _load(rig)
     host = _host(rig)
     pts = points(120)
@@ -79,9 +83,29 @@ def test_late_buffer_fill_gives_the_programs_underrun_error(rig):
     host.start(pts)
     host.sent = len(pts)  # the host falls silent: half B is never filled
     rig.run_for(2.0)
-    assert rig.ok("M4034 M4048") == "3\r4"
-    assert [v for _, v in _statuses(rig, since)] == [1, 3]
+    assert rig.ok("M4034 M4048 M4038") == "2\r0\r50"
+    assert [v for _, v in _statuses(rig, since)] == [1, 2]
     assert rig.c.coord_system(1).state == "stopped"
+    assert float(rig.ok("#1P")) == pytest.approx(pts[49].pos["X"] * 1000, abs=0.1)
+
+
+def test_a_scan_filling_its_last_half_exactly_completes(rig):
+    """100 points in halves of 50: the last half is full and the next one stays empty — the
+    case that made the example host's default run end in an underrun."""
+    _load(rig)
+    host = _host(rig)
+    pts = points(100)
+    since = rig.c.log.last_seq
+    host.start(pts)
+    status = 1
+    for _ in range(100):
+        rig.run_for(0.05)
+        status, _i, _c, total = host.poll()
+        if status != 1:
+            break
+    assert (status, total) == (2, 100)
+    assert [v for _, v in _statuses(rig, since)] == [1, 2]
+    assert float(rig.ok("#1P")) == pytest.approx(pts[-1].pos["X"] * 1000, abs=0.1)
 
 
 def test_abort_from_the_host_stops_the_scan(rig):

@@ -4,9 +4,10 @@ and the program version (M4049); write a half-buffer with ``WL:`` long words —
 ``$<u><tttttt>`` (µs) at the half's base, each axis's positions at base + (axis+1)·length and
 velocities at base + (axis+10)·length, as 48-bit floats in the card's layout — then its fill
 level (M4044 / M4045); set the axes mask (M4036), zero the other half's fill and the point
-count (``M4045=0 M4038=0``), start ``&{cs}B{prog}R``; while it runs poll status (M4034),
-index (M4039), current half (M4040), points done (M4038) and fill the half not in use as soon
-as the program has moved on from it; abort with ``M4035=1``."""
+count (``M4045=0 M4038=0``), enable the CS's motors (``&{cs}E``), start ``&{cs}B{prog}R``;
+while it runs poll status (M4034), index (M4039), current half (M4040), points done (M4038)
+and fill the half not in use as soon as the program has moved on from it; abort with
+``M4035=1``."""
 
 from __future__ import annotations
 
@@ -75,6 +76,7 @@ class ScanHost:
         mask = sum(1 << AXES.index(a) for a in self.axes)
         self.ask(f"M4036={mask}")
         self.ask("M4045=0 M4038=0")
+        self.ask(f"&{self.cs}E")  # "make sure axes are enabled" (getCSEnableCommand)
         self.ask(f"&{self.cs}B{self.prog}R")
 
     def poll(self) -> tuple[int, int, int, int]:
