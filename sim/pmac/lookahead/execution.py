@@ -96,7 +96,7 @@ class Execution(CoordState):
             return
         prev = self.current
         env = self._env
-        t: float = env._now  # type: ignore[attr-defined]
+        t = env._now
         emit = self._emit
         cs = self.cs
         n = m.n
@@ -108,7 +108,7 @@ class Execution(CoordState):
         else:
             b = t + m.ta / 2
         m.b_start = b
-        rot = self.rotary if self.program == 0 else self.fixed  # = self.lines() (hot path)
+        rot = self.rotary if self.program == 0 else None  # (a fixed program frees nothing)
         if rot is not None:
             calc = rot.calculated
             if calc and calc[0][0] < n:
@@ -221,7 +221,7 @@ class Execution(CoordState):
         pending execution wake-up."""
         pend = self._pending
         cancel(pend)
-        now: float = self._env._now  # type: ignore[attr-defined]
+        now = self._env._now
         self._pending = wake_at(self._env, t if t > now else now, fn, pend)
 
     def _cancel(self) -> None:

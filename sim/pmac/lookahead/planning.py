@@ -78,7 +78,12 @@ from motionsim.sim.simpy_adapter import cancel, pending
 if TYPE_CHECKING:
     from motionsim.sim.pmac.buffers.programs import ProgramRun
     from motionsim.sim.pmac.buffers.rotary import RotaryBuffer
+    from motionsim.sim.pmac.language.expressions import Expr
     from motionsim.sim.simpy_adapter import Callback
+
+    #: A move op's axis words, vector words or velocity words: ``((letter, expr), ...)``
+    #: (:data:`motionsim.sim.pmac.buffers.program.OP_MOVE`).
+    AxisWords = tuple[tuple[str, Expr], ...]
 
 #: The planning short cuts for a line of constant axis words (``_fast``).
 _FAST_LINEAR, _FAST_PVT = 1, 2
@@ -167,10 +172,11 @@ class Planning(CoordState):
         if rot is not None:
             self._seen_n = rot.n_loaded
             pending = rot.pending
-            tag = getattr(rot, "taken_prog", None) is not None  # a fixed program: moves say
-            # which program (a CALLed one) their line is in, for PE
+            # a fixed program: moves say which program (a CALLed one) their line is in, for PE
+            run = self.fixed if self.program != 0 else None
             # (_short_of_horizon is False unless the special lookahead is active: _la_s > 0)
             lines_left = self.step_lines if stepping else None
+            move: Move
             while (
                 pending
                 and (
@@ -194,8 +200,8 @@ class Planning(CoordState):
                     )  # fmt: skip
                     self.calc_pos = move.end
                     self._append(move)
-                    if tag:
-                        move.prog = rot.taken_prog
+                    if run is not None:
+                        move.prog = run.taken_prog
                 elif simple is not None and fast == _FAST_LINEAR and self._ver == vars_.version:
                     n = rot.take_simple()
                     # Short cut for the streamed line: one LINEAR move, constant ABS values, TM.
@@ -208,8 +214,8 @@ class Planning(CoordState):
                     move = Move(n, LINEAR, self._tm_s, self._ta_s, start, end, None)
                     self.calc_pos = end
                     self._append(move)
-                    if tag:
-                        move.prog = rot.taken_prog
+                    if run is not None:
+                        move.prog = run.taken_prog
                 else:
                     taken = rot.take()
                     if taken is None:
@@ -222,9 +228,9 @@ class Planning(CoordState):
                         rot.line_calculated(n)
                         self.abort("run_time_error")
                         return
-                    if tag:
+                    if run is not None:
                         for k in range(1, len(planned) - before + 1):
-                            planned[-k].prog = rot.taken_prog
+                            planned[-k].prog = run.taken_prog
                     self._fast = self._fast_kind()
                     rot.line_calculated(n)
             if rot.interrupt is not None and self._flow_interrupt(rot):
@@ -400,7 +406,9 @@ class Planning(CoordState):
             self.sync_pending = []
         self.planned.append(move)
 
-    def _plan_move(self, n: int, axes: tuple, vectors: tuple, velocities: tuple) -> None:
+    def _plan_move(
+        self, n: int, axes: AxisWords, vectors: AxisWords, velocities: AxisWords
+    ) -> None:
         """A move line: the end point from the axis words (INC / ABS), then the move of the
         current mode; RAPID (and every move with Isx92 = 1) is a lookahead break. A PVT
         segment starts at the previous segment's end velocities (``calc_vel``)."""
@@ -445,7 +453,9 @@ class Planning(CoordState):
         if self.no_blend or PROFILES[move.kind].breaks:
             self.blocked = True  # Isx92 = 1: every move is a lookahead break
 
-    def _plan_spline(self, n: int, start: dict, end: dict, velocities: tuple) -> None:
+    def _plan_spline(
+        self, n: int, start: dict[str, float], end: dict[str, float], velocities: AxisWords
+    ) -> None:
         """A SPLINE1 / SPLINE2 point: the previous point's move is calculated now (it needed
         this one); this point's move waits for the next point, or for the end of the series
         (:meth:`_spline_close`). A velocity word in SPLINE mode is a run-time error ``[INF]``.

@@ -55,7 +55,7 @@ class CoordState:
         self._env: simpy.Environment = ctl.env
         self._period: float = ctl.scheduler.period_s
         log: EventLog = ctl.log
-        self._emit: Callable[..., None] = log.emit
+        self._emit: Callable[..., object] = log.emit
 
         # -- the program: where lines come from, its state (:mod:`.states`) --------------------
         self.rotary: RotaryBuffer | None = None
