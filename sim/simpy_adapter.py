@@ -17,7 +17,7 @@ from typing import Any
 import simpy
 from simpy.events import NORMAL, URGENT
 
-__all__ = ["NORMAL", "URGENT", "Wake", "push_at", "triggered_at", "wake_at"]
+__all__ = ["NORMAL", "URGENT", "Wake", "cancel", "pending", "push_at", "triggered_at", "wake_at"]
 
 Callback = Callable[[Any], None]
 
@@ -59,6 +59,20 @@ def wake_at(env: simpy.Environment, t: float, fn: Callback, old: Wake | None = N
         heappush(env._queue, (t, NORMAL, next(env._eid), old))  # type: ignore[attr-defined]
         return old
     return Wake(env, t, fn)
+
+
+def cancel(event: simpy.events.Event | None) -> None:
+    """Cancel a wake-up that has not happened yet: it stays on the queue (SimPy has no
+    removal) and is processed at its instant as a no-op, calling nothing. ``None``, an event
+    already processed or one already cancelled: nothing to do. A cancelled :class:`Wake` is
+    never re-used by :func:`wake_at` (it is still queued)."""
+    if event is not None and event.callbacks:
+        event.callbacks.clear()
+
+
+def pending(event: simpy.events.Event | None) -> bool:
+    """``event`` is queued and will still call something (not processed, not cancelled)."""
+    return event is not None and bool(event.callbacks)
 
 
 def triggered_at(env: simpy.Environment, t: float, fn: Callback,

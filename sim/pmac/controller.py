@@ -419,10 +419,7 @@ class PmacController(Controller):
         if rot is None:
             raise NotFound(f"coordinate system {c.cs} has no rotary buffer")
         if not rot.fits(line.words):
-            raise BufferFull(
-                f"line of {line.words} words does not fit ({rot.free_words} free)",
-                pmac_error="ERR006",
-            )
+            raise rot.no_room(line.words)
         rot.store(line)
         c.lines_arrived()
 
@@ -464,12 +461,8 @@ class PmacController(Controller):
             fresh = line is None
             if line is None:
                 line = (pre.get(text) if type(text) is str else None) or self._compile(text, 0)
-            if rot.used_words + line.words > rot.size_words:
-                raise BufferFull(
-                    f"line of {line.words} words does not fit ({rot.free_words} words free)",
-                    pmac_error="ERR006",
-                    free_words=rot.free_words,
-                )
+            if not rot.fits(line.words):
+                raise rot.no_room(line.words)
             rot.store(line)
             if fresh:
                 self._remember(texts, [line])
@@ -489,11 +482,7 @@ class PmacController(Controller):
         new = compiled[skip:]
         words = sum(line.words for line in new)
         if not rot.fits(words):
-            raise BufferFull(
-                f"{len(new)} lines of {words} words do not fit ({rot.free_words} words free)",
-                pmac_error="ERR006",
-                free_words=rot.free_words,
-            )
+            raise rot.no_room(words, len(new))
         store = rot.store
         for line in new:
             store(line)

@@ -58,6 +58,7 @@ from typing import TYPE_CHECKING, Any
 
 from motionsim.sim.pmac.tasks.scheduler import Wake
 from motionsim.sim.pmac.tasks.watchdog import Watchdog
+from motionsim.sim.simpy_adapter import cancel
 
 if TYPE_CHECKING:
     from motionsim.sim.pmac.controller import PmacController
@@ -208,9 +209,7 @@ class Processor:
     # -- scheduling -------------------------------------------------------------------------
 
     def _cancel(self) -> None:
-        wake = getattr(self, "_wake", None)
-        if wake is not None:
-            wake.callbacks = []
+        cancel(getattr(self, "_wake", None))
         self._wake = None
 
     def _wanted(self) -> bool:
