@@ -40,8 +40,6 @@ class DeleteTrace:
     def in_program(self) -> bool:
         return False
 
-    def run_online(self, ctl: Any, state: dict[str, Any], out: list[str]) -> None:
-        return None
 
 
 def delete_trace(p: Any) -> DeleteTrace:

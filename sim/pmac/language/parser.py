@@ -37,8 +37,6 @@ from motionsim.sim.pmac.language import statements as st
 
 #: Words the lexer reads whole: the keyword table's spellings and objects, and the functions.
 _WORDS = keywords.lexer_words(tuple(ex.FUNCTIONS))
-#: Keyword token -> its statement builder (filled on first use from the keyword table).
-_BUILDERS: dict[str, Any] = {}
 
 _TOKEN = re.compile(
     r"\s*(?:"
@@ -103,6 +101,8 @@ class _Parser:
         self.open = open_
         #: A SPLINE1 / SPLINE2 word came earlier on this line (no PVT-style velocities).
         self.spline_line = False
+        #: The keyword row whose builder runs now (its ``objects`` for ``OPEN`` / ``LIST``...).
+        self.row: keywords.Keyword | None = None
 
     # -- token helpers --------------------------------------------------------------------
 
@@ -322,15 +322,12 @@ class _Parser:
         """A command word: dispatched through the keyword table (:mod:`.keywords`); a single
         letter or an unknown word goes to :meth:`letter_statement`."""
         word = tok[1]
-        build = _BUILDERS.get(word)
-        if build is not None:
-            return build(self, tok)
-        row = keywords.lookup(word)
+        row = keywords.BY_SPELLING.get(word) or keywords.lookup(word)
         if row is not None:
-            if not row.simulated:
+            if not row.simulated or row.builds is None:
                 raise self.not_simulated(row.name, tok)
-            build = _BUILDERS[word] = row.builder()
-            return build(self, tok)
+            self.row = row
+            return row.builds(self, tok)
         if word in _FUNCS:
             raise self.error(f"{word} is a function, not a command", tok)
         return self.letter_statement(tok)

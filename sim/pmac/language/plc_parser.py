@@ -35,13 +35,23 @@ from dataclasses import dataclass
 from typing import Any
 
 from motionsim.sim.errors import ParseError
+from motionsim.sim.pmac.card.macro_station import StationCommand
 from motionsim.sim.pmac.language import plc_idioms
 from motionsim.sim.pmac.language import plc_statements as plc_st
 from motionsim.sim.pmac.language import statements as st
+from motionsim.sim.pmac.language.axis_definitions import AxisDefinition
 from motionsim.sim.pmac.language.expressions import Expr
+from motionsim.sim.pmac.language.motor_statements import HomeList
 from motionsim.sim.pmac.language.parser import parse_expression, parse_line
+from motionsim.sim.pmac.language.ranges import RangeAssign
 
 _ERR = "ERR003"
+
+#: Statements of the command families a PLC program may hold: each runs, when the scan
+#: reaches it, through its row of the on-line command table (``host/commands.py``) with the
+#: PLC's addressed ``&n`` / ``#n`` (MACRO station ``MSR`` / ``MSW``, range assignments,
+#: ``#n->`` axis definitions, ``HOME{list}``).
+FAMILY_STATEMENTS = (StationCommand, RangeAssign, AxisDefinition, HomeList)
 
 Cond = Callable[[Any, int], bool]
 
@@ -267,8 +277,8 @@ def _segment(text: str, start: int, end: int) -> list[Any]:
             if stmt.synchronous:
                 raise _error("synchronous assignment is for motion programs", col, text)
             out.append(Set(stmt.target.kind, stmt.target.index, stmt.value))
-        elif getattr(stmt, "run_online", None) is not None and getattr(stmt, "in_program", True):
-            out.append(stmt)  # a family that runs itself (MSR / MSW...)
+        elif isinstance(stmt, FAMILY_STATEMENTS):
+            out.append(stmt)  # runs through its on-line command row (MSR / MSW...)
         elif isinstance(stmt, st.Message):
             out.append(Cmd(stmt.text) if stmt.kind == "CMD" else Send(stmt.text, stmt.port))
         else:

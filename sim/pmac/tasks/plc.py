@@ -59,7 +59,7 @@ OP_CMD = 5  # (OP_CMD, text)
 OP_SEND = 6  # (OP_SEND, text)
 OP_ENABLE = 7  # (OP_ENABLE, numbers, enable, compiled)
 OP_ADDRESS = 8  # (OP_ADDRESS, "#" or "&", n)
-OP_RUN = 9  # (OP_RUN, statement): a family statement with run_online(ctl, state, out)
+OP_RUN = 9  # (OP_RUN, statement): a command-family statement, run by its on-line row
 
 
 class StructureError(Exception):
@@ -168,7 +168,7 @@ class _Builder:
             ops.append([OP_ADDRESS, s.kind, s.n])
         elif t is plc_st.EnablePlc:
             ops.append([OP_ENABLE, s.numbers, s.enable, s.compiled])
-        elif getattr(s, "run_online", None) is not None:
+        elif isinstance(s, pp.FAMILY_STATEMENTS):
             ops.append([OP_RUN, s])
         else:  # pragma: no cover - parse_plc_line returns only the types above
             raise ParseError("not a PLC statement", column=col, text=text, pmac_error="ERR003")
@@ -509,7 +509,7 @@ class PlcTable:
                     plc.motor = op[2]
                 pc += 1
             elif code == OP_RUN:
-                op[1].run_online(self.ctl, {"cs": cs, "motor": plc.motor}, [])
+                self.ctl.run_statement(op[1], cs, plc.motor)
                 pc += 1
             else:  # OP_ENABLE
                 self.set_enabled(op[1], op[2], op[3])  # its own DISABLE: the scan still ends
