@@ -29,7 +29,6 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Final
 
 from motionsim.sim.errors import Conflict, InvalidValue
-from motionsim.sim.pmac.buffers import program_counter
 from motionsim.sim.pmac.card import (
     card_commands,
     macro_station,
@@ -38,10 +37,10 @@ from motionsim.sim.pmac.card import (
     user_buffer,
 )
 from motionsim.sim.pmac.card.variables import N_CS, N_MOTORS, N_VARS, format_ivar, format_value
-from motionsim.sim.pmac.host import list_commands
+from motionsim.sim.pmac.host import list_commands, program_counter
 from motionsim.sim.pmac.kinematics import commands as kin
 from motionsim.sim.pmac.language import axis_definitions as axdef
-from motionsim.sim.pmac.language import card_words, ranges
+from motionsim.sim.pmac.language import card_words, list_words, ranges
 from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.language import plc_statements as plc_st
 from motionsim.sim.pmac.language import statements as st
@@ -337,12 +336,12 @@ TABLE: Final[tuple[Command, ...]] = (
     Command(ranges.IndirectQuery, indirect_query),
     Command(card_commands.Save, lambda c, s: card_commands.save(c.ctl)),
     Command(card_commands.Reset, lambda c, s: card_commands.schedule_reset(c.ctl, s.factory)),
-    Command(list_commands.ListBuffer,
+    Command(list_words.ListBuffer,
             lambda c, s: c.out.extend(list_commands.run(s, c.ctl, _need_port(c))),
             report=True, with_plc_open=True),
     Command(mvar_defs.MDefine,
             lambda c, s: c.ctl.vars.mvars.define(s.first, s.last, s.definition)),
-    Command(program_counter.ProgramCounter,
+    Command(st.ProgramCounter,
             lambda c, s: c.out.append(program_counter.report(s, c.ctl, c.state["cs"])),
             report=True, with_plc_open=True),
     Command(memory_commands.MemoryRead,
@@ -361,9 +360,9 @@ TABLE: Final[tuple[Command, ...]] = (
     Command(card_words.DeleteTrace, nothing),
     Command(user_buffer.DefineUbuffer, lambda c, s: user_buffer.define(c.ctl, s)),
     Command(user_buffer.DeleteAll, lambda c, s: user_buffer.delete_all(c.ctl)),
-    Command(kin.OpenKinematic, lambda c, s: kin.open_kinematic(c.ctl, s, _need_port(c))),
-    Command(kin.Pmatch, lambda c, s: kin.pmatch(c.ctl, c.state["cs"])),
-    Command(kin.Undefine, lambda c, s: kin.undefine(c.ctl, s, c.state["cs"])),
+    Command(card_words.OpenKinematic, lambda c, s: kin.open_kinematic(c.ctl, s, _need_port(c))),
+    Command(card_words.Pmatch, lambda c, s: kin.pmatch(c.ctl, c.state["cs"])),
+    Command(card_words.Undefine, lambda c, s: kin.undefine(c.ctl, s, c.state["cs"])),
 )
 
 

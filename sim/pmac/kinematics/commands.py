@@ -14,7 +14,6 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from motionsim.sim.errors import Conflict
@@ -23,6 +22,7 @@ from motionsim.sim.pmac.language.axis_definitions import lookup
 if TYPE_CHECKING:
     from motionsim.sim.controller import Port
     from motionsim.sim.pmac.controller import PmacController
+    from motionsim.sim.pmac.language.card_words import OpenKinematic, Undefine
 
 N_CS = 16
 
@@ -36,26 +36,6 @@ def _refuse_while_running(ctl: PmacController, cs: int | None, what: str) -> Non
     running = [c.cs for c in ctl.coord_systems.values() if c.running and cs in (None, c.cs)]
     if running:
         raise Conflict(f"CS {running[0]} is running a program: no {what}", pmac_error="ERR001")
-
-
-@dataclass(frozen=True, slots=True)
-class OpenKinematic:
-    """``OPEN FORWARD`` (``inverse`` False) / ``OPEN INVERSE``."""
-
-    inverse: bool
-    opens_buffer = True  # the parser stores the lines that follow
-
-
-@dataclass(frozen=True, slots=True)
-class Pmatch:
-    """``PMATCH``."""
-
-
-@dataclass(frozen=True, slots=True)
-class Undefine:
-    """``UNDEFINE`` / ``UNDEFINE ALL``."""
-
-    every_cs: bool
 
 
 def open_kinematic(ctl: PmacController, stmt: OpenKinematic, port: Port) -> None:
@@ -85,5 +65,4 @@ def undefine(ctl: PmacController, stmt: Undefine, cs: int) -> None:
     ctl.log.emit("undefine", cs=which)
 
 
-__all__ = ["OpenKinematic", "Pmatch", "Undefine", "buffer_key", "open_kinematic", "pmatch",
-           "undefine"]
+__all__ = ["buffer_key", "open_kinematic", "pmatch", "undefine"]

@@ -10,8 +10,7 @@ from __future__ import annotations
 from typing import Any
 
 from motionsim.sim.pmac.card import card_commands
-from motionsim.sim.pmac.host import list_commands
-from motionsim.sim.pmac.language import card_words
+from motionsim.sim.pmac.language import card_words, list_words
 from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.language import plc_statements as plc_st
 from motionsim.sim.pmac.language import statements as st
@@ -97,7 +96,7 @@ def list_(p: Any, tok: Token) -> Any:
         row = p.row
         if name is not None and row is not None and row.objects.get(name) is False:
             raise p.not_simulated(f"LIST {name}", tok)
-    return list_commands.parse(p)
+    return list_words.parse(p)
 
 
 def mflush(p: Any, tok: Token) -> Any:

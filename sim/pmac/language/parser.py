@@ -27,7 +27,6 @@ import re
 from typing import Any
 
 from motionsim.sim.errors import ParseError
-from motionsim.sim.pmac.buffers.program_counter import ProgramCounter
 from motionsim.sim.pmac.card import card_commands, macro_station, memory_commands, mvar_defs
 from motionsim.sim.pmac.language import axis_definitions, keywords, ranges
 from motionsim.sim.pmac.language import expressions as ex
@@ -468,7 +467,7 @@ class _Parser:
         if word == "P":
             m = self.match_text(_PC_PE)
             if m is not None:
-                return ProgramCounter(executing=m.group(1).upper() == "E")
+                return st.ProgramCounter(executing=m.group(1).upper() == "E")
         elif word == "R":
             m = self.match_text(memory_commands.READ_HEAD)
             if m is not None:

@@ -7,7 +7,6 @@ from __future__ import annotations
 import inspect
 
 import pytest
-
 from motionsim.sim.pmac.host import commands
 from motionsim.sim.pmac.language import keywords
 from motionsim.sim.pmac.language.parser import parse_line
