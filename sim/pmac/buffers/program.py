@@ -17,68 +17,32 @@ in the same line — after the line's modal settings (``X10 Y10 F5`` moves at F5
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any
 
 from motionsim.sim.errors import NotSimulated
 from motionsim.sim.pmac.language import statements as st
 from motionsim.sim.pmac.language.axis_definitions import Frax
+from motionsim.sim.pmac.language.compiled import (
+    OP_ASSIGN,
+    OP_AXISMODE,
+    OP_DELAY,
+    OP_DWELL,
+    OP_FRAX,
+    OP_MODAL,
+    OP_MODE,
+    OP_MOVE,
+    OP_PSET,
+    OP_SEND,
+    ProgramLine,
+)
 from motionsim.sim.pmac.language.expressions import constant
+from motionsim.sim.pmac.language.fast_line import fast_compile
 from motionsim.sim.pmac.language.flow_statements import FLOW_TYPES
 from motionsim.sim.pmac.language.parser import parse_program_line
 from motionsim.sim.pmac.language.ranges import RangeAssign
 
-# Operation codes (first element of each op tuple).
-OP_ASSIGN = 0  # (OP_ASSIGN, kind, index_expr, op, value_expr)
-OP_MODAL = 1  # (OP_MODAL, name, expr)
-OP_MODE = 2  # (OP_MODE, mode)
-OP_AXISMODE = 3  # (OP_AXISMODE, incremental, axes|None)
-OP_MOVE = 4  # (OP_MOVE, ((axis, expr), ...), ((vector, expr), ...), ((axis, vel_expr), ...))
-OP_DWELL = 5  # (OP_DWELL, expr)
-OP_DELAY = 6  # (OP_DELAY, expr)
-OP_PSET = 7  # (OP_PSET, ((axis, expr), ...))
-OP_FRAX = 8  # (OP_FRAX, axes)
-OP_SEND = 9  # (OP_SEND, port letter, text)
-
 #: Statements that make a line a control-flow line (:attr:`ProgramLine.flow`).
 _MARKS = (st.Label, *FLOW_TYPES)
-
-
-@dataclass(eq=True, unsafe_hash=True, slots=True)
-class ProgramLine:
-    """One line of a motion program, parsed and compiled once.
-
-    Immutable once built (lines are cached by text and shared); not a frozen dataclass, for
-    the reason :class:`~motionsim.sim.pmac.language.expressions.Expr` is not (one per streamed
-    line). Equality and hash are the frozen class's."""
-
-    text: str
-    words: int
-    ops: tuple[tuple[Any, ...], ...]
-    moves: int  # number of motion operations (moves, dwells, delays)
-    #: ``((axis, value), ...)`` when the line is nothing but one move with constant axis
-    #: values (the common streamed line): planning takes a short cut for it.
-    simple: tuple[tuple[str, float], ...] | None = None
-    #: ``((axis, position, velocity), ...)`` when the line is one move with constant axis
-    #: values and constant (or no) PVT velocities: the PVT planning short cut.
-    simple_pvt: tuple[tuple[str, float, float], ...] | None = None
-    #: The line's statements when it holds control flow or a label (``N10``, ``IF (...)``,
-    #: ``GOSUB20``): :mod:`.flow` splits it at them; None for a plain line.
-    flow: tuple[Any, ...] | None = None
-
-    def __init__(
-        self, text: str, words: int, ops: tuple[tuple[Any, ...], ...], moves: int,
-        simple: tuple[tuple[str, float], ...] | None = None,
-        simple_pvt: tuple[tuple[str, float, float], ...] | None = None,
-        flow: tuple[Any, ...] | None = None,
-    ) -> None:
-        self.text = text
-        self.words = words
-        self.ops = ops
-        self.moves = moves
-        self.simple = simple
-        self.simple_pvt = simple_pvt
-        self.flow = flow
 
 
 def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:
@@ -200,9 +164,6 @@ def rotary_check(line: ProgramLine) -> None:
                 pmac_error="ERR003", column=getattr(s, "column", None), text=line.text,
             )
 
-
-# The plain-line fast path needs ProgramLine and the OP codes above (import cycle).
-from motionsim.sim.pmac.language.fast_line import fast_compile  # noqa: E402
 
 __all__ = [
     "OP_ASSIGN",

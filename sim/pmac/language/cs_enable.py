@@ -21,15 +21,11 @@ Turbo PMAC word ``[INF]``.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 
 @dataclass(frozen=True, slots=True)
 class EnableCS:
-    """``E``."""
-
-    def run_online(self, ctl: Any, state: dict[str, Any], out: list[str]) -> None:
-        ctl.enable_cs(state["cs"])
+    """``E`` (run by its row in :mod:`motionsim.sim.pmac.host.commands`)."""
 
 
 __all__ = ["EnableCS"]

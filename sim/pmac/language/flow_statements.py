@@ -4,8 +4,10 @@ PSRM p301, p313, p357; PUM p165; TUM p252, p330, p341).
 They are stored in fixed ``PROG`` buffers like any program statement and turned into jumps
 when a program is run (:mod:`motionsim.sim.pmac.buffers.flow`). ``column`` is where the
 statement starts in the line as sent (1-based), for the ERR009 answer of a structural
-error. A condition is the PLC parser's (:func:`motionsim.sim.pmac.language.plc_parser
-.parse_condition`): a function of the variables and the coordinate system.
+error. The same statements make up PLC programs (:mod:`motionsim.sim.pmac.tasks.plc`
+compiles them with the PLC's rules). A condition is read by the parser
+(:meth:`motionsim.sim.pmac.language.parser._Parser.condition`): a function of the variables
+and the coordinate system.
 """
 
 from __future__ import annotations
@@ -60,6 +62,18 @@ class While:
 class EndWhile:
     """``ENDWHILE`` (``ENDW``, ``END WHILE``): jump back to the WHILE."""
 
+    column: int
+
+
+@dataclass(frozen=True, slots=True)
+class CondLine:
+    """``AND ({condition})`` / ``OR ({condition})`` starting a line: it extends the condition
+    of the ``IF`` / ``WHILE`` line just above (PLC programs only, PUM p162 "Multiple-Line
+    Conditions"; TUM p253). ``op`` is ``"AND"`` or ``"OR"``."""
+
+    op: str
+    cond: Cond
+    text: str
     column: int
 
 
@@ -146,6 +160,6 @@ FLOW_TYPES = (
 )
 
 __all__ = [
-    "FLOW_TYPES", "BlockStart", "BlockStop", "Call", "Else", "EndIf", "EndWhile", "FlowStatement",
-    "Gosub", "Goto", "If", "Read", "Return", "Stop", "Wait", "While",
+    "FLOW_TYPES", "BlockStart", "BlockStop", "Call", "CondLine", "Else", "EndIf", "EndWhile",
+    "FlowStatement", "Gosub", "Goto", "If", "Read", "Return", "Stop", "Wait", "While",
 ]  # fmt: skip
