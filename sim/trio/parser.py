@@ -36,6 +36,13 @@ from motionsim.sim.trio.parameters import ALL_PARAMS, WRITABLE
 from motionsim.sim.trio.setup_commands import COMMANDS as SETUP_COMMANDS
 from motionsim.sim.trio.strings import STRING_FUNCTIONS
 
+#: The deepest a line may nest ``[INF]`` (no figure in the manuals): sub-expressions (brackets,
+#: function arguments, indexes), unary operators, the binary operators of one expression and
+#: one-line ``IF ... THEN`` statements inside each other each count one level; level
+#: ``MAX_NESTING + 1`` is a syntax error naming the limit, so neither the parser nor the
+#: compiled program recurses deeper than Python's stack allows.
+MAX_NESTING = 100
+
 #: Motion commands that enter the buffers, with the argument counts they accept.
 MOVE_ARGS: dict[str, tuple[int, int]] = {
     "MOVE": (1, 8),
@@ -112,6 +119,9 @@ class _Line(DeclarationParser):
         self.model = model
         self.mc4 = model in MC4_MODELS
         self.in_print = False
+        #: Nesting level (:data:`MAX_NESTING` at most): the line's first statement and its
+        #: top expression are level 0.
+        self.depth = -2
 
     # -- token helpers ------------------------------------------------------------------
 
@@ -240,7 +250,20 @@ class _Line(DeclarationParser):
             if not self.at(":"):
                 raise self.error(f"unexpected {self.peek().text!r} after the statement")
 
+    def nest(self, levels: int = 1) -> None:
+        """``levels`` more levels of nesting; a syntax error past :data:`MAX_NESTING`."""
+        self.depth += levels
+        if self.depth > MAX_NESTING:
+            raise self.error(f"expression or statement nested deeper than {MAX_NESTING} "
+                             "levels (the limit)")
+
     def statement(self) -> s.Stmt:
+        self.nest()
+        stmt = self.one_statement()
+        self.depth -= 1
+        return stmt
+
+    def one_statement(self) -> s.Stmt:
         tok = self.peek()
         ln, col = self.line_no, tok.col
         if tok.kind == "op" and tok.text == "?":
@@ -549,28 +572,42 @@ class _Line(DeclarationParser):
 
     # -- expressions -------------------------------------------------------------------
 
-    def expr(self, min_prec: int = 1) -> s.Expr:
+    def expr(self, min_prec: int = 1, sub: bool = True) -> s.Expr:
         """Binary operators by precedence climbing over :data:`_PRECEDENCE` (spec §9.2: equal
-        precedence left to right)."""
+        precedence left to right). ``sub``: a sub-expression, one level deeper (not the right
+        operand of an operator, whose level that operator counts)."""
+        if sub:
+            self.nest()
+        base = self.depth if sub else self.depth + 1
         left = self.unary()
         while True:
             op = self.peek().text
             prec = _PRECEDENCE.get(op)
             if prec is None or prec < min_prec:
+                self.depth = base - 1
                 return left
             self.i += 1
-            left = s.Binary(op, left, self.expr(prec + 1))
+            self.nest()  # the tree of a run of operators is as deep as the run is long
+            left = s.Binary(op, left, self.expr(prec + 1, sub=False))
 
     def unary(self) -> s.Expr:
         if self.accept("-"):
+            self.nest()
             operand = self.unary()
+            self.depth -= 1
             if isinstance(operand, s.Num):
                 return s.Num(-operand.value)
             return s.Unary("-", operand)
         if self.accept("+"):
-            return self.unary()
+            self.nest()
+            operand = self.unary()
+            self.depth -= 1
+            return operand
         if self.accept("NOT"):
-            return s.Unary("NOT", self.unary())
+            self.nest()
+            operand = self.unary()
+            self.depth -= 1
+            return s.Unary("NOT", operand)
         return self.primary()
 
     def primary(self) -> s.Expr:

@@ -101,6 +101,8 @@ class _Parser:
         self.toks = tokenize(text)
         self.i = 0
         self.open = open_
+        #: Nesting level of the expression being parsed (``ex.MAX_NESTING`` at most).
+        self.depth = 0
         #: A SPLINE1 / SPLINE2 word came earlier on this line (no PVT-style velocities).
         self.spline_line = False
 
@@ -161,24 +163,36 @@ class _Parser:
     # -- expressions ----------------------------------------------------------------------
 
     def expression(self) -> ex.Expr:
-        left = self.term()
+        first = self.term()
+        rest: list[tuple[str, ex.Expr]] = []
         while self.at("op") and self.peek()[1] in ex.LOW:  # type: ignore[index]
             op = self.take()[1]
-            left = ex.binary(op, left, self.term())
-        return left
+            rest.append((op, self.term()))
+        return ex.chain(first, rest) if rest else first
 
     def term(self) -> ex.Expr:
-        left = self.unary()
+        first = self.unary()
+        rest: list[tuple[str, ex.Expr]] = []
         while self.at("op") and self.peek()[1] in ex.HIGH:  # type: ignore[index]
             op = self.take()[1]
-            left = ex.binary(op, left, self.unary())
-        return left
+            rest.append((op, self.unary()))
+        return ex.chain(first, rest) if rest else first
+
+    def nest(self, tok: Token | None) -> None:
+        """One more level of nesting (``(``, a unary ``-``); ERR003 past ``MAX_NESTING``."""
+        self.depth += 1
+        if self.depth > ex.MAX_NESTING:
+            raise self.error(
+                f"expression nested deeper than {ex.MAX_NESTING} levels (the limit)", tok)
 
     def unary(self) -> ex.Expr:
         tok = self.peek()
         if tok is not None and tok[0] == "op" and tok[1] == "-":
             self.i += 1
-            return ex.negate(self.unary())
+            self.nest(tok)
+            inner = self.unary()
+            self.depth -= 1
+            return ex.negate(inner)
         if tok is not None and tok[0] == "op" and tok[1] == "+":
             raise self.error("unary plus is not allowed", tok)
         return self.primary()
@@ -204,9 +218,11 @@ class _Parser:
         raise self.error("expected a value", tok)
 
     def parenthesised(self) -> ex.Expr:
+        self.nest(self.peek())
         self.expect_op("(")
         inner = self.expression()
         self.expect_op(")")
+        self.depth -= 1
         return ex.paren(inner)
 
     def index(self) -> ex.Expr:
@@ -227,7 +243,10 @@ class _Parser:
         tok = self.peek()
         if tok is not None and tok[0] == "op" and tok[1] == "-":
             self.i += 1
-            return ex.negate(self.value())
+            self.nest(tok)
+            inner = self.value()
+            self.depth -= 1
+            return ex.negate(inner)
         if tok is not None and tok[0] == "num":
             self.i += 1
             return ex.constant(_number(tok[1]), tok[1])

@@ -38,7 +38,7 @@ from motionsim.sim.errors import ParseError
 from motionsim.sim.pmac.language import plc_idioms
 from motionsim.sim.pmac.language import plc_statements as plc_st
 from motionsim.sim.pmac.language import statements as st
-from motionsim.sim.pmac.language.expressions import Expr
+from motionsim.sim.pmac.language.expressions import MAX_NESTING, Expr, too_deep
 from motionsim.sim.pmac.language.parser import parse_expression, parse_line
 
 _ERR = "ERR003"
@@ -297,6 +297,10 @@ def parse_plc_line(text: str) -> list[tuple[Any, int]]:
     Raises:
         ParseError: column, ERR003.
     """
+    deep = too_deep(text)  # conditions parse recursively: bound the nesting first
+    if deep is not None:
+        raise _error(f"expression nested deeper than {MAX_NESTING} levels (the limit)", deep,
+                     text)
     out: list[tuple[Any, int]] = []
     text = _code(text)
     pos, n = 0, len(text)
