@@ -19,6 +19,7 @@ from motionsim.sim.trio import basic_errors as msg
 from motionsim.sim.trio.axis_status import computed
 from motionsim.sim.trio.basic_errors import BasicError
 from motionsim.sim.trio.compiler import HALT, Block, WaitFor
+from motionsim.sim.trio.data_memory import DATA_BYTES, dim_bytes, out_of_memory
 from motionsim.sim.trio.datum import datum_move
 from motionsim.sim.trio.linked import LINKED, LinkedMove, check_linked, link_axis_of
 from motionsim.sim.trio.models import format_number, hex_text
@@ -59,6 +60,8 @@ class Context:
         self.command_line = command_line
         self.locals: dict[str, float] = _NoLocals() if command_line else {}
         self.loops: dict[int, tuple[float, float]] = {}
+        #: Bytes of program data memory each DIMmed name of this process holds.
+        self.data_bytes: dict[str, int] = {}
         self.gosub_stack: list[int] = []
         self.base: list[int] = list(range(len(ctrl.axes)))
         self.outdevice = 0  # OUTDEVICE: the channel PRINT writes to (M206-320)
@@ -79,15 +82,26 @@ class Context:
             raise BasicError(msg.LOCALS_AT_COMMAND_LINE + f": {name}")
         self.locals[name] = value
 
-    def declare_local(self, name: str, initial: Any) -> None:
-        """DIM: the local (or array) at its initial value."""
+    def declare_local(self, name: str, decl: Decl) -> None:
+        """DIM: the local (or array) at its initial value, its bytes reserved in the
+        controller's program data memory first (sim.trio.data_memory)."""
         if self.command_line:
             raise BasicError(msg.LOCALS_AT_COMMAND_LINE + f": {name}")
-        self.locals[name] = initial
+        self._reserve(name, decl)
+        initial = decl.initial()
+        self.locals[name] = initial if decl.size is None else [initial] * decl.size
+
+    def _reserve(self, name: str, decl: Decl) -> None:
+        need = dim_bytes(decl.type, decl.size, decl.length)
+        free = DATA_BYTES - self.ctrl.data_bytes_in_use() + self.data_bytes.get(name, 0)
+        if need > free:
+            raise BasicError(out_of_memory(name, need, free))
+        self.data_bytes[name] = need
 
     def _array(self, name: str, decl: Decl) -> list[Any]:
         arr = self.locals.get(name)
         if not isinstance(arr, list):  # its DIM line was jumped over: declared on first use
+            self._reserve(name, decl)
             arr = self.locals[name] = [decl.initial()] * (decl.size or 0)
         return arr
 

@@ -425,6 +425,11 @@ class TrioController(Controller):
         proc = self.basic.get(p)
         return 1 if proc is not None and proc.state != "stopped" else 0
 
+    def data_bytes_in_use(self) -> int:
+        """Program data memory the running processes' DIMs hold (sim.trio.data_memory)."""
+        return sum(sum(proc.ctx.data_bytes.values()) for proc in self.basic.values()
+                   if proc.state != "stopped")
+
     def context_of(self, p: int) -> Context:
         """The runtime context of process ``p`` (a fresh one for a process that never ran)."""
         if p == 0:

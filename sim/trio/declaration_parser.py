@@ -13,6 +13,8 @@ from typing import Any
 
 from motionsim.sim.errors import ParseError
 from motionsim.sim.trio import statements as s
+from motionsim.sim.trio.data_memory import too_big
+from motionsim.sim.trio.strings import DEFAULT_LENGTH
 
 #: DIM types (MC4, spec §11.4).
 TYPES = ("INTEGER", "FLOAT", "STRING", "BOOLEAN")
@@ -77,6 +79,9 @@ class DeclarationParser:
                 size = n  # DIM x AS FLOAT(n): an array of n ([INF], spec §2.5)
             else:
                 raise self.error("the array size is given twice")
+        why = too_big(kind, size, length or DEFAULT_LENGTH)
+        if why is not None:
+            raise self.error(why, col)
         return s.Dim(ln, col, name, kind, size, length)
 
     def whole_number(self, what: str) -> int:

@@ -89,12 +89,7 @@ class Declarations:
         decl = Decl("DIM", st.type, st.size, st.length or DEFAULT_LENGTH)
         self.scope.names[st.name] = decl
         name = st.name
-        initial = decl.initial()
-        if decl.size is None:
-            self.emit(lambda c: c.declare_local(name, initial), st)
-        else:
-            size = decl.size
-            self.emit(lambda c: c.declare_local(name, [initial] * size), st)
+        self.emit(lambda c: c.declare_local(name, decl), st)
 
     def st_Global(self, st: s.Global) -> None:
         self._shared(st, st.name, Decl("GLOBAL", index=st.index))
