@@ -23,6 +23,7 @@ from motionsim.api.trio_modbus.protocol import (
     to_register,
 )
 from motionsim.api.wire import (
+    FAIR_SHARE,
     close_when_deleted,
     current_handle,
     default_limits,
@@ -60,14 +61,24 @@ async def _serve_connection(handle: Any, reader: asyncio.StreamReader,
                             limits: Any) -> None:
     """Answer requests in order; reading waits for each batch's answers to be sent (so a master
     pipelining without reading is held back), a silent master is dropped after the idle
-    timeout, and the connection is closed when the controller is deleted."""
+    timeout, and the connection is closed when the controller is deleted.
+
+    Bounded work per turn: after :data:`~motionsim.api.wire.FAIR_SHARE` answers the
+    connection waits for its replies to drain (TCP back-pressure: a master that never reads
+    stops being served, not everyone else) and gives the event loop a turn, so one chunk of
+    thousands of pipelined FC3 reads cannot starve the PMAC and Trio ports or ``/health``."""
     codec = ModbusCodec(max_register)
     unsubscribe = close_when_deleted(handle, writer)
     try:
         while data := await read_chunk(reader, limits):
             codec.receive_data(data)
+            served = 0
             while (request := codec.next_request()) is not NEED_DATA:
                 writer.write(answer(handle, codec, request))
+                served += 1
+                if served % FAIR_SHARE == 0:
+                    await writer.drain()
+                    await asyncio.sleep(0)  # everyone else's turn
             await writer.drain()
     except ProtocolError as exc:
         log.warning("Modbus TCP: %s; closing the connection", exc)
