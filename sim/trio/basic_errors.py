@@ -26,6 +26,10 @@ LOCALS_AT_COMMAND_LINE = "Local variables cannot be used at the command line"
 TOO_MANY_STEPS = "Command line statement ran too long"
 ON_GOTO_RANGE = "ON..GOTO value {value} is outside 1..{count}"
 ARRAY_RANGE = "Array index out of range: {name}({index})"
+OUT_OF_WORD = ("Value out of range: {what} = {value:g} is beyond what the {bits}-bit number "
+               "format holds (±{limit:g})")
+EDGES_RANGE = ("Parameter out of range: {name}({value:g}) is {edges:g} encoder edges, beyond "
+               "the ±{limit:g} of the {bits}-bit position counter")
 NOT_FINITE = "Parameter out of range: {name} is not a finite number ({value})"
 TRAP_AT_COMMAND_LINE = "ON BASICERROR cannot be used at the command line"
 

@@ -22,7 +22,7 @@ from motionsim.sim.trio.compiler import HALT, Block, WaitFor
 from motionsim.sim.trio.data_memory import DATA_BYTES, dim_bytes, out_of_memory
 from motionsim.sim.trio.datum import datum_move
 from motionsim.sim.trio.linked import LINKED, LinkedMove, check_linked, link_axis_of
-from motionsim.sim.trio.models import format_number, hex_text
+from motionsim.sim.trio.models import EDGES_MAX, WORD_MAX, format_number, hex_text, out_of_word
 from motionsim.sim.trio.moves import Move
 from motionsim.sim.trio.mtypes import SP_GEOMETRY, axes_driven
 from motionsim.sim.trio.parameters import (
@@ -152,7 +152,17 @@ class Context:
         return self.ctrl.vr[self._vr_index(i)]
 
     def set_vr(self, i: float, value: float) -> None:
-        self.ctrl.vr[self._vr_index(i)] = value
+        n = self._vr_index(i)
+        self._check_word(f"VR({n})", value)
+        self.ctrl.vr[n] = value
+
+    def _check_word(self, what: str, value: float) -> None:
+        """A store the model's number format cannot hold is a run-time error (sim.trio.models:
+        ``VR(2)=1e300*1e300`` is not kept as inf)."""
+        m = self.ctrl.model
+        if out_of_word(value, m):
+            raise BasicError(msg.OUT_OF_WORD.format(what=what, value=value, bits=m.word_bits,
+                                                    limit=WORD_MAX[m.word_bits]))
 
     def _table_index(self, i: float) -> int:
         n = int(i)
@@ -164,7 +174,9 @@ class Context:
         return self.ctrl.table.get(self._table_index(i), 0.0)
 
     def set_table(self, i: float, value: float) -> None:
-        self.ctrl.table[self._table_index(i)] = value
+        n = self._table_index(i)
+        self._check_word(f"TABLE({n})", value)
+        self.ctrl.table[n] = value
 
     # -- parameters ------------------------------------------------------------------------
 
@@ -306,6 +318,17 @@ class Context:
             raise BasicError(msg.AXIS_RANGE.format(axis=size))
         return tuple(axes[:size])
 
+    def _check_edges(self, kind: str, args: tuple[float, ...], axes: tuple[int, ...]) -> None:
+        """A move argument beyond the axis position counter (in encoder edges: the argument
+        times UNITS) is refused: ``MOVE(1e38)`` cannot be counted ``[INF]``."""
+        bits = self.ctrl.model.word_bits
+        limit = EDGES_MAX[bits]
+        units = max(abs(self.ctrl.axes[a].units) for a in axes)
+        for a in args:
+            if abs(a) * units > limit:
+                raise BasicError(msg.EDGES_RANGE.format(name=kind, value=a, edges=a * units,
+                                                        limit=limit, bits=bits))
+
     def issue(self, kind: str, args: tuple[float, ...], axis: float | None, text: str) -> Any:
         """A motion command: place it (None) or report that the process must wait (Block).
         An infinite or NaN argument is the run-time error the REST surface answers with a 422
@@ -318,6 +341,7 @@ class Context:
             return None
         size = axes_driven(kind, len(args))
         axes = self.group(size, axis)
+        self._check_edges(kind, args, axes)
         move: Move
         if kind in LINKED:
             move = self._linked(kind, args, axes[0], text)

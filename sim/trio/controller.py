@@ -45,14 +45,14 @@ from motionsim.sim.trio.context import Context
 from motionsim.sim.trio.datum import datum_move
 from motionsim.sim.trio.io import CHANNELS, IoImage
 from motionsim.sim.trio.linked import LINKED
-from motionsim.sim.trio.models import DEFAULT_MODEL
+from motionsim.sim.trio.models import DEFAULT_MODEL, WORD_MAX, out_of_word
 from motionsim.sim.trio.models import model as model_named
 from motionsim.sim.trio.moves import Move
 from motionsim.sim.trio.mtypes import MTYPE, SP_GEOMETRY, axes_driven
 from motionsim.sim.trio.output import Channels
 from motionsim.sim.trio.parser import MOVE_ARGS, parse_program
 from motionsim.sim.trio.process import BasicProcess
-from motionsim.sim.trio.scope import Decl
+from motionsim.sim.trio.scope import Decl, rebinding
 from motionsim.sim.trio.statements import Program
 from motionsim.sim.trio.system import SystemParams
 from motionsim.sim.trio.terminal import CommandLine
@@ -363,7 +363,14 @@ class TrioController(Controller):
         return compile_program(parsed, key, resolve, self.declared, self.declared_version)
 
     def declare(self, name: str, decl: Decl) -> None:
-        """GLOBAL / CONSTANT ran: programs compiled (or RUN) from now on see ``name``."""
+        """GLOBAL / CONSTANT ran: programs compiled (or RUN) from now on see ``name``.
+
+        Raises:
+            BasicError: ``name`` is already bound otherwise (:func:`~.scope.rebinding`).
+        """
+        why = rebinding(name, self.declared.get(name), decl)
+        if why is not None:
+            raise BasicError(why)
         if self.declared.get(name) != decl:
             self.declared[name] = decl
             self.declared_version += 1
@@ -489,6 +496,10 @@ class TrioController(Controller):
             v = float(value)
         except (TypeError, ValueError):
             raise InvalidValue(f"{name} needs a number, got {value!r}", field="value") from None
+        if kind in ("VR", "TABLE") and out_of_word(v, self.model):
+            raise InvalidValue(f"{name} = {v:g} is beyond what the {self.model.word_bits}-bit "
+                               f"number format of model {self.model.name} holds "
+                               f"(±{WORD_MAX[self.model.word_bits]:g})", field="value")
         if kind == "VR":
             self.vr[index] = v
         elif kind == "TABLE":

@@ -21,7 +21,7 @@ from typing import Any
 
 from motionsim.sim.trio import statements as s
 from motionsim.sim.trio.expressions import compile_expr, kind_of
-from motionsim.sim.trio.scope import Decl, ExprError, coerce
+from motionsim.sim.trio.scope import Decl, ExprError, coerce, rebinding
 from motionsim.sim.trio.strings import DEFAULT_LENGTH
 
 #: Finds a stored program's parsed text by name (None when there is none).
@@ -101,6 +101,9 @@ class Declarations:
         old = self.scope.get(name)
         if old is not None and old.kind == "DIM":
             raise self.error(st, f"{name} is already a local (DIM) of this program")
+        why = rebinding(name, old, decl)
+        if why is not None:
+            raise self.error(st, why)
         self.scope.names[name] = decl
         self.emit(lambda c: c.declare(name, decl), st)
 

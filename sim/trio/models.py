@@ -64,6 +64,19 @@ def model(name: object) -> Model:
     return MODELS[name.lower()]
 
 
+#: The largest magnitude each word holds (float32, float64).
+WORD_MAX: dict[int, float] = {32: 3.4028234663852886e38, 64: 1.7976931348623157e308}
+#: Position counters in whole encoder edges: 32-bit on MC2xx, 53 exact bits on MC4 ``[INF]``.
+EDGES_MAX: dict[int, float] = {32: float(2**31), 64: float(2**53)}
+
+
+def out_of_word(value: float, m: Model) -> bool:
+    """Whether the model's number format cannot hold ``value`` (NaN, inf, or beyond its
+    largest float: a VR or TABLE store of it is refused, not kept as ``inf``)."""
+    lim = WORD_MAX[m.word_bits]
+    return not -lim <= value <= lim
+
+
 def to_word(value: float, m: Model) -> float:
     """``value`` as the model's word holds it (float32 rounding on 32-bit models)."""
     if m.word_bits == 64:
@@ -91,4 +104,5 @@ def hex_text(value: float, m: Model) -> str:
     return format(n & ((1 << m.hex_bits) - 1), "X")
 
 
-__all__ = ["DEFAULT_MODEL", "MODELS", "Model", "format_number", "hex_text", "model", "to_word"]
+__all__ = ["DEFAULT_MODEL", "EDGES_MAX", "MODELS", "WORD_MAX", "Model", "format_number",
+           "hex_text", "model", "out_of_word", "to_word"]

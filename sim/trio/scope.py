@@ -69,6 +69,24 @@ class Scope:
         return decl
 
 
+def rebinding(name: str, old: Decl | None, new: Decl) -> str | None:
+    """Why ``new`` (a GLOBAL or CONSTANT of ``name``) may not replace ``old``, or None.
+
+    A GLOBAL / CONSTANT name is one binding for every program of the controller ``[BK]`` (the
+    MC4 help gives no rule; refusing is the choice that cannot silently redirect another
+    program's ``name``): declaring it again the same way is fine (a start-up program run
+    twice), a GLOBAL naming another VR, a CONSTANT of another value, or a CONSTANT over a
+    GLOBAL (and the reverse) is refused with both bindings named."""
+    if old is None or old.kind not in ("GLOBAL", "CONSTANT") or old == new:
+        return None
+
+    def said(d: Decl) -> str:
+        return f"GLOBAL VR({d.index})" if d.kind == "GLOBAL" else f"CONSTANT {d.value:g}"
+
+    return (f"{new.kind} {name!r}: {name} is already {said(old)}; a shared name cannot be "
+            f"declared again as {said(new)}")
+
+
 def coerce(decl: Decl | None, value: float | str) -> float | str:
     """A value as a typed local stores it (untyped: unchanged)."""
     if decl is None or decl.kind != "DIM":
@@ -82,4 +100,4 @@ def coerce(decl: Decl | None, value: float | str) -> float | str:
     return value
 
 
-__all__ = ["Decl", "ExprError", "Scope", "coerce"]
+__all__ = ["Decl", "ExprError", "Scope", "coerce", "rebinding"]
