@@ -192,8 +192,11 @@ def serve(
     if record is not None:
         from motionsim.app.recorder import Recorder
 
-        recorder = Recorder(record, {h.id: {"kind": h.kind, "config": h.controller.config}
-                                     for h in app.state.registry})
+        try:
+            recorder = Recorder(record, {h.id: {"kind": h.kind, "config": h.controller.config}
+                                         for h in app.state.registry})
+        except (ValueError, OSError) as exc:  # a directory, a file that is not a transcript
+            raise _fail(f"--record: {exc}", 2) from None
     code = asyncio.run(_serve(app, settings, sock, recorder))
     if recorder is not None:
         recorder.close()
