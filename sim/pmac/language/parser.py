@@ -98,6 +98,10 @@ def _number(tok: str) -> float:
 class _Parser:
     def __init__(self, text: str, open_: bool) -> None:
         self.text = text
+        deep = ex.too_deep(text)  # before tokenising a line that can only be refused
+        if deep is not None:
+            raise ParseError(f"expression nested deeper than {ex.MAX_NESTING} levels (the "
+                             "limit)", column=deep, text=text, pmac_error=_ERR)
         self.toks = tokenize(text)
         self.i = 0
         self.open = open_
