@@ -5,8 +5,8 @@
   ``9.223372036854776e+18`` (which is 2**63, one past the bound). An integer schema's bounds
   are published as JSON integers again, a float that rounds to 2**63 as ``2**63 - 1`` (the only
   int64 bound it can have been);
-* **event types**: every ``type`` of an event (the wire's ``EventOut.type``, a ``run-until``
-  pattern, the events query) lists the known types as an ``enum`` — those of
+* **event types**: the ``type`` of an event (the wire's ``EventOut.type``, the events query's
+  ``type`` filter) lists the known types as an ``enum`` — those of
   :data:`motionsim.sim.events.EVENT_FIELDS` and of every registered kind;
 * **Trio process numbers by model**: a ``process`` field says its maximum per Trio model
   (``x-maximum-by-model``, and in its description): 1..N where N is the model's processes.
@@ -72,8 +72,10 @@ def _walk(node: Any, types: list[str], by_model: dict[str, int], key: str = "") 
             _walk(v, types, by_model)
 
 
-#: Schemas whose ``type`` property is an event type.
-_EVENT_SCHEMAS = ("EventOut", "EventPattern")
+#: Schemas whose ``type`` property is an event type. Not ``EventPattern`` (a run-until's
+#: pattern): the route does not refuse every type outside the list (a zero timeout answers
+#: ``timeout`` first), and a published enum would promise that it does.
+_EVENT_SCHEMAS = ("EventOut",)
 
 
 def _event_types(schema: dict[str, Any], types: list[str]) -> None:
