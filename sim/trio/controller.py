@@ -6,7 +6,7 @@ running as processes 1..N, and the command line as process 0 — the buffering o
 Config (``POST /controllers {"kind": "trio", "config": {...}}``), unknown keys refused:
 
 * ``model`` (``"mc2xx"``): the generation — number word size and HEX width, default process
-  count (:mod:`motionsim.sim.trio.models`: ``series2``, ``mc2xx``, ``mc4xx``);
+  count (:mod:`motionsim.sim.trio.card.models`: ``series2``, ``mc2xx``, ``mc4xx``);
 * ``servo_period_ms`` (1.0): SERVO_PERIOD; moves start and end on servo periods;
 * ``axes`` (8): number of axes, 0..axes-1;
 * ``processes`` (the model's: 7 on mc2xx = MC206, 14 series2 = MC216, 22 mc4xx): BASIC
@@ -36,25 +36,25 @@ from motionsim.sim.errors import (
     ParseError,
 )
 from motionsim.sim.timing import ServoClock
-from motionsim.sim.trio.axis import DEFAULTS, Axis
-from motionsim.sim.trio.axis_status import StoredParams
-from motionsim.sim.trio.basic_errors import BasicError
-from motionsim.sim.trio.buffers import MotionBuffers, Waiter
-from motionsim.sim.trio.compiler import Code, compile_program
-from motionsim.sim.trio.context import Context
-from motionsim.sim.trio.datum import datum_move
-from motionsim.sim.trio.io import CHANNELS, IoImage
-from motionsim.sim.trio.linked import LINKED
-from motionsim.sim.trio.models import DEFAULT_MODEL
-from motionsim.sim.trio.models import model as model_named
-from motionsim.sim.trio.moves import Move
-from motionsim.sim.trio.mtypes import MTYPE, SP_GEOMETRY, axes_driven
-from motionsim.sim.trio.output import Channels
-from motionsim.sim.trio.parser import MOVE_ARGS, parse_program
-from motionsim.sim.trio.process import BasicProcess
-from motionsim.sim.trio.scope import Decl
-from motionsim.sim.trio.statements import Program
-from motionsim.sim.trio.system import SystemParams
+from motionsim.sim.trio.card.axis_status import StoredParams
+from motionsim.sim.trio.card.basic_errors import BasicError
+from motionsim.sim.trio.card.io import CHANNELS, IoImage
+from motionsim.sim.trio.card.models import DEFAULT_MODEL
+from motionsim.sim.trio.card.models import model as model_named
+from motionsim.sim.trio.card.output import Channels
+from motionsim.sim.trio.card.system import SystemParams
+from motionsim.sim.trio.language.compiler import Code, compile_program
+from motionsim.sim.trio.language.parser import MOVE_ARGS, parse_program
+from motionsim.sim.trio.language.scope import Decl
+from motionsim.sim.trio.language.statements import Program
+from motionsim.sim.trio.motion.axis import DEFAULTS, Axis
+from motionsim.sim.trio.motion.buffers import MotionBuffers, Waiter
+from motionsim.sim.trio.motion.datum import datum_move
+from motionsim.sim.trio.motion.linked import LINKED
+from motionsim.sim.trio.motion.moves import Move
+from motionsim.sim.trio.motion.mtypes import MTYPE, SP_GEOMETRY, axes_driven
+from motionsim.sim.trio.run.context import Context
+from motionsim.sim.trio.run.process import BasicProcess
 from motionsim.sim.trio.terminal import CommandLine
 
 _CONFIG_DEFAULTS: dict[str, float] = {
@@ -131,7 +131,7 @@ class TrioController(Controller):
         self.vr: list[float] = [0.0] * self.vr_count
         self.table: dict[int, float] = {}
         self.programs: dict[str, tuple[str, Code]] = {}
-        self.parsed: dict[str, Program] = {}  # for INCLUDE (sim/trio/declarations.py)
+        self.parsed: dict[str, Program] = {}  # for INCLUDE (sim/trio/language/declarations.py)
         self.declared: dict[str, Decl] = {}  # GLOBAL / CONSTANT names that have run
         self.declared_version = 0
         self.basic: dict[int, BasicProcess] = {}

@@ -38,15 +38,15 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from motionsim.sim.trio.basic_errors import BasicError
-from motionsim.sim.trio.parameters import STORED, STORED_BY_NAME
-from motionsim.sim.trio.scaling import encoder_count
+from motionsim.sim.trio.card.basic_errors import BasicError
+from motionsim.sim.trio.card.parameters import STORED, STORED_BY_NAME
+from motionsim.sim.trio.card.scaling import encoder_count
 
 if TYPE_CHECKING:
-    from motionsim.sim.trio.axis import Axis
+    from motionsim.sim.trio.motion.axis import Axis
 
 #: Power-up values of every stored axis parameter (the table of
-#: :data:`motionsim.sim.trio.parameters.STORED`).
+#: :data:`motionsim.sim.trio.card.parameters.STORED`).
 STORED_DEFAULTS: dict[str, float] = {p.name: p.power_up for p in STORED}
 
 DATUMING = 1 << 6
@@ -98,7 +98,7 @@ def computed(name: str, axis: Axis) -> float:
     """A read-only axis parameter computed from the motion (parameters.AXIS_COMPUTED):
     AXISSTATUS; MSPEED and VPSPEED = VP_SPEED (MPOS = DPOS); FE = DPOS - MPOS = 0 (the
     simulated servo loop follows exactly, ``[INF]``); ENCODER the raw encoder count that gives
-    MPOS through ENCODER_RATIO (:mod:`motionsim.sim.trio.scaling`)."""
+    MPOS through ENCODER_RATIO (:mod:`motionsim.sim.trio.card.scaling`)."""
     if name == "AXISSTATUS":
         return float(axisstatus(axis, axis.stored))
     if name == "FE":

@@ -20,7 +20,7 @@ logs nothing.
 from __future__ import annotations
 
 from motionsim.sim.events import EventLog
-from motionsim.sim.trio.basic_errors import BasicError
+from motionsim.sim.trio.card.basic_errors import BasicError
 
 CHANNELS = 256
 #: ``OP(pattern)``: the first output the pattern's bit 0 drives, and how many it drives.

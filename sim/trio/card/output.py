@@ -22,7 +22,7 @@ from collections import deque
 from collections.abc import Callable
 
 from motionsim.sim.events import EventLog
-from motionsim.sim.trio.basic_errors import BasicError
+from motionsim.sim.trio.card.basic_errors import BasicError
 
 #: Channel-0 lines kept for cursor readers (older ones are dropped, counted in ``dropped``).
 KEEP = 1000

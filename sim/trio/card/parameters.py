@@ -98,7 +98,7 @@ AXIS_STORED = frozenset(STORED_BY_NAME)
 #: Read-only axis parameters computed from the motion: AXISSTATUS (the bits the simulation
 #: knows); MSPEED = the demand speed, as MPOS = DPOS (no following error, ``[INF]``); VPSPEED
 #: the other spelling of VP_SPEED ``[BK]``; FE = DPOS - MPOS (0: the simulated servo loop
-#: follows exactly); ENCODER the raw encoder count (:mod:`motionsim.sim.trio.scaling`).
+#: follows exactly); ENCODER the raw encoder count (:mod:`motionsim.sim.trio.card.scaling`).
 AXIS_COMPUTED = frozenset({"AXISSTATUS", "MSPEED", "VPSPEED", "FE", "ENCODER"})
 
 AXIS_PARAMS = AXIS_WRITABLE | AXIS_READONLY | AXIS_STORED | AXIS_COMPUTED
@@ -112,7 +112,7 @@ PROCESS_PARAMS = frozenset(
 PROCESS_WRITABLE = frozenset({"OUTDEVICE"})
 
 #: System parameters (SERVO_PERIOD in microseconds, read-only here).
-#: The others: :mod:`motionsim.sim.trio.system` (WDOG and LIMIT_BUFFERED are the ones a
+#: The others: :mod:`motionsim.sim.trio.card.system` (WDOG and LIMIT_BUFFERED are the ones a
 #: program writes).
 SYSTEM_PARAMS = frozenset(
     {"SERVO_PERIOD", "WDOG", "VERSION", "CONTROL", "SERIAL_NUMBER", "FREE", "SYSTEM_ERROR",

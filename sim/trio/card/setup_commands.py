@@ -10,7 +10,7 @@ A command is one row of :data:`COMMANDS` — its argument counts and the functio
   :mod:`motionsim.sim.trio.addax`;
 * ``ENCODER_RATIO(den, num)`` — MPOS = num/den × encoder edges, 0..16777215 each (TJCJ-159):
   the simulated servo loop still makes MPOS follow DPOS, so the ratio shows in the raw
-  ``ENCODER`` count (:mod:`motionsim.sim.trio.scaling`); ``STEP_RATIO(den, num)`` the same for
+  ``ENCODER`` count (:mod:`motionsim.sim.trio.card.scaling`); ``STEP_RATIO(den, num)`` the same for
   the step output (``STEP_RATIO(-1,1)`` reverses it, real start-up code) — stored, there is no
   step output to read;
 * ``INVERT_IN(n, ON|OFF)`` — input n reads inverted (IN and the datum input see the same
@@ -33,10 +33,10 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from motionsim.sim.trio.basic_errors import BasicError
+from motionsim.sim.trio.card.basic_errors import BasicError
 
 if TYPE_CHECKING:
-    from motionsim.sim.trio.context import Context
+    from motionsim.sim.trio.run.context import Context
 
 Run = Callable[["Context", tuple[float, ...], int], None]
 

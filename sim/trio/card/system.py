@@ -5,15 +5,15 @@ Names from spec §10.11 "system:" and §9.9 (M224-291, M216-274, MCTPL):
 * ``WDOG`` — the watchdog relay that enables the drives: 0 (OFF) at power-up, ``WDOG=ON``
   closes it (reads 1). The simulated axes move whatever WDOG is (no drive model) ``[INF]``;
   every change logs a ``wdog`` event (``on``);
-* ``VERSION``, ``CONTROL``, ``FREE`` — per model (:mod:`motionsim.sim.trio.models`);
+* ``VERSION``, ``CONTROL``, ``FREE`` — per model (:mod:`motionsim.sim.trio.card.models`);
 * ``SERIAL_NUMBER`` — 0: a simulated board has none ``[INF]``;
 * ``SYSTEM_ERROR``, ``MOTION_ERROR`` — 0: no error model (no following error, drive faults
-  or enforced limits, :mod:`motionsim.sim.trio.axis_status`) ``[INF]``;
+  or enforced limits, :mod:`motionsim.sim.trio.card.axis_status`) ``[INF]``;
 * ``ERROR_AXIS`` — -1 while no axis has a motion error ``[INF]``;
 * ``SERVO_PERIOD`` — in microseconds, from the config;
 * ``LIMIT_BUFFERED`` — how many moves the look-ahead of each axis holds, NTYPE included
   (TJ2H-57): a move waits in its process buffer while the look-ahead of one of its axes is
-  full (:mod:`motionsim.sim.trio.buffers`). 64 on ``mc4xx`` (up to 64 buffers per axis,
+  full (:mod:`motionsim.sim.trio.motion.buffers`). 64 on ``mc4xx`` (up to 64 buffers per axis,
   TJ2P-20; power-up ``[BK]``), 1..64 writable there; 1 and fixed on the MC2xx generation.
 """
 
@@ -21,8 +21,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from motionsim.sim.trio.basic_errors import BasicError
-from motionsim.sim.trio.setup_commands import Comms
+from motionsim.sim.trio.card.basic_errors import BasicError
+from motionsim.sim.trio.card.setup_commands import Comms
 
 if TYPE_CHECKING:
     from motionsim.sim.trio.controller import TrioController

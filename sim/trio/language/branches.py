@@ -8,9 +8,9 @@
 * ``ON BASICERROR GOTO label`` (TRM p. 8-118, spec §11.3): when it has run, a run-time error
   of this process — and a ``STOP "prog"`` of it from another program or the command line,
   with RUN_ERROR 31 (spec §11.3 ``[INF]``) — continues at ``label`` with RUN_ERROR and
-  ERROR_LINE set (:mod:`motionsim.sim.trio.process`). It is a compile error without its label.
+  ERROR_LINE set (:mod:`motionsim.sim.trio.run.process`). It is a compile error without its label.
 
-A mixin of :class:`motionsim.sim.trio.compiler._Compiler` (``patches``, ``placeholder``).
+A mixin of :class:`motionsim.sim.trio.language.compiler._Compiler` (``patches``, ``placeholder``).
 """
 
 from __future__ import annotations
@@ -18,8 +18,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from motionsim.sim.trio import statements as s
-from motionsim.sim.trio.basic_errors import GOSUB_DEPTH, ON_GOTO_RANGE, BasicError
+from motionsim.sim.trio.card.basic_errors import GOSUB_DEPTH, ON_GOTO_RANGE, BasicError
+from motionsim.sim.trio.language import statements as s
 
 Op = Callable[[Any], Any]
 

@@ -12,8 +12,9 @@ statement becomes one closure ``op(ctx)`` returning what the driver does next:
 * :data:`HALT` — ``STOP``: the program ends.
 
 MC4 declarations (INCLUDE, DIM, GLOBAL, CONSTANT) and typed assignment targets are compiled by
-:mod:`motionsim.sim.trio.declarations`, ``ON ... GOSUB/GOTO`` and ``ON BASICERROR`` by
-:mod:`motionsim.sim.trio.branches`; names resolve against a :mod:`motionsim.sim.trio.scope`.
+:mod:`motionsim.sim.trio.language.declarations`, ``ON ... GOSUB/GOTO`` and ``ON BASICERROR`` by
+:mod:`motionsim.sim.trio.language.branches`; names resolve against a
+:mod:`motionsim.sim.trio.language.scope`.
 
 Structure errors (NEXT without FOR, IF without ENDIF, unknown label ...) are
 :class:`motionsim.sim.errors.ParseError` with the line and column of the statement at fault, raised
@@ -28,12 +29,12 @@ from dataclasses import dataclass
 from typing import Any
 
 from motionsim.sim.errors import ParseError
-from motionsim.sim.trio import statements as s
-from motionsim.sim.trio.basic_errors import GOSUB_DEPTH, RETURN_WITHOUT_GOSUB, BasicError
-from motionsim.sim.trio.branches import GOSUB_LIMIT, Branches
-from motionsim.sim.trio.declarations import Declarations, Resolver
-from motionsim.sim.trio.expressions import compile_expr, kind_of
-from motionsim.sim.trio.scope import Decl, ExprError, Scope
+from motionsim.sim.trio.card.basic_errors import GOSUB_DEPTH, RETURN_WITHOUT_GOSUB, BasicError
+from motionsim.sim.trio.language import statements as s
+from motionsim.sim.trio.language.branches import GOSUB_LIMIT, Branches
+from motionsim.sim.trio.language.declarations import Declarations, Resolver
+from motionsim.sim.trio.language.expressions import compile_expr, kind_of
+from motionsim.sim.trio.language.scope import Decl, ExprError, Scope
 
 Op = Callable[[Any], Any]
 
@@ -519,7 +520,7 @@ def compile_program(
     """Compile a parsed program; structure errors raise :class:`ParseError` (with ``program``
     = ``name`` or the INCLUDEd program at fault). ``resolve`` finds the parsed program an
     ``INCLUDE`` names (None: INCLUDE is refused, as at the command line); ``shared`` holds the
-    controller's GLOBAL / CONSTANT names (:mod:`motionsim.sim.trio.scope`)."""
+    controller's GLOBAL / CONSTANT names (:mod:`motionsim.sim.trio.language.scope`)."""
     code = _Compiler(program, name, resolve, shared).run()
     code.shared_version = shared_version
     return code

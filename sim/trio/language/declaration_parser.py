@@ -1,6 +1,7 @@
 """Parsing the statements the MC4 language adds — ``INCLUDE``, ``DIM``, ``GLOBAL``,
 ``CONSTANT`` — and ``ON``: ``ON BASICERROR GOTO label`` and ``ON expr GOSUB / GOTO l1, ...``
-(spec trio.md §11.2–§11.4). A mixin of :class:`motionsim.sim.trio.parser._Line`, whose token
+(spec trio.md §11.2–§11.4). A mixin of :class:`motionsim.sim.trio.language.parser._Line`, whose
+token
 helpers (``accept``, ``expect``, ``name``, ``string``, ``expr`` ...) it uses; the parser
 dispatches ``DIM`` .. ``CONSTANT`` here only on ``mc4xx``, ``ON`` on every model.
 """
@@ -12,7 +13,7 @@ from collections.abc import Callable
 from typing import Any
 
 from motionsim.sim.errors import ParseError
-from motionsim.sim.trio import statements as s
+from motionsim.sim.trio.language import statements as s
 
 #: DIM types (MC4, spec §11.4).
 TYPES = ("INTEGER", "FLOAT", "STRING", "BOOLEAN")

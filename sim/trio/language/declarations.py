@@ -10,7 +10,7 @@ INCLUDE another program (no nesting, ``[BK]``). Each is a compile error naming t
 and column; nothing is stored. When X is stored again, the programs that include it are
 compiled again (the controller refuses the new X if one of them would no longer compile).
 
-A mixin of :class:`motionsim.sim.trio.compiler._Compiler`: it uses ``scope``, ``emit``,
+A mixin of :class:`motionsim.sim.trio.language.compiler._Compiler`: it uses ``scope``, ``emit``,
 ``error``, ``statement`` and the include bookkeeping of that class.
 """
 
@@ -19,10 +19,10 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from motionsim.sim.trio import statements as s
-from motionsim.sim.trio.expressions import compile_expr, kind_of
-from motionsim.sim.trio.scope import Decl, ExprError, coerce
-from motionsim.sim.trio.strings import DEFAULT_LENGTH
+from motionsim.sim.trio.language import statements as s
+from motionsim.sim.trio.language.expressions import compile_expr, kind_of
+from motionsim.sim.trio.language.scope import Decl, ExprError, coerce
+from motionsim.sim.trio.language.strings import DEFAULT_LENGTH
 
 #: Finds a stored program's parsed text by name (None when there is none).
 Resolver = Callable[[str], "s.Program | None"]

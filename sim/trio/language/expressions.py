@@ -15,10 +15,10 @@ import math
 from collections.abc import Callable
 from typing import Any
 
-from motionsim.sim.trio import statements as s
-from motionsim.sim.trio.basic_errors import DIVIDE_BY_ZERO, BasicError
-from motionsim.sim.trio.scope import ExprError, Scope
-from motionsim.sim.trio.strings import STRING_FUNCTIONS, arg_kinds
+from motionsim.sim.trio.card.basic_errors import DIVIDE_BY_ZERO, BasicError
+from motionsim.sim.trio.language import statements as s
+from motionsim.sim.trio.language.scope import ExprError, Scope
+from motionsim.sim.trio.language.strings import STRING_FUNCTIONS, arg_kinds
 
 Eval = Callable[[Any], float]
 
@@ -195,9 +195,9 @@ def compile_expr(node: s.Expr, scope: Scope | None = None) -> Eval:
     """A closure evaluating ``node`` against a running process' context.
 
     The context provides ``locals`` (dict), ``vr(i)``, ``table(i)`` and
-    ``param(name, axis, proc)``; see :class:`motionsim.sim.trio.context.Context`. ``scope``
-    resolves declared names (:mod:`motionsim.sim.trio.scope`); a type error raises
-    :class:`~motionsim.sim.trio.scope.ExprError`.
+    ``param(name, axis, proc)``; see :class:`motionsim.sim.trio.run.context.Context`. ``scope``
+    resolves declared names (:mod:`motionsim.sim.trio.language.scope`); a type error raises
+    :class:`~motionsim.sim.trio.language.scope.ExprError`.
     """
     build = _COMPILE.get(node.__class__)
     if build is None:

@@ -12,8 +12,8 @@ HTTP 501 ``not_simulated``) — not as a syntax error. ``docs/trio.md`` prints t
 
 from __future__ import annotations
 
-from motionsim.sim.trio.parameters import STORED
-from motionsim.sim.trio.setup_commands import COMMANDS
+from motionsim.sim.trio.card.parameters import STORED
+from motionsim.sim.trio.card.setup_commands import COMMANDS
 
 #: TRM chapter 8 contents, by section, in the manual's order.
 INDEX: dict[str, tuple[str, ...]] = {
@@ -38,8 +38,8 @@ INDEX: dict[str, tuple[str, ...]] = {
 }
 
 #: Words the motion modules simulate (issue 22): the set-up commands of
-#: :mod:`~motionsim.sim.trio.setup_commands` and the stored start-up / drive parameters of
-#: :mod:`~motionsim.sim.trio.parameters` — simulated, so not refused (NOT_SIMULATED below).
+#: :mod:`~motionsim.sim.trio.card.setup_commands` and the stored start-up / drive parameters of
+#: :mod:`~motionsim.sim.trio.card.parameters` — simulated, so not refused (NOT_SIMULATED below).
 MOTION_WORDS = frozenset(COMMANDS) | frozenset(p.name for p in STORED) | {"LIMIT_BUFFERED"}
 _MOTION_INDEX = MOTION_WORDS & {kw for kws in INDEX.values() for kw in kws}
 

@@ -1,4 +1,4 @@
-"""Trio BASIC text -> typed statements (:mod:`motionsim.sim.trio.statements`).
+"""Trio BASIC text -> typed statements (:mod:`motionsim.sim.trio.language.statements`).
 
 One source line holds an optional label (``name:`` as its first item) and statements
 separated by ``:``. ``IF c THEN`` ending a line opens a block closed by ``ENDIF``; with
@@ -15,7 +15,7 @@ local variable. ``ON BASICERROR GOTO`` and ``ON e GOSUB/GOTO`` are every model's
 
 Errors raise :class:`motionsim.sim.errors.ParseError` with the 1-based ``line`` and ``column``; the
 structure of blocks (FOR/NEXT, IF/ENDIF, labels) and the declarations are checked by
-:mod:`motionsim.sim.trio.compiler`.
+:mod:`motionsim.sim.trio.language.compiler`.
 """
 
 from __future__ import annotations
@@ -24,17 +24,17 @@ import math
 import re
 
 from motionsim.sim.errors import NotSimulated, ParseError
-from motionsim.sim.trio import statements as s
-from motionsim.sim.trio.constants import CONSTANTS, LANGUAGE_PARAMS
-from motionsim.sim.trio.declaration_parser import DeclarationParser
-from motionsim.sim.trio.expressions import FUNCTIONS
-from motionsim.sim.trio.keywords import INDEX, MC4_MODELS, MC4_WORDS, NOT_SIMULATED
-from motionsim.sim.trio.lexer import Token, tokenize
-from motionsim.sim.trio.linked import LINKED
-from motionsim.sim.trio.models import DEFAULT_MODEL
-from motionsim.sim.trio.parameters import ALL_PARAMS, WRITABLE
-from motionsim.sim.trio.setup_commands import COMMANDS as SETUP_COMMANDS
-from motionsim.sim.trio.strings import STRING_FUNCTIONS
+from motionsim.sim.trio.card.models import DEFAULT_MODEL
+from motionsim.sim.trio.card.parameters import ALL_PARAMS, WRITABLE
+from motionsim.sim.trio.card.setup_commands import COMMANDS as SETUP_COMMANDS
+from motionsim.sim.trio.language import statements as s
+from motionsim.sim.trio.language.constants import CONSTANTS, LANGUAGE_PARAMS
+from motionsim.sim.trio.language.declaration_parser import DeclarationParser
+from motionsim.sim.trio.language.expressions import FUNCTIONS
+from motionsim.sim.trio.language.keywords import INDEX, MC4_MODELS, MC4_WORDS, NOT_SIMULATED
+from motionsim.sim.trio.language.lexer import Token, tokenize
+from motionsim.sim.trio.language.strings import STRING_FUNCTIONS
+from motionsim.sim.trio.motion.linked import LINKED
 
 #: Motion commands that enter the buffers, with the argument counts they accept.
 MOVE_ARGS: dict[str, tuple[int, int]] = {
@@ -54,7 +54,7 @@ MOVE_ARGS: dict[str, tuple[int, int]] = {
 }
 
 #: I/O functions read as values, with the argument counts they accept
-#: (:mod:`motionsim.sim.trio.io`).
+#: (:mod:`motionsim.sim.trio.card.io`).
 IO_ARGS: dict[str, tuple[int, int]] = {
     "IN": (0, 2), "READ_OP": (1, 1), "OP": (1, 1), "AIN": (1, 1),
 }

@@ -84,7 +84,7 @@ class Call:
 @dataclass(frozen=True, slots=True)
 class IoRead:
     """``IN``, ``IN(n)``, ``IN(a, b)``, ``READ_OP(n)``, ``OP(n)``, ``AIN(n)``: the I/O image
-    (:mod:`motionsim.sim.trio.io`)."""
+    (:mod:`motionsim.sim.trio.card.io`)."""
 
     name: str
     args: tuple[Expr, ...]
@@ -155,7 +155,7 @@ class MoveCmd(Stmt):
 
 @dataclass(frozen=True, slots=True)
 class SetupCmd(Stmt):
-    """A set-up command of :mod:`motionsim.sim.trio.setup_commands` (``ADDAX(2)``,
+    """A set-up command of :mod:`motionsim.sim.trio.card.setup_commands` (``ADDAX(2)``,
     ``SETCOM(9600,8,1,2,2)``, ``UNIT_CLEAR``); ``axis`` is the ``AXIS(n)`` modifier."""
 
     name: str

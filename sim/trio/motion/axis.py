@@ -1,7 +1,8 @@
 """One Trio axis: its profile parameters, its two move buffers, and where it is.
 
 ``mtype`` holds the move executing now (MTYPE), ``ntype`` the next move waiting for it
-(NTYPE); :mod:`motionsim.sim.trio.buffers` alone moves moves between them. Positions are in user
+(NTYPE); :mod:`motionsim.sim.trio.motion.buffers` alone moves moves between them. Positions are in
+user
 units (encoder edges / UNITS). DPOS, ENDMOVE, REMAIN and VP_SPEED are computed from the executing
 move's profile at the last servo cycle at or before the instant asked — the axis never wakes
 once per servo period. MPOS equals DPOS (no following error is modelled).
@@ -9,7 +10,7 @@ once per servo period. MPOS equals DPOS (no following error is modelled).
 Parameter defaults (SPEED 1000, ACCEL 1000, DECEL 1000, CREEP 10, UNITS 1) are ``[BK]``; set
 them per axis with ``set_axis`` or ``PATCH /axes/{n}``. SPEED, ACCEL and DECEL written while the
 axis is the base axis of the executing move re-plan that move at once (see
-:mod:`motionsim.sim.trio.moves`); SPEED may be 0 (the move holds). FORCE_SPEED (default 1000
+:mod:`motionsim.sim.trio.motion.moves`); SPEED may be 0 (the move holds). FORCE_SPEED (default 1000
 ``[BK]``) is the speed of the SP moves, captured when each is issued.
 
 OFFPOS (write) shifts the axis' coordinates by the value at the next servo period and reads
@@ -19,7 +20,8 @@ effect at the next servo update; DEFPOS becomes an OFFPOS internally, so ``WAIT 
 OFFPOS=0`` waits for it).
 
 MERGE (switch, default OFF) and SRAMP (ms, default 0) shape the profile: see
-:mod:`motionsim.sim.trio.buffers` for when moves merge and :mod:`motionsim.sim.trio.profile` for
+:mod:`motionsim.sim.trio.motion.buffers` for when moves merge and
+:mod:`motionsim.sim.trio.motion.profile` for
 the S-ramp; both are ``[BK]`` (the TRM pages were not reachable). Unlike SPEED, they apply to
 moves that start (or, for MERGE, reach NTYPE) after they are written (a CANCEL uses the SRAMP
 of the moment).
@@ -33,13 +35,13 @@ from typing import TYPE_CHECKING
 from motionsim.sim.bounds import TRIO_RATE
 from motionsim.sim.errors import InvalidValue
 from motionsim.sim.timing import ServoClock
-from motionsim.sim.trio import scaling
-from motionsim.sim.trio.axis_status import StoredParams
-from motionsim.sim.trio.mtypes import IDLE
+from motionsim.sim.trio.card import scaling
+from motionsim.sim.trio.card.axis_status import StoredParams
+from motionsim.sim.trio.motion.mtypes import IDLE
 
 if TYPE_CHECKING:
     import simpy
-    from motionsim.sim.trio.moves import Move
+    from motionsim.sim.trio.motion.moves import Move
 
 DEFAULTS: dict[str, float] = {
     "speed": 1000.0,
@@ -53,7 +55,7 @@ DEFAULTS: dict[str, float] = {
 }
 
 #: Parameters that may be 0: MERGE is a switch (any non-zero value is ON, ``TRUE`` = -1),
-#: SRAMP a time in ms, 0..250 (``[BK]``, see :mod:`motionsim.sim.trio.profile`).
+#: SRAMP a time in ms, 0..250 (``[BK]``, see :mod:`motionsim.sim.trio.motion.profile`).
 _SWITCHES = {"merge"}
 #: Speeds that may be 0 (SPEED = 0 holds the executing move, spec §10.5).
 _ZERO_OK = {"speed", "force_speed"}

@@ -70,12 +70,12 @@ import simpy
 from motionsim.sim.events import EventLog
 from motionsim.sim.simpy_adapter import URGENT, triggered_at
 from motionsim.sim.timing import ServoClock
-from motionsim.sim.trio.axis import Axis
-from motionsim.sim.trio.datum import DatumMove
-from motionsim.sim.trio.linked import LinkedMove
-from motionsim.sim.trio.moves import Move
-from motionsim.sim.trio.profile import diverges_at
-from motionsim.sim.trio.scaling import nearest_edge
+from motionsim.sim.trio.card.scaling import nearest_edge
+from motionsim.sim.trio.motion.axis import Axis
+from motionsim.sim.trio.motion.datum import DatumMove
+from motionsim.sim.trio.motion.linked import LinkedMove
+from motionsim.sim.trio.motion.moves import Move
+from motionsim.sim.trio.motion.profile import diverges_at
 
 Placed = str  # "mtype" | "ntype" | "process_buffer"
 

@@ -39,15 +39,15 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-from motionsim.sim.trio.basic_errors import BasicError
-from motionsim.sim.trio.moves import Move
-from motionsim.sim.trio.profile import Profile, endless
+from motionsim.sim.trio.card.basic_errors import BasicError
+from motionsim.sim.trio.motion.moves import Move
+from motionsim.sim.trio.motion.profile import Profile, endless
 
 if TYPE_CHECKING:
     from motionsim.sim.events import EventLog
-    from motionsim.sim.trio.axis import Axis
+    from motionsim.sim.trio.card.io import IoImage
     from motionsim.sim.trio.controller import TrioController
-    from motionsim.sim.trio.io import IoImage
+    from motionsim.sim.trio.motion.axis import Axis
 
 _HOLD = Profile([(0.0, 0.0, 0.0, 0.0, 0.0)], math.inf, math.inf)
 _EPS = 1e-9

@@ -28,11 +28,11 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from motionsim.sim.trio.basic_errors import BasicError
-from motionsim.sim.trio.link_options import PATTERN, POSITIVE_ONLY, REPEAT, START_AT_POS
+from motionsim.sim.trio.card.basic_errors import BasicError
+from motionsim.sim.trio.motion.link_options import PATTERN, POSITIVE_ONLY, REPEAT, START_AT_POS
 
 if TYPE_CHECKING:
-    from motionsim.sim.trio.axis import Axis
+    from motionsim.sim.trio.motion.axis import Axis
 
 Cycle = Callable[[float, float], float]
 _EPS = 1e-9

@@ -47,15 +47,15 @@ import math
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from motionsim.sim.trio.basic_errors import BasicError
-from motionsim.sim.trio.link_options import PATTERN, check_options, ramp_of
-from motionsim.sim.trio.link_run import LinkRun, check_pattern
-from motionsim.sim.trio.moves import Move
-from motionsim.sim.trio.profile import Profile
-from motionsim.sim.trio.scaling import whole_edges
+from motionsim.sim.trio.card.basic_errors import BasicError
+from motionsim.sim.trio.card.scaling import whole_edges
+from motionsim.sim.trio.motion.link_options import PATTERN, check_options, ramp_of
+from motionsim.sim.trio.motion.link_run import LinkRun, check_pattern
+from motionsim.sim.trio.motion.moves import Move
+from motionsim.sim.trio.motion.profile import Profile
 
 if TYPE_CHECKING:
-    from motionsim.sim.trio.axis import Axis
+    from motionsim.sim.trio.motion.axis import Axis
 
 #: Linked moves: MTYPE code, argument count range, index of the link-axis argument (or None).
 LINKED: dict[str, tuple[int, int, int | None]] = {
@@ -77,7 +77,7 @@ def movelink_shape(dist: float, link_dist: float, link_acc: float, link_dec: flo
     ``link_acc`` and down over ``link_dec`` (both scaled down in proportion when they add up
     to more than ``link_dist``), so the move starts and ends at the base ratio (MOVELINK-MD
     example 5: a decel from ratio 1 to 1:3 with base distance 30 of 60 over 90). ``ramp``
-    is the ramp shape's integral (:mod:`motionsim.sim.trio.link_options`)."""
+    is the ramp shape's integral (:mod:`motionsim.sim.trio.motion.link_options`)."""
     la, ld = link_acc, link_dec
     if la + ld > link_dist:
         k = link_dist / (la + ld)

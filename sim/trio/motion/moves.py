@@ -28,12 +28,12 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-from motionsim.sim.trio.mtypes import MTYPE, SP_GEOMETRY
-from motionsim.sim.trio.profile import Profile, endless, hold, plan, trapezoid
-from motionsim.sim.trio.scaling import whole_edges
+from motionsim.sim.trio.card.scaling import whole_edges
+from motionsim.sim.trio.motion.mtypes import MTYPE, SP_GEOMETRY
+from motionsim.sim.trio.motion.profile import Profile, endless, hold, plan, trapezoid
 
 if TYPE_CHECKING:
-    from motionsim.sim.trio.axis import Axis
+    from motionsim.sim.trio.motion.axis import Axis
 
 
 class Move:

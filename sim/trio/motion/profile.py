@@ -19,7 +19,8 @@ SRAMP = 0 (the same figure a moving-average filter of SRAMP on the speed gives).
 today's trapezoid. A CANCEL ramps down at DECEL with the same S (starting from zero
 acceleration, ``[INF]``), so a cancelled S-ramped move does not jerk to a stop.
 
-Merged moves (see :mod:`motionsim.sim.trio.buffers`) start at the speed the previous move ended with
+Merged moves (see :mod:`motionsim.sim.trio.motion.buffers`) start at the speed the previous move
+ended with
 (``v0``) and, when the next move is merged onto them, end at speed (``stop=False``): no
 deceleration at their end. If a move cannot stop within its length from ``v0`` at DECEL, it
 decelerates over its whole length at the rate that stops it exactly at the end (``[INF]``:

@@ -5,7 +5,7 @@ axis group and its own FOR / GOSUB bookkeeping; VR(), TABLE(), the axes and the 
 are the controller's and shared by all processes (spec §2.2, §9.3).
 
 Indices are truncated to integers. Out-of-range VR / TABLE / axis numbers raise a
-:class:`~motionsim.sim.trio.basic_errors.BasicError`, which stops the process that hit it.
+:class:`~motionsim.sim.trio.card.basic_errors.BasicError`, which stops the process that hit it.
 """
 
 from __future__ import annotations
@@ -15,22 +15,22 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from motionsim.sim.errors import InvalidValue
-from motionsim.sim.trio import basic_errors as msg
-from motionsim.sim.trio.axis_status import computed
-from motionsim.sim.trio.basic_errors import BasicError
-from motionsim.sim.trio.compiler import HALT, Block, WaitFor
-from motionsim.sim.trio.datum import datum_move
-from motionsim.sim.trio.linked import LINKED, LinkedMove, check_linked, link_axis_of
-from motionsim.sim.trio.models import format_number, hex_text
-from motionsim.sim.trio.moves import Move
-from motionsim.sim.trio.mtypes import SP_GEOMETRY, axes_driven
-from motionsim.sim.trio.parameters import (
+from motionsim.sim.trio.card import basic_errors as msg
+from motionsim.sim.trio.card.axis_status import computed
+from motionsim.sim.trio.card.basic_errors import BasicError
+from motionsim.sim.trio.card.models import format_number, hex_text
+from motionsim.sim.trio.card.parameters import (
     AXIS_COMPUTED,
     AXIS_PARAMS,
     AXIS_STORED,
     SYSTEM_PARAMS,
 )
-from motionsim.sim.trio.scope import Decl
+from motionsim.sim.trio.language.compiler import HALT, Block, WaitFor
+from motionsim.sim.trio.language.scope import Decl
+from motionsim.sim.trio.motion.datum import datum_move
+from motionsim.sim.trio.motion.linked import LINKED, LinkedMove, check_linked, link_axis_of
+from motionsim.sim.trio.motion.moves import Move
+from motionsim.sim.trio.motion.mtypes import SP_GEOMETRY, axes_driven
 
 if TYPE_CHECKING:
     from motionsim.sim.trio.controller import TrioController
@@ -195,7 +195,7 @@ class Context:
 
     def _last_error(self, name: str, p: int) -> float:
         """RUN_ERROR / ERROR_LINE PROC(p): 0 until the process meets a run-time error; then
-        RUN_ERROR is its number (:mod:`motionsim.sim.trio.basic_errors`: 31 = stopped, else 1
+        RUN_ERROR is its number (:mod:`motionsim.sim.trio.card.basic_errors`: 31 = stopped, else 1
         ``[INF]``) and ERROR_LINE the program line — also inside an ON BASICERROR handler. A
         new RUN of the process clears both ``[INF]``. The command line keeps no error."""
         if p == 0 or p not in self.ctrl.basic:
@@ -211,7 +211,7 @@ class Context:
     # -- digital I/O -----------------------------------------------------------------------
 
     def io_read(self, name: str, args: list[float]) -> float:
-        """IN / READ_OP / OP / AIN as values (:mod:`motionsim.sim.trio.io`); ``IN`` with no
+        """IN / READ_OP / OP / AIN as values (:mod:`motionsim.sim.trio.card.io`); ``IN`` with no
         argument reads inputs 0..23 as one number ``[BK]``."""
         io = self.ctrl.io
         if name == "IN":
@@ -223,7 +223,7 @@ class Context:
     def setup_command(self, name: str, args: tuple[float, ...], axis: float | None) -> None:
         """A set-up command (ADDAX, ENCODER_RATIO, SETCOM ...): :mod:`~motionsim.sim.trio.
         setup_commands`."""
-        from motionsim.sim.trio.setup_commands import run_command  # the motion tables' module
+        from motionsim.sim.trio.card.setup_commands import run_command  # the motion tables' module
 
         run_command(self, name, args, axis)
 

@@ -11,17 +11,17 @@ Waiting, without a SimPy event per servo period:
 
 * a move line whose process buffer is full: the process emits ``process`` ``blocked`` with
   ``blocked_on`` (the line's text) and waits — even if only for one servo period — until
-  :mod:`motionsim.sim.trio.buffers` has placed its move, then emits ``running`` and goes on;
+  :mod:`motionsim.sim.trio.motion.buffers` has placed its move, then emits ``running`` and goes on;
 * ``WAIT IDLE`` / ``WAIT LOADED``: woken by the buffer change that satisfies it;
 * ``WAIT UNTIL c``: ``c`` is re-tested once per servo period (spec §1.6 ``[BK]``);
 * ``WA(ms)``: a timeout.
 
 ``PRINT`` in a program writes to the process' OUTDEVICE (channel 0, the command line, unless
-changed) or to the channel of ``PRINT #n``: see :mod:`motionsim.sim.trio.output`.
+changed) or to the channel of ``PRINT #n``: see :mod:`motionsim.sim.trio.card.output`.
 
 A runtime error stops this process only: a ``process`` event with ``state`` ``stopped``, the
 ``line`` and an ``error`` message in the controller's style
-(:mod:`motionsim.sim.trio.basic_errors`); the same line is printed on channel 0. Once
+(:mod:`motionsim.sim.trio.card.basic_errors`); the same line is printed on channel 0. Once
 ``ON BASICERROR GOTO label`` has run, the error (or a ``STOP "prog"`` of it, RUN_ERROR 31)
 instead continues at the label with RUN_ERROR / ERROR_LINE set, reported by a ``basic_error``
 event; an error inside the handler stops the process unless it ran ON BASICERROR again
@@ -33,10 +33,10 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 import simpy
-from motionsim.sim.trio.basic_errors import RUN_ERROR_STOPPED, BasicError, error_line
-from motionsim.sim.trio.buffers import Waiter, schedule_at
-from motionsim.sim.trio.compiler import HALT, Block, Code, Poll, Sleep, WaitFor
-from motionsim.sim.trio.context import Context
+from motionsim.sim.trio.card.basic_errors import RUN_ERROR_STOPPED, BasicError, error_line
+from motionsim.sim.trio.language.compiler import HALT, Block, Code, Poll, Sleep, WaitFor
+from motionsim.sim.trio.motion.buffers import Waiter, schedule_at
+from motionsim.sim.trio.run.context import Context
 
 if TYPE_CHECKING:
     from motionsim.sim.trio.controller import TrioController
