@@ -19,9 +19,9 @@ FASTDEC     0             fast deceleration at a limit (stored)
 ATYPE       0             axis type, 0 = virtual ``[INF]`` (stored)
 ========== ============= ==========================================================
 
-**Limits are stored, not enforced**: the real controller ramps an axis that reaches FS_LIMIT /
-RS_LIMIT down and cancels the move (M216-367); here the move goes on and AXISSTATUS reports
-the axis beyond the limit.
+**Software limits are enforced** (:mod:`motionsim.sim.trio.motion.limits`): a move that takes
+an axis to FS_LIMIT / RS_LIMIT ramps down at DECEL and is cancelled (M216-367); the axis then
+rests beyond the limit by the ramp's distance and AXISSTATUS reports it in the limit.
 
 AXISSTATUS bits computed (bit numbers: spec §1.6 — 8 FE limit, 9 FS, 10 RS, 11 move
 cancelling; 6 datuming ``[BK]``):

@@ -41,17 +41,20 @@ class Stored:
 
 #: The stored axis parameters, start-up and drive parameters included (spec §10.11, §11.5).
 STORED: tuple[Stored, ...] = (
-    Stored("FS_LIMIT", 200_000_000.0, effect="AXISSTATUS bit 9 when DPOS >= it (not enforced)",
-           source="M216-367; power-up [BK]"),
-    Stored("RS_LIMIT", -200_000_000.0, effect="AXISSTATUS bit 10 when DPOS <= it (not enforced)",
-           source="M216-367; power-up [BK]"),
+    Stored("FS_LIMIT", 200_000_000.0,
+           effect="a move reaching it ramps down at DECEL and is cancelled; AXISSTATUS bit 9 "
+                  "when DPOS >= it", source="M216-367; power-up [BK]"),
+    Stored("RS_LIMIT", -200_000_000.0,
+           effect="a move reaching it ramps down at DECEL and is cancelled; AXISSTATUS bit 10 "
+                  "when DPOS <= it", source="M216-367; power-up [BK]"),
     Stored("ERRORMASK", 268.0, 0.0, "int", source="spec §10.11 [BK]"),
     Stored("FE_LIMIT", 2000.0, 0.0, source="M216-367 (SERVO); power-up [BK]"),
     Stored("FE_RANGE", 0.0, 0.0, source="spec §10.11 [BK]"),
     Stored("AXIS_ENABLE", 1.0, kind="switch", source="MC4xx name [BK]"),
     Stored("SERVO", 0.0, kind="switch", source="M216-367"),
     Stored("JOGSPEED", 0.0, 0.0, source="spec §10.11 [BK]"),
-    Stored("FASTDEC", 0.0, 0.0, source="spec §10.11 [BK]"),
+    Stored("FASTDEC", 0.0, 0.0, effect="when above 0, the ramp down at a software limit [BK]",
+           source="spec §10.11 [BK]"),
     Stored("ATYPE", 0.0, 0.0, "int", source="0 = virtual [INF]"),
     # servo gains: no servo loop is modelled (MPOS follows DPOS exactly)
     Stored("P_GAIN", 1.0, source="M206-363 (TRM p. 8-173): 1.0"),

@@ -183,6 +183,10 @@ class Move:
             return xy + (self.p0[2] + d3 * f,) if len(self.p0) == 3 else xy
         return tuple([p + u * s for p, u in zip(self.p0, self.unit, strict=True)])
 
+    def at(self, s: float) -> tuple[float, ...]:
+        """Axis positions a path distance ``s`` (from the start of the path) along the move."""
+        return self._at(s)
+
     def positions(self, tau: float) -> tuple[float, ...]:
         """Demand positions of the move's axes ``tau`` seconds after its start."""
         prof = self.profile

@@ -89,6 +89,28 @@ class Profile:
         t0, _s0, _v0, a, j = self._segment(tau)
         return a + j * (tau - t0)
 
+    def time_at(self, s: float) -> float:
+        """The first ``tau`` at which the distance travelled reaches ``s`` (``math.inf`` when
+        it never does); ``s`` runs on monotonically, so each segment is bisected."""
+        if s <= 0.0:
+            return 0.0
+        if s > self.length:
+            return math.inf
+        segs = self.segments
+        for i, (t0, s0, v0, a, j) in enumerate(segs):
+            t1 = segs[i + 1][0] if i + 1 < len(segs) else self.duration
+            s1 = segs[i + 1][1] if i + 1 < len(segs) else self.length
+            if s > s1:
+                continue
+            if t1 == math.inf:  # an endless cruise
+                if a == 0.0 and j == 0.0:
+                    return t0 + (s - s0) / v0 if v0 > 0.0 else math.inf
+                t1 = t0 + 1.0
+                while self.s(t1) < s:
+                    t1 = t0 + 2.0 * (t1 - t0)
+            return _solve(lambda tau: self.s(tau) - s, t0, t1)
+        return self.duration
+
     def cancelled_at(self, tau: float, decel: float, sramp_s: float = 0.0) -> Profile:
         """This profile until ``tau``, then a ramp down to rest at ``decel`` — S-shaped over
         ``sramp_s`` (SRAMP) when it is not 0, from zero acceleration ``[INF]``."""

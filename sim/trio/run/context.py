@@ -258,6 +258,8 @@ class Context:
         n = self.base_axis(axis)
         if name in AXIS_STORED:
             self.ctrl.stored[n].write(name, value)
+            if name in ("FS_LIMIT", "RS_LIMIT"):
+                self.ctrl.buffers.limits_changed(n)
             return
         if name == "OFFPOS":
             self.ctrl.axes[n].offset = value
