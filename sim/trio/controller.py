@@ -44,13 +44,13 @@ from motionsim.sim.trio.card.models import model as model_named
 from motionsim.sim.trio.card.output import Channels
 from motionsim.sim.trio.card.system import SystemParams
 from motionsim.sim.trio.language.compiler import Code, compile_program
-from motionsim.sim.trio.language.parser import MOVE_ARGS, parse_program
+from motionsim.sim.trio.language.move_words import LINKED, MOVE_ARGS
+from motionsim.sim.trio.language.parser import parse_program
 from motionsim.sim.trio.language.scope import Decl
 from motionsim.sim.trio.language.statements import Program
 from motionsim.sim.trio.motion.axis import DEFAULTS, Axis
 from motionsim.sim.trio.motion.buffers import MotionBuffers, Waiter
 from motionsim.sim.trio.motion.datum import datum_move
-from motionsim.sim.trio.motion.linked import LINKED
 from motionsim.sim.trio.motion.moves import Move
 from motionsim.sim.trio.motion.mtypes import MTYPE, SP_GEOMETRY, axes_driven
 from motionsim.sim.trio.run.context import Context
