@@ -44,15 +44,14 @@ from motionsim.sim.trio.card.models import model as model_named
 from motionsim.sim.trio.card.output import Channels
 from motionsim.sim.trio.card.system import SystemParams
 from motionsim.sim.trio.language.compiler import Code, compile_program
-from motionsim.sim.trio.language.parser import MOVE_ARGS, parse_program
+from motionsim.sim.trio.language.move_words import LINKED, MOVE_ARGS
+from motionsim.sim.trio.language.parser import parse_program
 from motionsim.sim.trio.language.scope import Decl
 from motionsim.sim.trio.language.statements import Program
 from motionsim.sim.trio.motion.axis import DEFAULTS, Axis
 from motionsim.sim.trio.motion.buffers import MotionBuffers, Waiter
-from motionsim.sim.trio.motion.datum import datum_move
-from motionsim.sim.trio.motion.linked import LINKED
-from motionsim.sim.trio.motion.moves import Move
-from motionsim.sim.trio.motion.mtypes import MTYPE, SP_GEOMETRY, axes_driven
+from motionsim.sim.trio.motion.issue import new_move
+from motionsim.sim.trio.motion.mtypes import MTYPE, axes_driven
 from motionsim.sim.trio.run.context import Context
 from motionsim.sim.trio.run.process import BasicProcess
 from motionsim.sim.trio.terminal import CommandLine
@@ -240,15 +239,10 @@ class TrioController(Controller):
                 field="axis",
             )
         text = f"{kind}({','.join(f'{a:g}' for a in args)}) AXIS({axis})"
-        if kind == "DATUM":
-            try:
-                move: Move = datum_move(self, axis, args, p, text)
-            except BasicError as exc:
-                raise InvalidValue(exc.message, field="args") from None
-        else:
-            move = Move(self.buffers.new_id(), kind, axes, args, p, text)
-        if kind in SP_GEOMETRY:
-            move.force_speed = self.axes[axis].force_speed
+        try:
+            move = new_move(self, kind, axes, args, p, text)
+        except BasicError as exc:  # a DATUM sequence number it does not know
+            raise InvalidValue(exc.message, field="args") from None
         if not wait:
             placed = self.buffers.place(move)
             if placed is None:

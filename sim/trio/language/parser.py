@@ -33,25 +33,8 @@ from motionsim.sim.trio.language.declaration_parser import DeclarationParser
 from motionsim.sim.trio.language.expressions import FUNCTIONS
 from motionsim.sim.trio.language.keywords import INDEX, MC4_MODELS, MC4_WORDS, NOT_SIMULATED
 from motionsim.sim.trio.language.lexer import Token, tokenize
+from motionsim.sim.trio.language.move_words import MOVE_ARGS
 from motionsim.sim.trio.language.strings import STRING_FUNCTIONS
-from motionsim.sim.trio.motion.linked import LINKED
-
-#: Motion commands that enter the buffers, with the argument counts they accept.
-MOVE_ARGS: dict[str, tuple[int, int]] = {
-    "MOVE": (1, 8),
-    "MOVEABS": (1, 8),
-    "MOVECIRC": (5, 5),
-    "MHELICAL": (6, 6),
-    "FORWARD": (0, 0),
-    "REVERSE": (0, 0),
-    "DATUM": (1, 1),
-    "MOVESP": (1, 8),
-    "MOVEABSSP": (1, 8),
-    "MOVECIRCSP": (5, 5),
-    "MHELICALSP": (6, 6),
-    "MOVEMODIFY": (1, 1),
-    **{kind: (lo, hi) for kind, (lo, hi, _link) in LINKED.items()},
-}
 
 #: I/O functions read as values, with the argument counts they accept
 #: (:mod:`motionsim.sim.trio.card.io`).

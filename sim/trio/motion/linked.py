@@ -49,6 +49,7 @@ from typing import TYPE_CHECKING
 
 from motionsim.sim.trio.card.basic_errors import BasicError
 from motionsim.sim.trio.card.scaling import whole_edges
+from motionsim.sim.trio.language.move_words import LINKED
 from motionsim.sim.trio.motion.link_options import PATTERN, check_options, ramp_of
 from motionsim.sim.trio.motion.link_run import LinkRun, check_pattern
 from motionsim.sim.trio.motion.moves import Move
@@ -56,14 +57,6 @@ from motionsim.sim.trio.motion.profile import Profile
 
 if TYPE_CHECKING:
     from motionsim.sim.trio.motion.axis import Axis
-
-#: Linked moves: MTYPE code, argument count range, index of the link-axis argument (or None).
-LINKED: dict[str, tuple[int, int, int | None]] = {
-    "CAM": (4, 4, None),
-    "CAMBOX": (5, 8, 4),
-    "CONNECT": (2, 2, 1),
-    "MOVELINK": (5, 8, 4),
-}
 
 _HOLD = Profile([(0.0, 0.0, 0.0, 0.0, 0.0)], math.inf, math.inf)
 

@@ -27,10 +27,10 @@ from motionsim.sim.trio.card.parameters import (
 )
 from motionsim.sim.trio.language.compiler import HALT, Block, WaitFor
 from motionsim.sim.trio.language.scope import Decl
-from motionsim.sim.trio.motion.datum import datum_move
+from motionsim.sim.trio.motion.issue import new_move
 from motionsim.sim.trio.motion.linked import LINKED, LinkedMove, check_linked, link_axis_of
 from motionsim.sim.trio.motion.moves import Move
-from motionsim.sim.trio.motion.mtypes import SP_GEOMETRY, axes_driven
+from motionsim.sim.trio.motion.mtypes import axes_driven
 
 if TYPE_CHECKING:
     from motionsim.sim.trio.controller import TrioController
@@ -309,12 +309,8 @@ class Context:
         move: Move
         if kind in LINKED:
             move = self._linked(kind, args, axes[0], text)
-        elif kind == "DATUM":
-            move = datum_move(self.ctrl, axes[0], args, self.process, text)
         else:
-            move = Move(self.ctrl.buffers.new_id(), kind, axes, args, self.process, text)
-            if kind in SP_GEOMETRY:  # FORCE_SPEED as it is when the SP move is issued
-                move.force_speed = self.ctrl.axes[axes[0]].force_speed
+            move = new_move(self.ctrl, kind, axes, args, self.process, text)
         if self.ctrl.buffers.place(move) is None:
             return Block(move)
         return None
