@@ -91,8 +91,9 @@ class TrioController(Controller):
     terminal_wait_s = 0.0
 
     #: Events of the motion modules: a set-up command ran, a DATUM sequence found its datum,
-    #: a move was stopped at a software limit (``axis``, ``limit``, ``mtype``).
-    event_types += ("setup", "datum", "soft_limit")
+    #: a move was stopped at a software limit (``axis``, ``limit``, ``mtype``), ENDMOVE
+    #: written at rest stepped the demand (``axis``, ``dpos``).
+    event_types += ("setup", "datum", "soft_limit", "endmove")
 
     def __init__(
         self, id: str, config: Mapping[str, Any] | None = None, *, log_capacity: int = 100_000

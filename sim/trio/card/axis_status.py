@@ -64,9 +64,10 @@ class StoredParams:
     def read(self, name: str) -> float:
         return self.values[name]
 
-    def write(self, name: str, value: float) -> None:
+    def write(self, name: str, value: float, units: float = 1.0) -> None:
         """Write ``name``; a value below the parameter's range is a BasicError, and the
-        value is kept as the table's ``kind`` says (truncated, or a switch reading 1)."""
+        value is kept as the table's ``kind`` says (truncated, a switch reading 1, or whole
+        encoder edges at the axis' ``units``: INT(value x UNITS) / UNITS)."""
         spec = STORED_BY_NAME[name]
         if spec.low is not None and value < spec.low:
             raise BasicError(f"Parameter out of range: {name}={value:g}")
@@ -74,7 +75,16 @@ class StoredParams:
             value = 1.0 if value else 0.0
         elif spec.kind == "int":
             value = float(int(value))
+        elif spec.kind == "edges":
+            value = int(value * units) / units
         self.values[name] = float(value)
+
+    def units_changed(self, old: float, new: float) -> None:
+        """UNITS written: the parameters held in edges keep their count, so they read back
+        rescaled (TKB-REP: REP_DIST is stored as INT(value x UNITS))."""
+        for spec in STORED:
+            if spec.kind == "edges":
+                self.values[spec.name] = self.values[spec.name] * old / new
 
 
 def axisstatus(axis: Axis, params: StoredParams) -> int:

@@ -23,7 +23,9 @@ class Stored:
         name: the BASIC name.
         power_up: the value at power-up.
         low: the smallest value accepted (``None``: any).
-        kind: ``"float"``, ``"int"`` (truncated on write) or ``"switch"`` (non-zero reads 1).
+        kind: ``"float"``, ``"int"`` (truncated on write), ``"switch"`` (non-zero reads 1) or
+            ``"edges"`` (held in whole encoder edges: INT(value x UNITS), read back / UNITS;
+            the count stays when UNITS changes).
         writable: False for a parameter only the controller sets (read-only in BASIC).
         effect: what the simulation does with it (``docs/trio.md``); ``"stored"`` when it
             only keeps the value.
@@ -72,8 +74,9 @@ STORED: tuple[Stored, ...] = (
     Stored("DATUM_IN", -1.0, -1.0, "int",
            effect="the datum input of DATUM(3)..(6) (-1: none)",
            source="TJ2P5-247; -1 = none [BK]"),
-    Stored("REP_DIST", 200_000_000.0, 0.0,
-           effect="DPOS / MPOS wrap at it (REP_OPTION bit 0: range)",
+    Stored("REP_DIST", 200_000_000.0, 0.0, "edges",
+           effect="DPOS / MPOS wrap at it (REP_OPTION bit 0: range); held as INT(v x UNITS) "
+                  "edges",
            source="TKB-REP; power-up [BK]"),
     Stored("REP_OPTION", 0.0, 0.0, "int",
            effect="bit 0: range 0..REP_DIST; bit 1: end a repeating CAMBOX / MOVELINK",
@@ -87,12 +90,13 @@ STORED_BY_NAME: dict[str, Stored] = {p.name: p for p in STORED}
 
 #: Axis parameters a program can write (units/s, units/s², edges per user unit).
 AXIS_WRITABLE = frozenset(
-    {"SPEED", "ACCEL", "DECEL", "UNITS", "CREEP", "MERGE", "SRAMP", "FORCE_SPEED", "OFFPOS"}
+    {"SPEED", "ACCEL", "DECEL", "UNITS", "CREEP", "MERGE", "SRAMP", "FORCE_SPEED", "OFFPOS",
+     "ENDMOVE"}
 )
 
 #: Axis parameters that are read-only: the buffers and the profile generator own them.
 AXIS_READONLY = frozenset(
-    {"MTYPE", "NTYPE", "DPOS", "MPOS", "ENDMOVE", "REMAIN", "IDLE", "VP_SPEED", "MOVES_BUFFERED"}
+    {"MTYPE", "NTYPE", "DPOS", "MPOS", "REMAIN", "IDLE", "VP_SPEED", "MOVES_BUFFERED"}
 )
 
 #: Axis parameters only stored (and their power-up values): :data:`STORED`.

@@ -137,6 +137,7 @@ class Axis:
                 # The encoder count stays; the user-unit position rescales (DPOS = edges/UNITS).
                 self.pos = self.pos * self.units / float(value)
                 self.added_fixed = self.added_fixed * self.units / float(value)
+                self.stored.units_changed(self.units, float(value))
             if key in _SWITCHES:
                 value = 1.0 if value else 0.0
             setattr(self, key, float(value))

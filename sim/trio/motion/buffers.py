@@ -76,6 +76,7 @@ import simpy
 from motionsim.sim.events import EventLog
 from motionsim.sim.simpy_adapter import URGENT, triggered_at
 from motionsim.sim.timing import ServoClock
+from motionsim.sim.trio.card.basic_errors import BasicError
 from motionsim.sim.trio.card.scaling import nearest_edge
 from motionsim.sim.trio.motion import limits
 from motionsim.sim.trio.motion.axis import Axis
@@ -395,6 +396,20 @@ class MotionBuffers:
                 self.cancel_next(self._ntype[0].axes[0])
         for m in list(self._active):
             self.cancel(m.axes[0])
+
+    def step_demand(self, axis: int, value: float) -> None:
+        """ENDMOVE written: with no move in progress on ``axis`` the demand position steps to
+        ``value`` (on its nearest whole edge) at once (TRM p. 8-159, DPOS: "a value can be
+        forced to create a step change in position by writing to the ENDMOVE parameter if no
+        moves are currently in progress on the axis"); with one in progress it is the
+        run-time error ``[INF]`` (the TRM gives the write no other meaning)."""
+        ax = self.axes[axis]
+        if ax.mtype is not None or ax.ntype is not None or ax.queued:
+            raise BasicError(f"ENDMOVE AXIS({axis}) can only be written while no move is in "
+                             "progress on the axis")
+        target = nearest_edge(value, ax.units)
+        ax.pos += target - ax.wrap(ax.position())
+        self.log.emit("endmove", axis=axis, dpos=ax.dpos())
 
     # -- software limits -------------------------------------------------------------------
 

@@ -257,13 +257,16 @@ class Context:
             return
         n = self.base_axis(axis)
         if name in AXIS_STORED:
-            self.ctrl.stored[n].write(name, value)
+            self.ctrl.stored[n].write(name, value, self.ctrl.axes[n].units)
             if name in ("FS_LIMIT", "RS_LIMIT"):
                 self.ctrl.buffers.limits_changed(n)
             return
         if name == "OFFPOS":
             self.ctrl.axes[n].offset = value
             self.ctrl.buffers.offset(n)
+            return
+        if name == "ENDMOVE":
+            self.ctrl.buffers.step_demand(n, value)
             return
         try:
             self.ctrl.axes[n].set(**{name.lower(): value})
