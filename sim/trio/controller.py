@@ -36,7 +36,7 @@ from motionsim.sim.errors import (
     ParseError,
 )
 from motionsim.sim.timing import ServoClock
-from motionsim.sim.trio.card.axis_status import StoredParams
+from motionsim.sim.trio.card.axis_status import StoredParams, axisstatus
 from motionsim.sim.trio.card.basic_errors import BasicError
 from motionsim.sim.trio.card.io import CHANNELS, IoImage
 from motionsim.sim.trio.card.models import DEFAULT_MODEL
@@ -92,8 +92,10 @@ class TrioController(Controller):
 
     #: Events of the motion modules: a set-up command ran, a DATUM sequence found its datum,
     #: a move was stopped at a software limit (``axis``, ``limit``, ``mtype``), ENDMOVE
-    #: written at rest stepped the demand (``axis``, ``dpos``).
-    event_types += ("setup", "datum", "soft_limit", "endmove")
+    #: written at rest stepped the demand (``axis``, ``dpos``), a following error beyond
+    #: FE_LIMIT (``axis``, ``fe``), a motion error (``axis``, ``axisstatus``).
+    event_types += ("setup", "datum", "soft_limit", "endmove", "following_error",
+                    "motion_error")
 
     def __init__(
         self, id: str, config: Mapping[str, Any] | None = None, *, log_capacity: int = 100_000
@@ -138,11 +140,17 @@ class TrioController(Controller):
         self.basic: dict[int, BasicProcess] = {}
         self.io = IoImage(self.log)
         self.system = SystemParams(self)
+        self.buffers.on_axis_error = self._axis_error
         self.stored = [StoredParams() for _ in range(self.n_axes)]
         for ax, st in zip(self.axes, self.stored, strict=True):
             ax.stored = st
         self.command_line = CommandLine(self)
         self._move_waits: dict[int, Waiter] = {}
+
+    def _axis_error(self, n: int) -> None:
+        """An error condition on axis ``n``: a motion error if AXISSTATUS meets ERRORMASK."""
+        st = self.stored[n]
+        self.system.axis_error(n, axisstatus(self.axes[n], st), int(st.read("ERRORMASK")))
 
     # -- life cycle --------------------------------------------------------------------------
 

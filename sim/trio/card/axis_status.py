@@ -24,14 +24,20 @@ an axis to FS_LIMIT / RS_LIMIT ramps down at DECEL and is cancelled (M216-367); 
 rests beyond the limit by the ramp's distance and AXISSTATUS reports it in the limit.
 
 AXISSTATUS bits computed (bit numbers: spec §1.6 — 8 FE limit, 9 FS, 10 RS, 11 move
-cancelling; 6 datuming ``[BK]``):
+cancelling; 6 datuming and 1 following-error warning ``[BK]``):
 
+* bit 1 (2): |FE| > FE_RANGE, with FE_RANGE above 0 (the warning range; FE from the
+  following-error model of the axis, ``Axis.following_error``);
 * bit 6 (64): a DATUM move is executing;
+* bit 8 (256): the following error exceeded FE_LIMIT with SERVO on (latched in
+  ``Axis.error_bits`` until DATUM(0) clears it, M216-367: "the following error bit is set in
+  the AXISSTATUS register");
 * bit 9 (512): DPOS >= FS_LIMIT; bit 10 (1024): DPOS <= RS_LIMIT ``[INF]`` (>= / <=);
 * bit 11 (2048): the executing move is being cancelled (CANCEL / RAPIDSTOP decelerating).
 
-The other bits (following error, drive comms, hardware limits, feedhold) are never set: the
-simulation has no drives, encoders or limit switches. MOTION_ERROR is therefore 0.
+The other bits (drive comms, hardware limits, feedhold) are never set: the simulation has no
+drives with digital comms and no limit switches. A motion error (MOTION_ERROR, WDOG off) is
+raised where AXISSTATUS meets ERRORMASK (:mod:`motionsim.sim.trio.card.system`).
 """
 
 from __future__ import annotations
@@ -49,7 +55,9 @@ if TYPE_CHECKING:
 #: :data:`motionsim.sim.trio.card.parameters.STORED`).
 STORED_DEFAULTS: dict[str, float] = {p.name: p.power_up for p in STORED}
 
+FE_WARNING = 1 << 1
 DATUMING = 1 << 6
+FE_LIMIT_BIT = 1 << 8
 FS_LIMIT_BIT = 1 << 9
 RS_LIMIT_BIT = 1 << 10
 CANCELLING = 1 << 11
@@ -89,7 +97,10 @@ class StoredParams:
 
 def axisstatus(axis: Axis, params: StoredParams) -> int:
     """AXISSTATUS of ``axis`` now, from the bits this simulation knows (module docstring)."""
-    bits = 0
+    bits = axis.error_bits
+    fe_range = params.read("FE_RANGE")
+    if fe_range > 0.0 and abs(axis.following_error()) > fe_range:
+        bits |= FE_WARNING
     m = axis.mtype
     if m is not None:
         if m.kind == "DATUM":
@@ -106,16 +117,19 @@ def axisstatus(axis: Axis, params: StoredParams) -> int:
 
 def computed(name: str, axis: Axis) -> float:
     """A read-only axis parameter computed from the motion (parameters.AXIS_COMPUTED):
-    AXISSTATUS; MSPEED and VPSPEED = VP_SPEED (MPOS = DPOS); FE = DPOS - MPOS = 0 (the
-    simulated servo loop follows exactly, ``[INF]``); ENCODER the raw encoder count that gives
-    MPOS through ENCODER_RATIO (:mod:`motionsim.sim.trio.card.scaling`)."""
+    AXISSTATUS; MSPEED and VPSPEED = VP_SPEED (the demand speed, ``[INF]``); FE = DPOS - MPOS
+    from the axis' following-error model (0 unless it has an ``fe_lag``); ENCODER the raw
+    encoder count that gives MPOS through ENCODER_RATIO
+    (:mod:`motionsim.sim.trio.card.scaling`)."""
     if name == "AXISSTATUS":
         return float(axisstatus(axis, axis.stored))
     if name == "FE":
-        return 0.0
+        return axis.following_error()
     if name == "ENCODER":
-        return encoder_count(axis.position(), axis.units, axis.encoder_ratio)
+        mpos = axis.position() - axis.following_error()
+        return encoder_count(mpos, axis.units, axis.encoder_ratio)
     return axis.vp_speed()
 
 
-__all__ = ["STORED_DEFAULTS", "StoredParams", "axisstatus", "computed"]
+__all__ = ["FE_LIMIT_BIT", "FE_WARNING", "STORED_DEFAULTS", "StoredParams", "axisstatus",
+           "computed"]

@@ -7,9 +7,15 @@ Names from spec §10.11 "system:" and §9.9 (M224-291, M216-274, MCTPL):
   every change logs a ``wdog`` event (``on``);
 * ``VERSION``, ``CONTROL``, ``FREE`` — per model (:mod:`motionsim.sim.trio.card.models`);
 * ``SERIAL_NUMBER`` — 0: a simulated board has none ``[INF]``;
-* ``SYSTEM_ERROR``, ``MOTION_ERROR`` — 0: no error model (no following error, drive faults
-  or enforced limits, :mod:`motionsim.sim.trio.card.axis_status`) ``[INF]``;
-* ``ERROR_AXIS`` — -1 while no axis has a motion error ``[INF]``;
+* ``SYSTEM_ERROR`` — 0: no system error is modelled ``[INF]``;
+* ``MOTION_ERROR``, ``ERROR_AXIS`` — a motion error is raised when an axis' AXISSTATUS, at the
+  instant an error condition arises (a following error beyond FE_LIMIT, a software limit hit),
+  has a bit set that its ERRORMASK also has (power-up 268: bits 2, 3 and 8, so the following
+  error is one and the software limits are not): MOTION_ERROR gets bit n for axis n ``[BK]``,
+  ERROR_AXIS the first axis in error (-1 while none), the watchdog relay opens (WDOG reads 0,
+  a ``wdog`` event) and a ``motion_error`` event (``axis``, ``axisstatus``) is logged.
+  ``DATUM(0)`` clears the motion error and the axes' latched error bits (an MC4 template
+  issues it after ``MOTION_ERROR<>0``, spec §10.4); WDOG stays off until written ON ``[INF]``;
 * ``SERVO_PERIOD`` — in microseconds, from the config;
 * ``LIMIT_BUFFERED`` — how many moves the look-ahead of each axis holds, NTYPE included
   (TJ2H-57): a move waits in its process buffer while the look-ahead of one of its axes is
@@ -34,7 +40,7 @@ LIMIT_BUFFERED: dict[str, tuple[int, int]] = {"series2": (1, 1), "mc2xx": (1, 1)
                                               "mc4xx": (64, 64)}
 
 #: Values fixed by this model of the controller (see the module docstring).
-_FIXED = {"SERIAL_NUMBER": 0.0, "SYSTEM_ERROR": 0.0, "MOTION_ERROR": 0.0, "ERROR_AXIS": -1.0}
+_FIXED = {"SERIAL_NUMBER": 0.0, "SYSTEM_ERROR": 0.0}
 
 
 class SystemParams:
@@ -46,6 +52,8 @@ class SystemParams:
         self.comms = Comms()  # what SETCOM / ETHERNET wrote
         self.limit_buffered = LIMIT_BUFFERED[ctrl.model.name][0]
         ctrl.buffers.depth = self.limit_buffered
+        self.motion_error = 0  # bit n: axis n has a motion error
+        self.error_axis = -1
 
     def read(self, name: str) -> float:
         m = self.ctrl.model
@@ -61,6 +69,10 @@ class SystemParams:
             return self.ctrl.clock.period_s * 1e6
         if name == "LIMIT_BUFFERED":
             return float(self.limit_buffered)
+        if name == "MOTION_ERROR":
+            return float(self.motion_error)
+        if name == "ERROR_AXIS":
+            return float(self.error_axis)
         return _FIXED[name]
 
     def write(self, name: str, value: float) -> None:
@@ -74,6 +86,26 @@ class SystemParams:
             raise BasicError(f"Parameter out of range: LIMIT_BUFFERED={value:g} (1..{top})")
         self.limit_buffered = n
         self.ctrl.buffers.depth = n
+
+    def axis_error(self, axis: int, status: int, mask: int) -> bool:
+        """An error condition arose on ``axis`` with AXISSTATUS ``status``: a motion error when
+        it meets the axis' ERRORMASK ``mask`` (the module docstring); True if it did."""
+        if not status & mask:
+            return False
+        if not self.motion_error & (1 << axis):
+            if self.motion_error == 0:
+                self.error_axis = axis
+            self.motion_error |= 1 << axis
+            self.ctrl.log.emit("motion_error", axis=axis, axisstatus=status)
+        self.set_wdog(0)
+        return True
+
+    def clear_motion_error(self) -> None:
+        """DATUM(0): no axis in error any more; the latched AXISSTATUS error bits clear."""
+        self.motion_error = 0
+        self.error_axis = -1
+        for ax in self.ctrl.axes:
+            ax.error_bits = 0
 
     def set_wdog(self, value: float) -> None:
         on = 1 if value else 0

@@ -5,7 +5,8 @@
 user
 units (encoder edges / UNITS). DPOS, ENDMOVE, REMAIN and VP_SPEED are computed from the executing
 move's profile at the last servo cycle at or before the instant asked — the axis never wakes
-once per servo period. MPOS equals DPOS (no following error is modelled).
+once per servo period. MPOS = DPOS - FE, where FE is the following-error model of
+:meth:`Axis.following_error` (0 unless the axis has an ``fe_lag``: then MPOS equals DPOS).
 
 Parameter defaults (SPEED 1000, ACCEL 1000, DECEL 1000, CREEP 10, UNITS 1) are ``[BK]``; set
 them per axis with ``set_axis`` or ``PATCH /axes/{n}``. SPEED, ACCEL and DECEL written while the
@@ -52,16 +53,20 @@ DEFAULTS: dict[str, float] = {
     "merge": 0.0,
     "sramp": 0.0,
     "force_speed": 1000.0,
+    "fe_lag": 0.0,
 }
 
 #: Parameters that may be 0: MERGE is a switch (any non-zero value is ON, ``TRUE`` = -1),
-#: SRAMP a time in ms, 0..250 (``[BK]``, see :mod:`motionsim.sim.trio.motion.profile`).
+#: SRAMP a time in ms, 0..250 (``[BK]``, see :mod:`motionsim.sim.trio.motion.profile`),
+#: ``fe_lag`` the servo's lag in seconds, 0..1 (the following-error model: a setting of the
+#: simulated plant, PATCH /axes/{n} or config, not a Trio parameter).
 _SWITCHES = {"merge"}
 #: Speeds that may be 0 (SPEED = 0 holds the executing move, spec §10.5).
 _ZERO_OK = {"speed", "force_speed"}
 #: Parameters whose change re-plans the executing move.
 PROFILE_PARAMS = frozenset({"speed", "accel", "decel"})
 SRAMP_MAX_MS = 250.0
+FE_LAG_MAX_S = 1.0
 
 
 class Axis:
@@ -71,7 +76,7 @@ class Axis:
         "n", "env", "clock", "speed", "accel", "decel", "creep", "units", "mtype", "ntype", "pos",
         "merge", "sramp", "force_speed", "on_profile_change", "queued",
         "stored", "added", "added_edges0", "added_fixed", "encoder_ratio", "step_ratio",
-        "pending", "ahead",
+        "pending", "ahead", "fe_lag", "error_bits",
     )
 
     def __init__(
@@ -87,7 +92,9 @@ class Axis:
         self.ahead: list[Move] = []
         self.pos = 0.0  # committed demand position (user units) while no move executes
         self.speed = self.accel = self.decel = self.creep = self.units = 0.0
-        self.merge = self.sramp = self.force_speed = 0.0
+        self.merge = self.sramp = self.force_speed = self.fe_lag = 0.0
+        #: AXISSTATUS bits latched by an error (bit 8: FE_LIMIT exceeded) until DATUM(0)
+        self.error_bits = 0
         #: DEFPOS / OFFPOS writes of this servo period, in order: ("DEFPOS", p) / ("OFFPOS", d)
         self.pending: list[tuple[str, float]] = []
         self.stored: StoredParams = StoredParams()  # the controller gives its own
@@ -111,6 +118,13 @@ class Axis:
                 if not isinstance(value, (int, float)) or value != value:
                     raise InvalidValue(
                         f"{key.upper()} AXIS({self.n}) must be ON or OFF, got {value!r}",
+                        field=key,
+                    )
+                continue
+            if key == "fe_lag":
+                if not isinstance(value, (int, float)) or not 0 <= value <= FE_LAG_MAX_S:
+                    raise InvalidValue(
+                        f"fe_lag of axis {self.n} must be 0..{FE_LAG_MAX_S:g} s, got {value!r}",
                         field=key,
                     )
                 continue
@@ -214,8 +228,30 @@ class Axis:
         return scaling.wrap(x, self.units, st["REP_DIST"], int(st["REP_OPTION"]))
 
     def dpos(self) -> float:
-        """DPOS (and MPOS: no following error) as read: whole edges, wrapped at REP_DIST."""
+        """DPOS as read: whole edges, wrapped at REP_DIST."""
         return self.wrap(self.position())
+
+    def following_error(self, t: float | None = None) -> float:
+        """FE = DPOS - MPOS at ``t`` (default now), as of the last servo cycle.
+
+        The model (``[INF]``, docs/trio.md "Following error"): the servo loop makes the
+        measured position follow the demand ``fe_lag`` seconds behind, so FE is ``fe_lag``
+        times the demand speed of the last servo period (DPOS now less DPOS one period
+        earlier, over the period). 0 with ``fe_lag`` 0 — the power-up setting, MPOS = DPOS —
+        and whenever the demand is at rest."""
+        if self.fe_lag == 0.0:
+            return 0.0
+        now = self.env.now if t is None else t
+        k = self.clock.index(now)
+        if k <= 0:
+            return 0.0
+        here, before = self.position(self.clock.t(k)), self.position(self.clock.t(k - 1))
+        return self.fe_lag * (here - before) / self.clock.period_s
+
+    def mpos(self) -> float:
+        """MPOS as read: DPOS less the following error, wrapped at REP_DIST."""
+        fe = self.following_error()
+        return self.wrap(self.position() - fe) if fe else self.dpos()
 
     def endmove(self) -> float:
         """ENDMOVE: the end position of the executing move (DPOS when idle or endless)."""
@@ -311,8 +347,10 @@ class Axis:
             return float(self.mtype_code)
         if name == "NTYPE":
             return float(self.ntype_code)
-        if name in ("DPOS", "MPOS"):
+        if name == "DPOS":
             return self.dpos()
+        if name == "MPOS":
+            return self.mpos()
         if name == "ENDMOVE":
             return self.wrap(self.endmove())
         if name == "REMAIN":
@@ -336,7 +374,7 @@ class Axis:
             "mtype": self.mtype_code,
             "ntype": self.ntype_code,
             "dpos": dpos,
-            "mpos": dpos,
+            "mpos": self.mpos(),
             "endmove": self.wrap(self.endmove()),
             "remain": self.remain(),
             "speed": self.speed,
@@ -347,6 +385,8 @@ class Axis:
             "merge": self.merge,
             "sramp": self.sramp,
             "force_speed": self.force_speed,
+            "fe": self.following_error(),
+            "fe_lag": self.fe_lag,
             "vp_speed": self.vp_speed(),
             "moves_buffered": self.moves_buffered(),
         }

@@ -149,6 +149,10 @@ class MotionBuffers:
         #: the limit; linked moves are watched every period (their last base position)
         self._limit_at: dict[int, list[tuple[Move, Profile, int, str]]] = {}
         self._limit_watch: dict[Move, float] = {}
+        #: axes with a following-error model (``fe_lag``) and a move: FE looked at each period
+        self._fe_watch: set[int] = set()
+        #: an error condition arose on an axis (the controller raises the motion error)
+        self.on_axis_error: Callable[[int], None] | None = None
         #: LIMIT_BUFFERED: moves the look-ahead of an axis holds, NTYPE included (TJ2H-57);
         #: 1 on the MC2xx generation (NTYPE only)
         self.depth = 1
@@ -456,6 +460,40 @@ class MotionBuffers:
         self._limit_watch.pop(m, None)
         self._reschedule_end(m, k)
         self.log.emit("soft_limit", axis=axis, limit=which, mtype=m.mtype)
+        if self.on_axis_error is not None:
+            self.on_axis_error(axis)
+
+    def _fe_due(self, k: int) -> None:
+        """Period ``k``: the following error of each watched axis against its FE_LIMIT."""
+        t = self.clock.t(k)
+        for n in sorted(self._fe_watch):
+            ax = self.axes[n]
+            fe = ax.following_error(t)
+            st = ax.stored.values
+            if st["SERVO"] and abs(fe) > st["FE_LIMIT"]:
+                self._fe_trip(ax, k, fe)
+            if ax.mtype is None or ax.mtype.cancelled and fe == 0.0:
+                self._fe_watch.discard(n)
+
+    def _fe_trip(self, ax: Axis, k: int, fe: float) -> None:
+        """The following error of ``ax`` exceeded FE_LIMIT with SERVO on (M216-367, SERVO: "the
+        following error bit is set in the AXISSTATUS register, the enable relay is forced OFF
+        and the servo is set OFF"): AXISSTATUS bit 8 latches, SERVO reads OFF, FE_LATCH keeps
+        the error ``[BK]``, and the axis' executing move stops where it is (the drive is off,
+        ``[INF]``); then the motion error of ERRORMASK (:mod:`motionsim.sim.trio.card.system`)."""
+        st = ax.stored.values
+        st["SERVO"] = 0.0
+        st["FE_LATCH"] = fe
+        ax.error_bits |= 1 << 8
+        m = ax.mtype
+        if m is not None and m.profile is not None and not m.cancelled:
+            m.cancel_at(self.clock.t(k) - m.t_start, 1e15)
+            self._links.pop(m, None)  # type: ignore[call-overload]
+            self._limit_watch.pop(m, None)
+            self._reschedule_end(m, k)
+        self.log.emit("following_error", axis=ax.n, fe=fe)
+        if self.on_axis_error is not None:
+            self.on_axis_error(ax.n)
 
     def _limits_due(self, k: int) -> None:
         """Period ``k``: the scheduled limit stops whose move runs on as computed, and one look
@@ -510,7 +548,7 @@ class MotionBuffers:
                     return True
             elif all(axes[a].buffered() < depth for a in ms):
                 return True
-        if self._links or self._offsets or self._limit_watch:
+        if self._links or self._offsets or self._limit_watch or self._fe_watch:
             return True
         return any(q and p not in self.process_buffer for p, q in self._waiters.items())
 
@@ -574,6 +612,8 @@ class MotionBuffers:
         # link distance)
         if self._limit_at or self._limit_watch:
             self._limits_due(k)
+        if self._fe_watch:
+            self._fe_due(k)
         if self._links:
             t = self.clock.t(k)
             for lm in list(self._links):
@@ -667,6 +707,9 @@ class MotionBuffers:
         if type(m) is not Move and m.needs_tick():
             self._links[m] = None
         self._arm_limits(m, k)
+        for ax in axes:
+            if ax.fe_lag > 0.0:
+                self._fe_watch.add(ax.n)
 
     def _link_successor(self, m: Move) -> LinkedMove | None:
         """The CAMBOX / MOVELINK waiting in NTYPE behind the CAMBOX / MOVELINK ``m`` that ended

@@ -306,6 +306,7 @@ class Context:
                 raise BasicError(msg.NOT_FINITE.format(name=kind, value=a))
         if kind == "DATUM" and int(args[0]) == 0:
             self.group(1, axis)  # DATUM(0) clears axis errors; no move is buffered
+            self.ctrl.system.clear_motion_error()
             return None
         size = axes_driven(kind, len(args))
         axes = self.group(size, axis)
