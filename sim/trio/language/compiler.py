@@ -102,6 +102,7 @@ class _Compiler(Declarations, Branches):
         shared: dict[str, Decl] | None = None,
     ) -> None:
         self.program = program
+        self.compilers = program.dialect.compilers
         self.name = name
         self.resolve = resolve
         self.scope = Scope(shared)
@@ -163,9 +164,11 @@ class _Compiler(Declarations, Branches):
                     tuple(self.includes))
 
     def statement(self, st: s.Stmt) -> None:
-        method = getattr(self, "st_" + type(st).__name__)
+        """Emit one statement's operations: the compile function its row in the program's
+        statement table names (:mod:`motionsim.sim.trio.language.commands`)."""
+        compile_fn = self.compilers[type(st)]
         try:
-            method(st)
+            compile_fn(self, st)
         except ExprError as exc:
             raise self.error(st, str(exc)) from None
 

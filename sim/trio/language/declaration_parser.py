@@ -1,9 +1,9 @@
 """Parsing the statements the MC4 language adds — ``INCLUDE``, ``DIM``, ``GLOBAL``,
 ``CONSTANT`` — and ``ON``: ``ON BASICERROR GOTO label`` and ``ON expr GOSUB / GOTO l1, ...``
-(spec trio.md §11.2–§11.4). A mixin of :class:`motionsim.sim.trio.language.parser._Line`, whose
-token
-helpers (``accept``, ``expect``, ``name``, ``string``, ``expr`` ...) it uses; the parser
-dispatches ``DIM`` .. ``CONSTANT`` here only on ``mc4xx``, ``ON`` on every model.
+(spec trio.md §11.2–§11.4). A mixin of :class:`motionsim.sim.trio.language.parser._Line`,
+whose token helpers (``accept``, ``expect``, ``name``, ``string``, ``expr`` ...) it uses;
+``INCLUDE`` .. ``CONSTANT`` are rows of the ``mc4xx`` statement table only (``parser.MC4``),
+``ON`` a row of every model's.
 """
 
 from __future__ import annotations

@@ -13,6 +13,12 @@ The language is the model's (config ``model``, spec §11): on ``mc4xx`` also ``I
 ordinary names. A Trio keyword (:data:`RESERVED`, plus the MC4 words on ``mc4xx``) is never a
 local variable. ``ON BASICERROR GOTO`` and ``ON e GOSUB/GOTO`` are every model's.
 
+A statement that starts with a keyword is a row of the model's statement table (:data:`BASE`,
+:data:`MC4` at the foot of this module; :mod:`motionsim.sim.trio.language.commands`): the
+keyword leads to its parse handler here and to the compile handler of each statement class it
+builds. Before the table come the parameters (``SPEED = 100``) and the commands refused as not
+simulated; a name that is neither is an assignment to a variable.
+
 Errors raise :class:`motionsim.sim.errors.ParseError` with the 1-based ``line`` and ``column``; the
 structure of blocks (FOR/NEXT, IF/ENDIF, labels) and the declarations are checked by
 :mod:`motionsim.sim.trio.language.compiler`.
@@ -28,6 +34,8 @@ from motionsim.sim.trio.card.models import DEFAULT_MODEL
 from motionsim.sim.trio.card.parameters import ALL_PARAMS, WRITABLE
 from motionsim.sim.trio.card.setup_commands import COMMANDS as SETUP_COMMANDS
 from motionsim.sim.trio.language import statements as s
+from motionsim.sim.trio.language.commands import Dialect, Row
+from motionsim.sim.trio.language.compiler import _Compiler
 from motionsim.sim.trio.language.constants import CONSTANTS, LANGUAGE_PARAMS
 from motionsim.sim.trio.language.declaration_parser import DeclarationParser
 from motionsim.sim.trio.language.expressions import FUNCTIONS
@@ -86,14 +94,16 @@ _PAD = [_EOL] * 4
 class _Line(DeclarationParser):
     """Recursive-descent parser over the tokens of one source line."""
 
-    def __init__(self, text: str, line_no: int, model: str = DEFAULT_MODEL) -> None:
+    def __init__(self, text: str, line_no: int, model: str = DEFAULT_MODEL,
+                 dialect: Dialect | None = None) -> None:
         self.text = text
         self.line_no = line_no
         self.toks = tokenize(text, line_no)
         self.toks += _PAD  # end-of-line tokens: peek() past the end needs no bounds check
         self.i = 0
         self.model = model
-        self.mc4 = model in MC4_MODELS
+        self.dialect = dialect or dialect_of(model)
+        self.word = ""  # the keyword of the statement being parsed (aliases resolved)
         self.in_print = False
 
     # -- token helpers ------------------------------------------------------------------
@@ -157,9 +167,9 @@ class _Line(DeclarationParser):
 
     def reserved(self, word: str) -> bool:
         """A Trio keyword of this model: never a local variable."""
-        return word in RESERVED or (self.mc4 and word in MC4_WORDS)
+        return word in RESERVED or word in self.dialect.keywords
 
-    def mc4_only(self, word: str, col: int) -> ParseError:
+    def later_only(self, word: str, col: int) -> ParseError:
         return self.error(
             f"{word} is not Trio BASIC on the {self.model} model: it came with the MC4xx / "
             "MC6xx language (firmware 2.x)", col)
@@ -181,7 +191,7 @@ class _Line(DeclarationParser):
         prev = self.toks[self.i - 1] if self.i else None
         if prev is None or prev.col + len(prev.text) != tok.col:
             return node
-        if not self.mc4:
+        if not self.dialect.bit_access:
             raise self.error(
                 f"bit access '{prev.text}{tok.text}' is not Trio BASIC on the {self.model} "
                 "model: it came with the MC4xx / MC6xx language (firmware 2.x)", tok.col)
@@ -224,18 +234,20 @@ class _Line(DeclarationParser):
                 raise self.error(f"unexpected {self.peek().text!r} after the statement")
 
     def statement(self) -> s.Stmt:
+        """One statement: a parameter assignment, a row of the dialect's statement table
+        (:mod:`motionsim.sim.trio.language.commands`), or an assignment to a variable."""
         tok = self.peek()
         ln, col = self.line_no, tok.col
         if tok.kind == "op" and tok.text == "?":
-            self.i += 1
-            return s.Print(ln, col, *self.print_items())
-        if tok.kind != "name":
+            word = "?"
+        elif tok.kind != "name":
             raise self.error(f"a statement cannot start with {tok.text!r}")
-        word = ALIASES.get(tok.text, tok.text)
-        if word in MC4_WORDS and not self.mc4:
+        else:
+            word = ALIASES.get(tok.text, tok.text)
+        if word in self.dialect.later_words:
             nxt = self.peek(1)
             if not (nxt.kind == "op" and nxt.text in ("=", "(")):
-                raise self.mc4_only(word, col)
+                raise self.later_only(word, col)
             return self.assignment(ln, col)  # an ordinary name on this model
         nxt = self.peek(1)
         if nxt.kind == "op" and nxt.text == "=" and word not in PARAMS and self.reserved(word):
@@ -251,16 +263,11 @@ class _Line(DeclarationParser):
             return s.Assign(ln, col, target, self.expr())
         if word in NOT_SIMULATED:
             raise self.not_simulated(word, col)
-        method = getattr(self, "st_" + word, None)
-        if method is not None and word in _KEYWORDS:
+        parse = self.dialect.parsers.get(word)
+        if parse is not None:
             self.i += 1
-            return method(ln, col)
-        if word in SETUP_COMMANDS:
-            self.i += 1
-            return self.setup_command(word, ln, col)
-        if word in MOVE_ARGS:
-            self.i += 1
-            return self.move(word, ln, col)
+            self.word = word
+            return parse(self, ln, col)
         if self.reserved(word):
             raise self.error(f"{word} is not a command here", col)
         return self.assignment(ln, col)
@@ -269,7 +276,7 @@ class _Line(DeclarationParser):
         """``name = e``, ``name(i) = e`` (an array element, MC4), ``name.n = e`` (a bit, MC4)."""
         word = self.take().text
         target: s.Local | s.Element | s.Bit = s.Local(word)
-        if self.at("(") and self.mc4:
+        if self.at("(") and self.dialect.arrays:
             self.i += 1
             target = s.Element(word, self.expr())
             self.expect(")")
@@ -302,6 +309,16 @@ class _Line(DeclarationParser):
             out.append(self.expr())
         self.expect(")")
         return tuple(out)
+
+    def st_move(self, ln: int, col: int) -> s.Stmt:
+        return self.move(self.word, ln, col)
+
+    def st_setup(self, ln: int, col: int) -> s.Stmt:
+        return self.setup_command(self.word, ln, col)
+
+    def st_QUERY(self, ln: int, col: int) -> s.Stmt:
+        """``? items``: PRINT's short form, to the process' OUTDEVICE (no ``#n``)."""
+        return s.Print(ln, col, *self.print_items())
 
     def move(self, kind: str, ln: int, col: int) -> s.Stmt:
         lo, hi = MOVE_ARGS[kind]
@@ -388,7 +405,7 @@ class _Line(DeclarationParser):
         formats: list[tuple[int, int] | None] = []
         while not self.end_of_statement() and not self.at("ELSE"):
             e: s.Expr | s.Hex
-            if self.peek().kind == "string" and not self.mc4:
+            if self.peek().kind == "string" and not self.dialect.strings:
                 e = s.Str(self.take().text[1:-1])
             elif self.accept("HEX"):
                 (value,) = self.args_exact(1, "HEX")
@@ -566,7 +583,7 @@ class _Line(DeclarationParser):
                 raise self.error(f"number {text} is out of range", tok.col)
             return s.Num(value)
         if tok.kind == "string":
-            if not (self.mc4 or self.in_print):
+            if not (self.dialect.strings or self.in_print):
                 raise self.error("a string is only allowed in PRINT")
             self.i += 1
             return s.Str(tok.text[1:-1])
@@ -593,7 +610,7 @@ class _Line(DeclarationParser):
         if word in FUNCTIONS:
             arity = FUNCTIONS[word][0]
             return s.Call(word, self.args_exact(arity, word))
-        if word in STRING_FUNCTIONS and self.mc4:
+        if word in STRING_FUNCTIONS and self.dialect.strings:
             lo, hi = STRING_FUNCTIONS[word][:2]
             c = self.col()
             args = self.args()
@@ -609,11 +626,11 @@ class _Line(DeclarationParser):
             raise self.not_simulated(word, tok.col)
         if word == "HEX":
             raise self.error("HEX() is only allowed as a PRINT item", tok.col)
-        if word in MC4_WORDS and not self.mc4 and self.at("("):
-            raise self.mc4_only(word, tok.col)
+        if word in self.dialect.later_words and self.at("("):
+            raise self.later_only(word, tok.col)
         if self.reserved(word):
             raise self.error(f"{word} is a Trio BASIC keyword, not a value", tok.col)
-        if self.mc4 and self.at("("):
+        if self.dialect.arrays and self.at("("):
             self.i += 1
             index = self.expr()
             self.expect(")")
@@ -630,19 +647,82 @@ class _Line(DeclarationParser):
         return s.Param(word, axis, proc)
 
 
-def parse_line(text: str, line_no: int = 1, model: str = DEFAULT_MODEL) -> list[s.Stmt]:
-    """The statements of one line of Trio BASIC (a command-line entry or a program line)."""
-    return _Line(text, line_no, model).parse()
+# -- the statement table -------------------------------------------------------------------
+# One row per statement (:mod:`motionsim.sim.trio.language.commands`): keyword(s), the parse
+# handler above, the compile handler of each statement class it builds
+# (:mod:`motionsim.sim.trio.language.compiler`). A new command is one row and its handlers.
+
+_P, _C = _Line, _Compiler
+
+#: The language of ``series2`` and ``mc2xx``: the statements every generation has.
+BASE = Dialect("series2 / mc2xx", (
+    Row((), None, {s.Assign: _C.st_Assign, s.Label: _C.st_Label}),  # name = e, VR(n) = e, label:
+    Row(("?",), _P.st_QUERY, {}),
+    Row(("PRINT",), _P.st_PRINT, {s.Print: _C.st_Print}),
+    Row(("DEFPOS",), _P.st_DEFPOS, {s.DefPos: _C.st_DefPos}),
+    Row(("OP",), _P.st_OP, {s.OpWrite: _C.st_OpWrite}),
+    Row(("HALT",), _P.st_HALT, {s.Halt: _C.st_Halt}),
+    Row(("PROCESS",), _P.st_PROCESS, {s.ProcessList: _C.st_ProcessList}),
+    Row(("FOR",), _P.st_FOR, {s.For: _C.st_For}),
+    Row(("NEXT",), _P.st_NEXT, {s.Next: _C.st_Next}),
+    Row(("IF",), _P.st_IF, {s.If: _C.st_If, s.IfBlock: _C.st_IfBlock}),
+    Row(("ELSEIF",), _P.st_ELSEIF, {s.ElseIf: _C.st_ElseIf}),
+    Row(("ELSE",), _P.st_ELSE, {s.Else: _C.st_Else}),
+    Row(("ENDIF",), _P.st_ENDIF, {s.EndIf: _C.st_EndIf}),
+    Row(("WHILE",), _P.st_WHILE, {s.While: _C.st_While}),
+    Row(("WEND",), _P.st_WEND, {s.Wend: _C.st_Wend}),
+    Row(("REPEAT",), _P.st_REPEAT, {s.Repeat: _C.st_Repeat}),
+    Row(("UNTIL",), _P.st_UNTIL, {s.Until: _C.st_Until}),
+    Row(("WAIT",), _P.st_WAIT, {s.WaitIdle: _C.st_WaitIdle, s.WaitLoaded: _C.st_WaitLoaded,
+                                s.WaitUntil: _C.st_WaitUntil}),
+    Row(("WA",), _P.st_WA, {s.Wa: _C.st_Wa}),
+    Row(("GOTO",), _P.st_GOTO, {s.Goto: _C.st_Goto}),
+    Row(("GOSUB",), _P.st_GOSUB, {s.Gosub: _C.st_Gosub}),
+    Row(("RETURN",), _P.st_RETURN, {s.Return: _C.st_Return}),
+    Row(("STOP",), _P.st_STOP, {s.Stop: _C.st_Stop}),
+    Row(("RUN",), _P.st_RUN, {s.Run: _C.st_Run}),
+    Row(("BASE",), _P.st_BASE, {s.Base: _C.st_Base}),
+    Row(("CANCEL",), _P.st_CANCEL, {s.Cancel: _C.st_Cancel}),
+    Row(("RAPIDSTOP",), _P.st_RAPIDSTOP, {s.RapidStop: _C.st_RapidStop}),
+    Row(("VR",), _P.st_VR, {}),  # VR(n) = e, VR(n).b = e: an Assign
+    Row(("TABLE",), _P.st_TABLE, {s.TableWrite: _C.st_TableWrite}),  # TABLE(n) = e: an Assign
+    Row(("ON",), _P.st_ON, {s.OnError: _C.st_OnError, s.OnBranch: _C.st_OnBranch}),
+    Row(tuple(MOVE_ARGS), _P.st_move, {s.MoveCmd: _C.st_MoveCmd}),
+    Row(tuple(SETUP_COMMANDS), _P.st_setup, {s.SetupCmd: _C.st_SetupCmd}),
+), later_words=MC4_WORDS)
+
+#: The MC4xx / MC6xx language (firmware 2.x, spec §11): the base table, its declarations,
+#: its words reserved, string values, bit access and arrays.
+MC4 = BASE.extend("mc4xx", (
+    Row(("INCLUDE",), _P.st_INCLUDE, {s.Include: _C.st_Include}),
+    Row(("DIM",), _P.st_DIM, {s.Dim: _C.st_Dim}),
+    Row(("GLOBAL",), _P.st_GLOBAL, {s.Global: _C.st_Global}),
+    Row(("CONSTANT",), _P.st_CONSTANT, {s.Constant: _C.st_Constant}),
+), keywords=MC4_WORDS, later_words=frozenset(), strings=True, bit_access=True, arrays=True)
 
 
-def parse_program(text: str, model: str = DEFAULT_MODEL) -> s.Program:
-    """Parse a whole program text in the language of ``model`` (series2 / mc2xx / mc4xx);
-    raises :class:`ParseError` at the first bad line."""
+def dialect_of(model: str) -> Dialect:
+    """The language of a model (config ``model``; :data:`MC4_MODELS` speak the MC4 one)."""
+    return MC4 if model in MC4_MODELS else BASE
+
+
+def parse_line(text: str, line_no: int = 1, model: str = DEFAULT_MODEL,
+               dialect: Dialect | None = None) -> list[s.Stmt]:
+    """The statements of one line of Trio BASIC (a command-line entry or a program line), in
+    the language of ``model`` (or of ``dialect``, a statement table of one's own)."""
+    return _Line(text, line_no, model, dialect).parse()
+
+
+def parse_program(text: str, model: str = DEFAULT_MODEL,
+                  dialect: Dialect | None = None) -> s.Program:
+    """Parse a whole program text in the language of ``model`` (series2 / mc2xx / mc4xx) or
+    of ``dialect``; raises :class:`ParseError` at the first bad line."""
     lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
+    language = dialect or dialect_of(model)
     out: list[s.Stmt] = []
     for i, line in enumerate(lines, start=1):
-        out.extend(_Line(line, i, model).parse())
-    return s.Program(tuple(out), tuple(lines))
+        out.extend(_Line(line, i, model, language).parse())
+    return s.Program(tuple(out), tuple(lines), language)
 
 
-__all__ = ["MOVE_ARGS", "parse_line", "parse_program"]
+__all__ = ["BASE", "MC4", "MOVE_ARGS", "dialect_of", "parse_line", "parse_program"]

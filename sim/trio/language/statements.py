@@ -8,6 +8,7 @@ runtime error can name its place the way the controller's ``%[Process n:Line m]`
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 # -- expressions -------------------------------------------------------------------------
 
@@ -401,7 +402,10 @@ class OnBranch(Stmt):
 
 @dataclass(frozen=True, slots=True)
 class Program:
-    """A parsed program: its statements in order and the source lines (for messages)."""
+    """A parsed program: its statements in order, the source lines (for messages) and the
+    dialect it was parsed in, whose statement table compiles it
+    (:class:`motionsim.sim.trio.language.commands.Dialect`)."""
 
     statements: tuple[Stmt, ...]
     lines: tuple[str, ...]
+    dialect: Any
