@@ -96,7 +96,11 @@ def _line_hit(p0: float, u: float, lo: float, hi: float, s_from: float,
 
 def _arc_hit(m: Move, i: int, lo: float, hi: float, s_from: float,
              s_end: float) -> tuple[float, str] | None:
-    """Axis ``i`` of an arc: sampled, then the first crossing bisected."""
+    """Axis ``i`` of an arc: sampled, then the first crossing bisected (none when the whole
+    circle lies inside the limits)."""
+    centre, r = m.circ[i], m.circ[2]
+    if lo < centre - r and centre + r < hi:
+        return None
     def pos(s: float) -> float:
         return m.at(s)[i]
 
