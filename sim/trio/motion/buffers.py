@@ -427,11 +427,12 @@ class MotionBuffers:
         """Schedule (or, when it is due, make) the limit stop of ``m`` as of period ``k``."""
         if m.cancelled or m.profile is None or m.start_tick is None:
             return
-        if isinstance(m, LinkedMove):
-            base = self.axes[m.axes[0]]
-            self._limit_watch[m] = base.own_position(self.clock.t(k))
-            return
-        if isinstance(m, DatumMove):
+        if type(m) is not Move:
+            if isinstance(m, LinkedMove):
+                base = self.axes[m.axes[0]]
+                self._limit_watch[m] = base.own_position(self.clock.t(k))
+            return  # a DATUM sequence is not stopped by the software limits
+        if limits.ends_inside(m, self.axes):
             return
         prof = m.profile
         tau = self.clock.t(k) - m.t_start

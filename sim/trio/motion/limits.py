@@ -30,6 +30,7 @@ Modelled (:class:`motionsim.sim.trio.motion.buffers.MotionBuffers` acts on it):
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
@@ -54,6 +55,20 @@ def outward(position: float, previous: float, lo: float, hi: float) -> str | Non
     if position <= lo and position < previous:
         return REVERSE
     return None
+
+
+def ends_inside(m: Move, axes: list[Axis]) -> bool:
+    """Whether ``m`` (with ``axes`` the controller's axes) surely passes no limit: a straight
+    move of finite length is monotone on each axis, so it reaches a limit only if it ends
+    beyond one (or on one it started beyond, heading out: then it ends beyond too)."""
+    prof = m.profile
+    if m.circ or prof is None or prof.length == math.inf:
+        return False
+    for e, a in zip(m.end_pos, m.axes, strict=True):
+        st = axes[a].stored.values
+        if not st["RS_LIMIT"] <= e <= st["FS_LIMIT"]:
+            return False
+    return True
 
 
 def first_hit(m: Move, axes: list[Axis], s_from: float) -> tuple[float, int, str] | None:
@@ -127,4 +142,4 @@ def _arc_hit(m: Move, i: int, lo: float, hi: float, s_from: float,
     return None
 
 
-__all__ = ["FORWARD", "REVERSE", "first_hit", "limits_of", "outward"]
+__all__ = ["FORWARD", "REVERSE", "ends_inside", "first_hit", "limits_of", "outward"]
