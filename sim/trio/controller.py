@@ -203,6 +203,8 @@ class TrioController(Controller):
         ``merge``, ``sramp``); all are checked before any is written."""
         ax = self._axis(n)
         ax.set(**params)
+        if "fe_lag" in params:
+            self.buffers.watch_fe(n)
         return ax.snapshot()
 
     def move(

@@ -464,6 +464,13 @@ class MotionBuffers:
         if self.on_axis_error is not None:
             self.on_axis_error(axis)
 
+    def watch_fe(self, axis: int) -> None:
+        """``fe_lag`` of ``axis`` written: a move already running on it is watched too."""
+        ax = self.axes[axis]
+        if ax.fe_lag > 0.0 and ax.mtype is not None:
+            self._fe_watch.add(axis)
+            self._kick()
+
     def _fe_due(self, k: int) -> None:
         """Period ``k``: the following error of each watched axis against its FE_LIMIT."""
         t = self.clock.t(k)

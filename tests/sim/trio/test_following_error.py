@@ -152,3 +152,13 @@ def test_fe_lag_is_an_axis_setting_checked_on_write():
         c.set_axis(1, fe_lag=-1)
     with pytest.raises(InvalidValue):
         c.set_axis(1, fe_lag=2)
+
+
+def test_a_lag_set_while_the_axis_moves_is_watched_from_then_on():
+    c = make()
+    for line in ("SERVO=ON", "FE_LIMIT=1.5", "MOVE(100)"):
+        c.terminal(line)
+    run_to(c, 0.03)
+    c.set_axis(0, fe_lag=0.002)  # FE 2 at 1000 units/s: beyond FE_LIMIT
+    run_to(c, 0.5)
+    assert [round(t, 6) for t, _f in fields(c, "following_error")] == [0.031]

@@ -165,3 +165,39 @@ def test_a_program_sees_the_limit_in_axisstatus_and_the_move_gone():
     c.run_program("LIM")
     run_to(c, 1.0)
     assert [c.get_variable(f"VR({n})") for n in (1, 2, 3)] == [512.0, 55.0, 1.0]
+
+
+@pytest.mark.parametrize(
+    ("setup", "command", "axis", "which"),
+    [
+        ((), "MOVESP(100)", 0, "FS_LIMIT"),  # an SP move at FORCE_SPEED
+        (("BASE(0,1,2)",), "MHELICAL(0,0,10,0,0,100)", 2, "FS_LIMIT"),  # the helix' 3rd axis
+        ((), "MOVELINK(100,100,0,0,1)", 0, "FS_LIMIT"),  # linked to axis 1
+        (("TABLE(0,0,50,100)",), "CAMBOX(0,2,1,100,1)", 0, "FS_LIMIT"),
+        (("BASE(0,1)",), "MOVECIRC(0,0,-50,0,0)", 0, "RS_LIMIT"),  # a full circle, x to -100
+    ],
+)
+def test_every_move_type_that_moves_the_axis_stops_at_its_limit(setup, command, axis, which):
+    c = make()
+    c.terminal("FS_LIMIT AXIS(0)=40")
+    c.terminal("FS_LIMIT AXIS(2)=40")
+    c.terminal("RS_LIMIT AXIS(0)=-40")
+    for line in setup:
+        assert c.terminal(line).error is None, line
+    assert c.terminal(command).error is None
+    if "LINK" in command or "CAMBOX" in command:
+        c.terminal("MOVE(200) AXIS(1)")  # the link axis drives the move
+    run_to(c, 2.0)
+    assert [e[1:] for e in limit_events(c)] == [(axis, which)]
+    pos = c.axis(axis)["dpos"]
+    assert (40.0 <= pos <= 46.0) if which == "FS_LIMIT" else (-46.0 <= pos <= -40.0)
+    assert c.axis(axis)["mtype"] == 0
+
+
+def test_movemodify_to_beyond_the_limit_is_stopped_there():
+    c = make()
+    c.terminal("FS_LIMIT=60")
+    c.terminal("MOVE(50)")
+    c.terminal("MOVEMODIFY(200)")
+    run_to(c, 1.0)
+    assert limit_events(c) == [(0.066, 0, "FS_LIMIT")] and c.axis(0)["dpos"] == 65.0
