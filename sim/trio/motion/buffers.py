@@ -56,11 +56,9 @@ read a stop (issue 22). Consecutive CAMBOX / MOVELINK on one link axis are joine
 (MOVELINK-MD: "merged together automatically"). CANCEL(1) of a move already merged onto leaves the
 MTYPE move ending at speed (``[INF]``).
 
-Software limits (:mod:`motionsim.sim.trio.motion.limits`): when a move starts, is re-planned or
-shifted, or FS_LIMIT / RS_LIMIT are written, the servo period at which it first takes an axis
-beyond a limit is worked out from its path and scheduled; at that period the move ramps down at
-DECEL (FASTDEC when set) and ends cancelled (a ``soft_limit`` event names the axis and the
-limit). Linked moves, whose path follows another axis, are looked at every servo period.
+Software limits and the following-error trip stop a move before its end
+(:mod:`motionsim.sim.trio.motion.guards`, the ``AxisGuards`` part of ``MotionBuffers``): they
+are looked at in step 3 of a servo period, before the moves advance.
 
 Only the servo periods where something happens cost a SimPy event: move ends are scheduled
 when moves start, and a period is scheduled only when a buffer can move on.
@@ -78,12 +76,12 @@ from motionsim.sim.simpy_adapter import URGENT, triggered_at
 from motionsim.sim.timing import ServoClock
 from motionsim.sim.trio.card.basic_errors import BasicError
 from motionsim.sim.trio.card.scaling import nearest_edge
-from motionsim.sim.trio.motion import limits
 from motionsim.sim.trio.motion.axis import Axis
 from motionsim.sim.trio.motion.datum import DatumMove
+from motionsim.sim.trio.motion.guards import AxisGuards
 from motionsim.sim.trio.motion.linked import LinkedMove
 from motionsim.sim.trio.motion.moves import Move
-from motionsim.sim.trio.motion.profile import Profile, diverges_at
+from motionsim.sim.trio.motion.profile import diverges_at
 
 Placed = str  # "mtype" | "ntype" | "process_buffer"
 
@@ -116,7 +114,7 @@ class Waiter:
         self.alive = False
 
 
-class MotionBuffers:
+class MotionBuffers(AxisGuards):
     """Move buffers of all axes and process buffers of all processes of one controller."""
 
     def __init__(
@@ -144,15 +142,7 @@ class MotionBuffers:
         #: CONNECT ramping at CLUTCH_RATE, a DATUM sequence watching its input
         self._links: dict[Any, None] = {}
         self._offsets: set[int] = set()  # axes with a DEFPOS / OFFPOS to apply
-        #: software limits: the servo period a move's path first passes a limit at, with the
-        #: profile that was computed from (a re-planned move is armed again), the axis and
-        #: the limit; linked moves are watched every period (their last base position)
-        self._limit_at: dict[int, list[tuple[Move, Profile, int, str]]] = {}
-        self._limit_watch: dict[Move, float] = {}
-        #: axes with a following-error model (``fe_lag``) and a move: FE looked at each period
-        self._fe_watch: set[int] = set()
-        #: an error condition arose on an axis (the controller raises the motion error)
-        self.on_axis_error: Callable[[int], None] | None = None
+        self._init_guards()  # software limits, following error (guards.py)
         #: LIMIT_BUFFERED: moves the look-ahead of an axis holds, NTYPE included (TJ2H-57);
         #: 1 on the MC2xx generation (NTYPE only)
         self.depth = 1
@@ -415,115 +405,6 @@ class MotionBuffers:
         ax.pos += target - ax.wrap(ax.position())
         self.log.emit("endmove", axis=axis, dpos=ax.dpos())
 
-    # -- software limits -------------------------------------------------------------------
-
-    def limits_changed(self, axis: int) -> None:
-        """FS_LIMIT / RS_LIMIT of ``axis`` written: look at its executing move again."""
-        m = self.axes[axis].mtype
-        if m is not None and m.start_tick is not None and m in self._active:
-            self._arm_limits(m, max(self.clock.index(self.env.now), m.start_tick))
-
-    def _arm_limits(self, m: Move, k: int) -> None:
-        """Schedule (or, when it is due, make) the limit stop of ``m`` as of period ``k``."""
-        if m.cancelled or m.profile is None or m.start_tick is None:
-            return
-        if type(m) is not Move:
-            if isinstance(m, LinkedMove):
-                base = self.axes[m.axes[0]]
-                self._limit_watch[m] = base.own_position(self.clock.t(k))
-            return  # a DATUM sequence is not stopped by the software limits
-        if limits.ends_inside(m, self.axes):
-            return
-        prof = m.profile
-        tau = self.clock.t(k) - m.t_start
-        hit = limits.first_hit(m, [self.axes[a] for a in m.axes],
-                               m.s_off + prof.s(tau))
-        if hit is None:
-            return
-        s_hit, axis, which = hit
-        k_hit = max(k, self.clock.at_or_after(m.t_start + prof.time_at(s_hit - m.s_off)))
-        if k_hit <= k:
-            self._limit_stop(m, k, axis, which)
-            return
-        self._limit_at.setdefault(k_hit, []).append((m, prof, axis, which))
-        self._tick_at(k_hit)
-
-    def _limit_stop(self, m: Move, k: int, axis: int, which: str) -> None:
-        """``axis`` of ``m`` hit ``which`` limit at period ``k``: the move ramps down at the
-        base axis' DECEL (FASTDEC when above 0, ``[BK]``) and ends cancelled."""
-        assert m.profile is not None
-        base = self.axes[m.axes[0]]
-        fastdec = base.stored.values["FASTDEC"]
-        decel = fastdec if fastdec > 0.0 else base.decel
-        m.cancel_at(self.clock.t(k) - m.t_start, decel, base.sramp / 1000.0)
-        if not isinstance(m, DatumMove):
-            self._links.pop(m, None)  # type: ignore[call-overload]
-        self._limit_watch.pop(m, None)
-        self._reschedule_end(m, k)
-        self.log.emit("soft_limit", axis=axis, limit=which, mtype=m.mtype)
-        if self.on_axis_error is not None:
-            self.on_axis_error(axis)
-
-    def watch_fe(self, axis: int) -> None:
-        """``fe_lag`` of ``axis`` written: a move already running on it is watched too."""
-        ax = self.axes[axis]
-        if ax.fe_lag > 0.0 and ax.mtype is not None:
-            self._fe_watch.add(axis)
-            self._kick()
-
-    def _fe_due(self, k: int) -> None:
-        """Period ``k``: the following error of each watched axis against its FE_LIMIT."""
-        t = self.clock.t(k)
-        for n in sorted(self._fe_watch):
-            ax = self.axes[n]
-            fe = ax.following_error(t)
-            st = ax.stored.values
-            if st["SERVO"] and abs(fe) > st["FE_LIMIT"]:
-                self._fe_trip(ax, k, fe)
-            if ax.mtype is None or ax.mtype.cancelled and fe == 0.0:
-                self._fe_watch.discard(n)
-
-    def _fe_trip(self, ax: Axis, k: int, fe: float) -> None:
-        """The following error of ``ax`` exceeded FE_LIMIT with SERVO on (M216-367, SERVO: "the
-        following error bit is set in the AXISSTATUS register, the enable relay is forced OFF
-        and the servo is set OFF"): AXISSTATUS bit 8 latches, SERVO reads OFF, FE_LATCH keeps
-        the error ``[BK]``, and the axis' executing move stops where it is (the drive is off,
-        ``[INF]``); then the motion error of ERRORMASK (:mod:`motionsim.sim.trio.card.system`)."""
-        st = ax.stored.values
-        st["SERVO"] = 0.0
-        st["FE_LATCH"] = fe
-        ax.error_bits |= 1 << 8
-        m = ax.mtype
-        if m is not None and m.profile is not None and not m.cancelled:
-            m.cancel_at(self.clock.t(k) - m.t_start, 1e15)
-            self._links.pop(m, None)  # type: ignore[call-overload]
-            self._limit_watch.pop(m, None)
-            self._reschedule_end(m, k)
-        self.log.emit("following_error", axis=ax.n, fe=fe)
-        if self.on_axis_error is not None:
-            self.on_axis_error(ax.n)
-
-    def _limits_due(self, k: int) -> None:
-        """Period ``k``: the scheduled limit stops whose move runs on as computed, and one look
-        at each linked move."""
-        for m, prof, axis, which in self._limit_at.pop(k, ()):
-            if m in self._active and not m.cancelled and m.profile is prof:
-                self._limit_stop(m, k, axis, which)
-        if self._limit_watch:
-            t = self.clock.t(k)
-            for m, prev in list(self._limit_watch.items()):
-                if m not in self._active or m.cancelled:
-                    del self._limit_watch[m]
-                    continue
-                ax = self.axes[m.axes[0]]
-                here = m.positions(t - m.t_start)[0]
-                lo, hi = limits.limits_of(ax)
-                which = limits.outward(here, prev, lo, hi)
-                if which is not None:
-                    self._limit_stop(m, k, ax.n, which)
-                else:
-                    self._limit_watch[m] = here
-
     # -- the servo period ------------------------------------------------------------------
 
     def _tick_at(self, k: int) -> None:
@@ -556,7 +437,7 @@ class MotionBuffers:
                     return True
             elif all(axes[a].buffered() < depth for a in ms):
                 return True
-        if self._links or self._offsets or self._limit_watch or self._fe_watch:
+        if self._links or self._offsets or self._guards_busy():
             return True
         return any(q and p not in self.process_buffer for p, q in self._waiters.items())
 
@@ -618,10 +499,7 @@ class MotionBuffers:
         # 3. the MTYPE moves advance: a software limit hit now ramps its move down; those whose
         # profile is complete end now (a CAMBOX or MOVELINK when its link axis has covered the
         # link distance)
-        if self._limit_at or self._limit_watch:
-            self._limits_due(k)
-        if self._fe_watch:
-            self._fe_due(k)
+        self._guards_due(k)
         if self._links:
             t = self.clock.t(k)
             for lm in list(self._links):
@@ -714,10 +592,7 @@ class MotionBuffers:
             self._try_merge(base.ntype)
         if type(m) is not Move and m.needs_tick():
             self._links[m] = None
-        self._arm_limits(m, k)
-        for ax in axes:
-            if ax.fe_lag > 0.0:
-                self._fe_watch.add(ax.n)
+        self._guard_move(m, k)
 
     def _link_successor(self, m: Move) -> LinkedMove | None:
         """The CAMBOX / MOVELINK waiting in NTYPE behind the CAMBOX / MOVELINK ``m`` that ended
