@@ -1,13 +1,13 @@
 """Software limits: where an executing move first takes an axis past FS_LIMIT / RS_LIMIT.
 
-TRM, MC216 listing p. 8-177 (RS_LIMIT; FS_LIMIT is its forward twin, p. 8-1xx): "An end of travel
+TRM, MC216 listing p. 8-177 (RS_LIMIT; FS_LIMIT is its forward twin): "An end of travel
 software limit may be set up in software thus allowing the program control of the working
 envelope of the machine. This parameter holds the absolute position of the reverse travel limit
 in user units. When the limit is hit the controller will ramp down the speed to zero then cancel
 the move. Bit 10 in the axis status parameter is set when the axis is in the RS_LIMIT" (bit 9
 for FS_LIMIT, spec §1.6).
 
-Modelled (:class:`motionsim.sim.trio.motion.buffers.MotionBuffers` acts on it):
+Modelled (:class:`motionsim.sim.trio.motion.guards.AxisGuards` acts on it):
 
 * the limit is *hit* at the first servo period at which the axis' demand position has reached
   it while the move still drives the axis outwards: DPOS >= FS_LIMIT moving forwards, DPOS <=
@@ -19,13 +19,13 @@ Modelled (:class:`motionsim.sim.trio.motion.buffers.MotionBuffers` acts on it):
   — FASTDEC when that is set above 0 (``[BK]``: FASTDEC is the deceleration used at a limit) —
   and ends cancelled, so the axis stops beyond the limit by the ramp's distance; the move in
   NTYPE then loads as after any CANCEL (a further move outwards is cancelled at once);
-* every move type that moves an axis: MOVE, MOVEABS, MOVEMODIFY, MOVESP / …SP, DATUM(0)-style
-  returns, FORWARD / REVERSE (here the hit is computed from the path), MOVECIRC / MHELICAL (the
-  arc is searched), and the linked moves CAM / CAMBOX / MOVELINK / CONNECT, whose position
-  follows another axis: they are looked at every servo period while they run (a linked move
-  other than CAM stops at once where it is, as on CANCEL);
+* every move type that moves an axis: MOVE, MOVEABS, MOVEMODIFY, MOVESP / …SP, FORWARD /
+  REVERSE (here the hit is computed from the path), MOVECIRC / MHELICAL (the arc is searched),
+  and the linked moves CAM / CAMBOX / MOVELINK / CONNECT, whose position follows another axis:
+  they are looked at every servo period while they run (a linked move other than CAM stops at
+  once where it is, as on CANCEL);
 * the position compared is the axis' own demand (what ADDAX adds is not checked, ``[INF]``);
-  DATUM(3)..(6) searches are not stopped by the software limits ``[INF]``.
+  the DATUM(1..6) sequences are not stopped by the software limits ``[INF]``.
 """
 
 from __future__ import annotations
