@@ -63,7 +63,6 @@ if TYPE_CHECKING:
 _SEGMENTED = frozenset({LINEAR, DELAY})
 
 
-
 class Execution(CoordState):
     """The execution part of :class:`~motionsim.sim.pmac.lookahead.CoordSystem`: the state it
     reads and writes is declared in :class:`.state.CoordState`."""
