@@ -409,10 +409,7 @@ class PmacController(Controller):
         if rot is None:
             raise NotFound(f"coordinate system {c.cs} has no rotary buffer")
         if not rot.fits(line.words):
-            raise BufferFull(
-                f"line of {line.words} words does not fit ({rot.free_words} free)",
-                pmac_error="ERR006",
-            )
+            raise rot.no_room(line.words)
         rot.store(line)
         c.lines_arrived()
 
@@ -440,10 +437,11 @@ class PmacController(Controller):
         if self.halted:
             self._alive()
         c = self.coord_systems.get(cs) if type(cs) is int else None
-        rot = c.rotary if c is not None else None
-        if rot is None:
+        if c is None or c.rotary is None:
             rot = self._rotary_of(cs)  # raises NotFound
             c = self.coord_systems[cs]
+        else:
+            rot = c.rotary
         texts = lines if type(lines) is list else list(lines)
         cache = _LINE_CACHE
         pre = precompiled or {}
@@ -451,17 +449,13 @@ class PmacController(Controller):
             # The streaming case: one line, no sequence numbers.
             text = texts[0]
             line = cache.get(text) if type(text) is str else None
-            fresh = line is None
+            unseen = line is None
             if line is None:
                 line = (pre.get(text) if type(text) is str else None) or self._compile(text, 0)
-            if rot.used_words + line.words > rot.size_words:
-                raise BufferFull(
-                    f"line of {line.words} words does not fit ({rot.free_words} words free)",
-                    pmac_error="ERR006",
-                    free_words=rot.free_words,
-                )
+            if not rot.fits(line.words):
+                raise rot.no_room(line.words)
             rot.store(line)
-            if fresh:
+            if unseen:
                 self._remember(texts, [line])
             c.lines_arrived()  # (it wants more with 2 calculated in the special lookahead)
             return _new_result(
@@ -479,11 +473,7 @@ class PmacController(Controller):
         new = compiled[skip:]
         words = sum(line.words for line in new)
         if not rot.fits(words):
-            raise BufferFull(
-                f"{len(new)} lines of {words} words do not fit ({rot.free_words} words free)",
-                pmac_error="ERR006",
-                free_words=rot.free_words,
-            )
+            raise rot.no_room(words, len(new))
         store = rot.store
         for line in new:
             store(line)

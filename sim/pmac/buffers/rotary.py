@@ -31,6 +31,7 @@ from collections import deque
 from collections.abc import Callable
 from typing import Any
 
+from motionsim.sim.errors import BufferFull
 from motionsim.sim.events import EventLog
 from motionsim.sim.pmac.buffers.line_numbers import LineNumbering
 from motionsim.sim.pmac.buffers.program import ProgramLine, rotary_check
@@ -120,7 +121,19 @@ class RotaryBuffer:
         return self.size_words - self.used_words
 
     def fits(self, words: int) -> bool:
+        """``words`` more fit in the buffer: the one rule every way of storing lines asks
+        (a batch is stored all or nothing)."""
         return self.used_words + words <= self.size_words
+
+    def no_room(self, words: int, lines: int = 1) -> BufferFull:
+        """The error for ``lines`` lines of ``words`` words that do not :meth:`fits` (ERR006,
+        with the words free)."""
+        what = f"line of {words} words does" if lines == 1 else f"{lines} lines of {words} words do"
+        return BufferFull(
+            f"{what} not fit ({self.free_words} words free)",
+            pmac_error="ERR006",
+            free_words=self.free_words,
+        )
 
     def to_dict(self, open_: bool) -> dict[str, Any]:
         """The API's ``Rotary`` shape."""

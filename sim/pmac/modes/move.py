@@ -39,6 +39,10 @@ class Move:
         "b_start", "b_end", "ta_in", "ta_out", "stopping", "ta_stop", "prog",
     )  # fmt: skip
 
+    #: Set when the move starts executing (:meth:`.Execution._start_next`).
+    b_start: float
+    b_end: float
+
     def __init__(
         self,
         n: int,
