@@ -315,7 +315,7 @@ class PmacController(Controller):
         if words > self.size_words():
             raise BufferFull(f"only {self.size_words()} words of memory free", pmac_error="ERR006")
         c.rotary = RotaryBuffer(cs, words, self.log, self._thresholds, self.vars,
-                                self.card_faults)
+                                self.card_faults, self.programs)
         if entered:
             c.rotary.reevaluate()
         return self.rotary(cs)  # type: ignore[return-value]

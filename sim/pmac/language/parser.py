@@ -28,7 +28,7 @@ from typing import Any
 
 from motionsim.sim.errors import ParseError
 from motionsim.sim.pmac.card import card_commands, macro_station, memory_commands, mvar_defs
-from motionsim.sim.pmac.language import axis_definitions, keywords, ranges
+from motionsim.sim.pmac.language import axis_definitions, flow_words, keywords, ranges
 from motionsim.sim.pmac.language import expressions as ex
 from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.language import plc_statements as plc_st
@@ -60,10 +60,11 @@ _PC_PE = re.compile(r"([CE])(?![A-Za-z0-9(])", re.IGNORECASE)
 _CLEAR_ALL_PLCS = re.compile(r"\s*ALL\s*PLCS(?![A-Za-z])", re.IGNORECASE)
 _CLEAR_ALL = re.compile(r"\s*ALL(?![A-Za-z])", re.IGNORECASE)
 _VARS = frozenset("IPQM")
-#: ``G{n}``, ``T{n}``, ``D{n}`` in a motion program: calls of PROG 1000, 1002, 1003 (PUM
-#: p165, spec §12.1), not simulated.
+#: ``G{n}``, ``T{n}``, ``D{n}`` (and ``M{n}`` not followed by ``=`` / ``->`` / ``..``) in a
+#: buffer: calls of PROG 10n0, 10n2, 10n3, 10n1 (TSRM p425; TUM p328; flow_statements.Call).
 _CODE_CALLS = frozenset("GTD")
 _ASSIGN_OPS = frozenset(["=", "==", "&=", "|=", "^="])
+_NOT_M_CODE = _ASSIGN_OPS | {"->", ".."}
 
 _ERR = "ERR003"
 
@@ -489,6 +490,8 @@ class _Parser:
             return motor_st.Kill()
         if word == "O" and has_value and not self.open:
             return motor_st.OpenLoop(self.value_const(tok))
+        if word == "M" and self.open and self._m_code():
+            return self.code_call(tok)
         if word in _VARS and has_value and not (word == "I" and self.open and self._i_vector()):
             return self.variable_statement(word)
         if not has_value:
@@ -523,9 +526,24 @@ class _Parser:
             return st.Modal("F", self.value())
         if word in ("N", "O"):
             return st.Label(word, self.integer())
-        if word in _CODE_CALLS and self.open:
-            raise self.not_simulated(f"{word}-code subprogram call", tok)
+        if word in _CODE_CALLS:  # a program statement: ERR005 with no buffer open
+            return self.code_call(tok)
         raise self.error(f"unrecognised command {word!r}", tok)
+
+    def _m_code(self) -> bool:
+        """Is ``M`` here an M-code (``M03``), not an M-variable (``M1=``, ``M1->``)?"""
+        num, after = self.peek(), self.peek(1)
+        if num is None or num[0] != "num":
+            return False
+        return after is None or not (after[0] == "op" and after[1] in _NOT_M_CODE)
+
+    def code_call(self, tok: Token) -> Any:
+        """``G{data}`` / ``M{data}`` / ``T{data}`` / ``D{data}`` and the letters after it (its
+        arguments): a subroutine call (:class:`~.flow_statements.Call` with ``code``)."""
+        value = self.value()
+        if value.const is not None and not 0 <= value.const < 1000:
+            raise self.error(f"{tok[1]}-code 0..999.999", tok)
+        return flow_words.code_call(self, tok, value)
 
     def online_letter(self, word: str) -> Any:
         """On-line commands whose word the tokenizer splits into letters: ``PC`` / ``PE``
