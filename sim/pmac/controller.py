@@ -35,6 +35,7 @@ from motionsim.sim.pmac.card import card_commands, pmac_float, registers
 from motionsim.sim.pmac.card.macro_station import MacroStations
 from motionsim.sim.pmac.card.timers import CountdownTimers
 from motionsim.sim.pmac.card.variables import N_CS, N_MOTORS, Variables, parse_name
+from motionsim.sim.pmac.host import commands
 from motionsim.sim.pmac.host.messages import HostMessages
 from motionsim.sim.pmac.host.messages import frame as frame_message
 from motionsim.sim.pmac.host.terminal import Terminal
@@ -314,7 +315,7 @@ class PmacController(Controller):
         if words > self.size_words():
             raise BufferFull(f"only {self.size_words()} words of memory free", pmac_error="ERR006")
         c.rotary = RotaryBuffer(cs, words, self.log, self._thresholds, self.vars,
-                                self.card_faults)
+                                self.card_faults, self.programs)
         if entered:
             c.rotary.reevaluate()
         return self.rotary(cs)  # type: ignore[return-value]
@@ -663,6 +664,14 @@ class PmacController(Controller):
         if type(n) is not int or not 1 <= n <= N_MOTORS:
             raise NotFound(f"no motor {n!r} (1..{N_MOTORS})")
         return self.motor_table[n]
+
+    def run_statement(self, stmt: Any, cs: int, motor: int) -> list[str]:
+        """Run an on-line command statement as a PLC program does (no port; ``cs`` / ``motor``
+        addressed): its row of :mod:`motionsim.sim.pmac.host.commands`. The data lines it
+        answers (a PLC sends them nowhere)."""
+        out: list[str] = []
+        commands.run(commands.Call(self, None, {"cs": cs, "motor": motor}, out), stmt)
+        return out
 
     def motor_command(self, stmt: Any, n: int) -> None:
         """An on-line motor command (:mod:`motionsim.sim.pmac.language.motor_statements`) for motor

@@ -25,22 +25,15 @@ points at no program (after ``OPEN PROG``, before the next ``B{n}``) answers ERR
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from motionsim.sim.errors import Conflict
 from motionsim.sim.pmac.host import listing
+from motionsim.sim.pmac.language.statements import ProgramCounter
 
 if TYPE_CHECKING:
     from motionsim.sim.pmac.controller import PmacController
     from motionsim.sim.pmac.lookahead.coord import CoordSystem
-
-
-@dataclass(frozen=True, slots=True)
-class ProgramCounter:
-    """``PC`` (``executing`` False) or ``PE`` (``executing`` True)."""
-
-    executing: bool
 
 
 def line_offset(texts: Sequence[str], n: int) -> int:
