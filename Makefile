@@ -35,6 +35,7 @@ test: $(TEST_STAMP)
 
 lint: $(TEST_STAMP)
 	$(BIN)/ruff check .
+	$(BIN)/python tools/mypy_strict.py
 
 # Bigger fuzz budgets: hypothesis over every parser and codec (>= 10^5 cases, counts in
 # fuzz-counts.json) and schemathesis over every operation, stateful phase included.

@@ -16,7 +16,7 @@ from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
 from motionsim.app.fatal import exit_if_fatal
 from motionsim.sim.errors import MotionSimError
-from motionsim.sim.pmac.card.error_codes import meaning
+from motionsim.sim.pmac import meaning
 from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.routing import Match
 

@@ -88,7 +88,8 @@ def serve(
              "a free port. [default: 23, skipped if it cannot be bound]")] = None,
     modbus_port: Annotated[str | None, typer.Option(
         metavar="PORT",
-        help="Trio Modbus TCP port (VR() as holding registers) for controller 'trio'; "
+        help="Trio Modbus TCP port (VR() as holding registers, I/O as coils and inputs) for "
+             "controller 'trio'; "
              "'auto' picks a free port. [default: 0 = disabled]")] = None,
     config: Annotated[Path | None, typer.Option(
         metavar="FILE", exists=True, dir_okay=False, readable=True,

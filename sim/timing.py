@@ -12,7 +12,7 @@ import math
 from dataclasses import dataclass
 
 #: Tolerance, in cycles, for treating a float time as lying exactly on a cycle boundary.
-_EPS_CYCLES = 1e-6
+EPS_CYCLES = 1e-6
 
 
 @dataclass(frozen=True, slots=True)
@@ -39,11 +39,11 @@ class ServoClock:
 
     def index(self, t: float) -> int:
         """The last servo cycle at or before ``t``."""
-        return math.floor(t / self.period_s + _EPS_CYCLES)
+        return math.floor(t / self.period_s + EPS_CYCLES)
 
     def at_or_after(self, t: float) -> int:
         """The first servo cycle at or after ``t``."""
-        return math.ceil(t / self.period_s - _EPS_CYCLES)
+        return math.ceil(t / self.period_s - EPS_CYCLES)
 
     def after(self, t: float) -> int:
         """The first servo cycle strictly after ``t``."""
@@ -51,7 +51,7 @@ class ServoClock:
 
     def cycles(self, duration_s: float) -> int:
         """A duration rounded up to whole servo cycles (a move never ends between cycles)."""
-        return max(0, math.ceil(duration_s / self.period_s - _EPS_CYCLES))
+        return max(0, math.ceil(duration_s / self.period_s - EPS_CYCLES))
 
 
 def pmac_servo_period_s(i10: int) -> float:
@@ -59,4 +59,4 @@ def pmac_servo_period_s(i10: int) -> float:
     return i10 / 8_388_608 / 1000.0
 
 
-__all__ = ["ServoClock", "pmac_servo_period_s"]
+__all__ = ["EPS_CYCLES", "ServoClock", "pmac_servo_period_s"]

@@ -20,8 +20,7 @@ from motionsim.api.off_loop import off_loop
 from motionsim.api.schemas.plcs import PlcDetail, PlcList, PlcProgramIn
 from motionsim.app.registry import ControllerHandle
 from motionsim.sim.errors import Halted, NotFound
-from motionsim.sim.pmac.host import listing
-from motionsim.sim.pmac.tasks.plc import PlcProgram, compile_plc
+from motionsim.sim.pmac import PlcProgram, compile_plc, stored_entries
 
 router = APIRouter(tags=["plcs"], route_class=DecodedJsonRoute)
 
@@ -61,7 +60,7 @@ async def get_plc(handle: HandleDep, n: N) -> dict[str, Any]:
 def _compile(text: str) -> PlcProgram:
     """``compile_plc``, and the program's listing worked out (``LIST PLC`` reads it)."""
     program = compile_plc(text)
-    listing.stored_entries(program.lines, plc=True)
+    stored_entries(program.lines, plc=True)
     return program
 
 

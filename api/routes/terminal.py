@@ -10,7 +10,7 @@ from fastapi import APIRouter
 from motionsim.api.decoded_json import DecodedJsonRoute
 from motionsim.api.deps import HandleDep
 from motionsim.api.schemas.terminal import TerminalIn, TerminalOut, TerminalState
-from motionsim.sim.pmac.card.error_codes import meaning
+from motionsim.sim.pmac import meaning
 
 router = APIRouter(tags=["terminal"], route_class=DecodedJsonRoute)
 

@@ -14,8 +14,20 @@ Sub-packages, one concern each (``docs/DESIGN.md`` argues the grouping):
   not-simulated table;
 * ``lookahead`` (per-CS planning and execution) and ``modes`` (one module a move mode);
 * ``controller`` — ``PmacController``, which composes them.
+
+The package's names below are its public surface, what ``api/`` may import (a test checks it):
+the controller, the compiled line and PLC program a REST body is checked against, the SRM
+meaning of an ``ERRnnn`` code and the PLC listing.
 """
 
-from motionsim.sim.pmac.controller import LoadResult, PmacController
+from motionsim.sim.pmac.buffers.program import compile_line
+from motionsim.sim.pmac.card.error_codes import meaning
+from motionsim.sim.pmac.controller import MAX_LINE_CHARS, LoadResult, PmacController
+from motionsim.sim.pmac.host.listing import stored_entries
+from motionsim.sim.pmac.language.compiled import ProgramLine
+from motionsim.sim.pmac.tasks.plc import PlcProgram, compile_plc
 
-__all__ = ["LoadResult", "PmacController"]
+__all__ = [
+    "MAX_LINE_CHARS", "LoadResult", "PlcProgram", "PmacController", "ProgramLine", "compile_line",
+    "compile_plc", "meaning", "stored_entries",
+]  # fmt: skip

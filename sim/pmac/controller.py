@@ -35,6 +35,7 @@ from motionsim.sim.pmac.card import card_commands, pmac_float, registers
 from motionsim.sim.pmac.card.macro_station import MacroStations
 from motionsim.sim.pmac.card.timers import CountdownTimers
 from motionsim.sim.pmac.card.variables import N_CS, N_MOTORS, Variables, parse_name
+from motionsim.sim.pmac.host import commands
 from motionsim.sim.pmac.host.messages import HostMessages
 from motionsim.sim.pmac.host.messages import frame as frame_message
 from motionsim.sim.pmac.host.terminal import Terminal
@@ -334,7 +335,7 @@ class PmacController(Controller):
         if words > self.size_words():
             raise BufferFull(f"only {self.size_words()} words of memory free", pmac_error="ERR006")
         c.rotary = RotaryBuffer(cs, words, self.log, self._thresholds, self.vars,
-                                self.card_faults)
+                                self.card_faults, self.programs)
         if entered:
             c.rotary.reevaluate()
         return self.rotary(cs)  # type: ignore[return-value]
@@ -429,10 +430,7 @@ class PmacController(Controller):
         if rot is None:
             raise NotFound(f"coordinate system {c.cs} has no rotary buffer")
         if not rot.fits(line.words):
-            raise BufferFull(
-                f"line of {line.words} words does not fit ({rot.free_words} free)",
-                pmac_error="ERR006",
-            )
+            raise rot.no_room(line.words)
         rot.store(line)
         c.lines_arrived()
 
@@ -460,10 +458,11 @@ class PmacController(Controller):
         if self.halted:
             self._alive()
         c = self.coord_systems.get(cs) if type(cs) is int else None
-        rot = c.rotary if c is not None else None
-        if rot is None:
+        if c is None or c.rotary is None:
             rot = self._rotary_of(cs)  # raises NotFound
             c = self.coord_systems[cs]
+        else:
+            rot = c.rotary
         texts = lines if type(lines) is list else list(lines)
         cache = _LINE_CACHE
         pre = precompiled or {}
@@ -471,17 +470,13 @@ class PmacController(Controller):
             # The streaming case: one line, no sequence numbers.
             text = texts[0]
             line = cache.get(text) if type(text) is str else None
-            fresh = line is None
+            unseen = line is None
             if line is None:
                 line = (pre.get(text) if type(text) is str else None) or self._compile(text, 0)
-            if rot.used_words + line.words > rot.size_words:
-                raise BufferFull(
-                    f"line of {line.words} words does not fit ({rot.free_words} words free)",
-                    pmac_error="ERR006",
-                    free_words=rot.free_words,
-                )
+            if not rot.fits(line.words):
+                raise rot.no_room(line.words)
             rot.store(line)
-            if fresh:
+            if unseen:
                 self._remember(texts, [line])
             c.lines_arrived()  # (it wants more with 2 calculated in the special lookahead)
             return _new_result(
@@ -499,11 +494,7 @@ class PmacController(Controller):
         new = compiled[skip:]
         words = sum(line.words for line in new)
         if not rot.fits(words):
-            raise BufferFull(
-                f"{len(new)} lines of {words} words do not fit ({rot.free_words} words free)",
-                pmac_error="ERR006",
-                free_words=rot.free_words,
-            )
+            raise rot.no_room(words, len(new))
         store = rot.store
         for line in new:
             store(line)
@@ -693,6 +684,14 @@ class PmacController(Controller):
         if type(n) is not int or not 1 <= n <= N_MOTORS:
             raise NotFound(f"no motor {n!r} (1..{N_MOTORS})")
         return self.motor_table[n]
+
+    def run_statement(self, stmt: Any, cs: int, motor: int) -> list[str]:
+        """Run an on-line command statement as a PLC program does (no port; ``cs`` / ``motor``
+        addressed): its row of :mod:`motionsim.sim.pmac.host.commands`. The data lines it
+        answers (a PLC sends them nowhere)."""
+        out: list[str] = []
+        commands.run(commands.Call(self, None, {"cs": cs, "motor": motor}, out), stmt)
+        return out
 
     def motor_command(self, stmt: Any, n: int) -> None:
         """An on-line motor command (:mod:`motionsim.sim.pmac.language.motor_statements`) for motor

@@ -15,7 +15,7 @@ import pytest
 from motionsim.api.pmac_ethernet.server import serve_pmac
 from motionsim.api.trio_terminal.server import serve_trio
 from motionsim.sim.pmac.language.expressions import MAX_NESTING as PMAC_MAX
-from motionsim.sim.trio.parser import MAX_NESTING as TRIO_MAX
+from motionsim.sim.trio.language.parser import MAX_NESTING as TRIO_MAX
 
 from tests.api.pmac_ethernet.test_pmac_server import Client
 from tests.api.trio_terminal.test_trio_server import read_until_prompt

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 from motionsim.sim.events import EVENT_FIELDS
-from motionsim.sim.trio.models import MODELS
+from motionsim.sim.trio.card.models import MODELS
 
 pytestmark = pytest.mark.anyio
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 import httpx
 import pytest
 from motionsim.api.main import create_app
-from motionsim.sim.trio.data_memory import DATA_BYTES, MAX_STRING, NUMBER_BYTES
+from motionsim.sim.trio.card.data_memory import DATA_BYTES, MAX_STRING, NUMBER_BYTES
 
 from tests.conftest import dummy_settings, rest_client
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import httpx
 import pytest
 from motionsim.api.main import create_app
-from motionsim.sim.trio.models import EDGES_MAX, WORD_MAX
+from motionsim.sim.trio.card.models import EDGES_MAX, WORD_MAX
 
 from tests.conftest import dummy_settings, rest_client
 

@@ -21,7 +21,7 @@ from motionsim.sim.errors import MotionSimError
 from motionsim.sim.pmac import PmacController
 from motionsim.sim.pmac.language.expressions import MAX_NESTING as PMAC_MAX
 from motionsim.sim.trio import TrioController
-from motionsim.sim.trio.parser import MAX_NESTING as TRIO_MAX
+from motionsim.sim.trio.language.parser import MAX_NESTING as TRIO_MAX
 
 from tests.fuzz.conftest import counted
 from tests.fuzz.test_fuzz_parsers import PROFILE, _answer

@@ -30,6 +30,10 @@ from collections.abc import Mapping
 
 _floor = math.floor
 
+#: Move kinds: what a calculated move is (index into :data:`motionsim.sim.pmac.modes.PROFILES`;
+#: the ``#n?`` status reads DWELL, so the kinds sit here below the modes).
+LINEAR, DWELL, DELAY, RAPID, PVT, SPLINE = 0, 1, 2, 3, 4, 5
+
 MAX_MOVE_S = 8_388_607 / 1000.0
 MIN_MOVE_S = 0.0005
 FRAX = ("X", "Y", "Z")
@@ -159,6 +163,7 @@ def velocity_at(
 
 
 __all__ = [
+    "DELAY", "DWELL", "LINEAR", "PVT", "RAPID", "SPLINE",
     "FRAX",
     "MAX_MOVE_S",
     "MIN_MOVE_S",

@@ -19,7 +19,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from motionsim.sim.pmac.tasks.scheduler import wake_at
+from motionsim.sim.simpy_adapter import wake_at
 
 if TYPE_CHECKING:
     from motionsim.sim.pmac.controller import PmacController

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from motionsim.sim.errors import ParseError
 from motionsim.sim.pmac.card.variables import format_value
@@ -69,18 +69,6 @@ class StationCommand:
     var: int = 0
     value: float | None = None
     local: tuple[str, int] | None = None
-
-    @property
-    def program_form(self) -> bool:
-        """MSR / MSW are also motion-program statements, not simulated there (an open motion
-        buffer answers not_simulated rather than running them at once)."""
-        return self.op in ("copy_in", "copy_out")
-
-    def run_online(self, ctl: Any, state: dict[str, Any], out: list[str]) -> None:
-        """Execute on-line (the terminal's hook); a data line goes to ``out``."""
-        reply = ctl.macro_stations.execute(self, ctl.vars, state["cs"])
-        if reply is not None:
-            out.append(reply)
 
 
 @dataclass

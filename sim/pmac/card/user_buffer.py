@@ -15,7 +15,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from motionsim.sim.errors import Conflict
 from motionsim.sim.pmac.card import memory_map
@@ -40,48 +40,52 @@ class DefineUbuffer:
 
     words: int
 
-    def online(self, ctl: PmacController, port: Any, out: list[str]) -> None:
-        mem = ctl.vars.mvars
-        if mem.ubuffer is not None:
-            raise Conflict("a user buffer exists: DELETE ALL first", pmac_error="ERR003")
-        if not 1 <= self.words <= MAX_WORDS:
-            raise Conflict(f"DEFINE UBUFFER {self.words}: 1..{MAX_WORDS} words fit open memory",
-                           pmac_error="ERR003")
-        if ctl.gather_words is not None or any(
-            c.rotary is not None or c.lookahead is not None
-            for c in ctl.coord_systems.values()
-        ):
-            raise Conflict("DEFINE UBUFFER comes before other buffers: DELETE ALL first",
-                           pmac_error="ERR003")
-        first, last = memory_map.ubuffer_range(self.words)
-        for key in [k for k in mem.words if first <= k[1] <= last]:
-            del mem.words[key]
-        mem.ubuffer = (first, last)
-        ctl.vars.i[I_END_OF_OPEN_MEMORY] = float(first)  # read-only to hosts, set by the card
-        ctl.log.emit("ubuffer", first=first, last=last)
-
 
 @dataclass(frozen=True, slots=True)
 class DeleteAll:
     """``DELETE ALL``."""
 
-    def online(self, ctl: PmacController, port: Any, out: list[str]) -> None:
-        _no_program_running(ctl, "DELETE ALL")
-        for c in ctl.coord_systems.values():
-            if c.rotary is not None:
-                ctl.delete_rotary(c.cs)
-        ctl.delete_gather()
-        for c in ctl.coord_systems.values():
-            if c.lookahead is not None:
-                ctl.delete_lookahead(c.cs)
-        mem = ctl.vars.mvars
-        if mem.ubuffer is not None:
-            first, last = mem.ubuffer
-            for key in [k for k in mem.words if first <= k[1] <= last]:
-                del mem.words[key]
-            mem.ubuffer = None
-        ctl.vars.i[I_END_OF_OPEN_MEMORY] = default_i(I_END_OF_OPEN_MEMORY)
-        ctl.log.emit("ubuffer", first=None, last=None)
+
+def define(ctl: PmacController, stmt: DefineUbuffer) -> None:
+    """``DEFINE UBUFFER {words}``: the user buffer at the top of open memory."""
+    mem = ctl.vars.mvars
+    if mem.ubuffer is not None:
+        raise Conflict("a user buffer exists: DELETE ALL first", pmac_error="ERR003")
+    if not 1 <= stmt.words <= MAX_WORDS:
+        raise Conflict(f"DEFINE UBUFFER {stmt.words}: 1..{MAX_WORDS} words fit open memory",
+                       pmac_error="ERR003")
+    if ctl.gather_words is not None or any(
+        c.rotary is not None or c.lookahead is not None
+        for c in ctl.coord_systems.values()
+    ):
+        raise Conflict("DEFINE UBUFFER comes before other buffers: DELETE ALL first",
+                       pmac_error="ERR003")
+    first, last = memory_map.ubuffer_range(stmt.words)
+    for key in [k for k in mem.words if first <= k[1] <= last]:
+        del mem.words[key]
+    mem.ubuffer = (first, last)
+    ctl.vars.i[I_END_OF_OPEN_MEMORY] = float(first)  # read-only to hosts, set by the card
+    ctl.log.emit("ubuffer", first=first, last=last)
 
 
-__all__ = ["DefineUbuffer", "DeleteAll"]
+def delete_all(ctl: PmacController) -> None:
+    """``DELETE ALL``: every rotary, gather, lookahead and user buffer."""
+    _no_program_running(ctl, "DELETE ALL")
+    for c in ctl.coord_systems.values():
+        if c.rotary is not None:
+            ctl.delete_rotary(c.cs)
+    ctl.delete_gather()
+    for c in ctl.coord_systems.values():
+        if c.lookahead is not None:
+            ctl.delete_lookahead(c.cs)
+    mem = ctl.vars.mvars
+    if mem.ubuffer is not None:
+        first, last = mem.ubuffer
+        for key in [k for k in mem.words if first <= k[1] <= last]:
+            del mem.words[key]
+        mem.ubuffer = None
+    ctl.vars.i[I_END_OF_OPEN_MEMORY] = default_i(I_END_OF_OPEN_MEMORY)
+    ctl.log.emit("ubuffer", first=None, last=None)
+
+
+__all__ = ["DefineUbuffer", "DeleteAll", "define", "delete_all"]

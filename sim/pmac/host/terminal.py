@@ -29,14 +29,10 @@ from typing import TYPE_CHECKING, Any
 
 from motionsim.sim.controller import Port
 from motionsim.sim.errors import MotionSimError, NotSimulated, ParseError
-from motionsim.sim.pmac.buffers import program_counter
 from motionsim.sim.pmac.buffers.program import compile_statements
-from motionsim.sim.pmac.card import card_commands, memory_commands, mvar_defs
-from motionsim.sim.pmac.card.variables import N_CS, N_MOTORS, format_ivar, format_value
-from motionsim.sim.pmac.host import list_commands, not_simulated
+from motionsim.sim.pmac.host import commands, not_simulated
+from motionsim.sim.pmac.host.commands import CommandError
 from motionsim.sim.pmac.host.control_chars import ControlCharacters, split_controls
-from motionsim.sim.pmac.language import motor_statements as motor_st
-from motionsim.sim.pmac.language import plc_statements as plc_st
 from motionsim.sim.pmac.language import statements as st
 from motionsim.sim.pmac.language.parser import parse_line
 
@@ -44,40 +40,6 @@ if TYPE_CHECKING:
     from motionsim.sim.pmac.controller import PmacController
 
 _OPEN_PLC = re.compile(r"OPEN\s*PLCC?\s*\d+", re.IGNORECASE)
-
-VERSION = "1.947  "
-CARD_ID = "603382"
-CPU = "DSP56321"
-TYPE = "TURBO2"
-
-
-#: On-line commands that still act on-line while the port holds a PLC buffer open.
-_ONLINE_IN_PLC = (
-    st.AddressCS, st.AddressMotor, st.Query, st.VarQuery, st.MDefinitionQuery, st.FeedOverride,
-    st.Run, st.Step, st.Quit, st.Hold, st.Abort, st.MFlush, list_commands.ListBuffer,
-    program_counter.ProgramCounter, memory_commands.MemoryRead,
-)  # fmt: skip
-
-
-class CommandError(Exception):
-    """Stop executing the line; answer ``code``."""
-
-    def __init__(self, code: str) -> None:
-        super().__init__(code)
-        self.code = code
-
-
-#: What may run before a malformed command on the same line: it changes no controller state.
-_REPORTS = (st.Query, st.VarQuery, st.MDefinitionQuery, st.AddressCS, st.AddressMotor,
-            list_commands.ListBuffer, program_counter.ProgramCounter,
-            memory_commands.MemoryRead)
-
-
-def _is_report(stmt: Any) -> bool:
-    if isinstance(stmt, st.AxisDefinition):
-        return stmt.definition is None
-    return isinstance(stmt, _REPORTS)
-
 
 #: Parsed lines by ``(text, open)``: a host driver sends the same poll line every cycle
 #: (the EPICS driver's 40-item status request), and parsing is most of its cost. Statements
@@ -100,10 +62,6 @@ def _parsed(text: str, open_: bool) -> list[tuple[Any, int, int]]:
 def _where(e: ParseError) -> str:
     column = e.details.get("column")
     return f"{e.message} (column {column})" if column else e.message
-
-
-def _hex_words(*words: int) -> str:
-    return "".join(f"{w & 0xFFFFFF:06X}" for w in words)
 
 
 class Terminal:
@@ -169,7 +127,7 @@ class Terminal:
             stmts = parse_line(text, open_=False)
         except ParseError:
             return False
-        return bool(stmts) and all(isinstance(item[0], _ONLINE_IN_PLC) for item in stmts)
+        return bool(stmts) and all(commands.acts_with_plc_open(item[0]) for item in stmts)
 
     def _run(self, text: str, port: Port, open_: bool) -> tuple[str, str | None]:
         """Parse the line, then execute it left to right.
@@ -211,7 +169,7 @@ class Terminal:
         while cut > 0:
             try:
                 before = parse_line(text[:cut], open_=open_)
-                return before if all(_is_report(item[0]) for item in before) else []
+                return before if all(commands.is_report(item[0]) for item in before) else []
             except ParseError as again:
                 new = not_simulated.command_start(text[:cut], again.details.get("column", 1))
                 if new >= cut:
@@ -225,6 +183,7 @@ class Terminal:
         ctl = self.ctl
         out: list[str] = []
         group: list[tuple[Any, int, int]] = []
+        call = commands.Call(ctl, port, port.state, out)
         try:
             for item in stmts:
                 stmt = item[0]
@@ -232,16 +191,11 @@ class Terminal:
                     if ctl.buffer_holder is port:
                         group.append(item)
                         continue
-                    if isinstance(stmt, st.Assign) and not stmt.synchronous:
-                        self._assign_now(stmt, port)
-                        continue
-                    if getattr(stmt, "run_online", None) is None:
-                        raise CommandError("ERR005")
-                elif ctl.buffer_holder is port and getattr(stmt, "program_form", False):
+                elif ctl.buffer_holder is port and commands.has_program_form(stmt):
                     raise NotSimulated(f"{type(stmt).__name__} in a motion program",
                                        pmac_error="ERR003")
                 self._store(text, group, port)
-                self._online(stmt, port, out)
+                commands.run(call, stmt)
             self._store(text, group, port)
         except CommandError as e:
             return "\r".join(out), e.code
@@ -266,167 +220,6 @@ class Terminal:
             raise CommandError("ERR006")
         line = compile_statements(line_text, stmts)
         self.ctl.store_line(cs, line)
-
-    def _assign_now(self, stmt: st.Assign, port: Port) -> None:
-        ctl = self.ctl
-        cs = port.state["cs"]
-        n = int(stmt.target.index(ctl.vars, cs))
-        ctl.vars.write(stmt.target.kind, n, stmt.value(ctl.vars, cs), cs)
-
-    # -- on-line commands -----------------------------------------------------------------
-
-    def _online(self, stmt: Any, port: Port, out: list[str]) -> None:
-        ctl = self.ctl
-        state = port.state
-        run = getattr(stmt, "run_online", None)
-        if run is not None:  # a command family that runs itself (MACRO stations, ranges...)
-            run(ctl, state, out)
-            return
-        t = type(stmt)
-        if t is st.AddressCS:
-            if stmt.cs is None:
-                out.append(str(state["cs"]))
-                return
-            if not 1 <= stmt.cs <= N_CS:
-                raise CommandError("ERR003")
-            changed = stmt.cs != state["cs"]
-            state["cs"] = stmt.cs
-            rot = ctl.coord_system(stmt.cs).rotary
-            if changed and rot is not None and ctl.buffer_holder is port and ctl.rotary_open():
-                # seed 000: a *change* of the addressed CS re-evaluates BREQ; ``&1`` with CS 1
-                # already addressed changes nothing (no BREQ pulse per poll)
-                rot.reevaluate()
-        elif t is st.AddressMotor:
-            if stmt.motor is None:
-                out.append(str(state["motor"]))
-                return
-            if not 1 <= stmt.motor <= N_MOTORS:
-                raise CommandError("ERR003")
-            state["motor"] = stmt.motor
-        elif isinstance(stmt, motor_st.MOTOR_TYPES):
-            ctl.motor_command(stmt, state["motor"])
-        elif t is motor_st.MotorGroup:
-            if stmt.group is None:
-                out.append(str(state.get("group", 0)))
-                return
-            if not 0 <= stmt.group < N_MOTORS // 8:
-                raise CommandError("ERR003")
-            state["group"] = stmt.group
-        elif t is st.DefineRotary:
-            ctl.define_rotary(state["cs"], stmt.words)
-        elif t is st.DeleteRotary:
-            ctl.delete_rotary(state["cs"])
-        elif t is st.DefineGather:
-            ctl.define_gather(stmt.words)
-        elif t is st.DeleteGather:
-            ctl.delete_gather()
-        elif t is st.DefineLookahead:
-            ctl.define_lookahead(state["cs"], stmt.segments, stmt.outputs)
-        elif t is st.DeleteLookahead:
-            ctl.delete_lookahead(state["cs"])
-        elif t is st.OpenRotary:
-            ctl.open_rotary(port)
-        elif t is st.OpenProgram:
-            ctl.open_program(stmt.n, port)
-        elif t is st.Close:
-            ctl.close_buffers(port)
-        elif t is st.ProgramPointer:
-            ctl.point_program(state["cs"], stmt.program)
-        elif t is st.Run:
-            ctl.run(state["cs"], pointer=None)
-        elif t is st.Step:
-            ctl.run(state["cs"], pointer=None, single_step=True)
-        elif t is st.Quit:
-            ctl.quit(state["cs"])
-        elif t is st.MFlush:
-            ctl.mflush(state["cs"])
-        elif t is st.Hold:
-            ctl.coord_system(state["cs"]).hold()
-        elif t is st.Abort:
-            ctl.abort(state["cs"])
-        elif t is st.Query:
-            out.append(self._query(stmt.what, port))
-        elif t is st.FeedOverride:
-            ctl.coord_system(state["cs"]).set_feed_override(stmt.percent)
-        elif t is st.VarQuery:
-            # I9 bit 0 (PSRM I9, spec §9.8): 0 reports the value only (``5``), 1 the whole
-            # statement (``I16=5``); bit 1: address-type I-variables in hex (``$78400``).
-            i9 = int(ctl.vars.I(9))
-            numbers = stmt.numbers()
-            if any(not 0 <= n < 8192 for n in numbers):
-                raise CommandError("ERR003")
-            for n in numbers:
-                raw = ctl.vars.read(stmt.kind, n, state["cs"])
-                value = format_ivar(n, raw, i9) if stmt.kind == "I" else format_value(raw)
-                out.append(f"{stmt.kind}{n}={value}" if i9 & 1 else value)
-        elif t is st.VarDefault:
-            for n in range(stmt.first, stmt.last + 1):
-                ctl.vars.set_default(n)
-        elif t is card_commands.Save:
-            card_commands.save(ctl)
-        elif t is card_commands.Reset:
-            card_commands.schedule_reset(ctl, stmt.factory)
-        elif t is list_commands.ListBuffer:
-            out.extend(list_commands.run(stmt, ctl, port))
-        elif t is mvar_defs.MDefine:
-            ctl.vars.mvars.define(stmt.first, stmt.last, stmt.definition)
-        elif t is st.MDefinitionQuery:
-            # one definition per line; I9 bit 0 = 1: as a statement ``M1->Y:$78802,8``
-            full = int(ctl.vars.I(9)) & 1
-            for n in stmt.numbers():
-                text = mvar_defs.report(ctl.vars.mvars.definition(n))
-                out.append(f"M{n}->{text}" if full else text)
-        elif t is program_counter.ProgramCounter:
-            out.append(program_counter.report(stmt, ctl, state["cs"]))
-        elif t is memory_commands.MemoryRead:
-            out.append(memory_commands.read(stmt, ctl.vars.mvars))
-        elif t is memory_commands.MemoryWrite:
-            memory_commands.write(stmt, ctl.vars.mvars)
-        elif t is plc_st.ClearAllPlcs:
-            ctl.plcs.clear_all()
-        elif t is plc_st.OpenPlc:
-            ctl.plcs.open(stmt.n, port, stmt.compiled)
-            return
-        elif t is plc_st.EnablePlc:
-            ctl.plcs.set_enabled(stmt.numbers, stmt.enable, stmt.compiled)
-        elif t is plc_st.Clear:
-            if ctl.programs.editing(port) is None:
-                raise CommandError("ERR005")  # CLEAR needs an open buffer [INF]
-            ctl.programs.clear()
-        elif hasattr(stmt, "online"):  # commands that carry their action (card_words)
-            stmt.online(ctl, port, out)
-        else:  # pragma: no cover - every parsed statement type is handled above
-            raise CommandError("ERR003")
-
-    def _query(self, what: str, port: Port) -> str:
-        ctl = self.ctl
-        cs_n = port.state["cs"]
-        cs = ctl.coord_system(cs_n)
-        if what == "%":
-            return format_value(cs.feed_override)
-        if what == "PR":
-            return str(cs.rotary.lines_ahead if cs.rotary is not None else 0)
-        if what == "??":
-            return _hex_words(*cs.status_words())
-        if what == "?":
-            return _hex_words(*ctl.motor_status(port.state["motor"]))
-        if what == "???":
-            return _hex_words(ctl.background.global_status_word1(), 0)
-        if what == "SIZE":
-            return str(ctl.size_words())
-        if what == "VER":
-            return VERSION
-        if what == "CID":
-            return CARD_ID
-        if what == "CPU":
-            return CPU
-        if what == "TYPE":
-            return TYPE
-        if what == "VID":
-            return "1"
-        if what in ("P", "V", "F"):
-            return format_value(ctl.motor_report(port.state["motor"], what))
-        raise CommandError("ERR003")
 
 
 __all__ = ["CommandError", "Terminal"]

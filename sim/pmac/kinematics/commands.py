@@ -14,14 +14,15 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from motionsim.sim.errors import Conflict
 from motionsim.sim.pmac.language.axis_definitions import lookup
 
 if TYPE_CHECKING:
+    from motionsim.sim.controller import Port
     from motionsim.sim.pmac.controller import PmacController
+    from motionsim.sim.pmac.language.card_words import OpenKinematic, Undefine
 
 N_CS = 16
 
@@ -37,45 +38,31 @@ def _refuse_while_running(ctl: PmacController, cs: int | None, what: str) -> Non
         raise Conflict(f"CS {running[0]} is running a program: no {what}", pmac_error="ERR001")
 
 
-@dataclass(frozen=True, slots=True)
-class OpenKinematic:
-    """``OPEN FORWARD`` (``inverse`` False) / ``OPEN INVERSE``."""
-
-    inverse: bool
-    opens_buffer = True  # the parser stores the lines that follow
-
-    def online(self, ctl: PmacController, port: Any, out: list[str]) -> None:
-        if ctl.buffer_holder is not None or ctl.programs.editing() is not None:
-            raise Conflict("a buffer is open: CLOSE it first", pmac_error="ERR007")
-        _refuse_while_running(ctl, None, "OPEN FORWARD/INVERSE")
-        ctl.programs.open_key(buffer_key(port.state["cs"], self.inverse), port)
-        ctl.buffer_holder = port
+def open_kinematic(ctl: PmacController, stmt: OpenKinematic, port: Port) -> None:
+    """``OPEN FORWARD`` / ``OPEN INVERSE``: the addressed CS's kinematic buffer takes the
+    lines that follow, from this port."""
+    if ctl.buffer_holder is not None or ctl.programs.editing() is not None:
+        raise Conflict("a buffer is open: CLOSE it first", pmac_error="ERR007")
+    _refuse_while_running(ctl, None, "OPEN FORWARD/INVERSE")
+    ctl.programs.open_key(buffer_key(port.state["cs"], stmt.inverse), port)
+    ctl.buffer_holder = port
 
 
-@dataclass(frozen=True, slots=True)
-class Pmatch:
-    """``PMATCH``."""
-
-    def online(self, ctl: PmacController, port: Any, out: list[str]) -> None:
-        cs = port.state["cs"]
-        _refuse_while_running(ctl, cs, "PMATCH")
-        ctl.kinematics.pmatch(cs)
+def pmatch(ctl: PmacController, cs: int) -> None:
+    """``PMATCH`` in CS ``cs``."""
+    _refuse_while_running(ctl, cs, "PMATCH")
+    ctl.kinematics.pmatch(cs)
 
 
-@dataclass(frozen=True, slots=True)
-class Undefine:
-    """``UNDEFINE`` / ``UNDEFINE ALL``."""
-
-    every_cs: bool
-
-    def online(self, ctl: PmacController, port: Any, out: list[str]) -> None:
-        cs = None if self.every_cs else port.state["cs"]
-        _refuse_while_running(ctl, cs, "UNDEFINE")
-        for n in [n for n, (c, _d) in ctl.motors.items() if cs in (None, c)]:
-            offset = lookup(ctl.motors[n][1]).offset
-            del ctl.motors[n]
-            ctl.axis_offset_changed(n, -offset)  # no motion: the motor stays put
-        ctl.log.emit("undefine", cs=cs)
+def undefine(ctl: PmacController, stmt: Undefine, cs: int) -> None:
+    """``UNDEFINE`` (CS ``cs``) / ``UNDEFINE ALL``: no motion, the motors stay put."""
+    which = None if stmt.every_cs else cs
+    _refuse_while_running(ctl, which, "UNDEFINE")
+    for n in [n for n, (c, _d) in ctl.motors.items() if which in (None, c)]:
+        offset = lookup(ctl.motors[n][1]).offset
+        del ctl.motors[n]
+        ctl.axis_offset_changed(n, -offset)  # no motion: the motor stays put
+    ctl.log.emit("undefine", cs=which)
 
 
-__all__ = ["OpenKinematic", "Pmatch", "Undefine", "buffer_key"]
+__all__ = ["buffer_key", "open_kinematic", "pmatch", "undefine"]

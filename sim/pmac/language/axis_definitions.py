@@ -28,8 +28,8 @@ from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
 
-from motionsim.sim.errors import Conflict, InvalidValue, ParseError
-from motionsim.sim.pmac.card.variables import N_MOTORS, format_value
+from motionsim.sim.errors import ParseError
+from motionsim.sim.pmac.card.variables import format_value
 
 _NUMBER = r"(?:\d+\.?\d*|\.\d+)"
 _TERM = re.compile(rf"\s*(?P<sign>[+-])?\s*(?P<scale>{_NUMBER})?\s*(?P<axis>[XYZABCUVW])?",
@@ -136,26 +136,6 @@ class AxisDefinition:
 
     motor: int
     definition: AxisDef | None
-
-    def run_online(self, ctl: Any, state: dict[str, Any], out: list[str]) -> None:
-        if not 1 <= self.motor <= N_MOTORS:
-            raise InvalidValue(f"no motor {self.motor} (1..{N_MOTORS})", pmac_error="ERR003")
-        cs = state["cs"]
-        have = ctl.motors.get(self.motor)
-        old = lookup(have[1]).offset if have is not None else 0.0
-        if self.definition is None:
-            out.append(have[1] if have is not None and have[0] == cs else "0")
-            return
-        if not self.definition.terms and not self.definition.inverse:
-            if have is None or have[0] != cs:
-                return
-            del ctl.motors[self.motor]
-        elif have is not None and have[0] != cs:
-            raise Conflict(f"motor {self.motor} is defined in coordinate system {have[0]}",
-                           pmac_error="ERR003")
-        else:
-            ctl.motors[self.motor] = (cs, self.definition.report())
-        ctl.axis_offset_changed(self.motor, self.definition.offset - old)
 
 
 @dataclass(frozen=True, slots=True)

@@ -1,8 +1,9 @@
 """Builders of the card-memory and kinematics command words (rows and objects of
 :mod:`.keywords`): ``DEFINE UBUFFER n``, ``DELETE ALL``, ``DELETE TRACE``,
 ``OPEN FORWARD`` / ``OPEN INVERSE``,
-``UNDEFINE [ALL]``, ``PMATCH``. The statements carry their own on-line action
-(:mod:`motionsim.sim.pmac.card.user_buffer`, :mod:`motionsim.sim.pmac.kinematics.commands`).
+``UNDEFINE [ALL]``, ``PMATCH``, and the kinematics statements. They run through their rows
+of :mod:`motionsim.sim.pmac.host.commands` (handlers in
+:mod:`motionsim.sim.pmac.card.user_buffer` and :mod:`motionsim.sim.pmac.kinematics.commands`).
 """
 
 from __future__ import annotations
@@ -11,7 +12,6 @@ from dataclasses import dataclass
 from typing import Any
 
 from motionsim.sim.pmac.card.user_buffer import DefineUbuffer, DeleteAll
-from motionsim.sim.pmac.kinematics.commands import OpenKinematic, Pmatch, Undefine
 
 Token = tuple[str, str, int, int]
 
@@ -40,8 +40,26 @@ class DeleteTrace:
     def in_program(self) -> bool:
         return False
 
-    def run_online(self, ctl: Any, state: dict[str, Any], out: list[str]) -> None:
-        return None
+
+
+@dataclass(frozen=True, slots=True)
+class OpenKinematic:
+    """``OPEN FORWARD`` (``inverse`` False) / ``OPEN INVERSE``."""
+
+    inverse: bool
+    opens_buffer = True  # the parser stores the lines that follow
+
+
+@dataclass(frozen=True, slots=True)
+class Pmatch:
+    """``PMATCH``."""
+
+
+@dataclass(frozen=True, slots=True)
+class Undefine:
+    """``UNDEFINE`` / ``UNDEFINE ALL``."""
+
+    every_cs: bool
 
 
 def delete_trace(p: Any) -> DeleteTrace:
@@ -65,5 +83,7 @@ def pmatch(p: Any, tok: Token) -> Pmatch:
     return Pmatch()
 
 
-__all__ = ["DeleteTrace", "define_ubuffer", "delete_all", "delete_trace", "open_kinematic",
-           "pmatch", "undefine"]
+__all__ = [
+    "DeleteTrace", "OpenKinematic", "Pmatch", "Undefine", "define_ubuffer", "delete_all",
+    "delete_trace", "open_kinematic", "pmatch", "undefine",
+]  # fmt: skip

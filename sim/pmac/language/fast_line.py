@@ -27,7 +27,8 @@ from __future__ import annotations
 
 import re
 
-from motionsim.sim.pmac.buffers.program import (
+from motionsim.sim.pmac.language import expressions as ex
+from motionsim.sim.pmac.language.compiled import (
     OP_ASSIGN,
     OP_AXISMODE,
     OP_DELAY,
@@ -37,7 +38,6 @@ from motionsim.sim.pmac.buffers.program import (
     OP_MOVE,
     ProgramLine,
 )
-from motionsim.sim.pmac.language import expressions as ex
 from motionsim.sim.pmac.language.parser import _WORDS as _LEXER_WORDS  # the general lexer's
 
 

@@ -4,8 +4,10 @@ PSRM p301, p313, p357; PUM p165; TUM p252, p330, p341).
 They are stored in fixed ``PROG`` buffers like any program statement and turned into jumps
 when a program is run (:mod:`motionsim.sim.pmac.buffers.flow`). ``column`` is where the
 statement starts in the line as sent (1-based), for the ERR009 answer of a structural
-error. A condition is the PLC parser's (:func:`motionsim.sim.pmac.language.plc_parser
-.parse_condition`): a function of the variables and the coordinate system.
+error. The same statements make up PLC programs (:mod:`motionsim.sim.pmac.tasks.plc`
+compiles them with the PLC's rules). A condition is read by the parser
+(:meth:`motionsim.sim.pmac.language.parser._Parser.condition`): a function of the variables
+and the coordinate system.
 """
 
 from __future__ import annotations
@@ -64,6 +66,18 @@ class EndWhile:
 
 
 @dataclass(frozen=True, slots=True)
+class CondLine:
+    """``AND ({condition})`` / ``OR ({condition})`` starting a line: it extends the condition
+    of the ``IF`` / ``WHILE`` line just above (PLC programs only, PUM p162 "Multiple-Line
+    Conditions"; TUM p253). ``op`` is ``"AND"`` or ``"OR"``."""
+
+    op: str
+    cond: Cond
+    text: str
+    column: int
+
+
+@dataclass(frozen=True, slots=True)
 class Goto:
     """``GOTO{data}``: jump to label ``N{data}`` of the same program, no return."""
 
@@ -84,11 +98,20 @@ class Gosub:
 @dataclass(frozen=True, slots=True)
 class Call:
     """``CALL{prog}[.{label}][{letter}{data}...]``: jump to PROG ``prog`` (label = fraction x
-    100,000; ``CALL35.1`` is N10000 of PROG 35) with return (TSRM p416)."""
+    100,000; ``CALL35.1`` is N10000 of PROG 35) with return (TSRM p416).
+
+    ``code`` ``"G"`` / ``"M"`` / ``"T"`` / ``"D"``: a machine-tool code, ``target`` its
+    value: ``G{data}`` is ``CALL 10n0.({data'}*1000)``, n the hundreds digit of the value and
+    ``{data'}`` the rest (``G01`` is N1000 of PROG 1000, ``G115`` N15000 of PROG 1010); M-,
+    T-, D-codes the same into PROG 10n1, 10n2, 10n3 (TSRM p425 D{data}; TUM p328-330). The
+    letters after the code are its arguments (``READ``); those the subroutine does not read
+    run when it returns (``G01 X10 Y20``: LINEAR, then the move; TUM p330 "N01000 LINEAR
+    RETURN") ``[INF]`` for the unread ones."""
 
     target: Expr
     args: tuple[tuple[str, Expr], ...]
     column: int
+    code: str = ""
 
 
 @dataclass(frozen=True, slots=True)
@@ -146,6 +169,6 @@ FLOW_TYPES = (
 )
 
 __all__ = [
-    "FLOW_TYPES", "BlockStart", "BlockStop", "Call", "Else", "EndIf", "EndWhile", "FlowStatement",
-    "Gosub", "Goto", "If", "Read", "Return", "Stop", "Wait", "While",
+    "FLOW_TYPES", "BlockStart", "BlockStop", "Call", "CondLine", "Else", "EndIf", "EndWhile",
+    "FlowStatement", "Gosub", "Goto", "If", "Read", "Return", "Stop", "Wait", "While",
 ]  # fmt: skip

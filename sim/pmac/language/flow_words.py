@@ -1,7 +1,7 @@
 """Builders of the control-flow words (rows of :mod:`.keywords`; statements in
-:mod:`.flow_statements`). Conditions are parsed by the PLC parser's
-:func:`~motionsim.sim.pmac.language.plc_parser.parse_condition` (one condition syntax for
-PLCs and motion programs, TUM p252).
+:mod:`.flow_statements`), for motion programs and PLC programs alike. Conditions are read
+from the line's tokens by the parser (``p.condition()``: one condition syntax for PLCs and
+motion programs, TUM p252).
 """
 
 from __future__ import annotations
@@ -9,6 +9,7 @@ from __future__ import annotations
 from typing import Any
 
 from motionsim.sim.pmac.language import flow_statements as fl
+from motionsim.sim.pmac.language.conditions import any_of_all
 
 Token = tuple[str, str, int, int]
 
@@ -17,42 +18,58 @@ Token = tuple[str, str, int, int]
 _CONDITIONS: dict[str, Any] = {}
 _CACHE_SIZE = 4096
 
+#: What makes ``{letter}{data}`` an assignment or a definition rather than an argument.
+_ASSIGNING = frozenset(["=", "==", "&=", "|=", "^=", "->"])
 #: Argument letters of GOSUB / CALL / READ (TSRM p466): any letter but N and O (labels).
 _ARG_LETTERS = frozenset("ABCDEFGHIJKLMPQRSTUVWXYZ")
 
 
-def _condition(p: Any, word: str) -> tuple[Any, str]:
-    """``({condition})`` after IF / WHILE: the condition and its text; the parser is moved
-    past the closing parenthesis."""
-    from motionsim.sim.pmac.language.plc_parser import parse_condition
-
+def _parenthesised(p: Any, word: str) -> tuple[Any, int]:
+    """``({condition})`` at the parser's position: the condition and the index of the token
+    after the closing parenthesis (the parser is moved there)."""
     tok = p.peek()
     if tok is None or tok[0] != "op" or tok[1] != "(":
         raise p.error(f"{word} needs ({{condition}})", tok)
-    text = p.text
-    depth = 0
-    close = -1
-    for i in range(tok[2], len(text)):
-        ch = text[i]
-        if ch == "(":
+    toks, depth, close = p.toks, 0, -1
+    for k in range(p.i, len(toks)):
+        t = toks[k]
+        if t[0] == "op" and t[1] == "(":
             depth += 1
-        elif ch == ")":
+        elif t[0] == "op" and t[1] == ")":
             depth -= 1
             if depth == 0:
-                close = i
+                close = k
                 break
     if close < 0:
         raise p.error("missing ) after the condition", tok)
-    inner = text[tok[2] + 1 : close]
+    inner = p.text[tok[2] + 1 : toks[close][2]]
     cond = _CONDITIONS.get(inner)
     if cond is None:  # (errors are raised here, with their columns in this line)
-        cond = parse_condition(inner, tok[2] + 1, text)
+        p.i += 1
+        cond = p.condition()
+        if p.i != close:
+            raise p.error("expected ) after the condition", p.peek())
         if len(_CONDITIONS) >= _CACHE_SIZE:
             _CONDITIONS.clear()
         _CONDITIONS[inner] = cond
-    while p.i < len(p.toks) and p.toks[p.i][2] <= close:
-        p.i += 1
-    return cond, text[tok[2] : close + 1]
+    p.i = close + 1
+    return cond, close
+
+
+def _condition(p: Any, word: str) -> tuple[Any, str]:
+    """``({condition})`` after IF / WHILE / AND / OR: the condition and its text; the parser
+    is moved past the closing parenthesis. Further ``AND ({condition})`` / ``OR
+    ({condition})`` on the same line join it (``IF (P1=1) AND (P2=1)``, as PLC programs write
+    them), AND binding tighter than OR (TUM p252) ``[INF]`` for the one-line form."""
+    first = p.peek()
+    cond, close = _parenthesised(p, word)
+    groups: list[list[Any]] = [[cond]]
+    while p.at("word") and p.peek()[1] in ("AND", "OR") and p.at_op(1, "("):
+        if p.take()[1] == "OR":
+            groups.append([])
+        more, close = _parenthesised(p, word)
+        groups[-1].append(more)
+    return any_of_all(groups), p.text[first[2] : p.toks[close][3]]
 
 
 def _more(p: Any) -> bool:
@@ -81,6 +98,13 @@ def endwhile(p: Any, tok: Token) -> fl.EndWhile:
     return fl.EndWhile(tok[2] + 1)
 
 
+def cond_line(p: Any, tok: Token) -> fl.CondLine:
+    """``AND ({condition})`` / ``OR ({condition})`` starting a line (a PLC's multi-line
+    condition); whether it may stand here is the PLC compiler's rule."""
+    cond, text = _condition(p, tok[1])
+    return fl.CondLine(tok[1], cond, text, tok[2] + 1)
+
+
 def _target(p: Any, word: str) -> Any:
     if not p.has_value():
         raise p.error(f"{word} needs a label number or (expression)")
@@ -94,11 +118,17 @@ def _args(p: Any) -> tuple[tuple[str, Any], ...]:
         tok = p.peek()
         if tok is None or tok[0] != "word" or tok[1] not in _ARG_LETTERS:
             return tuple(out)
+        start = p.i
         p.i += 1
         if not p.has_value():
-            p.i -= 1
+            p.i = start
             return tuple(out)
-        out.append((tok[1], p.value()))
+        value = p.value()
+        after = p.peek()
+        if after is not None and after[0] == "op" and after[1] in _ASSIGNING:
+            p.i = start  # ``M1=1`` after the call is an assignment, not an argument
+            return tuple(out)
+        out.append((tok[1], value))
 
 
 def goto(p: Any, tok: Token) -> fl.Goto:
@@ -116,6 +146,11 @@ def call(p: Any, tok: Token) -> fl.Call:
     if target.const is not None and not 1 <= int(target.const) <= 32767:
         raise p.error("CALL: PROG number must be 1..32767", num)
     return fl.Call(target, _args(p), tok[2] + 1)
+
+
+def code_call(p: Any, tok: Token, value: Any) -> fl.Call:
+    """A G-, M-, T- or D-code (its value already read by the parser) and its arguments."""
+    return fl.Call(value, _args(p), tok[2] + 1, tok[1])
 
 
 def return_(p: Any, tok: Token) -> fl.Return:
@@ -158,6 +193,6 @@ def block_stop(p: Any, tok: Token) -> fl.BlockStop:
 
 
 __all__ = [
-    "block_start", "block_stop", "call", "else_", "endif", "endwhile", "gosub", "goto", "if_",
-    "read", "return_", "stop", "wait", "while_",
+    "block_start", "block_stop", "call", "code_call", "cond_line", "else_", "endif", "endwhile",
+    "gosub", "goto", "if_", "read", "return_", "stop", "wait", "while_",
 ]  # fmt: skip

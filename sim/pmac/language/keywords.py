@@ -3,16 +3,18 @@
 
 Each :class:`Keyword` row says how the card spells a command word (the long form, the
 abbreviations it accepts, blanks inside the word: ``END IF``, ``END WHILE``; TSRM p23: blanks
-are not significant), what it builds (``builds``: ``"module:function"``, called with the
-parser and the keyword's token, returning a statement of
+are not significant), what it builds (``builds``: the builder function itself, called with
+the parser and the keyword's token, returning a statement of
 :mod:`motionsim.sim.pmac.language.statements` or of a family module) and whether motionsim
-simulates it. Words a command takes after it (``OPEN PROG``, ``DEFINE GATHER``) are the
-row's ``objects``, each simulated or not.
+simulates it. How an on-line statement runs is the other half of the command: the
+statement's class is one row of the on-line command table
+(:mod:`motionsim.sim.pmac.host.commands`). Words a command takes after it (``OPEN PROG``,
+``DEFINE GATHER``) are the row's ``objects``, each simulated or not.
 
-Adding a command family is one row here plus one small parse module that holds the
-``builds`` functions. A row with ``simulated=False`` needs no parse module: the word is
-recognised and answered ``not_simulated`` naming it (:mod:`motionsim.sim.pmac.host
-.not_simulated`), never a parse error.
+Adding a command is one row here (the word and its builder), its statement class, and one
+row of the on-line command table with its handler. A row with ``simulated=False`` needs no
+builder: the word is recognised and answered ``not_simulated`` naming it
+(:mod:`motionsim.sim.pmac.host.not_simulated`), never a parse error.
 
 Spellings are those the manuals and real programs write (spec §12.1: ``ENDW``, ``ENDI``,
 ``RET``, ``ENA``, ``DIS``, ``CMD``, ``DEF``, ``DEL``, ``ROT``, ``GAT``, ``INV``...); the
@@ -21,22 +23,22 @@ minimal abbreviation of every keyword was not found, so none is invented.
 
 from __future__ import annotations
 
-import importlib
 import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, Final
 
-Builder = Callable[[Any, tuple[str, str, int, int]], Any]
+from motionsim.sim.pmac.language import (
+    axis_definitions,
+    card_words,
+    flow_words,
+    motor_statements,
+    online_words,
+    plc_idioms,
+)
+from motionsim.sim.pmac.language.object_words import OBJECTS
 
-#: Modules of the parser's own words (``builds`` without a module names one of these).
-_P = "motionsim.sim.pmac.language.online_words"
-_F = "motionsim.sim.pmac.language.flow_words"
-#: Command families in modules of their own (issue 26 items 2, 4, 5).
-_AX = "motionsim.sim.pmac.language.axis_definitions"
-_ID = "motionsim.sim.pmac.language.plc_idioms"
-_MS = "motionsim.sim.pmac.language.motor_statements"
-_C = "motionsim.sim.pmac.language.card_words"
+Builder = Callable[[Any, tuple[str, str, int, int]], Any]
 
 
 @dataclass(frozen=True)
@@ -46,7 +48,8 @@ class Keyword:
     Attributes:
         name: the long form (what the parser dispatches on).
         spellings: every accepted spelling; a blank means "blanks allowed here".
-        builds: ``"module:function"`` building the statement, or None (not simulated).
+        builds: the function building the statement (called with the parser, positioned
+            after the word, and the word's token), or None (not simulated).
         simulated: whether motionsim models it.
         where: ``"online"``, ``"program"`` (motion program / PLC) or ``"both"``.
         objects: words it takes next -> simulated (``OPEN`` -> ``PROG``: True).
@@ -55,20 +58,14 @@ class Keyword:
 
     name: str
     spellings: tuple[str, ...]
-    builds: str | None
+    builds: Builder | None
     simulated: bool = True
     where: str = "both"
     objects: dict[str, bool] = field(default_factory=dict)
     example: str = ""
 
-    def builder(self) -> Builder:
-        """The function building this keyword's statement (imported on first use)."""
-        assert self.builds is not None
-        module, _, name = self.builds.partition(":")
-        return getattr(importlib.import_module(module), name)  # type: ignore[no-any-return]
 
-
-def _k(name: str, *spellings: str, builds: str | None = None, simulated: bool = True,
+def _k(name: str, *spellings: str, builds: Builder | None = None, simulated: bool = True,
        where: str = "both", objects: dict[str, bool] | None = None, example: str = "",
        ) -> Keyword:
     return Keyword(name, (name, *spellings), builds, simulated, where, objects or {}, example)
@@ -83,78 +80,80 @@ def _ns(name: str, *spellings: str, where: str = "online", example: str = "") ->
 #: knows them; spellings in ``objects`` are the long forms.
 TABLE: Final[tuple[Keyword, ...]] = (
     # buffer management (TSRM p260-420)
-    _k("DEFINE", "DEF", builds=f"{_P}:define", where="online", objects={
+    _k("DEFINE", "DEF", builds=online_words.define, where="online", objects={
         "ROTARY": True, "GATHER": True, "LOOKAHEAD": True, "CCBUF": False, "COMP": False,
         "TCOMP": False, "BLCOMP": False, "UBUFFER": True}, example="DEFINE CCBUF 10"),
-    _k("DELETE", "DEL", builds=f"{_P}:delete", where="online", objects={
+    _k("DELETE", "DEL", builds=online_words.delete, where="online", objects={
         "ROTARY": True, "GATHER": True, "LOOKAHEAD": True, "CCBUF": False, "COMP": False,
         "TCOMP": False, "BLCOMP": False, "PLCC": True, "TEMPS": False, "TRACE": True,
         "ALL": True},
        example="DELETE TEMPS"),
-    _k("OPEN", builds=f"{_P}:open_", where="online", objects={
+    _k("OPEN", builds=online_words.open_, where="online", objects={
         "ROTARY": True, "PROGRAM": True, "PLC": True, "PLCC": True, "FORWARD": True,
         "INVERSE": True, "BINARY": False}, example="OPEN BINARY ROT"),
-    _k("CLOSE", builds=f"{_P}:close"),
-    _k("CLEAR", builds=f"{_P}:clear"),
-    _k("LIST", builds=f"{_P}:list_", where="online", objects={
+    _k("CLOSE", builds=online_words.close),
+    _k("CLEAR", builds=online_words.clear),
+    _k("LIST", builds=online_words.list_, where="online", objects={
         "PLC": True, "PROGRAM": True, "ROTARY": True, "FORWARD": True, "INVERSE": True,
         "GATHER": True, "LDS": False, "LINK": False, "TCOMP": False, "COMP": False,
         "BLCOMP": False, "CCBUF": False, "LOOKAHEAD": False}, example="LIST LDS"),
-    _k("MFLUSH", builds=f"{_P}:mflush", where="online"),
-    _k("SAVE", builds=f"{_P}:save", where="online"),
-    _k("ENABLE", "ENA", builds=f"{_P}:enable", objects={"PLC": True, "PLCC": True}),
-    _k("DISABLE", "DIS", builds=f"{_P}:enable", objects={"PLC": True, "PLCC": True}),
+    _k("MFLUSH", builds=online_words.mflush, where="online"),
+    _k("SAVE", builds=online_words.save, where="online"),
+    _k("ENABLE", "ENA", builds=online_words.enable, objects={"PLC": True, "PLCC": True}),
+    _k("DISABLE", "DIS", builds=online_words.enable, objects={"PLC": True, "PLCC": True}),
     # reports
-    _k("VERSION", "VER", builds=f"{_P}:query", where="online"),
-    _k("CID", builds=f"{_P}:query", where="online"),
-    _k("CPU", builds=f"{_P}:query", where="online"),
-    _k("VID", builds=f"{_P}:query", where="online"),
-    _k("TYPE", builds=f"{_P}:query", where="online"),
-    _k("SIZE", builds=f"{_P}:query", where="online"),
-    _k("PR", builds=f"{_P}:query", where="online"),
+    _k("VERSION", "VER", builds=online_words.query, where="online"),
+    _k("CID", builds=online_words.query, where="online"),
+    _k("CPU", builds=online_words.query, where="online"),
+    _k("VID", builds=online_words.query, where="online"),
+    _k("TYPE", builds=online_words.query, where="online"),
+    _k("SIZE", builds=online_words.query, where="online"),
+    _k("PR", builds=online_words.query, where="online"),
     # motors
-    _k("HOME", "HM", builds=f"{_MS}:home_word"),
-    _k("HOMEZ", "HMZ", builds=f"{_MS}:home_word"),
+    _k("HOME", "HM", builds=motor_statements.home_word),
+    _k("HOMEZ", "HMZ", builds=motor_statements.home_word),
     # motion-program statements (TSRM p425-480)
-    _k("LINEAR", "LIN", builds=f"{_P}:move_mode", where="program"),
-    _k("RAPID", "RPD", builds=f"{_P}:move_mode", where="program"),
-    _k("CIRCLE", "CIR", builds=f"{_P}:circle", where="program"),
-    _k("SPLINE", builds=f"{_P}:spline", where="program"),
-    _k("PVT", builds=f"{_P}:pvt", where="program"),
-    _k("PSET", builds=f"{_P}:pset", where="program"),
-    _k("INC", builds=f"{_P}:axis_mode", where="program"),
-    _k("ABS", builds=f"{_P}:axis_mode", where="program"),
-    _k("TA", builds=f"{_P}:modal", where="program"),
-    _k("TS", builds=f"{_P}:modal", where="program"),
-    _k("TM", builds=f"{_P}:modal", where="program"),
-    _k("DWELL", "DWE", builds=f"{_P}:dwell", where="program"),
-    _k("DELAY", "DLY", builds=f"{_P}:delay", where="program"),
-    _k("SEND", "SENDS", "SENDP", "SENDR", "SENDA", builds=f"{_ID}:message_word",
+    _k("LINEAR", "LIN", builds=online_words.move_mode, where="program"),
+    _k("RAPID", "RPD", builds=online_words.move_mode, where="program"),
+    _k("CIRCLE", "CIR", builds=online_words.circle, where="program"),
+    _k("SPLINE", builds=online_words.spline, where="program"),
+    _k("PVT", builds=online_words.pvt, where="program"),
+    _k("PSET", builds=online_words.pset, where="program"),
+    _k("INC", builds=online_words.axis_mode, where="program"),
+    _k("ABS", builds=online_words.axis_mode, where="program"),
+    _k("TA", builds=online_words.modal, where="program"),
+    _k("TS", builds=online_words.modal, where="program"),
+    _k("TM", builds=online_words.modal, where="program"),
+    _k("DWELL", "DWE", builds=online_words.dwell, where="program"),
+    _k("DELAY", "DLY", builds=online_words.delay, where="program"),
+    _k("SEND", "SENDS", "SENDP", "SENDR", "SENDA", builds=plc_idioms.message_word,
        where="program"),
     _k("COMMAND", "CMD", "COMMANDS", "CMDS", "COMMANDP", "CMDP", "COMMANDR", "CMDR",
-       "COMMANDA", "CMDA", builds=f"{_ID}:message_word", where="program"),
-    _k("ADDRESS", "ADR", builds=f"{_ID}:address_word", where="program"),
+       "COMMANDA", "CMDA", builds=plc_idioms.message_word, where="program"),
+    _k("ADDRESS", "ADR", builds=plc_idioms.address_word, where="program"),
     # axis definitions (spec §12.5)
-    _k("FRAX", builds=f"{_AX}:frax_word", where="program"),
+    _k("FRAX", builds=axis_definitions.frax_word, where="program"),
     # control flow (spec §12.1): flow_words
-    _k("IF", builds=f"{_F}:if_", where="program"),
-    _k("ELSE", builds=f"{_F}:else_", where="program"),
-    _k("ENDIF", "END IF", "ENDI", builds=f"{_F}:endif", where="program"),
-    _k("WHILE", builds=f"{_F}:while_", where="program"),
-    _k("ENDWHILE", "END WHILE", "ENDW", builds=f"{_F}:endwhile", where="program"),
-    _k("GOTO", builds=f"{_F}:goto", where="program"),
-    _k("GOSUB", builds=f"{_F}:gosub", where="program"),
-    _k("CALL", builds=f"{_F}:call", where="program"),
-    _k("RETURN", "RET", builds=f"{_F}:return_", where="program"),
-    _k("READ", builds=f"{_F}:read", where="program"),
-    _k("STOP", builds=f"{_F}:stop", where="program"),
-    _k("WAIT", builds=f"{_F}:wait", where="program"),
-    _k("BLOCKSTART", builds=f"{_F}:block_start", where="program"),
-    _k("BLOCKSTOP", builds=f"{_F}:block_stop", where="program"),
+    _k("IF", builds=flow_words.if_, where="program"),
+    _k("ELSE", builds=flow_words.else_, where="program"),
+    _k("ENDIF", "END IF", "ENDI", builds=flow_words.endif, where="program"),
+    _k("WHILE", builds=flow_words.while_, where="program"),
+    _k("ENDWHILE", "END WHILE", "ENDW", builds=flow_words.endwhile, where="program"),
+    _k("AND", builds=flow_words.cond_line, where="program"),
+    _k("OR", builds=flow_words.cond_line, where="program"),
+    _k("GOTO", builds=flow_words.goto, where="program"),
+    _k("GOSUB", builds=flow_words.gosub, where="program"),
+    _k("CALL", builds=flow_words.call, where="program"),
+    _k("RETURN", "RET", builds=flow_words.return_, where="program"),
+    _k("READ", builds=flow_words.read, where="program"),
+    _k("STOP", builds=flow_words.stop, where="program"),
+    _k("WAIT", builds=flow_words.wait, where="program"),
+    _k("BLOCKSTART", builds=flow_words.block_start, where="program"),
+    _k("BLOCKSTOP", builds=flow_words.block_stop, where="program"),
     # valid, not simulated (TSRM on-line and program command lists)
     # card memory and kinematics (issue 24): card_words
-    _k("UNDEFINE", "UNDEF", builds=f"{_C}:undefine", where="online"),
-    _k("PMATCH", builds=f"{_C}:pmatch", where="online"),
+    _k("UNDEFINE", "UNDEF", builds=card_words.undefine, where="online"),
+    _k("PMATCH", builds=card_words.pmatch, where="online"),
     _ns("PASSWORD", example="PASSWORD=SECRET"),
     _ns("CHECKSUM"),
     _ns("EAVERSION"),
@@ -168,7 +167,7 @@ TABLE: Final[tuple[Keyword, ...]] = (
     _ns("MOVETIME", example="&1MOVETIME"),
     _ns("HOLD", example="#1HOLD"),
     _ns("GATHER", "GAT"),
-    _ns("ENDGATHER", "ENDG"),
+    _ns("ENDGATHER", "ENDG", "END GATHER", "END GAT", "ENDGAT"),
     _ns("PRELUDE", where="program", example="PRELUDE1 CALL10"),
     _ns("TSELECT", where="program", example="TSELECT1"),
     _ns("NORMAL", where="program", example="NORMAL K-1"),
@@ -186,21 +185,9 @@ TABLE: Final[tuple[Keyword, ...]] = (
     _ns("SETPHASE", example="SETPHASE1"),
 )
 
-#: Object words (second words of a command) the lexer must know.
-_OBJECT_SPELLINGS: Final[dict[str, tuple[str, ...]]] = {
-    "ROTARY": ("ROT",), "GATHER": ("GAT",), "LOOKAHEAD": ("LOOK",), "PROGRAM": ("PROG",),
-    "PLC": (), "PLCC": (), "FORWARD": ("FWD",), "INVERSE": ("INV",), "BINARY": (),
-    "CCBUF": (), "COMP": (), "TCOMP": (), "BLCOMP": (), "UBUFFER": ("UBUF",), "TEMPS": (),
-    "LDS": (), "LINK": (), "ALL": (), "TRACE": (),
-}  # fmt: skip
-
 #: Every accepted spelling of a command word (blanks removed) -> its row.
 BY_SPELLING: Final[dict[str, Keyword]] = {
     s.replace(" ", ""): k for k in TABLE for s in k.spellings
-}
-#: Object spelling -> its long form.
-OBJECTS: Final[dict[str, str]] = {
-    s: name for name, short in _OBJECT_SPELLINGS.items() for s in (name, *short)
 }
 #: Words of the condition syntax (not statements).
 CONDITION_WORDS: Final = ("AND", "OR")
@@ -276,7 +263,8 @@ def examples() -> list[tuple[str, str]]:
 
 
 __all__ = [
-    "BY_SPELLING", "CONDITION_WORDS", "OBJECTS", "TABLE", "Keyword", "examples", "lexer_pattern",
+    "BY_SPELLING", "CONDITION_WORDS", "OBJECTS", "TABLE", "Builder", "Keyword", "examples",
+    "lexer_pattern",
     "lexer_words",
     "lookup", "not_simulated",
 ]  # fmt: skip

@@ -77,12 +77,6 @@ class HomeList:
 
     motors: tuple[int, ...]
     zero: bool = False
-    #: ``HOME{list}`` in a motion program is a program statement, not simulated there.
-    program_form = True
-
-    def run_online(self, ctl: Any, state: dict[str, Any], out: list[str]) -> None:
-        for n in self.motors:
-            ctl.motor_command(Home(self.zero), n)
 
 
 def is_jog(parser: Any) -> bool:

@@ -10,22 +10,22 @@ from __future__ import annotations
 from typing import Any
 
 from motionsim.sim.pmac.card import card_commands
-from motionsim.sim.pmac.host import list_commands
-from motionsim.sim.pmac.language import card_words
+from motionsim.sim.pmac.language import card_words, list_words
 from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.language import plc_statements as plc_st
 from motionsim.sim.pmac.language import statements as st
-from motionsim.sim.pmac.language.keywords import OBJECTS, lookup
+from motionsim.sim.pmac.language.object_words import OBJECTS
 
 Token = tuple[str, str, int, int]
 
 
 def _object(p: Any, keyword: str, tok: Token) -> tuple[str, Token]:
     """The object word after ``keyword`` (long form); a valid but not simulated one raises
-    the parse error that names it (``not_simulated``)."""
+    the parse error that names it (``not_simulated``). The objects are those of the
+    keyword row the parser is building (``p.row``)."""
     what = p.take()
     name = OBJECTS.get(what[1]) if what[0] == "word" else None
-    row = lookup(keyword)
+    row = p.row
     if name is None or row is None or name not in row.objects:
         objs = ", ".join(o for o, ok in row.objects.items() if ok) if row else ""
         raise p.error(f"{keyword} what? ({objs})", what)
@@ -93,10 +93,10 @@ def list_(p: Any, tok: Token) -> Any:
     nxt = p.peek()
     if nxt is not None and nxt[0] == "word":
         name = OBJECTS.get(nxt[1])
-        row = lookup("LIST")
+        row = p.row
         if name is not None and row is not None and row.objects.get(name) is False:
             raise p.not_simulated(f"LIST {name}", tok)
-    return list_commands.parse(p)
+    return list_words.parse(p)
 
 
 def mflush(p: Any, tok: Token) -> Any:

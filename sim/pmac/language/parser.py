@@ -27,18 +27,21 @@ import re
 from typing import Any
 
 from motionsim.sim.errors import ParseError
-from motionsim.sim.pmac.buffers.program_counter import ProgramCounter
 from motionsim.sim.pmac.card import card_commands, macro_station, memory_commands, mvar_defs
-from motionsim.sim.pmac.language import axis_definitions, keywords, ranges
+from motionsim.sim.pmac.language import axis_definitions, flow_words, keywords, ranges
 from motionsim.sim.pmac.language import expressions as ex
 from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.language import plc_statements as plc_st
 from motionsim.sim.pmac.language import statements as st
+from motionsim.sim.pmac.language.conditions import (
+    _NOT_COMPARATORS,
+    COMPARATORS,
+    Cond,
+    any_of_all,
+)
 
 #: Words the lexer reads whole: the keyword table's spellings and objects, and the functions.
 _WORDS = keywords.lexer_words(tuple(ex.FUNCTIONS))
-#: Keyword token -> its statement builder (filled on first use from the keyword table).
-_BUILDERS: dict[str, Any] = {}
 
 _TOKEN = re.compile(
     r"\s*(?:"
@@ -57,10 +60,12 @@ _PC_PE = re.compile(r"([CE])(?![A-Za-z0-9(])", re.IGNORECASE)
 _CLEAR_ALL_PLCS = re.compile(r"\s*ALL\s*PLCS(?![A-Za-z])", re.IGNORECASE)
 _CLEAR_ALL = re.compile(r"\s*ALL(?![A-Za-z])", re.IGNORECASE)
 _VARS = frozenset("IPQM")
-#: ``G{n}``, ``T{n}``, ``D{n}`` in a motion program: calls of PROG 1000, 1002, 1003 (PUM
-#: p165, spec §12.1), not simulated.
+#: ``G{n}``, ``T{n}``, ``D{n}`` (and ``M{n}`` not followed by ``=`` / ``->`` / ``..``) in a
+#: buffer: calls of PROG 10n0, 10n2, 10n3, 10n1 (TSRM p425; TUM p328; flow_statements.Call).
 _CODE_CALLS = frozenset("GTD")
 _ASSIGN_OPS = frozenset(["=", "==", "&=", "|=", "^="])
+_NOT_M_CODE = _ASSIGN_OPS | {"->", ".."}
+
 _ERR = "ERR003"
 
 Token = tuple[str, str, int, int]  # (kind, text upper-cased, start, end)
@@ -109,6 +114,8 @@ class _Parser:
         self.depth = 0
         #: A SPLINE1 / SPLINE2 word came earlier on this line (no PVT-style velocities).
         self.spline_line = False
+        #: The keyword row whose builder runs now (its ``objects`` for ``OPEN`` / ``LIST``...).
+        self.row: keywords.Keyword | None = None
 
     # -- token helpers --------------------------------------------------------------------
 
@@ -132,6 +139,11 @@ class _Parser:
     def at(self, kind: str, text: str | None = None) -> bool:
         tok = self.peek()
         return tok is not None and tok[0] == kind and (text is None or tok[1] == text)
+
+    def at_op(self, k: int, text: str) -> bool:
+        """Is the token ``k`` ahead the operator ``text``?"""
+        tok = self.peek(k)
+        return tok is not None and tok[0] == "op" and tok[1] == text
 
     def skip_to(self, end: int) -> None:
         """Take every token that starts before character ``end`` (a family module parsed the
@@ -271,9 +283,61 @@ class _Parser:
             return nxt is not None and (nxt[0] == "num" or (nxt[0] == "op" and nxt[1] == "("))
         return False
 
+    # -- conditions (TUM p252; PUM p162) --------------------------------------------------
+
+    def condition(self) -> Cond:
+        """``{simple} [AND|OR {simple}]...`` inside an IF / WHILE's parentheses, read from the
+        tokens like any expression: so ``P174!=0ANDP176!=0`` (the card's own LIST form, no
+        blanks) is two simple conditions. AND binds tighter than OR."""
+        groups = [[self.simple_condition()]]
+        while self.at("word") and self.peek()[1] in ("AND", "OR"):  # type: ignore[index]
+            if self.take()[1] == "OR":
+                groups.append([])
+            groups[-1].append(self.simple_condition())
+        return any_of_all(groups)
+
+    def simple_condition(self) -> Cond:
+        """``{expression} {comparator} {expression}``."""
+        start = self.i
+        try:
+            left = self.expression()
+        except ParseError:
+            self._parenthesised_condition(start)
+            raise
+        tok = self.peek()
+        if tok is None or tok[0] != "op" or tok[1] not in COMPARATORS:
+            if tok is not None and tok[0] == "op" and tok[1] in _NOT_COMPARATORS:
+                raise self.error(f"comparator {tok[1]!r} is not PMAC syntax", tok)
+            raise self.error("expected a comparison (= != > !> < !< ~ !~)", tok)
+        self.i += 1
+        right = self.expression()
+        f = COMPARATORS[tok[1]]
+        return lambda v, c: f(left(v, c), right(v, c))
+
+    def _parenthesised_condition(self, start: int) -> None:
+        """TUM p252: parentheses around the simple conditions of a condition are illegal
+        (``IF((P1>-20) AND (P1<20))``); inside expressions they are fine. Raise that error when
+        the tokens from ``start`` open a parenthesis holding a comparator."""
+        toks = self.toks
+        if start >= len(toks) or toks[start][:2] != ("op", "("):
+            return
+        depth = 0
+        for tok in toks[start:]:
+            if tok[0] != "op":
+                continue
+            if tok[1] == "(":
+                depth += 1
+            elif tok[1] == ")":
+                depth -= 1
+                if depth == 0:
+                    return
+            elif depth == 1 and tok[1] in COMPARATORS:
+                raise self.error("no parentheses around a simple condition: write "
+                                 "(P1>-20 AND P1<20), not ((P1>-20) AND (P1<20))", toks[start])
+
     # -- statements -----------------------------------------------------------------------
 
-    def statements(self) -> list[tuple[Any, int, int]]:
+    def statements(self, until_close: bool = False) -> list[tuple[Any, int, int]]:
         out: list[tuple[Any, int, int]] = []
         while self.peek() is not None:
             start = self.peek()[2]  # type: ignore[index]
@@ -290,6 +354,9 @@ class _Parser:
                 self.open = True
             elif isinstance(stmt, st.Close):
                 self.open = False
+                if until_close:
+                    out.append((stmt, start, end))
+                    return out
             out.append((stmt, start, end))
         return out
 
@@ -345,15 +412,12 @@ class _Parser:
         """A command word: dispatched through the keyword table (:mod:`.keywords`); a single
         letter or an unknown word goes to :meth:`letter_statement`."""
         word = tok[1]
-        build = _BUILDERS.get(word)
-        if build is not None:
-            return build(self, tok)
-        row = keywords.lookup(word)
+        row = keywords.BY_SPELLING.get(word) or keywords.lookup(word)
         if row is not None:
-            if not row.simulated:
+            if not row.simulated or row.builds is None:
                 raise self.not_simulated(row.name, tok)
-            build = _BUILDERS[word] = row.builder()
-            return build(self, tok)
+            self.row = row
+            return row.builds(self, tok)
         if word in _FUNCS:
             raise self.error(f"{word} is a function, not a command", tok)
         return self.letter_statement(tok)
@@ -449,6 +513,8 @@ class _Parser:
             return motor_st.Kill()
         if word == "O" and has_value and not self.open:
             return motor_st.OpenLoop(self.value_const(tok))
+        if word == "M" and self.open and self._m_code():
+            return self.code_call(tok)
         if word in _VARS and has_value and not (word == "I" and self.open and self._i_vector()):
             return self.variable_statement(word)
         if not has_value:
@@ -483,9 +549,24 @@ class _Parser:
             return st.Modal("F", self.value())
         if word in ("N", "O"):
             return st.Label(word, self.integer())
-        if word in _CODE_CALLS and self.open:
-            raise self.not_simulated(f"{word}-code subprogram call", tok)
+        if word in _CODE_CALLS:  # a program statement: ERR005 with no buffer open
+            return self.code_call(tok)
         raise self.error(f"unrecognised command {word!r}", tok)
+
+    def _m_code(self) -> bool:
+        """Is ``M`` here an M-code (``M03``), not an M-variable (``M1=``, ``M1->``)?"""
+        num, after = self.peek(), self.peek(1)
+        if num is None or num[0] != "num":
+            return False
+        return after is None or not (after[0] == "op" and after[1] in _NOT_M_CODE)
+
+    def code_call(self, tok: Token) -> Any:
+        """``G{data}`` / ``M{data}`` / ``T{data}`` / ``D{data}`` and the letters after it (its
+        arguments): a subroutine call (:class:`~.flow_statements.Call` with ``code``)."""
+        value = self.value()
+        if value.const is not None and not 0 <= value.const < 1000:
+            raise self.error(f"{tok[1]}-code 0..999.999", tok)
+        return flow_words.code_call(self, tok, value)
 
     def online_letter(self, word: str) -> Any:
         """On-line commands whose word the tokenizer splits into letters: ``PC`` / ``PE``
@@ -494,7 +575,7 @@ class _Parser:
         if word == "P":
             m = self.match_text(_PC_PE)
             if m is not None:
-                return ProgramCounter(executing=m.group(1).upper() == "E")
+                return st.ProgramCounter(executing=m.group(1).upper() == "E")
         elif word == "R":
             m = self.match_text(memory_commands.READ_HEAD)
             if m is not None:
@@ -640,17 +721,20 @@ class _Parser:
         return int(index.const)
 
 
-def parse_line(text: str, open_: bool = False) -> list[tuple[Any, int, int]]:
+def parse_line(text: str, open_: bool = False,
+               until_close: bool = False) -> list[tuple[Any, int, int]]:
     """Statements of one terminal line with their ``(start, end)`` character spans.
 
     Args:
         text: the line as typed.
         open_: whether this port holds a program buffer open at the start of the line.
+        until_close: stop after a ``CLOSE`` (the rest of the line is on-line text for the
+            terminal, not program text: a PLC's entry).
 
     Raises:
         ParseError: with ``column`` (1-based) and ``pmac_error="ERR003"``.
     """
-    return _Parser(text, open_).statements()
+    return _Parser(text, open_).statements(until_close)
 
 
 def parse_expression(text: str) -> ex.Expr:

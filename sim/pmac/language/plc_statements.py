@@ -10,7 +10,6 @@ are in :mod:`motionsim.sim.pmac.language.plc_parser`.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 
 @dataclass(frozen=True, slots=True)
@@ -55,8 +54,6 @@ class DeletePlcc:
     def in_program(self) -> bool:
         return False
 
-    def run_online(self, ctl: Any, state: dict[str, Any], out: list[str]) -> None:
-        ctl.plcs.delete_compiled(self.numbers)
 
 
 N_PLCS = 32

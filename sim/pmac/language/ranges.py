@@ -14,10 +14,7 @@ The range *queries* (``I100..105``, ``I130,4,100``) are the parser's
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
-from motionsim.sim.errors import InvalidValue
-from motionsim.sim.pmac.card.variables import format_ivar, format_value
 from motionsim.sim.pmac.language.expressions import Expr
 
 N_VARS = 8192
@@ -31,13 +28,6 @@ class RangeAssign:
     numbers: tuple[int, ...]
     value: Expr
 
-    def run_online(self, ctl: Any, state: dict[str, Any], out: list[str]) -> None:
-        vars_ = ctl.vars
-        cs = state["cs"]
-        v = self.value(vars_, cs)
-        for n in self.numbers:
-            vars_.write(self.kind, n, v, cs)
-
 
 @dataclass(frozen=True, slots=True)
 class IndirectQuery:
@@ -47,18 +37,6 @@ class IndirectQuery:
     index: Expr
     #: Not a PLC statement (a query answers the host).
     in_program = False
-
-    def run_online(self, ctl: Any, state: dict[str, Any], out: list[str]) -> None:
-        vars_ = ctl.vars
-        cs = state["cs"]
-        n = int(self.index(vars_, cs))
-        if not 0 <= n < N_VARS:
-            raise InvalidValue(f"{self.kind}({n}): no such variable (0..8191)",
-                               pmac_error="ERR003")
-        raw = vars_.read(self.kind, n, cs)
-        i9 = int(vars_.I(9))
-        value = format_ivar(n, raw, i9) if self.kind == "I" else format_value(raw)
-        out.append(f"{self.kind}{n}={value}" if i9 & 1 else value)
 
 
 def numbers(first: int, last: int | None, count: int | None, step: int) -> tuple[int, ...]:

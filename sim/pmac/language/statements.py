@@ -138,6 +138,14 @@ class Query:
 
 
 @dataclass(frozen=True, slots=True)
+class ProgramCounter:
+    """``PC`` (``executing`` False) or ``PE`` (``executing`` True): where the addressed CS's
+    program counter points (:mod:`motionsim.sim.pmac.host.program_counter`)."""
+
+    executing: bool
+
+
+@dataclass(frozen=True, slots=True)
 class FeedOverride:
     """``%{n}`` sets the addressed CS's feedrate override (``%`` alone reports it)."""
 

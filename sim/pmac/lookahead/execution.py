@@ -43,41 +43,40 @@ Modelled (TUM p339-341, p250; PUM p213; spec §9.1-9.3):
 
 from __future__ import annotations
 
-import math
-from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING
 
 from motionsim.sim.pmac.card.variables import ixx
-from motionsim.sim.pmac.language.expressions import pmac_and, pmac_or, pmac_xor
 from motionsim.sim.pmac.lookahead import abort_stop
+from motionsim.sim.pmac.lookahead.state import CoordState
 from motionsim.sim.pmac.lookahead.states import ABORTED, RUNNING, STOPPED
 from motionsim.sim.pmac.lookahead.sync_queue import segment_start
 from motionsim.sim.pmac.modes import BLENDS, DELAY, DWELL, LINEAR, PROFILES, SPLINE, Move
 from motionsim.sim.pmac.modes.pset import PsetMove
-from motionsim.sim.pmac.tasks.scheduler import Wake, wake_at
-from motionsim.sim.simpy_adapter import push_at
+from motionsim.sim.pmac.tasks.scheduler import first_rti_after, servo_at_or_after, wake_at
+from motionsim.sim.simpy_adapter import cancel, supersede
 
-#: Synchronous read-modify-write forms.
-_BITWISE = {"&=": pmac_and, "|=": pmac_or, "^=": pmac_xor}
+if TYPE_CHECKING:
+    from motionsim.sim.simpy_adapter import Callback
 
 #: Move kinds cut into Isx13 segments in segmentation mode (LINEAR and CIRCLE, DELAY as a
 #: zero-distance LINEAR move ``[INF]``; TSRM p177).
 _SEGMENTED = frozenset({LINEAR, DELAY})
 
-_ceil = math.ceil
-_floor = math.floor
 
+class Execution(CoordState):
+    """The execution part of :class:`~motionsim.sim.pmac.lookahead.CoordSystem`: the state it
+    reads and writes is declared in :class:`.state.CoordState`."""
 
-class Execution:
-    """The execution part of :class:`~motionsim.sim.pmac.lookahead.CoordSystem` (a mixin: the
-    state it reads and writes is set up in ``CoordSystem.__init__``)."""
+    if TYPE_CHECKING:  # what execution calls in the planning part (:mod:`.planning`)
 
-    #: Called ``(move, t)`` as each move starts, in a kinematic CS (sim.pmac.kinematics).
-    on_move_start: Callable[[Any, float], None] | None = None
+        def _plan_cb(self, _ev: object) -> None: ...
+        def _request_plan(self) -> None: ...
+        def _arm_i11(self) -> None: ...
+        def _spline_close(self) -> None: ...
 
     # -- execution ------------------------------------------------------------------------
 
-    def _start_next(self, _ev: Any = None) -> None:
+    def _start_next(self, _ev: object = None) -> None:
         """The next calculated move starts executing now: blended from the executing move
         (the hand-off wake-up), or from rest.
 
@@ -93,7 +92,7 @@ class Execution:
             self._pset(m)
             return
         prev = self.current
-        env: Any = self._env
+        env = self._env
         t = env._now
         emit = self._emit
         cs = self.cs
@@ -106,7 +105,7 @@ class Execution:
         else:
             b = t + m.ta / 2
         m.b_start = b
-        rot = self.rotary if self.program == 0 else self.fixed  # = self.lines() (hot path)
+        rot = self.rotary if self.program == 0 else None  # (a fixed program frees nothing)
         if rot is not None:
             calc = rot.calculated
             if calc and calc[0][0] < n:
@@ -126,49 +125,27 @@ class Execution:
             self._refresh()
         p = self._period
         if self._plan_due is None and not (self.blocked or self.quitting or self.single_step):
-            # = self._plan_at_rti_after(t), written out (the per-line path)
-            r = self._rti
-            k = _floor(t / p + 1e-6) + 1
-            tp = self._plan_due = -(-k // r) * r * p
-            w = self._plan_wake
-            if w is not None and w.callbacks is None:  # = wake_at(..., w), written out
-                w.callbacks = [self._plan_cb_bound]
-                push_at(env, tp, w)
-            else:
-                self._plan_wake = Wake(env, tp, self._plan_cb_bound)
+            # = self._plan_at_rti_after(t) with the cached I8 + 1 (the per-line path)
+            tp = self._plan_due = first_rti_after(t, p, self._rti)
+            self._plan_wake = wake_at(env, tp, self._plan_cb, self._plan_wake)
         prof = PROFILES[m.kind]
         if prof.breaks:
             m.b_start = t
             m.b_end = t + m.tm
             m.stopping = True
-            self._after(self.sched.servo_at_or_after(m.b_end), self._stop_end_cb)
+            self._after(self.sched.servo_at_or_after(m.b_end), self._stop_end)
             return
         if self._isx13 > 0:
-            self._after(self.sched.servo_at_or_after(self._decision_at(m)), self._decide_cb)
+            self._after(self.sched.servo_at_or_after(self._decision_at(m)), self._decide)
             return
         planned = self.planned
         if planned and not self.single_step:
             nxt = planned[0]
             if BLENDS[m.kind][nxt.kind]:
-                # = self._blend_into(m, nxt), written out (the per-line path)
-                lim = 2 * (m.tm - m.ta_in / 2)
-                ta_n = nxt.ta if nxt.ta <= lim else max(0.0, lim)
-                nxt.ta_in = ta_n
-                th = _ceil((m.b_end - ta_n / 2) / p - 1e-6) * p
-                if th < t:
-                    th = t
-                pend = self._pending
-                if pend is not None:
-                    cbs = pend.callbacks
-                    if cbs is None:  # processed: re-used (= wake_at(..., pend), written out)
-                        pend.callbacks = [self._handoff_cb]
-                        push_at(env, th, pend)
-                        return
-                    cbs.clear()  # still queued: cancelled
-                self._pending = Wake(env, th, self._handoff_cb)
+                self._blend_into(m, nxt)
                 return
         if prof.decide_at_end:  # the next move is needed only at this one's end (PVT)
-            self._after(self.sched.servo_at_or_after(m.b_end - m.ta / 2), self._decide_cb)
+            self._after(self.sched.servo_at_or_after(m.b_end - m.ta / 2), self._decide)
             return
         self._decide(None)
 
@@ -212,9 +189,10 @@ class Execution:
         is before the decision point set at the move's start (re-armed at the same instant
         otherwise)."""
         m = self.current
+        assert m is not None
         if self._decided is m or m.stopping or PROFILES[m.kind].breaks or self.feed_override == 0:
             return
-        self._after(self.sched.servo_at_or_after(self._decision_at(m)), self._decide_cb)
+        self._after(self.sched.servo_at_or_after(self._decision_at(m)), self._decide)
 
     def _blend_into(self, m: Move, nxt: Move) -> None:
         """``m`` blends into ``nxt``: ``nxt``'s ramp is clipped to ``2·(TM − Ta/2)`` of ``m``
@@ -223,28 +201,31 @@ class Execution:
         deceleration point) -- more than the servo cycle its hand-off is rounded to: a
         longer one (its move calculated late) is shortened to the time left to ``m``'s
         programmed end, so the blend starts now ``[INF]``."""
-        lim = min(2 * (m.tm - m.ta_in / 2), 2 * (m.b_end - self._env._now + self._period))
+        now, p = self._env._now, self._period
+        lim = 2 * (m.tm - m.ta_in / 2)
+        late = 2 * (m.b_end - now + p)
+        if late < lim:
+            lim = late
         ta_n = nxt.ta if nxt.ta <= lim else max(0.0, lim)
         nxt.ta_in = ta_n
-        self._after(self.sched.servo_at_or_after(m.b_end - ta_n / 2), self._handoff_cb)
-
-    def _after(self, t: float, fn: Any) -> None:
-        """Call ``fn(event)`` at ``t``, superseding (cancelling) the pending wake-up."""
+        # = self._after(self.sched.servo_at_or_after(...), self._start_next) without the two
+        # calls: this is once per streamed line
+        th = servo_at_or_after(m.b_end - ta_n / 2, p)
         pend = self._pending
-        if pend is not None and pend.callbacks:
-            pend.callbacks.clear()
-        env = self._env
-        self._pending = wake_at(env, t if t > env._now else env._now, fn, pend)
+        self._pending = supersede(self._env, th if th > now else now, self._start_next, pend)
+
+    def _after(self, t: float, fn: Callback) -> None:
+        """Call ``fn(event)`` at ``t`` (now if that is past), superseding (cancelling) the
+        pending execution wake-up."""
+        now = self._env._now
+        self._pending = supersede(self._env, t if t > now else now, fn, self._pending)
 
     def _cancel(self) -> None:
         """Cancel the pending execution wake-up, if it has not happened yet."""
-        pend = self._pending
-        if pend is not None:
-            if pend.callbacks:
-                pend.callbacks.clear()
-            self._pending = None
+        cancel(self._pending)
+        self._pending = None
 
-    def _decide(self, _ev: Any) -> None:
+    def _decide(self, _ev: object) -> None:
         """Blend into the next calculated move, or plan the stop at the end of this one."""
         m = self.current
         assert m is not None
@@ -276,7 +257,7 @@ class Execution:
             m.ta_out = max(ta, m.ta_stop * self._scale) if m.ta_stop else ta
         else:
             m.ta_out = 0.0
-        self._after(self.sched.servo_at_or_after(m.b_end + m.ta_out / 2), self._stop_end_cb)
+        self._after(self.sched.servo_at_or_after(m.b_end + m.ta_out / 2), self._stop_end)
 
     def _fell_behind(self, m: Move) -> bool:
         """No successor is calculated at ``m``'s decision point: is it a calculation deadline
@@ -293,7 +274,8 @@ class Execution:
             return False
         return rot.pending[0][0] <= self._seen_n
 
-    def _stop_end(self, _ev: Any) -> None:
+    def _stop_end(self, _ev: object) -> None:
+        """The executing move (or the break it made) has come to a stop."""
         m = self.current
         assert m is not None
         self._emit("move_end", cs=self.cs, n=m.n)
@@ -345,14 +327,6 @@ class Execution:
             return self.sched.servo_at_or_after(seg)
         return t
 
-    def _sync_write(self, k: int, aop: str, value: float) -> None:
-        vars_ = self.vars
-        if aop == "==":
-            vars_.write("M", k, value, self.cs, sync=True)
-            return
-        old = vars_.read("M", k, self.cs)
-        vars_.write("M", k, _BITWISE[aop](old, value), self.cs, sync=True)
-
     def abort(self, error: str | None = None) -> None:
         """``A``: decelerate every axis now at Ixx15; discard lookahead and sync writes.
 
@@ -390,9 +364,7 @@ class Execution:
         stop = ramp.end()
         self.calc_vel = {}
         self.calc_pos = dict(stop)
-        self._after(
-            self.sched.servo_at_or_after(now + ramp.t_stop), lambda _e: self._abort_end(stop)
-        )
+        self._after(self.sched.servo_at_or_after(now + ramp.t_stop), self._abort_end)
 
     def _abort_rate(self, axis: str) -> float:
         """The abort deceleration of ``axis`` in units/s²: Ixx15 (cts/ms²) of its motors in
@@ -403,13 +375,14 @@ class Execution:
         ]
         return min(rates) if rates else self.vars.I(ixx(1, 15)) * 1e6
 
-    def _abort_end(self, stop: dict[str, float]) -> None:
-        m = self.current
-        if m is None:
+    def _abort_end(self, _ev: object) -> None:
+        """Every axis has come to rest after ``A`` (:attr:`_abort`, the stop under way)."""
+        m, ramp = self.current, self._abort
+        if m is None or ramp is None:
             return
         self.current = None
         self._abort = None
-        self.rest_pos = stop
+        self.rest_pos = ramp.end()
         self._emit("move_end", cs=self.cs, n=m.n)
         self._motion_stopped()
 
@@ -428,9 +401,7 @@ class Execution:
             self.rest_pos = self.positions(now)
         self._plan_due = None
         self._cancel()
-        wake = self._i11_wake
-        if wake is not None and wake.callbacks:
-            wake.callbacks.clear()
+        cancel(self._i11_wake)
         self._i11_wake = self._go_t = None
         self._starting = self.quitting = self.blocked = self.single_step = False
         self.sync_pending.clear()

@@ -42,7 +42,7 @@ this part only decides *when* lines are worked through and keeps the modal state
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING
 
 from motionsim.sim.pmac.buffers.program import (
     OP_ASSIGN,
@@ -58,6 +58,7 @@ from motionsim.sim.pmac.buffers.program import (
     ProgramLine,
 )
 from motionsim.sim.pmac.card.variables import isx
+from motionsim.sim.pmac.lookahead.state import SPLINES, CoordState
 from motionsim.sim.pmac.lookahead.states import RUNNING, STOPPED, WAITING
 from motionsim.sim.pmac.modes import (
     LINEAR,
@@ -72,18 +73,32 @@ from motionsim.sim.pmac.modes import (
     spline,
 )
 from motionsim.sim.pmac.tasks.scheduler import Wake, wake_at
+from motionsim.sim.simpy_adapter import cancel, pending
 
-#: Modes calculated two moves ahead without segmentation (TUM p339: LINEAR, and CIRCLE, which
-#: then runs as LINEAR, TSRM p177); SPLINE needs two ahead always; PVT and RAPID one.
-_TWO_AHEAD = frozenset({"LINEAR", "CIRCLE1", "CIRCLE2"})
-_SPLINES = frozenset({"SPLINE1", "SPLINE2"})
+if TYPE_CHECKING:
+    from motionsim.sim.pmac.buffers.programs import ProgramRun
+    from motionsim.sim.pmac.buffers.rotary import RotaryBuffer
+    from motionsim.sim.pmac.language.expressions import Expr
+    from motionsim.sim.simpy_adapter import Callback
+
+    #: A move op's axis words, vector words or velocity words: ``((letter, expr), ...)``
+    #: (:data:`motionsim.sim.pmac.buffers.program.OP_MOVE`).
+    AxisWords = tuple[tuple[str, Expr], ...]
+
 #: The planning short cuts for a line of constant axis words (``_fast``).
 _FAST_LINEAR, _FAST_PVT = 1, 2
 
 
-class Planning:
-    """The planning part of :class:`~motionsim.sim.pmac.lookahead.CoordSystem` (a mixin: the
-    state it reads and writes is set up in ``CoordSystem.__init__``)."""
+class Planning(CoordState):
+    """The planning part of :class:`~motionsim.sim.pmac.lookahead.CoordSystem`: the state it
+    reads and writes is declared in :class:`.state.CoordState`."""
+
+    if TYPE_CHECKING:  # what planning calls in the execution part (:mod:`.execution`)
+
+        def abort(self, error: str | None = None) -> None: ...
+        def _start_next(self, _ev: object = None) -> None: ...
+        def _after(self, t: float, fn: Callback) -> None: ...
+        def _successor_planned(self) -> None: ...
 
     # -- lines arriving -------------------------------------------------------------------
 
@@ -92,8 +107,7 @@ class Planning:
         if self.blocked or self.quitting or (self.state != RUNNING and self.state != WAITING):
             return
         if self._plan_due is not None:
-            wake = self._i11_wake
-            if self.current is None and not self.planned and (wake is None or not wake.callbacks):
+            if self.current is None and not self.planned and not pending(self._i11_wake):
                 # From rest with calculation already due (asked for by the last move's start)
                 # and no I11 delay running: the sequence starts at this line, its delay too.
                 self._arm_i11()
@@ -106,26 +120,6 @@ class Planning:
             self._request_plan()
             if self.current is None and not self.planned:
                 self._arm_i11()  # (also at I11 = 0: a delay armed under an earlier I11 goes)
-
-    @property
-    def mode(self) -> str:
-        """The move mode (LINEAR, CIRCLE1, PVT, SPLINE1, ...) of the lines calculated next."""
-        return self._mode
-
-    @mode.setter
-    def mode(self, mode: str) -> None:
-        self._mode = mode
-        self._depth_at = self._depths()
-
-    def _depths(self) -> tuple[int, int]:
-        """How many moves calculation keeps ready (TUM p339, spec §4.2): 2 beyond the
-        executing one with Isx13 = 0 for LINEAR, and CIRCLE, which then runs as LINEAR
-        (TSRM p177), and SPLINE; else 1; one more from rest, where no move executes yet.
-        Returns (with a move executing, from rest), kept as ``_depth_at`` — indexed by
-        ``current is None`` — and re-derived whenever the mode or Isx13 changes."""
-        mode = self._mode
-        depth = 2 if (self._isx13 == 0 and mode in _TWO_AHEAD) or mode in _SPLINES else 1
-        return depth, depth + 1
 
     def _short_of_horizon(self) -> bool:
         """The special lookahead is active (Isx13 > 0, ``DEFINE LOOKAHEAD``, Isx20 > 0) and
@@ -148,11 +142,14 @@ class Planning:
         """Set the "plan the next move" flag: planning at the first RTI strictly after ``t``
         (cycles divisible by I8+1; TUM p236)."""
         tp = self._plan_due = self.sched.next_rti_after(t)
-        self._plan_wake = wake_at(self._env, tp, self._plan_cb_bound, self._plan_wake)
+        self._plan_wake = wake_at(self._env, tp, self._plan_cb, self._plan_wake)
 
     # -- planning (RTI) -------------------------------------------------------------------
 
-    def _plan_cb(self, _ev: Any) -> None:
+    def _plan_cb(self, _ev: object) -> None:
+        """The planning pass at an RTI (the wake-up set by :meth:`_plan_at_rti_after`): work
+        through lines until the lookahead depth is reached, then start a sequence from rest
+        if motion is at rest and something was calculated."""
         due = self._plan_due
         if due is None or due > self._env._now:
             return
@@ -175,10 +172,11 @@ class Planning:
         if rot is not None:
             self._seen_n = rot.n_loaded
             pending = rot.pending
-            tag = getattr(rot, "taken_prog", None) is not None  # a fixed program: moves say
-            # which program (a CALLed one) their line is in, for PE
+            # a fixed program: moves say which program (a CALLed one) their line is in, for PE
+            run = self.fixed if self.program != 0 else None
             # (_short_of_horizon is False unless the special lookahead is active: _la_s > 0)
             lines_left = self.step_lines if stepping else None
+            move: Move
             while (
                 pending
                 and (
@@ -202,11 +200,11 @@ class Planning:
                     )  # fmt: skip
                     self.calc_pos = move.end
                     if self.sync_pending:
-                        move.sync = self.sync_pending
-                        self.sync_pending = []
-                    if tag:
-                        move.prog = rot.taken_prog
-                    planned.append(move)
+                        self._append(move)  # with the writes calculated before it
+                    else:
+                        planned.append(move)
+                    if run is not None:
+                        move.prog = run.taken_prog
                 elif simple is not None and fast == _FAST_LINEAR and self._ver == vars_.version:
                     n = rot.take_simple()
                     # Short cut for the streamed line: one LINEAR move, constant ABS values, TM.
@@ -219,11 +217,11 @@ class Planning:
                     move = Move(n, LINEAR, self._tm_s, self._ta_s, start, end, None)
                     self.calc_pos = end
                     if self.sync_pending:
-                        move.sync = self.sync_pending
-                        self.sync_pending = []
-                    if tag:
-                        move.prog = rot.taken_prog
-                    planned.append(move)
+                        self._append(move)  # with the writes calculated before it
+                    else:
+                        planned.append(move)
+                    if run is not None:
+                        move.prog = run.taken_prog
                 else:
                     taken = rot.take()
                     if taken is None:
@@ -236,9 +234,9 @@ class Planning:
                         rot.line_calculated(n)
                         self.abort("run_time_error")
                         return
-                    if tag:
+                    if run is not None:
                         for k in range(1, len(planned) - before + 1):
-                            planned[-k].prog = rot.taken_prog
+                            planned[-k].prog = run.taken_prog
                     self._fast = self._fast_kind()
                     rot.line_calculated(n)
             if rot.interrupt is not None and self._flow_interrupt(rot):
@@ -275,7 +273,7 @@ class Planning:
         self.step_lines = None
         self._set_state(STOPPED)
 
-    def _flow_interrupt(self, rot: Any) -> bool:
+    def _flow_interrupt(self, rot: RotaryBuffer | ProgramRun) -> bool:
         """A fixed program's control flow ended the pass (:mod:`..buffers.programs`): a
         run-time error aborts; ``WAIT`` or the double-jump-back rule with a move calculated
         or executing lets that move come to a stop before calculation resumes (TUM p341;
@@ -310,9 +308,7 @@ class Planning:
         """A sequence is to start from rest now (``R``, a line arriving while ``waiting``, the
         end of a lookahead break): with I11 > 0 its first move is due I11 ms from now, on a
         servo cycle, and must be calculated by then (PSRM I11; TUM p339)."""
-        wake = self._i11_wake
-        if wake is not None and wake.callbacks:
-            wake.callbacks.clear()
+        cancel(self._i11_wake)
         self._i11_wake = None
         if self._ver != self.vars.version:
             self._refresh()
@@ -323,7 +319,7 @@ class Planning:
         # created after the planning request: planning at this same instant is in time
         self._i11_wake = Wake(self._env, t, self._i11_deadline)
 
-    def _i11_deadline(self, _ev: Any) -> None:
+    def _i11_deadline(self, _ev: object) -> None:
         """The I11 time is up: the first move must be calculated now. Nothing calculated with
         lines waiting to be (not a run-out, not stopped) is a run-time error."""
         self._i11_wake = None
@@ -334,7 +330,8 @@ class Planning:
             return
         self.abort("run_time_error")
 
-    def _delayed_start(self, _ev: Any) -> None:
+    def _delayed_start(self, _ev: object) -> None:
+        """The I11 delay is over: the sequence's first move starts."""
         self._starting = False
         self._go_t = None
         if self.current is None and self.planned and self.feed_override > 0:
@@ -408,12 +405,16 @@ class Planning:
                     self.blocked = True
 
     def _append(self, move: Move) -> None:
+        """A calculated move joins ``planned``, carrying the synchronous writes calculated
+        since the last one (TUM p250: they go with the next move calculated)."""
         if self.sync_pending:
             move.sync = self.sync_pending
             self.sync_pending = []
         self.planned.append(move)
 
-    def _plan_move(self, n: int, axes: tuple, vectors: tuple, velocities: tuple) -> None:
+    def _plan_move(
+        self, n: int, axes: AxisWords, vectors: AxisWords, velocities: AxisWords
+    ) -> None:
         """A move line: the end point from the axis words (INC / ABS), then the move of the
         current mode; RAPID (and every move with Isx92 = 1) is a lookahead break. A PVT
         segment starts at the previous segment's end velocities (``calc_vel``)."""
@@ -429,7 +430,7 @@ class Planning:
         if self._ver != vars_.version:
             self._refresh()
         mode = self.mode
-        if mode in _SPLINES:
+        if mode in SPLINES:
             self._plan_spline(n, start, end, velocities)
             return
         self._spline_close()
@@ -458,7 +459,9 @@ class Planning:
         if self.no_blend or PROFILES[move.kind].breaks:
             self.blocked = True  # Isx92 = 1: every move is a lookahead break
 
-    def _plan_spline(self, n: int, start: dict, end: dict, velocities: tuple) -> None:
+    def _plan_spline(
+        self, n: int, start: dict[str, float], end: dict[str, float], velocities: AxisWords
+    ) -> None:
         """A SPLINE1 / SPLINE2 point: the previous point's move is calculated now (it needed
         this one); this point's move waits for the next point, or for the end of the series
         (:meth:`_spline_close`). A velocity word in SPLINE mode is a run-time error ``[INF]``.
@@ -518,15 +521,6 @@ class Planning:
     @property
     def segmented(self) -> bool:
         return self._isx13 > 0
-
-    def motors_of(self, axis: str) -> list[tuple[int, float]]:
-        ctl = self.ctl
-        out = []
-        for n in ctl.motors:
-            have = ctl._motor_axis(n)
-            if have is not None and have[0] == self.cs and have[1] == axis:
-                out.append((n, have[2]))
-        return out
 
 
 __all__ = ["Planning"]

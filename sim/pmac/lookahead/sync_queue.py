@@ -38,14 +38,21 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import simpy
+from motionsim.sim.pmac.language.expressions import pmac_and, pmac_or, pmac_xor
 from motionsim.sim.pmac.tasks.scheduler import Scheduler, Wake, wake_at
+from motionsim.sim.simpy_adapter import cancel
+
+if TYPE_CHECKING:
+    import simpy
+    from motionsim.sim.pmac.card.variables import Variables
 
 #: One queued write: ``(M-variable number, operator, value)``.
 Write = tuple[int, str, float]
+
+#: Synchronous read-modify-write forms.
+_BITWISE = {"&=": pmac_and, "|=": pmac_or, "^=": pmac_xor}
 
 
 def segment_start(t: float, t0: float, seg_s: float) -> float:
@@ -63,15 +70,17 @@ class SyncQueue:
     Args:
         env: the controller's environment.
         sched: its servo / RTI instants.
-        write: performs one write ``(n, op, value)`` (emits the ``mvar`` event).
+        vars_: the card's variables, where the writes go (``mvar`` events, ``sync=True``).
+        cs: the coordinate system (the context of its M-variables).
     """
 
     def __init__(
-        self, env: simpy.Environment, sched: Scheduler, write: Callable[[int, str, float], None]
+        self, env: simpy.Environment, sched: Scheduler, vars_: Variables, cs: int
     ) -> None:
         self._env = env
         self._sched = sched
-        self._write = write
+        self._vars = vars_
+        self._cs = cs
         self._due: deque[tuple[float, list[Write]]] = deque()
         self._wake: Wake | None = None
 
@@ -89,6 +98,16 @@ class SyncQueue:
         if len(self._due) == 1:
             self._wake = wake_at(self._env, t if t > now else now, self._serve, self._wake)
 
+    def _write(self, k: int, aop: str, value: float) -> None:
+        """Perform one write: ``==`` writes the value calculated earlier; ``&=`` / ``|=`` /
+        ``^=`` read the variable now (PUM p160)."""
+        vars_ = self._vars
+        if aop == "==":
+            vars_.write("M", k, value, self._cs, sync=True)
+            return
+        old = vars_.read("M", k, self._cs)
+        vars_.write("M", k, _BITWISE[aop](old, value), self._cs, sync=True)
+
     def _serve(self, _ev: Any) -> None:
         """An RTI with writes due: perform them in queue order, re-arm for the next."""
         due = self._due
@@ -102,9 +121,7 @@ class SyncQueue:
     def discard(self) -> None:
         """Drop every waiting write (``A``, CTRL-K, ``MFLUSH``, reset)."""
         self._due.clear()
-        wake = self._wake
-        if wake is not None and wake.callbacks:
-            wake.callbacks.clear()
+        cancel(self._wake)
 
 
 __all__ = ["SyncQueue", "Write", "segment_start"]

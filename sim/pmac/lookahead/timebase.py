@@ -10,17 +10,31 @@ wake-up (:meth:`TimeBase._reschedule`).
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING
 
 from motionsim.sim.pmac.card.variables import isx
+from motionsim.sim.pmac.lookahead.state import CoordState
 from motionsim.sim.pmac.lookahead.states import RUNNING, WAITING
 from motionsim.sim.pmac.modes import DWELL, PROFILES, Move
 from motionsim.sim.pmac.tasks.scheduler import wake_at
+from motionsim.sim.simpy_adapter import cancel
+
+if TYPE_CHECKING:
+    from motionsim.sim.simpy_adapter import Callback
 
 
-class TimeBase:
-    """The time-base part of :class:`~motionsim.sim.pmac.lookahead.CoordSystem` (a mixin: the
-    state it reads and writes is set up in ``CoordSystem.__init__``)."""
+class TimeBase(CoordState):
+    """The time-base part of :class:`~motionsim.sim.pmac.lookahead.CoordSystem`: the state it
+    reads and writes is declared in :class:`.state.CoordState`."""
+
+    if TYPE_CHECKING:  # what the time base calls in the execution part (:mod:`.execution`)
+
+        def _start_next(self, _ev: object = None) -> None: ...
+        def _decide(self, _ev: object) -> None: ...
+        def _stop_end(self, _ev: object) -> None: ...
+        def _after(self, t: float, fn: Callback) -> None: ...
+        def _cancel(self) -> None: ...
+        def _decision_at(self, m: Move) -> float: ...
 
     def hold(self) -> None:
         """``H``: feed hold — like ``%0`` but the time base slews at Isx95 (TSRM p191, PSRM
@@ -57,15 +71,13 @@ class TimeBase:
         on a slew in progress; a rate of 0 ends it, and the time base stays where it is until
         the next ``%`` / ``H`` / ``R`` (not re-armed by the I-variable write) ``[INF]``.
         """
-        wake = self._slew_wake
-        if wake is not None and wake.callbacks:
-            wake.callbacks.clear()
+        cancel(self._slew_wake)
         self._slew_wake = None
         self._slew_target = target
         self._slew_ivar = ivar
         self._slew_tick(None)
 
-    def _slew_tick(self, _ev: Any) -> None:
+    def _slew_tick(self, _ev: object) -> None:
         """One servo cycle of a time-base slew."""
         self._slew_wake = None
         rate = max(0.0, self.vars.I(isx(self.cs, self._slew_ivar)))
@@ -79,7 +91,7 @@ class TimeBase:
         self._apply_time_base(new)
         if new != target:
             clock = self.sched.clock
-            t = clock.t(clock.index(self._env._now) + 1)
+            t = clock.t(clock.after(self._env.now))
             self._slew_wake = wake_at(self._env, t, self._slew_tick)
 
     def _apply_time_base(self, pct: float) -> None:
@@ -89,7 +101,7 @@ class TimeBase:
         old = self.feed_override
         if pct == old:
             return
-        now = self._env._now
+        now = self._env.now
         m = self.current
         moving = m is not None and self._abort is None and m.kind != DWELL
         if old == 0:
@@ -148,16 +160,16 @@ class TimeBase:
         if m is None:
             return
         if PROFILES[m.kind].breaks:
-            self._after(self.sched.servo_at_or_after(m.b_end), self._stop_end_cb)
+            self._after(self.sched.servo_at_or_after(m.b_end), self._stop_end)
         elif m.stopping:
-            self._after(self.sched.servo_at_or_after(m.b_end + m.ta_out / 2), self._stop_end_cb)
+            self._after(self.sched.servo_at_or_after(m.b_end + m.ta_out / 2), self._stop_end)
         elif self._segmented() and self._decided is not m:
-            self._after(self.sched.servo_at_or_after(self._decision_at(m)), self._decide_cb)
+            self._after(self.sched.servo_at_or_after(self._decision_at(m)), self._decide)
         elif PROFILES[m.kind].decide_at_end and self._decided is not m:
-            self._after(self.sched.servo_at_or_after(m.b_end - m.ta / 2), self._decide_cb)
+            self._after(self.sched.servo_at_or_after(m.b_end - m.ta / 2), self._decide)
         elif self.planned:
             nxt = self.planned[0]
-            self._after(self.sched.servo_at_or_after(m.b_end - nxt.ta_in / 2), self._handoff_cb)
+            self._after(self.sched.servo_at_or_after(m.b_end - nxt.ta_in / 2), self._start_next)
         else:
             self._decide(None)
 

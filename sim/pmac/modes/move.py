@@ -11,11 +11,12 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, ClassVar, Protocol
 
+from motionsim.sim.pmac.buffers.motion import DELAY, DWELL, LINEAR, PVT, RAPID, SPLINE
+
 if TYPE_CHECKING:
     from motionsim.sim.pmac.card.variables import Variables
 
-# Move kinds (index into :data:`motionsim.sim.pmac.modes.PROFILES`).
-LINEAR, DWELL, DELAY, RAPID, PVT, SPLINE = 0, 1, 2, 3, 4, 5
+# Move kinds (index into :data:`motionsim.sim.pmac.modes.PROFILES`): buffers/motion.py.
 _BLENDING = frozenset({LINEAR, DELAY, PVT, SPLINE})
 
 
@@ -38,6 +39,10 @@ class Move:
         "n", "kind", "tm", "ta", "start", "end", "sync", "prev", "_v",
         "b_start", "b_end", "ta_in", "ta_out", "stopping", "ta_stop", "prog",
     )  # fmt: skip
+
+    #: Set when the move starts executing (:meth:`.Execution._start_next`).
+    b_start: float
+    b_end: float
 
     def __init__(
         self,

@@ -30,8 +30,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from motionsim.sim.pmac.buffers.motion import DWELL
 from motionsim.sim.pmac.card.variables import Variables, ixx
-from motionsim.sim.pmac.modes import DWELL
 from motionsim.sim.pmac.motor.motors import CLOSED, KILLED, Motor
 
 #: Axis definition code in word 2 bits 19-16, by axis letter.

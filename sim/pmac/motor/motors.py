@@ -56,6 +56,7 @@ from motionsim.sim.pmac.card.variables import N_MOTORS, Variables, ixx
 from motionsim.sim.pmac.motor import jog
 from motionsim.sim.pmac.motor.jog import Profile
 from motionsim.sim.pmac.tasks.scheduler import Scheduler, Wake, wake_at
+from motionsim.sim.simpy_adapter import cancel
 
 CLOSED, OPEN, KILLED = "closed_loop", "open_loop", "killed"
 
@@ -108,9 +109,7 @@ class Motor:
             self._wake = wake_at(env, t, fn)
 
     def _cancel(self) -> None:
-        wake = self._wake
-        if wake is not None and wake.callbacks:
-            wake.callbacks.clear()
+        cancel(self._wake)
         self._wake = None
 
     def _emit(self, type_: str, **fields: Any) -> None:

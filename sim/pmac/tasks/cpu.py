@@ -58,6 +58,7 @@ from typing import TYPE_CHECKING, Any
 
 from motionsim.sim.pmac.tasks.scheduler import Wake
 from motionsim.sim.pmac.tasks.watchdog import Watchdog
+from motionsim.sim.simpy_adapter import cancel
 
 if TYPE_CHECKING:
     from motionsim.sim.pmac.controller import PmacController
@@ -208,10 +209,8 @@ class Processor:
     # -- scheduling -------------------------------------------------------------------------
 
     def _cancel(self) -> None:
-        wake = getattr(self, "_wake", None)
-        if wake is not None:
-            wake.callbacks = []
-        self._wake = None
+        cancel(getattr(self, "_wake", None))
+        self._wake: Wake | None = None
 
     def _wanted(self) -> bool:
         plcs = self.ctl.plcs

@@ -41,10 +41,13 @@ from typing import TYPE_CHECKING, Any
 
 from motionsim.sim.controller import Port
 from motionsim.sim.errors import Conflict, NotFound, ParseError
+from motionsim.sim.pmac.buffers.flow import STRUCTURAL
+from motionsim.sim.pmac.language import flow_statements as fl
 from motionsim.sim.pmac.language import plc_idioms as idioms
 from motionsim.sim.pmac.language import plc_parser as pp
 from motionsim.sim.pmac.language import plc_statements as plc_st
 from motionsim.sim.pmac.language import statements as st
+from motionsim.sim.pmac.language.conditions import any_of_all
 
 if TYPE_CHECKING:
     from motionsim.sim.pmac.controller import PmacController
@@ -59,7 +62,7 @@ OP_CMD = 5  # (OP_CMD, text)
 OP_SEND = 6  # (OP_SEND, text)
 OP_ENABLE = 7  # (OP_ENABLE, numbers, enable, compiled)
 OP_ADDRESS = 8  # (OP_ADDRESS, "#" or "&", n)
-OP_RUN = 9  # (OP_RUN, statement): a family statement with run_online(ctl, state, out)
+OP_RUN = 9  # (OP_RUN, statement): a command-family statement, run by its on-line row
 
 
 class StructureError(Exception):
@@ -75,11 +78,19 @@ class PlcProgram:
 
 
 class _Builder:
-    """Turns statements into ops, resolving IF/ELSE/ENDIF and WHILE/ENDWHILE jumps."""
+    """Turns a PLC's statements into ops, resolving IF/ELSE/ENDIF and WHILE/ENDWHILE jumps.
+
+    PLC rules (PUM p162; PSRM p313, p357): no one-line forms, so the block an ``IF`` /
+    ``WHILE`` / ``ELSE`` opens runs on over the following statements and lines until its
+    ``ENDIF`` / ``ENDWHILE``; ``AND`` / ``OR`` lines extend the condition of an ``IF`` /
+    ``WHILE`` that ended the line above. A structural error (``ENDIF`` with no open ``IF``,
+    ...) is ERR009, the card's "program structural error" (PSRM p25-26, the I6 table), as in
+    a motion program (:data:`motionsim.sim.pmac.buffers.flow.STRUCTURAL`).
+    """
 
     def __init__(self) -> None:
         self.ops: list[list[Any]] = []
-        self.stack: list[tuple[str, int, int | None, bool]] = []  # (kind, pc, else_pc, inline)
+        self.stack: list[tuple[str, int, int | None]] = []  # (kind, pc, else_pc)
         #: OR-groups of AND-ed conditions of the IF/WHILE that ``AND``/``OR`` lines may extend.
         self.cond_at: int | None = None
         self.groups: list[list[Any]] = []
@@ -92,7 +103,7 @@ class _Builder:
         b.groups = [list(g) for g in self.groups]
         return b
 
-    def _extend(self, s: pp.CondLine, col: int, text: str) -> None:
+    def _extend(self, s: fl.CondLine, col: int, text: str) -> None:
         """``AND (...)`` / ``OR (...)`` line: extend the condition of the IF/WHILE above."""
         if self.cond_at is None:
             raise ParseError(
@@ -103,72 +114,64 @@ class _Builder:
             self.groups[-1].append(s.cond)
         else:
             self.groups.append([s.cond])
-        groups = [tuple(g) for g in self.groups]
-
-        def cond(v: Any, c: int) -> bool:
-            return any(all(f(v, c) for f in g) for g in groups)
-
-        self.ops[self.cond_at][1] = cond
+        self.ops[self.cond_at][1] = any_of_all(self.groups)
 
     def add_line(self, text: str, stmts: list[tuple[Any, int]]) -> None:
-        depth = len(self.stack)
         for stmt, col in stmts:
             self.add(stmt, col, text)
-        # One-line IF / WHILE blocks (statements after the condition) end with their line.
-        while len(self.stack) > depth and self.stack[-1][3]:
-            self.add(pp.EndIf() if self.stack[-1][0] == "IF" else pp.EndWhile(), 1, text)
+
+    def _structural(self, message: str, col: int, text: str) -> ParseError:
+        return ParseError(message, column=col, text=text, pmac_error=STRUCTURAL)
 
     def add(self, s: Any, col: int, text: str) -> None:
         ops, stack = self.ops, self.stack
         t = type(s)
-        if t is pp.CondLine:
+        if t is fl.CondLine:
             self._extend(s, col, text)
             return
-        if t is pp.If or t is pp.While:
+        if t is fl.If or t is fl.While:
             self.cond_at = None if s.inline else len(ops)
             self.groups = [[s.cond]]
         else:
             self.cond_at = None
-        if t is pp.Set:
-            ops.append([OP_SET, s.kind, s.index, s.value])
-        elif t is pp.If:
-            stack.append(("IF", len(ops), None, s.inline))
+        if t is st.Assign:
+            ops.append([OP_SET, s.target.kind, s.target.index, s.value])
+        elif t is fl.If:
+            stack.append(("IF", len(ops), None))
             ops.append([OP_IF, s.cond, None])
-        elif t is pp.Else:
+        elif t is fl.Else:
             if not stack or stack[-1][0] != "IF" or stack[-1][2] is not None:
-                raise ParseError("ELSE without IF", column=col, text=text, pmac_error="ERR003")
-            kind, pc, _, inline = stack.pop()
-            stack.append((kind, pc, len(ops), inline))
+                raise self._structural("ELSE without IF", col, text)
+            kind, pc, _ = stack.pop()
+            stack.append((kind, pc, len(ops)))
             ops.append([OP_JUMP, None])
             ops[pc][2] = len(ops)
-        elif t is pp.EndIf:
+        elif t is fl.EndIf:
             if not stack or stack[-1][0] != "IF":
-                raise ParseError("ENDIF without IF", column=col, text=text, pmac_error="ERR003")
-            _, pc, else_pc, _ = stack.pop()
+                raise self._structural("ENDIF without IF", col, text)
+            _, pc, else_pc = stack.pop()
             if else_pc is None:
                 ops[pc][2] = len(ops)
             else:
                 ops[else_pc][1] = len(ops)
-        elif t is pp.While:
-            stack.append(("WHILE", len(ops), None, s.inline))
+        elif t is fl.While:
+            stack.append(("WHILE", len(ops), None))
             ops.append([OP_WHILE, s.cond, None])
-        elif t is pp.EndWhile:
+        elif t is fl.EndWhile:
             if not stack or stack[-1][0] != "WHILE":
-                raise ParseError(
-                    "ENDWHILE without WHILE", column=col, text=text, pmac_error="ERR003"
-                )
-            _, pc, _, _ = stack.pop()
+                raise self._structural("ENDWHILE without WHILE", col, text)
+            _, pc, _ = stack.pop()
             ops.append([OP_ENDWHILE, pc])
             ops[pc][2] = len(ops)
-        elif t is pp.Cmd or t is idioms.Command:
+        elif t is idioms.Command or (t is st.Message and s.kind == "CMD"):
             ops.append([OP_CMD, s.text])
-        elif t is pp.Send or t is idioms.SendText:
+        elif t is idioms.SendText or t is st.Message:
             ops.append([OP_SEND, s.text, s.port])
         elif t is idioms.Address:
             ops.append([OP_ADDRESS, s.kind, s.n])
         elif t is plc_st.EnablePlc:
             ops.append([OP_ENABLE, s.numbers, s.enable, s.compiled])
-        elif getattr(s, "run_online", None) is not None:
+        elif isinstance(s, pp.FAMILY_STATEMENTS):
             ops.append([OP_RUN, s])
         else:  # pragma: no cover - parse_plc_line returns only the types above
             raise ParseError("not a PLC statement", column=col, text=text, pmac_error="ERR003")
@@ -210,7 +213,7 @@ def compile_plc(text: str) -> PlcProgram:
     except StructureError as e:
         raise ParseError(
             str(e), line=max(1, len(lines)), column=1, text=lines[-1] if lines else "",
-            pmac_error="ERR009",
+            pmac_error=STRUCTURAL,
         ) from None
 
 
@@ -330,7 +333,7 @@ class PlcTable:
                     return "", e.pmac_error or "ERR003", None
                 except StructureError:
                     self._edit = (port, n, trial, lines)
-                    return "", "ERR009", None
+                    return "", STRUCTURAL, None
                 self._edit_table[n].program = program if program.ops else None
                 self._edit_table[n].pc = 0
                 self._edit = None
@@ -515,7 +518,7 @@ class PlcTable:
                     plc.motor = op[2]
                 pc += 1
             elif code == OP_RUN:
-                op[1].run_online(self.ctl, {"cs": cs, "motor": plc.motor}, [])
+                self.ctl.run_statement(op[1], cs, plc.motor)
                 pc += 1
             else:  # OP_ENABLE
                 self.set_enabled(op[1], op[2], op[3])  # its own DISABLE: the scan still ends

@@ -19,13 +19,33 @@ a move's end), computed from integer cycle indices.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import simpy
 from motionsim.sim.simpy_adapter import Wake, wake_at
-from motionsim.sim.timing import ServoClock
+from motionsim.sim.timing import EPS_CYCLES, ServoClock
 
-__all__ = ["Scheduler", "Wake", "wake_at"]
+__all__ = ["Scheduler", "Wake", "first_rti_after", "servo_at_or_after", "wake_at"]
+
+_floor = math.floor
+_ceil = math.ceil
+
+
+def servo_at_or_after(t: float, period_s: float) -> float:
+    """``t`` rounded up to a servo cycle (:meth:`ServoClock.at_or_after`, one call): the one
+    home of the rounding :meth:`Scheduler.servo_at_or_after` and a blend's hand-off use."""
+    return _ceil(t / period_s - EPS_CYCLES) * period_s
+
+
+def first_rti_after(t: float, period_s: float, rti_cycles: int) -> float:
+    """The first RTI strictly after ``t``: the first servo cycle after ``t``
+    (:meth:`ServoClock.after`) rounded up to a multiple of ``rti_cycles`` = I8+1 (TUM p236).
+
+    The one home of the rule: :meth:`Scheduler.next_rti_after` and the coordinate system's
+    per-line path (with I8+1 cached) both call it."""
+    k = _floor(t / period_s + EPS_CYCLES) + 1
+    return -(-k // rti_cycles) * rti_cycles * period_s
 
 
 class Scheduler:
@@ -37,7 +57,9 @@ class Scheduler:
         rti_cycles: returns I8+1 (read each time, I8 may change).
     """
 
-    def __init__(self, env: simpy.Environment, period_s: float, rti_cycles: Callable[[], int]):
+    def __init__(
+        self, env: simpy.Environment, period_s: float, rti_cycles: Callable[[], int]
+    ) -> None:
         self.env = env
         self.clock = ServoClock(period_s)
         self._rti_cycles = rti_cycles
@@ -51,9 +73,7 @@ class Scheduler:
 
     def next_rti_after(self, t: float) -> float:
         """The first RTI strictly after ``t`` (RTIs fall on cycles divisible by I8+1)."""
-        m = self._rti_cycles()
-        k = self.clock.after(t)
-        return self.clock.t(-(-k // m) * m)
+        return first_rti_after(t, self.clock.period_s, self._rti_cycles())
 
     def rti_at_or_after(self, t: float) -> float:
         """The first RTI at or after ``t`` (on a servo cycle divisible by I8+1)."""
@@ -63,8 +83,5 @@ class Scheduler:
 
     def servo_at_or_after(self, t: float) -> float:
         """``t`` rounded up to a servo cycle."""
-        clock = self.clock
-        return clock.t(clock.at_or_after(t))
+        return servo_at_or_after(t, self.clock.period_s)
 
-
-__all__ = ["Scheduler", "Wake", "wake_at"]

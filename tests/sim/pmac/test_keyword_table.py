@@ -31,6 +31,8 @@ USES: dict[str, tuple[str, bool]] = {
     "CALL": ("{}35.1 X5", True), "RETURN": ("{}", True), "READ": ("{}(A,B)", True),
     "STOP": ("{}", True), "WAIT": ("{}", True), "BLOCKSTART": ("{}", True),
     "BLOCKSTOP": ("{}", True), "PMATCH": ("&1 {}", False),
+    # a PLC's continuation lines (PUM p162), rows since issue 31
+    "AND": ("{} (P1=1)", True), "OR": ("{} (M11=0)", True),
 }
 CASES = [
     (k.name, spelling, *USES[k.name])

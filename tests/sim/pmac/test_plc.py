@@ -76,11 +76,20 @@ def test_if_else_endif(rig):
     assert vals[0] == 10 and vals[-1] == 20
 
 
-def test_a_one_line_if_ends_with_its_line(rig):
-    enter(rig, "IF (P1>0) M1=1", "M2=1", n=0)
+def test_statements_after_a_plc_if_belong_to_its_block_until_endif(rig):
+    """PLCs have no one-line IF (PUM p162 "Single-Line Condition Actions": motion programs
+    only; PSRM p313: in a PLC the card puts the statements on the next program line and
+    expects an ENDIF). This test pinned the old one-line reading (the block ended with its
+    line): the manual decides."""
+    enter(rig, "IF (P1>0) M1=1", "M2=1", "ENDIF", "M3=1", n=0)
     rig.ok("ENABLE PLC 0")
     rig.run_for(0.003)
-    assert mvals(rig, "M1") == [] and mvals(rig, "M2")
+    assert mvals(rig, "M1") == [] and mvals(rig, "M2") == [] and mvals(rig, "M3")
+    rig.ok("OPEN PLC 1 CLEAR")
+    rig.ok("IF (P1>0) M1=1")
+    rig.ok("M2=1")
+    assert rig.cmd("CLOSE").error == "ERR009"  # the IF is still open
+    rig.ok("ENDIF CLOSE")
 
 
 def test_plc_cmd_starts_a_rotary_program(rig):
@@ -123,7 +132,9 @@ def test_a_malformed_line_answers_err003_and_is_not_stored(rig):
     rig.ok("P1=1")
     assert rig.cmd("IF (P1>>2)").error == "ERR003"
     assert rig.cmd("X10").error == "ERR003"  # motion statements belong to motion programs
-    assert rig.cmd("ENDIF").error == "ERR003"  # no IF to close
+    # no IF to close: ERR009, "program structural error" (PSRM p25-26, I6 table), as in a
+    # PROG; this line pinned ERR003 before the PLC and motion-program rules were one
+    assert rig.cmd("ENDIF").error == "ERR009"
     rig.ok("CLOSE")
     (plc,) = rig.c.plcs.to_list()
     assert plc["lines"] == 1
