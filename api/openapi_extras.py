@@ -34,7 +34,7 @@ def known_event_types() -> list[str]:
 
 
 def processes_by_model() -> dict[str, int]:
-    from motionsim.sim.trio.card.models import MODELS
+    from motionsim.sim.trio import MODELS
 
     return {name: m.processes for name, m in MODELS.items()}
 

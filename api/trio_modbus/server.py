@@ -37,7 +37,7 @@ from motionsim.api.wire import (
     start_server,
 )
 from motionsim.sim.errors import MotionSimError, NotFound
-from motionsim.sim.trio.card.io import CHANNELS, PATTERN_FIRST
+from motionsim.sim.trio import CHANNELS, PATTERN_FIRST
 
 log = logging.getLogger("motionsim.trio_modbus")
 

@@ -17,6 +17,8 @@ stay importable, as the same module objects, for code written before the split
 import importlib
 import sys
 
+from motionsim.sim.trio.card.io import CHANNELS, PATTERN_FIRST
+from motionsim.sim.trio.card.models import MODELS
 from motionsim.sim.trio.controller import TrioController
 
 #: Old module name -> the part it lives in now.
@@ -34,4 +36,4 @@ MOVED: dict[str, str] = {
 for _old, _part in MOVED.items():
     sys.modules[f"{__name__}.{_old}"] = importlib.import_module(f"{__name__}.{_part}.{_old}")
 
-__all__ = ["MOVED", "TrioController"]
+__all__ = ["CHANNELS", "MODELS", "MOVED", "PATTERN_FIRST", "TrioController"]
