@@ -32,6 +32,7 @@ STATUS_BY_CODE: dict[str, int] = {
     "watchdog": 409,
     "parse_error": 422,
     "validation_error": 422,
+    "client_closed_request": 499,  # nginx's: the client went away (nobody reads the answer)
 }
 
 #: Status for a MotionSimError whose code is not in the table.

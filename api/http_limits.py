@@ -6,8 +6,18 @@ uvicorn's own settings are used where it has one (:func:`uvicorn_limits`): ``lim
 :func:`limited_protocol`, a subclass of its httptools protocol:
 
 * **connection cap** (``http_max_connections``): a connection accepted while that many are
-  open (HTTP and WebSocket together) is answered 503 ``too_many_connections`` and closed at
-  once, so no file descriptor is held for it;
+  open (HTTP and WebSocket together) may only ask ``GET /health``: :data:`HEALTH_RESERVE`
+  more connections are kept for it, so a container health check is answered whatever the
+  clients hold; any other request on such a connection (or one that sends nothing) is
+  answered 503 ``too_many_connections`` and closed (a silent one after
+  :data:`HEALTH_WAIT_S`), and past the reserve a connection is
+  refused at once, so no file descriptor is held for it;
+* **WebSocket pool**: at most :func:`websocket_cap` of the connections (3/4 of
+  ``http_max_connections``) may be WebSockets; one more upgrade is answered 503
+  ``too_many_websockets`` — idle subscribers cannot take the REST clients' share;
+* **file descriptors**: a connection whose descriptor is within :data:`FD_MARGIN` of the
+  process's limit (``RLIMIT_NOFILE``) is refused at once, so the service refuses before the
+  operating system does (no "Too many open files" from ``accept``);
 * **header time-out** (``http_header_timeout_s``): a request whose headers are not complete that
   long after the connection opened (or after the previous response) is answered 408
   ``request_timeout`` and closed — half-sent requests cannot pile up;
@@ -21,10 +31,33 @@ Each refusal is a JSON error body naming the limit and its setting.
 from __future__ import annotations
 
 import json
+import resource
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Final
 
 from uvicorn.protocols.http.httptools_impl import HttpToolsProtocol
+
+#: Connections over ``http_max_connections`` kept for ``GET /health`` only ``[INF]``.
+HEALTH_RESERVE: Final = 32
+#: Seconds a connection over the cap has to send its ``GET /health`` headers ``[INF]``.
+HEALTH_WAIT_S: Final = 0.5
+#: File descriptors kept free below the process's limit (files, the TCP protocol ports).
+FD_MARGIN: Final = 128
+
+
+def websocket_cap(max_connections: int) -> int:
+    """WebSocket connections allowed at once: 3/4 of the cap (at least 1) ``[INF]``, the
+    rest of the pool is kept for REST."""
+    return max(1, max_connections * 3 // 4)
+
+
+def fd_ceiling() -> int:
+    """The highest descriptor number a new connection may have (the soft limit less the
+    margin)."""
+    soft, _hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+    if soft == resource.RLIM_INFINITY:
+        return 1 << 30
+    return max(16, soft - FD_MARGIN)
 
 
 @dataclass(frozen=True, slots=True)
@@ -60,20 +93,48 @@ def limited_protocol(limits: HttpLimits) -> type[HttpToolsProtocol]:
             self._header_bytes = 0
             self._in_headers = False
             self._refused = False
+            self._health_only = False
             cap = self._limits.max_connections
-            if len(self.connections) > cap:
+            sock = transport.get_extra_info("socket")
+            fd = sock.fileno() if sock is not None else -1
+            if fd > _FD_CEILING:
                 self._refuse(503, "too_many_connections",
-                             f"{cap} connections are open, the most allowed "
-                             f"(setting http_max_connections); try again later", cap)
+                             f"the process is near its file-descriptor limit "
+                             f"({_FD_CEILING + FD_MARGIN}); try again later", cap)
                 return
+            open_ = len(self.connections)
+            if open_ > cap + HEALTH_RESERVE:
+                self._too_many()
+                return
+            self._health_only = open_ > cap  # over the pool: GET /health only
             self._arm_header_timer()
+
+        def _too_many(self) -> None:
+            cap = self._limits.max_connections
+            self._refuse(503, "too_many_connections",
+                         f"{cap} connections are open, the most allowed "
+                         f"(setting http_max_connections); try again later", cap)
+
+        # -- the WebSocket pool ----------------------------------------------------------
+
+        def handle_websocket_upgrade(self) -> None:
+            cap = websocket_cap(self._limits.max_connections)
+            ws = sum(1 for c in self.connections if not isinstance(c, HttpToolsProtocol))
+            if ws >= cap or self._health_only:
+                self._refuse(503, "too_many_websockets",
+                             f"{cap} WebSocket connections are open, the most allowed (3/4 of "
+                             "setting http_max_connections); try again later", cap)
+                return
+            super().handle_websocket_upgrade()
 
         # -- header time-out -------------------------------------------------------------
 
         def _arm_header_timer(self) -> None:
             self._cancel_header_timer()
-            self._header_timer = self.loop.call_later(self._limits.header_timeout_s,
-                                                      self._header_timeout)
+            wait = self._limits.header_timeout_s
+            if self._health_only:
+                wait = min(wait, HEALTH_WAIT_S)
+            self._header_timer = self.loop.call_later(wait, self._header_timeout)
 
         def _cancel_header_timer(self) -> None:
             if self._header_timer is not None:
@@ -84,6 +145,9 @@ def limited_protocol(limits: HttpLimits) -> type[HttpToolsProtocol]:
             self._header_timer = None
             if self.cycle is not None and not self.cycle.response_complete:
                 return  # a request is being served: its headers were complete
+            if self._health_only:
+                self._too_many()  # over the pool and no GET /health came
+                return
             if self._in_headers or self._header_bytes or self.cycle is None:
                 limit = self._limits.header_timeout_s
                 self._refuse(408, "request_timeout",
@@ -136,6 +200,10 @@ def limited_protocol(limits: HttpLimits) -> type[HttpToolsProtocol]:
             if self._exact_header_bytes > self._limits.max_header_bytes:
                 self._too_large()
                 return
+            if self._health_only and (self.parser.get_method() != b"GET"
+                                      or self.url.split(b"?", 1)[0] != b"/health"):
+                self._too_many()
+                return
             super().on_headers_complete()
 
         def _too_large(self) -> None:
@@ -160,12 +228,18 @@ def limited_protocol(limits: HttpLimits) -> type[HttpToolsProtocol]:
     return LimitedHttpProtocol
 
 
+#: Read once: the limit does not change while the service runs.
+_FD_CEILING = fd_ceiling()
+
+
 def uvicorn_limits(limits: HttpLimits) -> dict[str, Any]:
     """The ``uvicorn.Config`` keyword arguments that enforce ``limits``."""
     # uvicorn answers 503 from ``limit_concurrency`` open connections (or requests) on; the
-    # protocol closes the one over ``max_connections`` itself
-    return {"http": limited_protocol(limits), "limit_concurrency": limits.max_connections + 1,
+    # protocol refuses connections over ``max_connections`` (and its /health reserve) itself
+    return {"http": limited_protocol(limits),
+            "limit_concurrency": limits.max_connections + HEALTH_RESERVE + 1,
             "timeout_keep_alive": limits.keep_alive_s}
 
 
-__all__ = ["HttpLimits", "limited_protocol", "uvicorn_limits"]
+__all__ = ["FD_MARGIN", "HEALTH_RESERVE", "HEALTH_WAIT_S", "HttpLimits", "fd_ceiling",
+           "limited_protocol", "uvicorn_limits", "websocket_cap"]

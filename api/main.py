@@ -17,6 +17,7 @@ from contextlib import asynccontextmanager
 from fastapi import APIRouter, FastAPI
 from fastapi.middleware.cors import CORSMiddleware
 from fastapi_offline import FastAPIOffline
+from motionsim.api import openapi_extras
 from motionsim.api import routes as route_modules
 from motionsim.api.body_guard import BodyGuard
 from motionsim.api.errors import install_error_handlers
@@ -86,6 +87,7 @@ def create_app(settings: Settings | None = None, registry: Registry | None = Non
     for _, router in discover_routers():
         app.include_router(router)
     install_guards(app, settings)
+    openapi_extras.install(app)
     return app
 
 

@@ -8,9 +8,11 @@ An ASGI middleware in front of every HTTP request and WebSocket:
   ``allowed_hosts`` (env ``MOTIONSIM_ALLOWED_HOSTS``, comma-separated; ``*`` = any). Otherwise
   400 ``invalid_host`` (a WebSocket is refused at the handshake).
 * **Origin** (cross-site requests, cross-site WebSocket hijacking): a request or WebSocket that
-  carries an ``Origin`` header must come from the service's own origin, an allowed host, or a
-  configured CORS origin; otherwise 403 ``forbidden_origin`` (a WebSocket: accepted, then
-  closed with 4403 and the reason).
+  carries an ``Origin`` header must come from the service's own origin — its ``Host``, or an
+  allowed host name **on the service's own port** (``http://localhost:8000`` for a service
+  reached as ``127.0.0.1:8000``) — or a configured CORS origin; a page of another local app
+  (``http://localhost:9999``) is not the service. Otherwise 403 ``forbidden_origin`` (a
+  WebSocket: accepted, then closed with 4403 and the reason).
 * **Token** (optional, setting ``token`` / ``--token`` / env ``MOTIONSIM_TOKEN``): every request
   except ``GET /health`` must carry it as ``Authorization: Bearer TOKEN``, a ``token=`` query
   parameter (for WebSockets and a first dashboard visit; the answer then sets the cookie) or the
@@ -53,6 +55,18 @@ def host_name(value: str) -> str:
     if value.count(":") == 1:
         return value.split(":", 1)[0]
     return value
+
+
+def _port(netloc: str, scheme: str) -> int | None:
+    """The port of ``host[:port]`` (the scheme's default when none is written)."""
+    netloc = netloc.strip().lower()
+    tail = netloc.rsplit("]", 1)[1] if netloc.startswith("[") else netloc
+    if tail.count(":") == 1:
+        try:
+            return int(tail.rsplit(":", 1)[1])
+        except ValueError:
+            return None
+    return {"http": 80, "https": 443, "ws": 80, "wss": 443}.get(scheme)
 
 
 def allowed_host_set(bind_host: str, extra: Iterable[str]) -> frozenset[str]:
@@ -126,6 +140,8 @@ class WebGuard:
             return False  # "null" (a sandboxed page, a file: URL)
         if parts.netloc == host.strip().lower():
             return True  # same origin: e.g. the dashboard served by this service
+        if _port(parts.netloc, parts.scheme) != _port(host, parts.scheme):
+            return False  # another app on this machine, whatever its host name
         return self.any_host or host_name(parts.netloc) in self.allowed_hosts
 
     def _token_ok(self, scope: Scope) -> tuple[bool, bool]:

@@ -88,7 +88,8 @@ def serve(
              "a free port. [default: 23, skipped if it cannot be bound]")] = None,
     modbus_port: Annotated[str | None, typer.Option(
         metavar="PORT",
-        help="Trio Modbus TCP port (VR() as holding registers) for controller 'trio'; "
+        help="Trio Modbus TCP port (VR() as holding registers, I/O as coils and inputs) for "
+             "controller 'trio'; "
              "'auto' picks a free port. [default: 0 = disabled]")] = None,
     config: Annotated[Path | None, typer.Option(
         metavar="FILE", exists=True, dir_okay=False, readable=True,
@@ -192,8 +193,11 @@ def serve(
     if record is not None:
         from motionsim.app.recorder import Recorder
 
-        recorder = Recorder(record, {h.id: {"kind": h.kind, "config": h.controller.config}
-                                     for h in app.state.registry})
+        try:
+            recorder = Recorder(record, {h.id: {"kind": h.kind, "config": h.controller.config}
+                                         for h in app.state.registry})
+        except (ValueError, OSError) as exc:  # a directory, a file that is not a transcript
+            raise _fail(f"--record: {exc}", 2) from None
     code = asyncio.run(_serve(app, settings, sock, recorder))
     if recorder is not None:
         recorder.close()

@@ -189,6 +189,22 @@ class PacedHost:
         self.client.close()
 
 
+#: Seconds an idle pooled connection is kept for reuse: shorter than the server's keep-alive
+#: (``http_keep_alive_s``, 5 s by default), so the client drops an idle connection before the
+#: server closes it, instead of sending a request down a socket the server is closing.
+KEEPALIVE_EXPIRY_S = 2.0
+
+#: Methods a request may be sent twice with: RFC 9110 §9.2.2's idempotent methods. POST (an
+#: ``advance``, a batch of lines) is never repeated: the first may have been acted on.
+IDEMPOTENT_METHODS = frozenset({"GET", "HEAD", "OPTIONS", "PUT", "DELETE"})
+
+#: Transport errors after which an idempotent request is sent once more on a new connection:
+#: the connection was closed under it (a keep-alive close racing the request) or could not be
+#: used. Timeouts are not among them: the server may still be working on the first.
+RETRIED_ERRORS = (httpx.RemoteProtocolError, httpx.ReadError, httpx.WriteError,
+                  httpx.ConnectError)
+
+
 class MotionSimClient:
     """REST client for one motionsim service.
 
@@ -208,7 +224,8 @@ class MotionSimClient:
         self.ports: dict[str, int] = {}
         headers = {"Authorization": f"Bearer {token}"} if token is not None else None
         self.http = httpx.Client(base_url=self.base_url, timeout=timeout, transport=transport,
-                                 trust_env=False, headers=headers)
+                                 trust_env=False, headers=headers,
+                                 limits=httpx.Limits(keepalive_expiry=KEEPALIVE_EXPIRY_S))
 
     @property
     def url(self) -> str:
@@ -218,8 +235,17 @@ class MotionSimClient:
     # -- plumbing ----------------------------------------------------------------------------
 
     def request(self, method: str, path: str, **kwargs: Any) -> Any:
-        """One request; the decoded JSON (None for 204); raises :class:`MotionSimHTTPError`."""
-        r = self.http.request(method, path, **kwargs)
+        """One request; the decoded JSON (None for 204); raises :class:`MotionSimHTTPError`.
+
+        An idempotent request (:data:`IDEMPOTENT_METHODS`) that fails with one of
+        :data:`RETRIED_ERRORS` is sent once more (httpx then opens a new connection); a
+        second failure is raised."""
+        try:
+            r = self.http.request(method, path, **kwargs)
+        except RETRIED_ERRORS:
+            if method.upper() not in IDEMPOTENT_METHODS:
+                raise
+            r = self.http.request(method, path, **kwargs)
         if r.status_code >= 400:
             try:
                 body = r.json()

@@ -39,6 +39,8 @@ class Record:
     wall: float = 0.0
     data: bytes = b""
     fields: Mapping[str, Any] | None = None
+    #: The 1-based line of the transcript it was read from (0: not read from a file).
+    line: int = 0
 
 
 class Recorder:
@@ -47,7 +49,9 @@ class Recorder:
     Args:
         path: the transcript file. One that already exists is kept: it is renamed
             ``FILE.1`` (``FILE.1`` to ``FILE.2`` ..., the :data:`KEEP` newest kept), so a
-            restart never overwrites the last run's transcript.
+            restart never overwrites the last run's transcript. A path that is a directory,
+            or a file that is not a transcript, is refused (:func:`check_path`): nothing is
+            renamed.
         controllers: ``{id: {"kind": ..., "config": {...}}}`` of the controllers served, so
             a replay can build fresh ones.
     """
@@ -56,6 +60,7 @@ class Recorder:
         self, path: str | Path, controllers: Mapping[str, Mapping[str, Any]] | None = None
     ) -> None:
         self.path = Path(path)
+        check_path(self.path)
         rotate(self.path)
         self._file: IO[str] | None = self.path.open("x", encoding="utf-8")
         self._next = 0
@@ -101,6 +106,32 @@ class Recorder:
 KEEP = 5
 
 
+def check_path(path: Path) -> None:
+    """Refuse a ``--record`` path that must not be rotated away: a directory, something that
+    is not a regular file, or a file whose first line is not a transcript header.
+
+    Raises:
+        ValueError: naming the path and what it is.
+    """
+    if not path.exists() and not path.is_symlink():
+        return
+    if path.is_dir():
+        raise ValueError(f"{path} is a directory, not a transcript file")
+    if not path.is_file():
+        raise ValueError(f"{path} is not a regular file")
+    with path.open("rb") as f:
+        first = f.readline(4096)
+    if not first.strip():
+        return  # an empty file: nothing to lose
+    try:
+        head = json.loads(first)
+    except (json.JSONDecodeError, UnicodeDecodeError):
+        head = None
+    if not isinstance(head, dict) or head.get("kind") != "header":
+        raise ValueError(f"{path} exists and is not a motionsim transcript (its first line is "
+                         "not a header record): refusing to rename it")
+
+
 def rotate(path: Path, keep: int = KEEP) -> None:
     """Move an existing ``path`` to ``path.1``, ``path.1`` to ``path.2``, ...; the oldest beyond
     ``keep`` is removed."""
@@ -134,12 +165,41 @@ def read_transcript(path: str | Path) -> Iterator[Record]:
                     yield Record("truncated", fields={"line": n})
                     return
                 raise ValueError(f"{path}:{n}: not JSON: {exc.msg}") from None
-            kind = obj.pop("kind", None)
-            if kind not in ("header", "open", "in", "out", "close"):
-                raise ValueError(f"{path}:{n}: unknown record kind {kind!r}")
-            data = obj.pop("data", "").encode("latin-1")
-            yield Record(kind, obj.pop("session", 0), obj.pop("t", 0.0), obj.pop("wall", 0.0),
-                         data, obj)
+            yield _record(obj, path, n)
 
 
-__all__ = ["KEEP", "Record", "Recorder", "read_transcript", "rotate"]
+#: What each field of a record must be (checked before a replay uses it).
+_FIELD_TYPES: dict[str, tuple[type, ...]] = {
+    "session": (int,), "t": (int, float), "wall": (int, float), "data": (str,),
+    "protocol": (str,), "controller": (str,), "controllers": (dict,),
+}
+_NEEDS: dict[str, tuple[str, ...]] = {
+    "header": ("controllers",), "open": ("session", "protocol", "controller"),
+    "in": ("session", "data"), "out": ("session", "data"), "close": ("session",),
+}
+
+
+def _record(obj: Any, path: str | Path, n: int) -> Record:
+    """One decoded line as a :class:`Record`; ValueError naming the line if it is not one."""
+    if not isinstance(obj, dict):
+        raise ValueError(f"{path}:{n}: a record must be a JSON object")
+    kind = obj.pop("kind", None)
+    if kind not in _NEEDS:
+        raise ValueError(f"{path}:{n}: unknown record kind {kind!r}")
+    for name in _NEEDS[kind]:
+        if name not in obj:
+            raise ValueError(f"{path}:{n}: the {kind!r} record needs {name!r}")
+    for name, types in _FIELD_TYPES.items():
+        value = obj.get(name)
+        if value is not None and (not isinstance(value, types) or isinstance(value, bool)):
+            raise ValueError(f"{path}:{n}: field {name!r} is {type(value).__name__}, not "
+                             f"{'/'.join(t.__name__ for t in types)}")
+    try:
+        data = obj.pop("data", "").encode("latin-1")
+    except UnicodeEncodeError:
+        raise ValueError(f"{path}:{n}: field 'data' holds characters beyond latin-1") from None
+    return Record(kind, obj.pop("session", 0), obj.pop("t", 0.0), obj.pop("wall", 0.0),
+                  data, obj, n)
+
+
+__all__ = ["KEEP", "Record", "Recorder", "check_path", "read_transcript", "rotate"]

@@ -22,6 +22,7 @@ as long as the recording did not depend on wall-clock jitter finer than those in
 from __future__ import annotations
 
 import asyncio
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -158,7 +159,12 @@ async def replay(path: str | Path) -> ReplayResult:
                                  config=spec.get("config") or {})
                 continue
             if rec.kind == "open":
-                handle = registry.get(fields["controller"])
+                try:
+                    handle = registry.get(fields["controller"])
+                except Exception:
+                    raise ValueError(f"{path}:{rec.line}: session {rec.session} opens on "
+                                     f"controller {fields['controller']!r}, which the header "
+                                     "does not describe") from None
                 _advance(handle, rec.t, VirtualClock)
                 cls = PmacSession if fields["protocol"] == "pmac" else TrioSession
                 res = SessionResult(rec.session, fields["protocol"], fields["controller"])
@@ -169,7 +175,7 @@ async def replay(path: str | Path) -> ReplayResult:
             rep = live.get(rec.session)
             res = by_session.get(rec.session)
             if rep is None or res is None:
-                raise ValueError(f"{path}: record for unknown session {rec.session}")
+                raise ValueError(f"{path}:{rec.line}: record for unknown session {rec.session}")
             if rec.kind == "out":
                 res.expected += rec.data
                 continue
@@ -198,8 +204,14 @@ def _advance(handle: Any, t: float, virtual: type) -> None:
 
 
 def main(path: str | Path) -> int:
-    """Replay ``path``, print one line per session; exit status 0 when every session matches."""
-    result = asyncio.run(replay(path))
+    """Replay ``path``, print one line per session; exit status 0 when every session matches,
+    1 when one differs, 2 (one line naming the transcript line, no traceback) when the file is
+    not a transcript that can be replayed."""
+    try:
+        result = asyncio.run(replay(path))
+    except (ValueError, OSError) as exc:
+        print(f"motionsim replay: {exc}", file=sys.stderr)
+        return 2
     if result.truncated_line is not None:
         print(f"note line {result.truncated_line} was cut short (the recording process was "
               "killed while writing it) and is skipped")

@@ -11,6 +11,14 @@ lines and one of 200 000 lines (refused); a 300-KB Trio program and a 4 000-line
 half-sent HTTP requests; leaked sockets filling the PMAC port's cap, then a real host; an
 ``advance 1e6`` deleted mid-way; a 20-MB body to a 8-MiB limit, sent whole by ``http.client``.
 
+Issue 33's attacks through the program languages and the connection pools: ``P1=`` + 300
+``(`` packets on the PMAC port; a PLC issuing 100 ``CMD"..."`` per scan on a realtime card,
+then ``DISABLE PLC``; Trio ``DIM a(100000000)`` / ``STRING(2000000000)``; a looping forward
+kinematic program and one TCP host repeating ``&1 PMATCH``; a 200 000-character PLC on a
+realtime card; 620 idle WebSocket subscribers against an 800-connection cap (then a new REST
+client and ``/health``); a Modbus master pipelining FC3 reads without reading the replies while
+the PMAC and Trio ports are used.
+
 Run: ``.venv/bin/python bench/bench_attacks.py``; writes ``bench/results/attacks.json``.
 """
 
@@ -50,7 +58,8 @@ def serve(settings: dict[str, Any]) -> Iterator[tuple[str, dict[str, int]]]:
     with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
         json.dump(settings, f)
     argv = [str(BIN / "motionsim"), "serve", "--port", "0", "--clock", "virtual",
-            "--pmac-port", "auto", "--trio-port", "auto", "--config", f.name]
+            "--pmac-port", "auto", "--trio-port", "auto", "--modbus-port", "auto",
+            "--config", f.name]
     proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     ports: dict[str, int] = {}
     try:
@@ -231,10 +240,145 @@ def big_body(url: str, ports: dict[str, int]) -> dict[str, Any]:
     return {"body_bytes": len(body), "status": status, "code": code}
 
 
+def deep_nesting_over_tcp(url: str, ports: dict[str, int]) -> dict[str, Any]:
+    """Issue 33 item 1: ``P1=`` + 300 ``(`` in one packet killed the realtime card (700 levels
+    is the deepest a 1 492-byte packet holds)."""
+    replies = []
+    with socket.create_connection(("127.0.0.1", ports["pmac"]), timeout=30) as sock:
+        for depth in (32, 33, 300, 700):
+            replies.append(pmac_ask(sock, "P1=" + "(" * depth + "1" + ")" * depth))
+        for _ in range(200):
+            pmac_ask(sock, "P1=" + "(" * 300 + "1" + ")" * 300)
+        alive = pmac_ask(sock, "P1=7 P1")
+    return {"depths": [32, 33, 300, 700], "err003": [b"ERR003" in r for r in replies],
+            "card_answers_after": alive.startswith(b"7")}
+
+
+def _realtime_pmac(c: httpx.Client, cid: str) -> None:
+    c.post("/controllers", json={"id": cid, "kind": "pmac", "clock": {"mode": "realtime"}})
+    c.post(f"/controllers/{cid}/terminal", json={"command": "I5=3"})
+
+
+def plc_cmd_flood(url: str, ports: dict[str, int]) -> dict[str, Any]:
+    """Issue 33 item 2: 100 CMD"..." per scan grew the command queue without bound."""
+    plc = "\n".join(f'CMD"P{100 + k}=P{100 + k}+1"' for k in range(100))
+    with httpx.Client(base_url=url, trust_env=False, timeout=30) as c:
+        _realtime_pmac(c, "flood")
+        c.put("/controllers/flood/plcs/1", json={"text": plc})
+        c.post("/controllers/flood/plcs/1/enable")
+        time.sleep(5.0)
+        t0 = time.monotonic()
+        host = c.post("/controllers/flood/terminal", json={"command": "P2=42 P2"}).json()
+        host_ms = (time.monotonic() - t0) * 1000
+        c.post("/controllers/flood/terminal", json={"command": "DISABLE PLC 1"})
+        before = c.post("/controllers/flood/terminal", json={"command": "P100"}).json()["reply"]
+        time.sleep(1.0)
+        after = c.post("/controllers/flood/terminal", json={"command": "P100"}).json()["reply"]
+        c.delete("/controllers/flood")
+    return {"cmds_per_scan": 100, "host_reply": host.get("reply"), "host_reply_ms":
+            round(host_ms, 1), "commands_run_after_disable": float(after) - float(before)}
+
+
+def trio_huge_dim(url: str, ports: dict[str, int]) -> dict[str, Any]:
+    """Issue 33 item 3: DIM a(100000000) allocated 800 MB on the loop, 400000000 killed it."""
+    out = {}
+    with httpx.Client(base_url=url, trust_env=False, timeout=30) as c:
+        c.post("/controllers", json={"id": "mc4", "kind": "trio", "config": {"model": "mc4xx"},
+                                     "clock": {"mode": "virtual"}})
+        for text in ("DIM a(100000000) AS INTEGER", "DIM a(400000000) AS INTEGER",
+                     "DIM s AS STRING(2000000000)"):
+            r = c.put("/controllers/mc4/programs/HUGE", content=text,
+                      headers={"content-type": "text/plain"})
+            out[text] = r.status_code
+        c.delete("/controllers/mc4")
+    return out
+
+
+def kinematic_loop(url: str, ports: dict[str, int]) -> dict[str, Any]:
+    """Issue 33 item 4: a looping forward program ran 100 000 statements per PMATCH."""
+    setup = ["&1 #1->I #2->I", "&1 OPEN FORWARD CLEAR", "Q7=0", "Q8=0", "WHILE (1>0)",
+             "Q40=Q40+1", "ENDWHILE", "CLOSE", "I5150=1"]
+    with socket.create_connection(("127.0.0.1", ports["pmac"]), timeout=60) as sock:
+        for line in setup:
+            pmac_ask(sock, line)
+        for _ in range(50):
+            pmac_ask(sock, "&1 PMATCH")
+    return {"pmatch": 50}
+
+
+def big_plc_realtime(url: str, ports: dict[str, int]) -> dict[str, Any]:
+    """Issue 33 item 4: a PLC at the 200 000-character cap on a realtime card."""
+    lines, size = [], 0
+    while size < 195_000:
+        line = f"P{len(lines) % 900}=P{len(lines) % 900}+1"
+        lines.append(line)
+        size += len(line) + 1
+    with httpx.Client(base_url=url, trust_env=False, timeout=60) as c:
+        _realtime_pmac(c, "bigplc")
+        status = c.put("/controllers/bigplc/plcs/2", json={"text": "\n".join(lines)}).status_code
+        c.post("/controllers/bigplc/plcs/2/enable")
+        time.sleep(8.0)
+        lag = [e for e in c.get("/controllers/bigplc/events",
+                                params={"type": "clock_lag"}).json()["events"]]
+        c.delete("/controllers/bigplc")
+    return {"plc_chars": size, "status": status, "clock_lag_events": len(lag),
+            "reported_behind": any(e.get("behind") for e in lag)}
+
+
+def websocket_pool(url: str, ports: dict[str, int]) -> dict[str, Any]:
+    """Issue 33 item 5: 800 idle WebSocket subscribers made every REST client get 503."""
+    upgrade = (b"GET /controllers/pmac/events HTTP/1.1\r\nHost: 127.0.0.1\r\n"
+               b"Upgrade: websocket\r\nConnection: Upgrade\r\n"
+               b"Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n")
+    subs, accepted, refused = [], 0, 0
+    for _ in range(800):
+        s = socket.create_connection(("127.0.0.1", ports["http"]), timeout=10)
+        s.sendall(upgrade)
+        head = s.recv(4096)
+        if head.startswith(b"HTTP/1.1 101"):
+            accepted += 1
+            subs.append(s)
+        else:
+            refused += 1
+            s.close()
+    with httpx.Client(base_url=url, trust_env=False, timeout=10) as fresh:
+        rest = fresh.get("/controllers").status_code
+        health = fresh.get("/health").status_code
+    for s in subs:
+        s.close()
+    return {"websockets_tried": 800, "accepted": accepted, "refused": refused,
+            "new_rest_client": rest, "new_health_client": health}
+
+
+def modbus_pipeline(url: str, ports: dict[str, int]) -> dict[str, Any]:
+    """Issue 33 item 6: FC3 pipelined without reading made the PMAC / Trio ports time out."""
+    fc3 = b"".join(struct.pack(">HHHBBHH", t, 0, 6, 1, 3, 0, 125) for t in range(20_000))
+    master = socket.create_connection(("127.0.0.1", ports["modbus"]), timeout=10)
+    master.sendall(fc3[:400_000])  # and never reads
+    t0 = time.monotonic()
+    with socket.create_connection(("127.0.0.1", ports["pmac"]), timeout=10) as pmac:
+        reply = pmac_ask(pmac, "I16")
+    pmac_ms = (time.monotonic() - t0) * 1000
+    t0 = time.monotonic()
+    with socket.create_connection(("127.0.0.1", ports["telnet"]), timeout=10) as trio:
+        trio.sendall(b"? VR(1)\r\n")
+        got = b""
+        while b">>" not in got:
+            got += trio.recv(4096)
+    trio_ms = (time.monotonic() - t0) * 1000
+    master.close()
+    return {"fc3_sent": 20_000, "pmac_answered": reply.endswith(b"\x06"),
+            "pmac_reply_ms": round(pmac_ms, 1), "trio_reply_ms": round(trio_ms, 1)}
+
+
 ATTACKS: dict[str, Callable[[str, dict[str, int]], dict[str, Any]]] = {
     "regex_over_tcp": regex_over_tcp, "big_batches": big_batches,
     "program_stores": program_stores, "slowloris": slowloris, "tcp_lockout": tcp_lockout,
     "delete_mid_advance": delete_mid_advance, "big_body": big_body,
+    "deep_nesting_over_tcp": deep_nesting_over_tcp, "plc_cmd_flood": plc_cmd_flood,
+    "trio_huge_dim": trio_huge_dim, "kinematic_loop": kinematic_loop,
+    "big_plc_realtime": big_plc_realtime, "websocket_pool": websocket_pool,
+    "modbus_pipeline": modbus_pipeline,
 }
 
 

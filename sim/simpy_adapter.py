@@ -15,18 +15,21 @@ from heapq import heappush
 from typing import Any
 
 import simpy
-from simpy.events import NORMAL, URGENT
+from simpy.events import NORMAL, URGENT, EventPriority
 
-__all__ = ["NORMAL", "URGENT", "Wake", "cancel", "pending", "push_at", "triggered_at", "wake_at"]
+__all__ = [
+    "NORMAL", "URGENT", "Wake", "cancel", "pending", "push_at", "supersede", "triggered_at",
+    "wake_at",
+]  # fmt: skip
 
 Callback = Callable[[Any], None]
 
 
 def push_at(env: simpy.Environment, t: float, event: simpy.events.Event,
-            priority: int = NORMAL) -> None:
+            priority: EventPriority = NORMAL) -> None:
     """Put an already-triggered ``event`` on ``env``'s queue, processed at the instant ``t``;
     ``URGENT`` ones before ``NORMAL`` ones at the same instant, each in the order pushed."""
-    heappush(env._queue, (t, priority, next(env._eid), event))  # type: ignore[attr-defined]
+    heappush(env._queue, (t, priority, next(env._eid), event))
 
 
 class Wake(simpy.events.Event):
@@ -42,7 +45,7 @@ class Wake(simpy.events.Event):
     def __init__(self, env: simpy.Environment, t: float, fn: Callback) -> None:
         self.env = env
         self.callbacks = [fn]
-        heappush(env._queue, (t, NORMAL, next(env._eid), self))  # type: ignore[attr-defined]
+        heappush(env._queue, (t, NORMAL, next(env._eid), self))
 
 
 def wake_at(env: simpy.Environment, t: float, fn: Callback, old: Wake | None = None) -> Wake:
@@ -56,7 +59,7 @@ def wake_at(env: simpy.Environment, t: float, fn: Callback, old: Wake | None = N
     """
     if old is not None and old.callbacks is None:
         old.callbacks = [fn]
-        heappush(env._queue, (t, NORMAL, next(env._eid), old))  # type: ignore[attr-defined]
+        heappush(env._queue, (t, NORMAL, next(env._eid), old))
         return old
     return Wake(env, t, fn)
 
@@ -70,18 +73,33 @@ def cancel(event: simpy.events.Event | None) -> None:
         event.callbacks.clear()
 
 
+def supersede(env: simpy.Environment, t: float, fn: Callback, old: Wake | None) -> Wake:
+    """Call ``fn(event)`` at ``t`` *instead of* what ``old`` was to do: ``old`` is cancelled if
+    still queued (:func:`cancel`), or re-used if already processed (:func:`wake_at`). One call
+    for the pattern "the one pending wake-up of this thing moves" (a CS's next execution
+    step, once per streamed line)."""
+    if old is not None:
+        cbs = old.callbacks
+        if cbs is None:  # processed: nothing refers to it, re-used
+            old.callbacks = [fn]
+            heappush(env._queue, (t, NORMAL, next(env._eid), old))
+            return old
+        cbs.clear()  # still queued: cancelled (a no-op when it already was)
+    return Wake(env, t, fn)
+
+
 def pending(event: simpy.events.Event | None) -> bool:
     """``event`` is queued and will still call something (not processed, not cancelled)."""
     return event is not None and bool(event.callbacks)
 
 
 def triggered_at(env: simpy.Environment, t: float, fn: Callback,
-                 priority: int = URGENT) -> simpy.events.Event:
+                 priority: EventPriority = URGENT) -> simpy.events.Event:
     """A plain SimPy event, already succeeded, that calls ``fn`` at the instant ``t``
     (``URGENT`` by default: before normal events at ``t``)."""
     ev = simpy.Event(env)
     ev._ok = True
     ev._value = None
-    ev.callbacks.append(fn)  # type: ignore[union-attr]
+    ev.callbacks.append(fn)
     push_at(env, t, ev, priority)
     return ev

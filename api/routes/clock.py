@@ -17,7 +17,7 @@ from motionsim.api.deps import HandleDep
 from motionsim.api.schemas.clock import AdvanceIn, ClockOut, ClockPatch, RunUntilIn, RunUntilOut
 from motionsim.app.host_paced import HostPacedClock
 from motionsim.app.registry import ControllerHandle
-from motionsim.sim.errors import Conflict
+from motionsim.sim.errors import Conflict, MotionSimError
 from motionsim.sim.events import Event
 
 router = APIRouter(tags=["clock"], route_class=DecodedJsonRoute)
@@ -28,21 +28,41 @@ Holder = Annotated[str, Path(pattern=r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$",
                              description="the holder's name (the client chooses it)")]
 
 
+class ClientGone(MotionSimError):
+    """The client disconnected while its call moved time: the work stopped at a slice boundary
+    and the request ends as an ordinary answer nobody reads (499), never as an exception
+    through the ASGI server (which would log a traceback)."""
+
+    code = "client_closed_request"
+
+
 async def until_disconnect(request: Request, work: Awaitable[T]) -> T:
     """Await ``work``; cancel it if the client disconnects first (its body is already read, so
-    the next ASGI message can only be ``http.disconnect``)."""
+    the next ASGI message can only be ``http.disconnect``).
+
+    Raises:
+        ClientGone: the client went away (the route's own cancellation propagates as is).
+    """
     task = asyncio.ensure_future(work)
+    gone = False
 
     async def watch() -> None:
+        nonlocal gone
         while True:
             message = await request.receive()
             if message["type"] == "http.disconnect":
+                gone = True
                 task.cancel()
                 return
 
     watcher = asyncio.ensure_future(watch())
     try:
         return await task
+    except asyncio.CancelledError:
+        current = asyncio.current_task()
+        if gone and (current is None or not current.cancelling()):
+            raise ClientGone("the client disconnected; the call was stopped") from None
+        raise
     finally:
         watcher.cancel()
 

@@ -17,7 +17,7 @@ class AxisOut(BaseModel):
                                    "3 MHELICAL, 4 MOVECIRC, 10 FORWARD, 11 REVERSE, 12 DATUM")
     ntype: int = Field(description="code of the move waiting in NTYPE (0 = empty)")
     dpos: float = Field(description="demand position, user units")
-    mpos: float = Field(description="measured position (= dpos: no following error modelled)")
+    mpos: float = Field(description="measured position: dpos - fe (= dpos with fe_lag 0)")
     endmove: float = Field(description="end position of the executing move")
     remain: float = Field(description="path distance still to go in the executing move")
     speed: float
@@ -30,6 +30,10 @@ class AxisOut(BaseModel):
     merge: float | None = Field(None, description="MERGE: 1 = ON (no ramp down into a loaded "
                                                   "next move), 0 = OFF")
     sramp: float | None = Field(None, description="SRAMP: S-ramp time in ms (0 = trapezoid)")
+    fe: float | None = Field(None, description="FE = dpos - mpos, the following error of the "
+                                               "servo model (0 with fe_lag 0)")
+    fe_lag: float | None = Field(None, description="the simulated servo's lag, s: FE = fe_lag "
+                                                   "x the demand speed (docs/trio.md)")
 
 
 class AxisPatch(BaseModel):
@@ -44,6 +48,8 @@ class AxisPatch(BaseModel):
     creep: float | None = Field(None, gt=0, le=TRIO_RATE.high, allow_inf_nan=False)
     merge: float | None = Field(None, allow_inf_nan=False, description="non-zero = ON")
     sramp: float | None = Field(None, ge=0, le=250, allow_inf_nan=False, description="ms")
+    fe_lag: float | None = Field(None, ge=0, le=1, allow_inf_nan=False,
+                                 description="s: the following-error model's lag (0 = none)")
 
 
 #: A move argument: finite and within ±1e12 user units (sim/bounds.py).

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from typing import Any, NamedTuple
 
 import simpy
@@ -46,6 +46,7 @@ from motionsim.sim.pmac.lookahead import CoordSystem
 from motionsim.sim.pmac.lookahead.start_checks import check_start
 from motionsim.sim.pmac.motor.motor_status import motor_status_words
 from motionsim.sim.pmac.motor.motors import Motor, MotorTable
+from motionsim.sim.pmac.tasks.command_queue import CommandQueue
 from motionsim.sim.pmac.tasks.cpu import CONFIG_KEYS as CPU_CONFIG_KEYS
 from motionsim.sim.pmac.tasks.cpu import Processor
 from motionsim.sim.pmac.tasks.plc import PlcTable
@@ -156,6 +157,8 @@ class PmacController(Controller):
                 lambda n, v: self.log.emit("timer", var=f"I{n}", value=v),
             )
         self.halted = False  # the watchdog tripped (sim.pmac.watchdog); until reset
+        #: The bounded queue of CMD"..." commands (sim.pmac.tasks.command_queue).
+        self.commands = CommandQueue(self._place_program_command)
         self.plcs = PlcTable(self)
         #: SEND lines on their way to the host ports (sim.pmac.host.messages).
         self.messages = HostMessages(self.log.emit, lambda: self.env.now)
@@ -254,15 +257,32 @@ class PmacController(Controller):
         self.messages.send(source, port, text)
 
     def submit_program_command(self, text: str, cs: int = 1, motor: int = 1) -> None:
-        """``CMD"text"`` from a PLC: queued for the background command interpreter.
+        """``CMD"text"`` from an unnamed program source (PLC 0's slot is not used): queued as
+        :meth:`issue_program_commands` does."""
+        self.issue_program_commands((False, -1), [(text, cs, motor)])
+
+    def issue_program_commands(self, source: tuple[bool, int],
+                               commands: list[tuple[str, int, int]]) -> None:
+        """The ``CMD"text"`` commands one scan of PLC ``source`` (``(compiled, n)``) issued,
+        as ``(text, cs, motor)``: into the card's bounded command queue; what does not fit
+        halts that PLC until there is room (sim.pmac.tasks.command_queue, TSRM p423)."""
+        self.commands.issue(source, commands)
+
+    def _place_program_command(self, command: tuple[str, int, int],
+                               taken: Callable[[], bool]) -> None:
+        """One program command into the background queue for the command interpreter.
 
         Runs on a port of its own whose addressing starts at the PLC's ``ADDRESS`` (motor 1 /
         CS 1 unless set) for every command (non-modal, TSRM p422); replies and errors go
-        nowhere (no host asked) ``[INF]``.
+        nowhere (no host asked) ``[INF]``. ``taken()`` frees its place in the command queue and
+        says whether the command is still to run (its PLC's DISABLE ended it otherwise).
         """
+        text, cs, motor = command
         port = self.plcs._cmd_port
 
         def job() -> None:
+            if not taken():
+                return
             port.state.update(cs=cs, motor=motor)
             self._terminal.execute(text, port)
 
@@ -325,7 +345,7 @@ class PmacController(Controller):
         if words > self.size_words():
             raise BufferFull(f"only {self.size_words()} words of memory free", pmac_error="ERR006")
         c.rotary = RotaryBuffer(cs, words, self.log, self._thresholds, self.vars,
-                                self.card_faults)
+                                self.card_faults, self.programs)
         if entered:
             c.rotary.reevaluate()
         return self.rotary(cs)  # type: ignore[return-value]
@@ -448,10 +468,11 @@ class PmacController(Controller):
         if self.halted:
             self._alive()
         c = self.coord_systems.get(cs) if type(cs) is int else None
-        rot = c.rotary if c is not None else None
-        if rot is None:
+        if c is None or c.rotary is None:
             rot = self._rotary_of(cs)  # raises NotFound
             c = self.coord_systems[cs]
+        else:
+            rot = c.rotary
         texts = lines if type(lines) is list else list(lines)
         cache = _LINE_CACHE
         pre = precompiled or {}
@@ -459,13 +480,13 @@ class PmacController(Controller):
             # The streaming case: one line, no sequence numbers.
             text = texts[0]
             line = cache.get(text) if type(text) is str else None
-            fresh = line is None
+            unseen = line is None
             if line is None:
                 line = (pre.get(text) if type(text) is str else None) or self._compile(text, 0)
             if not rot.fits(line.words):
                 raise rot.no_room(line.words)
             rot.store(line)
-            if fresh:
+            if unseen:
                 self._remember(texts, [line])
             c.lines_arrived()  # (it wants more with 2 calculated in the special lookahead)
             return _new_result(

@@ -6,7 +6,7 @@ running as processes 1..N, and the command line as process 0 — the buffering o
 Config (``POST /controllers {"kind": "trio", "config": {...}}``), unknown keys refused:
 
 * ``model`` (``"mc2xx"``): the generation — number word size and HEX width, default process
-  count (:mod:`motionsim.sim.trio.models`: ``series2``, ``mc2xx``, ``mc4xx``);
+  count (:mod:`motionsim.sim.trio.card.models`: ``series2``, ``mc2xx``, ``mc4xx``);
 * ``servo_period_ms`` (1.0): SERVO_PERIOD; moves start and end on servo periods;
 * ``axes`` (8): number of axes, 0..axes-1;
 * ``processes`` (the model's: 7 on mc2xx = MC206, 14 series2 = MC216, 22 mc4xx): BASIC
@@ -36,25 +36,24 @@ from motionsim.sim.errors import (
     ParseError,
 )
 from motionsim.sim.timing import ServoClock
-from motionsim.sim.trio.axis import DEFAULTS, Axis
-from motionsim.sim.trio.axis_status import StoredParams
-from motionsim.sim.trio.basic_errors import BasicError
-from motionsim.sim.trio.buffers import MotionBuffers, Waiter
-from motionsim.sim.trio.compiler import Code, compile_program
-from motionsim.sim.trio.context import Context
-from motionsim.sim.trio.datum import datum_move
-from motionsim.sim.trio.io import CHANNELS, IoImage
-from motionsim.sim.trio.linked import LINKED
-from motionsim.sim.trio.models import DEFAULT_MODEL
-from motionsim.sim.trio.models import model as model_named
-from motionsim.sim.trio.moves import Move
-from motionsim.sim.trio.mtypes import MTYPE, SP_GEOMETRY, axes_driven
-from motionsim.sim.trio.output import Channels
-from motionsim.sim.trio.parser import MOVE_ARGS, parse_program
-from motionsim.sim.trio.process import BasicProcess
-from motionsim.sim.trio.scope import Decl
-from motionsim.sim.trio.statements import Program
-from motionsim.sim.trio.system import SystemParams
+from motionsim.sim.trio.card.axis_status import StoredParams, axisstatus
+from motionsim.sim.trio.card.basic_errors import BasicError
+from motionsim.sim.trio.card.io import CHANNELS, IoImage
+from motionsim.sim.trio.card.models import DEFAULT_MODEL, WORD_MAX, out_of_word
+from motionsim.sim.trio.card.models import model as model_named
+from motionsim.sim.trio.card.output import Channels
+from motionsim.sim.trio.card.system import SystemParams
+from motionsim.sim.trio.language.compiler import Code, compile_program
+from motionsim.sim.trio.language.move_words import LINKED, MOVE_ARGS
+from motionsim.sim.trio.language.parser import parse_program
+from motionsim.sim.trio.language.scope import Decl, rebinding
+from motionsim.sim.trio.language.statements import Program
+from motionsim.sim.trio.motion.axis import DEFAULTS, Axis
+from motionsim.sim.trio.motion.buffers import MotionBuffers, Waiter
+from motionsim.sim.trio.motion.issue import new_move
+from motionsim.sim.trio.motion.mtypes import MTYPE, axes_driven
+from motionsim.sim.trio.run.context import Context
+from motionsim.sim.trio.run.process import BasicProcess
 from motionsim.sim.trio.terminal import CommandLine
 
 _CONFIG_DEFAULTS: dict[str, float] = {
@@ -91,8 +90,12 @@ class TrioController(Controller):
     #: (API.md): ``ControllerHandle.command`` returns a locked line pending at once.
     terminal_wait_s = 0.0
 
-    #: Events of the motion modules: a set-up command ran, a DATUM sequence found its datum.
-    event_types += ("setup", "datum")
+    #: Events of the motion modules: a set-up command ran, a DATUM sequence found its datum,
+    #: a move was stopped at a software limit (``axis``, ``limit``, ``mtype``), ENDMOVE
+    #: written at rest stepped the demand (``axis``, ``dpos``), a following error beyond
+    #: FE_LIMIT (``axis``, ``fe``), a motion error (``axis``, ``axisstatus``).
+    event_types += ("setup", "datum", "soft_limit", "endmove", "following_error",
+                    "motion_error")
 
     def __init__(
         self, id: str, config: Mapping[str, Any] | None = None, *, log_capacity: int = 100_000
@@ -131,17 +134,23 @@ class TrioController(Controller):
         self.vr: list[float] = [0.0] * self.vr_count
         self.table: dict[int, float] = {}
         self.programs: dict[str, tuple[str, Code]] = {}
-        self.parsed: dict[str, Program] = {}  # for INCLUDE (sim/trio/declarations.py)
+        self.parsed: dict[str, Program] = {}  # for INCLUDE (sim/trio/language/declarations.py)
         self.declared: dict[str, Decl] = {}  # GLOBAL / CONSTANT names that have run
         self.declared_version = 0
         self.basic: dict[int, BasicProcess] = {}
         self.io = IoImage(self.log)
         self.system = SystemParams(self)
+        self.buffers.on_axis_error = self._axis_error
         self.stored = [StoredParams() for _ in range(self.n_axes)]
         for ax, st in zip(self.axes, self.stored, strict=True):
             ax.stored = st
         self.command_line = CommandLine(self)
         self._move_waits: dict[int, Waiter] = {}
+
+    def _axis_error(self, n: int) -> None:
+        """An error condition on axis ``n``: a motion error if AXISSTATUS meets ERRORMASK."""
+        st = self.stored[n]
+        self.system.axis_error(n, axisstatus(self.axes[n], st), int(st.read("ERRORMASK")))
 
     # -- life cycle --------------------------------------------------------------------------
 
@@ -194,6 +203,8 @@ class TrioController(Controller):
         ``merge``, ``sramp``); all are checked before any is written."""
         ax = self._axis(n)
         ax.set(**params)
+        if "fe_lag" in params:
+            self.buffers.watch_fe(n)
         return ax.snapshot()
 
     def move(
@@ -239,15 +250,10 @@ class TrioController(Controller):
                 field="axis",
             )
         text = f"{kind}({','.join(f'{a:g}' for a in args)}) AXIS({axis})"
-        if kind == "DATUM":
-            try:
-                move: Move = datum_move(self, axis, args, p, text)
-            except BasicError as exc:
-                raise InvalidValue(exc.message, field="args") from None
-        else:
-            move = Move(self.buffers.new_id(), kind, axes, args, p, text)
-        if kind in SP_GEOMETRY:
-            move.force_speed = self.axes[axis].force_speed
+        try:
+            move = new_move(self, kind, axes, args, p, text)
+        except BasicError as exc:  # a DATUM sequence number it does not know
+            raise InvalidValue(exc.message, field="args") from None
         if not wait:
             placed = self.buffers.place(move)
             if placed is None:
@@ -363,7 +369,14 @@ class TrioController(Controller):
         return compile_program(parsed, key, resolve, self.declared, self.declared_version)
 
     def declare(self, name: str, decl: Decl) -> None:
-        """GLOBAL / CONSTANT ran: programs compiled (or RUN) from now on see ``name``."""
+        """GLOBAL / CONSTANT ran: programs compiled (or RUN) from now on see ``name``.
+
+        Raises:
+            BasicError: ``name`` is already bound otherwise (:func:`~.scope.rebinding`).
+        """
+        why = rebinding(name, self.declared.get(name), decl)
+        if why is not None:
+            raise BasicError(why)
         if self.declared.get(name) != decl:
             self.declared[name] = decl
             self.declared_version += 1
@@ -425,6 +438,11 @@ class TrioController(Controller):
         proc = self.basic.get(p)
         return 1 if proc is not None and proc.state != "stopped" else 0
 
+    def data_bytes_in_use(self) -> int:
+        """Program data memory the running processes' DIMs hold (sim.trio.data_memory)."""
+        return sum(sum(proc.ctx.data_bytes.values()) for proc in self.basic.values()
+                   if proc.state != "stopped")
+
     def context_of(self, p: int) -> Context:
         """The runtime context of process ``p`` (a fresh one for a process that never ran)."""
         if p == 0:
@@ -484,6 +502,10 @@ class TrioController(Controller):
             v = float(value)
         except (TypeError, ValueError):
             raise InvalidValue(f"{name} needs a number, got {value!r}", field="value") from None
+        if kind in ("VR", "TABLE") and out_of_word(v, self.model):
+            raise InvalidValue(f"{name} = {v:g} is beyond what the {self.model.word_bits}-bit "
+                               f"number format of model {self.model.name} holds "
+                               f"(±{WORD_MAX[self.model.word_bits]:g})", field="value")
         if kind == "VR":
             self.vr[index] = v
         elif kind == "TABLE":

@@ -15,11 +15,12 @@ pending gets its ``terminal_reply`` event.
 
 Replies: printed lines joined with ``"\\r\\n"`` (no prompt, no echo — the telnet adapter adds
 those). Errors: ``error`` holds the message in the controller's ``%[Process 0:Line 0] - ...``
-style (``[BK]``, :mod:`motionsim.sim.trio.basic_errors`). Program-only statements (``WAIT``, ``WA``)
+style (``[BK]``, :mod:`motionsim.sim.trio.card.basic_errors`). Program-only statements (``WAIT``,
+``WA``)
 are refused; local variables cannot be used at the command line (TJ1P-26). ``PROCESS`` answers
 the table of running programs, ``HALT`` stops them all; ``PRINT #n`` with n > 0 goes to that
 channel, not to the reply; a running program's own output reaches the command line through
-:mod:`motionsim.sim.trio.output`.
+:mod:`motionsim.sim.trio.card.output`.
 """
 
 from __future__ import annotations
@@ -29,12 +30,12 @@ from typing import TYPE_CHECKING, Any
 
 from motionsim.sim.controller import Reply
 from motionsim.sim.errors import NotSimulated, ParseError
-from motionsim.sim.trio import basic_errors as msg
-from motionsim.sim.trio.basic_errors import BasicError, error_line
-from motionsim.sim.trio.buffers import Waiter
-from motionsim.sim.trio.compiler import HALT, Block, Code, compile_program
-from motionsim.sim.trio.context import Context
-from motionsim.sim.trio.parser import parse_program
+from motionsim.sim.trio.card import basic_errors as msg
+from motionsim.sim.trio.card.basic_errors import BasicError, error_line
+from motionsim.sim.trio.language.compiler import HALT, Block, Code, compile_program
+from motionsim.sim.trio.language.parser import parse_program
+from motionsim.sim.trio.motion.buffers import Waiter
+from motionsim.sim.trio.run.context import Context
 
 if TYPE_CHECKING:
     from motionsim.sim.trio.controller import TrioController
@@ -70,7 +71,7 @@ class CommandLine:
 
     def _output(self, text: str, newline: bool, channel: float | None = None) -> None:
         """A PRINT at the command line is its reply; ``PRINT #n`` with n > 0 goes to that
-        channel (:mod:`motionsim.sim.trio.output`)."""
+        channel (:mod:`motionsim.sim.trio.card.output`)."""
         if channel is not None and self.ctrl.channels.check(channel) != 0:
             self.ctrl.channels.write(0, int(channel), text)
             return

@@ -64,7 +64,9 @@ async def test_terminal_entry_and_err007(pmac_api):
         return (await pmac_api.post(f"{BASE}/terminal", json={"command": cmd})).json()
 
     assert (await term("OPEN PLC 5 CLEAR"))["error"] is None
-    assert (await term("IF (M1=0) CMD\"#1J+\"")) ["error"] is None
+    # a PLC block closed on its line (PLCs have no one-line IF: PUM p162; this line was
+    # the one-line form, which left the IF open)
+    assert (await term("IF (M1=0) CMD\"#1J+\" ENDIF")) ["error"] is None
     assert (await term("X10"))["error"] == "ERR003"
     assert (await term("OPEN ROT"))["error"] == "ERR007"
     assert (await term("CLOSE"))["error"] is None

@@ -15,8 +15,7 @@ LETTER_EXAMPLES = {
     "LIST PE / LIST PC": ["&1LIST PC", "&1 LIST PE"],
     "CLEAR ALL": ["CLEAR ALL"],
     "BLKSTART": ["BLKSTART"],
-    "G/T/D-code subprogram calls": ["G01"],
-}
+}  # (G/M/T/D codes are simulated since issue 37: tests/sim/pmac/test_rotary_gcode.py)
 TABLE_EXAMPLES = keywords.examples()
 
 

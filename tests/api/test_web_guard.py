@@ -105,3 +105,22 @@ def test_websockets_check_origin_and_token():
         with tc.websocket_connect("/controllers/d/events?token=tok",
                                   headers={"origin": "http://testserver"}) as ws:
             assert ws.receive_json()["type"] == "epoch"
+
+
+async def test_issue_33_an_origin_on_another_local_port_is_not_the_service(make_app):
+    """Issue 33 item 7: any loopback origin on any port was accepted — a page of another local
+    app (``http://localhost:9999``) could drive the service. Only the service's own origin (its
+    Host, or an allowed host name on its own port) and configured CORS origins pass."""
+    async with rest_client(make_app()) as api:  # reached as http://127.0.0.1 (port 80)
+        for origin in ("http://localhost:9999", "http://127.0.0.1:8080", "http://[::1]:3000"):
+            r = await api.post("/controllers/d/terminal", json={"command": "ECHO x"},
+                               headers={"origin": origin})
+            assert (r.status_code, r.json()["code"]) == (403, "forbidden_origin"), origin
+        for origin in ("http://127.0.0.1", "http://localhost", "http://localhost:80"):
+            r = await api.post("/controllers/d/terminal", json={"command": "ECHO x"},
+                               headers={"origin": origin})
+            assert r.status_code == 200, origin
+    async with rest_client(make_app(cors_origins=["http://localhost:9999"])) as api:
+        r = await api.post("/controllers/d/terminal", json={"command": "ECHO x"},
+                           headers={"origin": "http://localhost:9999"})
+        assert r.status_code == 200

@@ -130,40 +130,44 @@ async def _running(env: simpy.Environment, factor: float = 1.0) -> AsyncIterator
 
 async def _track(factor, wall_s, period):
     env, log = _setup(period)
+    before = time.monotonic()
     async with _running(env, factor) as clock:
-        t0 = time.monotonic()
         await asyncio.sleep(wall_s)
-        elapsed = time.monotonic() - t0
         t_sim = clock.t
+        elapsed = time.monotonic() - before
         events = log.events()
     return env, clock, events, elapsed, t_sim
 
 
 @pytest.mark.parametrize("factor", [1.0, 10.0])
 def test_realtime_clock_tracks_wall_time_times_factor(factor):
-    env, clock, events, elapsed, t_sim = asyncio.run(_track(factor, 0.5, 0.01 * factor))
-    # simulated time = wall × factor (generous bounds: a shared 2-core machine)
-    assert t_sim == pytest.approx(elapsed * factor, rel=0.2)
-    # the events due by now have been processed, each at its own simulated instant
-    expected = int(t_sim / (0.01 * factor))
-    assert 0.75 * expected <= len(events) <= expected + 1
-    assert [e.t for e in events] == pytest.approx([(i + 1) * 0.01 * factor
+    """Only what a loaded machine cannot falsify: simulated time never runs ahead of wall ×
+    factor (a stall only holds it back; how closely it follows is bench_spine.py's lateness),
+    and every event due before the instant reached has run, once, at its own instant."""
+    period = 0.01 * factor
+    env, clock, events, elapsed, t_sim = asyncio.run(_track(factor, 0.5, period))
+    assert 0 < t_sim <= elapsed * factor
+    expected = int(t_sim / period + 1e-9)
+    assert expected - 1 <= len(events) <= expected
+    assert [e.t for e in events] == pytest.approx([(i + 1) * period
                                                    for i in range(len(events))])
-    assert clock.lateness_s and sorted(clock.lateness_s)[len(clock.lateness_s) // 2] < 0.05
+    assert clock.lateness_s
 
 
 def test_realtime_t_advances_with_nothing_scheduled():
     async def main():
         env = simpy.Environment()
+        before = time.monotonic()
         async with _running(env, 4.0) as clock:
             await asyncio.sleep(0.2)
             t = clock.t
+            elapsed = time.monotonic() - before
             clock.sync()
             now = env.now
-        return t, now
+        return t, now, elapsed
 
-    t, now = asyncio.run(main())
-    assert 0.6 < t < 1.6
+    t, now, elapsed = asyncio.run(main())
+    assert 4.0 * 0.2 <= t <= 4.0 * elapsed  # nothing to compute: exactly the schedule
     assert now >= t
 
 
@@ -176,14 +180,16 @@ def test_realtime_pause_freezes_t_and_resume_continues():
             t_pause, n_pause = clock.t, len(log)
             await asyncio.sleep(0.15)
             t_still, n_still = clock.t, len(log)
+            resumed = time.monotonic()
             clock.set(paused=False)
             await asyncio.sleep(0.1)
             t_after = clock.t
-        return t_pause, n_pause, t_still, n_still, t_after
+            since = time.monotonic() - resumed
+        return t_pause, n_pause, t_still, n_still, t_after, since
 
-    t_pause, n_pause, t_still, n_still, t_after = asyncio.run(main())
+    t_pause, n_pause, t_still, n_still, t_after, since = asyncio.run(main())
     assert t_still == t_pause and n_still == n_pause
-    assert t_pause + 0.05 < t_after < t_pause + 0.3
+    assert t_pause < t_after <= t_pause + since  # it goes on from the paused instant
 
 
 def test_realtime_factor_change_keeps_t_continuous():
@@ -192,15 +198,17 @@ def test_realtime_factor_change_keeps_t_continuous():
         async with _running(env) as clock:
             await asyncio.sleep(0.1)
             before = clock.t
+            changed = time.monotonic()
             clock.set(factor=10.0)
             just_after = clock.t
             await asyncio.sleep(0.1)
             later = clock.t
-        return before, just_after, later
+            since = time.monotonic() - changed
+        return before, just_after, later, since
 
-    before, just_after, later = asyncio.run(main())
+    before, just_after, later, since = asyncio.run(main())
     assert just_after == pytest.approx(before, abs=0.01)
-    assert later - just_after == pytest.approx(1.0, rel=0.3)
+    assert 10.0 * 0.1 <= later - just_after <= 10.0 * since  # ten times wall time from there
 
 
 def test_realtime_wake_replans_for_an_event_scheduled_sooner():

@@ -2,14 +2,16 @@
 
 For each: the README's assertion (the program never ran out of lines) holds for the host as
 written and FAILS for the same host slowed beyond the time its I16 lines cover; the two
-virtual-time ways give a byte-identical event log when the same host runs twice; 60 simulated
-seconds take less wall time than they simulate (the figures are in bench/bench_host_modes.py).
+virtual-time ways give a byte-identical event log when the same host runs twice. No test here
+asserts a wall-clock speed: how many simulated seconds a wall second carries, and how long the
+realtime host lapsed, are bench/bench_host_modes.py's figures.
 """
 
 from __future__ import annotations
 
 import json
 import sys
+from itertools import islice
 from pathlib import Path
 
 import pytest
@@ -49,7 +51,6 @@ def test_virtual_time_host_twice_gives_a_byte_identical_log_and_keeps_the_buffer
     assert _log_bytes(first) == _log_bytes(second)
     moves = [e for e in first if e["type"] == "move_end"]
     assert moves[-1]["t"] > SIM_S - 1.0 and len(moves) > 500  # it streamed the whole minute
-    assert wall < SIM_S                                        # faster than the time simulated
 
 
 @pytest.mark.parametrize("module", [drive_the_clock, host_paced], ids=["drive", "host_paced"])
@@ -77,30 +78,40 @@ def test_host_paced_reaction_time_is_where_the_host_acts():
 
 #: Wall seconds the realtime host's I16 = 20 lines cover at factor 10 (20 × 100 ms / 10).
 REALTIME_COVER_WALL_S = realtime.I16 * streamer.MOVE_MS / 1000 / realtime.FACTOR
-REALTIME_TRIES = 3
+REALTIME_TRIES = 2
+
+
+def assert_no_line_lost_or_repeated(events: list[dict]) -> None:
+    """Every line the host sent is in the buffer once, in the order sent, and the program
+    calculated them in that order, each once (whatever the timing of the run)."""
+    loaded = [e for e in events if e["type"] == "line_loaded"]
+    assert [e["text"] for e in loaded] == list(islice(streamer.program(), len(loaded)))
+    numbers = [e["n"] for e in loaded]
+    assert numbers == list(range(numbers[0], numbers[0] + len(numbers)))
+    calculated = [e["n"] for e in events if e["type"] == "line_calculated"]
+    assert len(calculated) > 20 and calculated == numbers[:len(calculated)]
 
 
 def test_realtime_unmodified_host_keeps_the_buffer_fed_and_a_slow_one_fails():
     """Realtime × 10: the polling host keeps up; one sleeping 5 simulated seconds (0.5 s wall)
     per BREQ, beyond the ~2 s its I16 = 20 lines cover, starves the program.
 
-    A wall-clock host starves, however correct, when the machine keeps it from polling for
-    longer than its lines cover (a loaded CI runner; a full collection of the test process's
-    heap). A run in which the host lapsed for half that long or more says nothing about
-    motionsim and is rerun, up to three times; every run in which the host kept polling must
-    keep the buffer fed."""
-    lapses = []
+    Only what a stalled machine cannot falsify is asserted. A stall only delays a host, so the
+    slow host starves on any machine. A wall-clock host starves, however correct, when the
+    machine keeps it from polling for longer than its lines cover (a loaded CI runner, a full
+    collection of the process's heap; the host's round trips count in its lapse, so a stalled
+    server does too): "kept fed" is asserted of every run in which the host's longest lapse
+    stayed under half that cover, and a run with a longer lapse is rerun once. On a machine
+    that stalls the host in both runs the claim is left to bench/bench_host_modes.py; what
+    every run must show is that no line the host sent was lost, duplicated or reordered."""
     for _ in range(REALTIME_TRIES):
         report: dict[str, float] = {}
-        events, wall = _play(realtime, host_report=report)
+        events, _ = _play(realtime, host_report=report)
+        assert_no_line_lost_or_repeated(events)
         if report["worst_gap_s"] < REALTIME_COVER_WALL_S / 2:
+            readme_assertion(events)                    # the host kept polling: kept fed
             break
-        lapses.append(report["worst_gap_s"])
-    else:
-        pytest.fail(f"the machine stalled the polling host in every run: lapses {lapses} s "
-                    f"against the {REALTIME_COVER_WALL_S} s its lines cover")
-    readme_assertion(events)
-    assert wall < SIM_S
     slow, _ = _play(realtime, delay_s=5.0)
+    assert_no_line_lost_or_repeated(slow)
     with pytest.raises(AssertionError):
         readme_assertion(slow)

@@ -41,3 +41,24 @@ def test_a_cancelled_wake_is_not_reused():
     assert again is not w
     env.run()
     assert calls == [0.5]
+
+
+def test_only_the_adapter_touches_an_events_callbacks():
+    """DESIGN.md: SimPy internals stay behind sim/simpy_adapter.py; cancelling is its
+    ``cancel``, asking is its ``pending``."""
+    import ast
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2]
+    bad = []
+    for folder in ("sim", "app", "api"):
+        for path in sorted((root / folder).rglob("*.py")):
+            if path.name == "simpy_adapter.py" and path.parent.name == "sim":
+                continue
+            tree = ast.parse(path.read_text(encoding="utf-8"))
+            bad += [
+                f"{path.relative_to(root)}:{node.lineno}"
+                for node in ast.walk(tree)
+                if isinstance(node, ast.Attribute) and node.attr == "callbacks"
+            ]
+    assert bad == []

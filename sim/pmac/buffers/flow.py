@@ -36,7 +36,7 @@ I_WHILE = 2  # (I_WHILE, n, cond, target if false)
 I_JUMP = 3  # (I_JUMP, n, target, backward)
 I_GOTO = 4  # (I_GOTO, n, label expr)
 I_GOSUB = 5  # (I_GOSUB, n, label expr, args)
-I_CALL = 6  # (I_CALL, n, prog.label expr, args)
+I_CALL = 6  # (I_CALL, n, prog.label expr, args, code letter or "")
 I_RETURN = 7  # (I_RETURN, n)
 I_READ = 8  # (I_READ, n, letters)
 I_STOP = 9  # (I_STOP, n)
@@ -197,7 +197,7 @@ class Structure:
         elif t is fl.Gosub:
             self._emit([I_GOSUB, n, s.target, s.args])
         elif t is fl.Call:
-            self._emit([I_CALL, n, s.target, s.args])
+            self._emit([I_CALL, n, s.target, s.args, s.code])
         elif t is fl.Return:
             self._emit([I_RETURN, n])
         elif t is fl.Read:

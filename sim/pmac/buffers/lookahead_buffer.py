@@ -41,8 +41,12 @@ class LookaheadBuffer:
 
 
 class _Coord(Protocol):
-    lookahead: LookaheadBuffer | None
-    rotary: object | None
+    @property
+    def lookahead(self) -> LookaheadBuffer | None: ...
+    @lookahead.setter
+    def lookahead(self, buf: LookaheadBuffer | None) -> None: ...
+    @property
+    def rotary(self) -> object | None: ...
 
     @property
     def running(self) -> bool: ...

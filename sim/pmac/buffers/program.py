@@ -19,7 +19,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from motionsim.sim.errors import NotSimulated
+from motionsim.sim.errors import NotSimulated, ParseError
+from motionsim.sim.pmac.language import flow_statements as fl
 from motionsim.sim.pmac.language import statements as st
 from motionsim.sim.pmac.language.axis_definitions import Frax
 from motionsim.sim.pmac.language.compiled import (
@@ -55,6 +56,7 @@ def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:
     moves = 0
     words = len(stmts)
     flow = None
+    jumps = False  # control flow, not only labels: the line is never a planning short cut
 
     def flush() -> None:
         nonlocal moves
@@ -104,13 +106,15 @@ def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:
             words += len(s.axes) - 1  # one word per value, like axis words [INF]
         elif isinstance(s, _MARKS):
             flow = tuple(stmts)  # labels and control flow: split by .flow when run
+            jumps = jumps or isinstance(s, FLOW_TYPES)
         elif isinstance(s, st.Message) and s.kind == "SEND":
             ops.append((OP_SEND, s.port, s.text))
         # CMD messages: stored, no action.
     flush()
     simple = None
     if (
-        len(ops) == 1
+        not jumps  # a control-flow line is split by .flow first: never a short cut
+        and len(ops) == 1
         and ops[0][0] == OP_MOVE
         and not ops[0][2]
         and not ops[0][3]
@@ -119,7 +123,8 @@ def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:
         simple = tuple((a, float(e.const)) for a, e in ops[0][1])
     simple_pvt = None
     if (
-        len(ops) == 1
+        not jumps
+        and len(ops) == 1
         and ops[0][0] == OP_MOVE
         and not ops[0][2]
         and all(e.const is not None for _, e in ops[0][1])
@@ -145,23 +150,44 @@ def compile_line(text: str) -> ProgramLine:
     return line
 
 
+#: Control flow a rotary line may hold: the one-line IF and calls of fixed programs (CALL,
+#: G/M/T/D codes), which return to the rotary buffer.
+_ROTARY_FLOW = (fl.If, fl.Call)
+#: Multi-line control flow: the line to jump to may not be in the buffer yet (PUM p162).
+_MULTI_LINE = (fl.Else, fl.EndIf, fl.While, fl.EndWhile)
+
+
 def rotary_check(line: ProgramLine) -> None:
-    """Control flow in a rotary buffer is not simulated ``[INF]``: its lines are freed as
-    they are calculated, so there is nothing to jump back to; which forms the card accepts
-    there was not found (spec §12.11). Refused before anything is stored.
+    """What control flow a rotary line may hold, decided before anything is stored.
+
+    "In rotary program buffers single-line condition actions are the only types of
+    conditional statements permitted" (PUM p162): ``IF ({condition}) {statements}`` on one
+    line; a multi-line ``IF`` / ``ELSE`` / ``ENDIF`` / ``WHILE`` / ``ENDWHILE`` is refused
+    (ERR003). ``CALL`` and the G/M/T/D codes call fixed programs and come back to the next
+    statement (TSRM p416, p425): simulated. ``GOTO``, ``GOSUB`` (labels of a rotary buffer
+    are freed as they run), ``RETURN``, ``READ``, ``STOP``, ``WAIT``, ``BLOCKSTART`` /
+    ``BLOCKSTOP`` in a rotary line are not simulated ``[INF]`` and say so by name.
 
     Raises:
+        ParseError: ERR003, multi-line control flow.
         NotSimulated: ERR003 on the wire, naming the statement.
     """
     stmts = line.flow
     if stmts is None:
         return
     for s in stmts:
-        if isinstance(s, FLOW_TYPES):
+        column = getattr(s, "column", None)
+        if isinstance(s, _MULTI_LINE) or (isinstance(s, fl.If) and not s.inline):
+            raise ParseError(
+                f"{type(s).__name__.upper()}: a rotary buffer takes only the one-line IF "
+                "({condition}) {statements} (PUM p162)",
+                pmac_error="ERR003", column=column, text=line.text,
+            )
+        if isinstance(s, FLOW_TYPES) and not isinstance(s, _ROTARY_FLOW):
             raise NotSimulated(
                 f"{type(s).__name__.upper()} in a rotary buffer is valid Turbo PMAC that "
-                "motionsim does not simulate (control flow runs in fixed PROG buffers)",
-                pmac_error="ERR003", column=getattr(s, "column", None), text=line.text,
+                "motionsim does not simulate (CALL, G/M/T/D codes and the one-line IF are)",
+                pmac_error="ERR003", column=column, text=line.text,
             )
 
 

@@ -27,6 +27,7 @@ from collections import deque
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
+from motionsim.sim.errors import MotionSimError
 from motionsim.sim.pmac.buffers.flow import (
     I_BLOCKSTART,
     I_BLOCKSTOP,
@@ -42,8 +43,10 @@ from motionsim.sim.pmac.buffers.flow import (
     I_WAIT,
     I_WHILE,
     Code,
+    build,
 )
-from motionsim.sim.pmac.buffers.program import ProgramLine
+from motionsim.sim.pmac.buffers.program import ProgramLine, compile_statements
+from motionsim.sim.pmac.language.parser import parse_program_line
 
 if TYPE_CHECKING:
     from motionsim.sim.pmac.buffers.programs import MotionPrograms
@@ -90,20 +93,26 @@ class ProgramRun:
 
     def __init__(
         self, cs: int, number: int, programs: MotionPrograms, emit: Callable[..., Any],
-        vars_: Any = None,
+        vars_: Any = None, code: Code | None = None,
     ) -> None:
         self.cs = cs
         self.number = number
         self._programs = programs
         self._emit = emit
         self.vars = vars_
-        code = programs.code(number)
+        if code is None:  # (given: one rotary line's control flow, number 0)
+            code = programs.code(number)
         assert code is not None
         self._code = code
         self._prog = number  # the program whose code runs (a CALL changes it)
         self._pc = 0
-        self._stack: list[tuple[Code, int, int, tuple[tuple[str, float], ...]]] = []
+        self._stack: list[tuple[Any, ...]] = []
         self._args: tuple[tuple[str, float], ...] = ()
+        #: A G/M/T/D code's arguments that no READ took, as text: they run on return
+        #: (flow_statements.Call), under the calling line's number; None in a CALL / GOSUB.
+        self._unread: tuple[int, tuple[str, ...]] | None = None
+        #: The statements of those arguments, taken before the instruction after the call.
+        self._resume: tuple[int, ProgramLine] | None = None
         self._jumps = 0
         #: Every line of a fixed program is in memory from the start (of this program or one
         #: it CALLs), so planning always "had its chance" at the next line (the deadline
@@ -178,6 +187,10 @@ class ProgramRun:
         if self.halted or self.finished:
             return None
         for _ in range(_GUARD):
+            if self._resume is not None:  # a code's unread arguments, after its return
+                item, self._resume = self._resume, None
+                self.taken_prog = self._prog
+                return item
             instrs = self._code.instrs
             pc = self._pc
             if pc >= len(instrs):
@@ -230,22 +243,47 @@ class ProgramRun:
             self._fail(n, f"{what}: no label N{label}")
         return at
 
-    def _call(self, code: Code, prog: int, at: int, args: tuple[Any, ...], n: int) -> str | None:
+    def _call(self, code: Code, prog: int, at: int, args: tuple[Any, ...], n: int,
+              machine_code: bool = False) -> str | None:
         if len(self._stack) >= MAX_NESTING:
             self._fail(n, f"more than {MAX_NESTING} nested GOSUB/CALL")
             return "error"
         values = tuple((letter, self._value(e)) for letter, e in args)
-        self._stack.append((self._code, self._pc, self._prog, self._args))
+        self._stack.append((self._code, self._pc, self._prog, self._args, self._unread))
         self._code, self._pc, self._prog, self._args = code, at, prog, values
+        texts = tuple(letter + e.text for letter, e in args)
+        self._unread = (n, texts) if machine_code and texts else None
         return None
 
     def _return(self) -> bool:
-        """Back to the caller; False in the main program (its end)."""
+        """Back to the caller; False in the main program (its end). A G/M/T/D code's
+        unread arguments run first (:meth:`_resume_line`)."""
         if not self._stack:
             self._pc = len(self._code.instrs)
             return False
-        self._code, self._pc, self._prog, self._args = self._stack.pop()
+        unread = self._unread
+        self._code, self._pc, self._prog, self._args, self._unread = self._stack.pop()
+        if unread is not None:
+            self._run_unread(*unread)
         return True
+
+    def _run_unread(self, n: int, texts: tuple[str, ...]) -> None:
+        """A code's unread arguments are the rest of its line: they run now, as that line
+        would (``G90 G01 X10``: G01 is a call too, X10 a move)."""
+        text = " ".join(texts)
+        try:
+            line = compile_statements(text, parse_program_line(text))
+        except MotionSimError as e:
+            self._fail(n, f"after the code's return: {text!r}: {e.message}")
+            return
+        if line.flow is None:
+            self._resume = (n, line)
+            return
+        code, problem = build([line])
+        if problem is not None:
+            self._fail(n, f"after the code's return: {text!r}: {problem}")
+            return
+        self._call(code, self._prog, 0, (), n)
 
     def _step(self, ins: list[Any]) -> str | None:
         """Execute one control-flow instruction; a reason to end the pass, or None."""
@@ -265,14 +303,20 @@ class ProgramRun:
             return "error" if at is None else self._call(self._code, self._prog, at, ins[3], n)
         if kind == I_CALL:
             target = self._value(ins[2])
-            prog = int(target)
-            label = int(round((target - prog) * 100_000))
+            letter = ins[4]
+            if letter:
+                prog, label = code_target(letter, target)
+                what = f"{letter}{target:g} (PROG {prog} N{label})"
+            else:
+                prog = int(target)
+                label = int(round((target - prog) * 100_000))
+                what = f"CALL PROG {prog}"
             code = self._programs.code(prog)
             if code is None:
-                self._fail(n, f"CALL: there is no PROG {prog}")
+                self._fail(n, f"{what}: there is no PROG {prog}")
                 return "error"
-            at = self._label(code, label, n, f"CALL PROG {prog}")
-            return "error" if at is None else self._call(code, prog, at, ins[3], n)
+            at = self._label(code, label, n, what)
+            return "error" if at is None else self._call(code, prog, at, ins[3], n, bool(letter))
         if kind == I_RETURN:
             return None if self._return() else "end"
         if kind == I_READ:
@@ -294,13 +338,18 @@ class ProgramRun:
         list: Q(100+N) for letter N (A = 1) and bit N-1 of Q100 (TSRM p466)."""
         bits = 0
         write = self.vars.write
+        taken = 0
         for letter, value in self._args:
             if letter not in letters:
                 break
             k = ord(letter) - ord("A") + 1
             write("Q", 100 + k, value, self.cs)
             bits |= 1 << (k - 1)
+            taken += 1
         write("Q", 100, float(bits), self.cs)
+        if self._unread is not None:  # what a code's READ took does not run on return
+            n, texts = self._unread
+            self._unread = (n, texts[taken:]) if texts[taken:] else None
 
     def line_calculated(self, n: int) -> None:
         self._emit("line_calculated", cs=self.cs, n=n, prog=self._prog)
@@ -309,4 +358,17 @@ class ProgramRun:
         """Program lines stay in memory."""
 
 
-__all__ = ["MAX_NESTING", "N_LINES_MAX", "ProgramRun"]
+#: First PROG of each machine-tool code: G 1000, M 1001, T 1002, D 1003 (TSRM p425).
+_CODE_PROGS = {"G": 1000, "M": 1001, "T": 1002, "D": 1003}
+
+
+def code_target(letter: str, value: float) -> tuple[int, int]:
+    """(PROG, line label) of a G/M/T/D code: ``CALL 10n{0..3}.({data'}*1000)``, n the
+    hundreds digit of the value, ``{data'}`` the rest (TSRM p425: D01 is N1000 of PROG 1003,
+    D12 N12000 of PROG 1003, D115 N15000 of PROG 1013)."""
+    hundreds = int(value // 100)
+    rest = value - 100 * hundreds
+    return _CODE_PROGS[letter] + 10 * hundreds, int(round(rest * 1000))
+
+
+__all__ = ["MAX_NESTING", "N_LINES_MAX", "ProgramRun", "code_target"]

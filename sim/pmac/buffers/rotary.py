@@ -33,8 +33,11 @@ from typing import Any
 
 from motionsim.sim.errors import BufferFull
 from motionsim.sim.events import EventLog
+from motionsim.sim.pmac.buffers.flow import build
 from motionsim.sim.pmac.buffers.line_numbers import LineNumbering
 from motionsim.sim.pmac.buffers.program import ProgramLine, rotary_check
+from motionsim.sim.pmac.buffers.program_run import ProgramRun
+from motionsim.sim.pmac.language.flow_statements import FLOW_TYPES
 
 
 class RotaryBuffer:
@@ -50,9 +53,9 @@ class RotaryBuffer:
             is lost raises the level without a ``breq`` event or interrupt), or None.
     """
 
-    #: The planning interface of a program run (:class:`.programs.ProgramRun`): a rotary
-    #: buffer never interrupts a calculation pass and has no BLOCKSTART.
-    interrupt: str | None = None
+    #: The planning interface of a program run (:class:`.program_run.ProgramRun`): a rotary
+    #: buffer has no BLOCKSTART; it interrupts a calculation pass only inside the control
+    #: flow of one of its lines (``interrupt``, as a program run does).
     in_block = False
 
     __slots__ = (
@@ -73,6 +76,10 @@ class RotaryBuffer:
         "_i16",
         "_i17",
         "_faults",
+        "interrupt",
+        "_programs",
+        "_run",
+        "_given",
     )
 
     def __init__(
@@ -83,8 +90,15 @@ class RotaryBuffer:
         thresholds: Callable[[], tuple[float, float]],
         vars_: Any,
         faults: Any = None,
+        programs: Any = None,
     ) -> None:
         self._faults = faults
+        self.interrupt: str | None = None
+        #: The fixed programs a line may CALL (:class:`.programs.MotionPrograms`), or None.
+        self._programs = programs
+        #: The control flow of the line at the head of ``pending`` being worked through.
+        self._run: ProgramRun | None = None
+        self._given = False  # a part of that line went to planning
         self.cs = cs
         self.size_words = size_words
         self.used_words = 0
@@ -221,12 +235,72 @@ class RotaryBuffer:
         return n
 
     def take(self) -> tuple[int, ProgramLine] | None:
-        """The next line for move planning, or None when planning has caught up."""
-        if not self.pending:
+        """The next line for move planning, or None when planning has caught up.
+
+        A line with control flow (a one-line IF, a CALL, a G/M/T/D code) stays at the head
+        of ``pending`` while its flow is followed (:meth:`_follow`): planning takes its parts
+        and the lines of the programs it calls, each under the rotary line's number, and the
+        next rotary line after it has returned."""
+        while self.pending:
+            n, line = self.pending[0]
+            if line.flow is not None and self._programs is not None and self._jumps(line):
+                got = self._follow(n, line)
+                if got is not None or self.interrupt is not None:
+                    return got
+                continue  # the line's flow is done: it has been taken
+            item = self.pending.popleft()
+            self.calculated.append((item[0], item[1].words))
+            return item
+        return None
+
+    @staticmethod
+    def _jumps(line: ProgramLine) -> bool:
+        return any(isinstance(s, FLOW_TYPES) for s in line.flow or ())
+
+    def _follow(self, n: int, line: ProgramLine) -> tuple[int, ProgramLine] | None:
+        """The next part of line ``n``'s control flow; None when it is done (the line is
+        then taken out of ``pending``) or when the pass must end (``interrupt`` says why:
+        a WAIT or the double jump-back in a called program, or a run-time error)."""
+        run = self._run
+        if run is None:
+            code, _ = build([line])
+            emit = self._emit
+
+            def emit_here(type_: str, **fields: Any) -> None:
+                if fields.get("prog") == 0:  # the rotary line itself (not a called PROG)
+                    fields["n"] = n
+                emit(type_, **fields)
+
+            run = self._run = ProgramRun(self.cs, 0, self._programs, emit_here, self._vars,
+                                         code=code)
+        got = run.take()
+        if got is not None:
+            self._given = True
+            return n, got[1]
+        why = run.interrupt
+        if why in ("suspend", "wait", "error"):
+            if why == "error":
+                self._end_flow()
+            self.interrupt = why
             return None
-        item = self.pending.popleft()
-        self.calculated.append((item[0], item[1].words))
-        return item
+        if why == "stop":
+            self._end_flow()
+            self._emit("program_error", cs=self.cs, prog=0, n=n,
+                       reason="STOP in a program called from a rotary buffer is not simulated")
+            self.interrupt = "error"
+            return None
+        self._end_flow()  # "end": back in the rotary buffer, after this line
+        return None
+
+    def _end_flow(self) -> None:
+        """The head line's flow is done: it leaves ``pending``; a line none of whose parts
+        reached planning (a false one-line IF) is calculated here, with the I16 rule."""
+        self._run = None
+        n, line = self.pending.popleft()
+        self.calculated.append((n, line.words))
+        if not self._given:
+            self.line_calculated(n)
+        self._given = False
 
     def line_calculated(self, n: int | None = None) -> int:
         """Planning has worked through line ``n``: the I16 rule, written here only (seed 000,

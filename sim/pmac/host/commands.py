@@ -395,11 +395,6 @@ def has_program_form(stmt: Any) -> bool:
     return row is not None and _flag(row.program_form, stmt)
 
 
-def runs_online(stmt: Any) -> bool:
-    """Has ``stmt`` an on-line form at all?"""
-    return type(stmt) in BY_KIND
-
-
 def run(call: Call, stmt: Any) -> None:
     """Run ``stmt`` on-line: its row's handler."""
     row = BY_KIND.get(type(stmt))
@@ -410,5 +405,5 @@ def run(call: Call, stmt: Any) -> None:
 
 __all__ = [
     "BY_KIND", "CARD_ID", "CPU", "TABLE", "TYPE", "VERSION", "Call", "Command", "CommandError",
-    "acts_with_plc_open", "has_program_form", "is_report", "run", "runs_online",
+    "acts_with_plc_open", "has_program_form", "is_report", "run",
 ]  # fmt: skip

@@ -27,7 +27,6 @@ _LETTER_COMMANDS: Final[tuple[tuple[str, str], ...]] = (
     (r"LIST\s*(PE|PC)\b", "LIST PE / LIST PC"),
     (r"CLEAR\s*ALL(?!\s*PLCS)", "CLEAR ALL"),
     (r"BLKSTART", "BLKSTART"),
-    (r"[GTD]\s*\d", "G/T/D-code subprogram calls"),
 )
 #: (pattern at the failing column, what to call it): the keyword table's not-simulated
 #: rows and objects (:func:`motionsim.sim.pmac.language.keywords.not_simulated`), then the

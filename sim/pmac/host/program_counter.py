@@ -54,8 +54,9 @@ def report(cmd: ProgramCounter, ctl: PmacController, cs_n: int) -> str:
     if program is None:
         raise Conflict(f"CS {cs_n} points at no program (B{{n}} first)", pmac_error="ERR003")
     n = _executing_line(cs) if cmd.executing else None
-    if n is not None and getattr(cs.current, "prog", None) is not None:
-        program = cs.current.prog  # the executing move's program: a CALLed one inside it
+    cur = cs.current
+    if n is not None and cur is not None and cur.prog is not None:
+        program = cur.prog  # the executing move's program: a CALLed one inside it
     if n is None:
         src = cs.lines()
         where = getattr(src, "where", None)

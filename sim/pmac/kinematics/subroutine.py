@@ -8,7 +8,10 @@ Python call per statement (the expressions are closures already).
 Assignments (P, Q, I, M; indirect targets) act on the card's variables with the CS's Q bank.
 Move, mode and other motion words are ignored in a kinematic buffer ``[INF]`` (the manual's
 kinematic programs hold only arithmetic and control flow, TUM p265).
-It gives up after :data:`MAX_STEPS` statements (a loop that does not end).
+It gives up after :data:`MAX_STEPS` statements (a loop that does not end): the card would
+trip its watchdog; here a run must stay within what one ~4 ms slice of the event loop holds
+(a few thousand Python-level statements), so one host repeating ``&1 PMATCH`` on a looping
+forward program cannot hold the service ``[INF]``.
 """
 
 from __future__ import annotations
@@ -29,8 +32,9 @@ from motionsim.sim.pmac.buffers.flow import (
 )
 from motionsim.sim.pmac.buffers.program import OP_ASSIGN
 
-#: Statements one run may execute before it is abandoned as a runaway loop ``[INF]``.
-MAX_STEPS: Final = 100_000
+#: Statements (each line's assignments, and each IF / WHILE / jump) one run may execute before
+#: it is abandoned as a runaway loop ``[INF]``: what a 4 ms slice of the event loop holds.
+MAX_STEPS: Final = 5_000
 
 #: A Q-variable n written is recorded as ``Q_TAG + n`` (a P-variable as n).
 Q_TAG: Final = 10_000
@@ -106,6 +110,9 @@ class Subroutine:
         """
         written: set[int] = set()
         if self.steps is not None:
+            if len(self.steps) > MAX_STEPS:
+                raise KinematicFailure(f"{len(self.steps)} statements: more than the "
+                                       f"{MAX_STEPS} one run may execute")
             for step in self.steps:
                 step(vars_, cs, written)
             return written
@@ -113,10 +120,10 @@ class Subroutine:
         pc, end, count = 0, len(prog), 0
         stack: list[int] = []
         while pc < end:
-            count += 1
-            if count > MAX_STEPS:
-                raise KinematicFailure(f"no end after {MAX_STEPS} instructions (a loop?)")
             kind, a, b = prog[pc]
+            count += max(1, len(a)) if kind == I_LINE else 1
+            if count > MAX_STEPS:
+                raise KinematicFailure(f"no end after {MAX_STEPS} statements (a loop?)")
             if kind == I_LINE:
                 for step in a:
                     step(vars_, cs, written)

@@ -18,6 +18,14 @@ The manual's rules modelled here:
 * functions ``SIN COS TAN ASIN ACOS ATAN ATAN2 LN EXP SQRT ABS INT`` (``INT`` toward -inf);
   angles in degrees when I15 = 0 (default), radians when I15 = 1; ``ATAN2(y)`` takes its cosine
   argument from Q0 of the coordinate system ``[INF]``.
+
+Bounds of this model (the card evaluates on a fixed-size stack; the manual gives no figure, so
+the figures are ours ``[INF]``): an expression nests at most :data:`MAX_NESTING` levels of
+parentheses, function calls, variable indexes and unary minus signs (level ``MAX_NESTING + 1``
+is ERR003 naming the limit), so that neither the parser nor a compiled line recurses deeper
+than Python's stack allows whatever the entry (terminal, Ethernet, PLC, motion program,
+kinematics). A long run of operators of one level (``P1+P2+...``) is not nesting: it compiles
+to one loop (:func:`chain`) whose length only the line and program size limits bound.
 """
 
 from __future__ import annotations
@@ -28,6 +36,13 @@ from dataclasses import dataclass, field
 from typing import Any
 
 Fn = Callable[[Any, int], float]
+
+#: The deepest nesting of ``( )``, ``FUNC( )``, ``P( )`` indexes and unary ``-`` one expression
+#: may have ``[INF]``; one more level is ERR003 (:mod:`motionsim.sim.pmac.language.parser`).
+MAX_NESTING = 32
+#: Runs of this many operands or fewer compile to nested closures (the fast path of streamed
+#: lines); longer runs compile to one loop so evaluation depth does not grow with length.
+_NESTED_CHAIN = 8
 
 #: Division by zero saturates here (TSRM p487).
 SATURATION = float(2**47)
@@ -161,6 +176,28 @@ class Expr:
         return self.const if self.const is not None else self.fn(vars_, cs)
 
 
+def too_deep(text: str) -> int | None:
+    """The 1-based column of the first ``(`` that opens level ``MAX_NESTING + 1`` in ``text``
+    (quoted ``"..."`` text and ``;`` comments skipped), or None: the bound checked on a whole
+    line before any recursive parse of it (a PLC condition's sub-conditions)."""
+    depth = 0
+    quoted = False
+    for i, ch in enumerate(text):
+        if ch == '"':
+            quoted = not quoted
+        elif quoted:
+            continue
+        elif ch == ";":
+            return None
+        elif ch == "(":
+            depth += 1
+            if depth > MAX_NESTING:
+                return i + 1
+        elif ch == ")":
+            depth -= 1
+    return None
+
+
 def constant(value: float, text: str | None = None) -> Expr:
     """An expression that is just a number."""
     v = float(value)
@@ -175,6 +212,43 @@ def binary(op: str, left: Expr, right: Expr) -> Expr:
         return constant(f(left.const, right.const), text)
     lf, rf = left.fn, right.fn
     return Expr(text, lambda v, c: f(lf(v, c), rf(v, c)))
+
+
+def chain(first: Expr, rest: list[tuple[str, Expr]]) -> Expr:
+    """``first op1 e1 op2 e2 ...`` of one priority level, left to right.
+
+    Equal to folding :func:`binary` over the run (the same text, the same constant folding of
+    a constant prefix, the same order of evaluation), but a long run is one closure looping
+    over its operands, so neither building its text nor evaluating it grows Python's stack or
+    costs quadratic time."""
+    if len(rest) < _NESTED_CHAIN:
+        left = first
+        for op, right in rest:
+            left = binary(op, left, right)
+        return left
+    k = 0
+    left = first
+    while k < len(rest) and left.const is not None and rest[k][1].const is not None:
+        op, right = rest[k]
+        left = constant(BINARY[op](left.const, right.const), "")
+        k += 1
+    parts = [first.text]
+    for op, right in rest:
+        parts.append(op)
+        parts.append(right.text)
+    text = "".join(parts)
+    if k == len(rest):
+        return constant(left.const, text)  # type: ignore[arg-type]
+    head = left
+    steps = [(BINARY[op], right.fn) for op, right in rest[k:]]
+
+    def run(v: Any, c: int) -> float:
+        acc = head.fn(v, c)
+        for f, rf in steps:
+            acc = f(acc, rf(v, c))
+        return acc
+
+    return Expr(text, run)
 
 
 def negate(inner: Expr) -> Expr:
@@ -219,14 +293,17 @@ __all__ = [
     "FUNCTIONS",
     "HIGH",
     "LOW",
+    "MAX_NESTING",
     "SATURATION",
     "Expr",
     "binary",
+    "chain",
     "constant",
     "function",
     "negate",
     "paren",
     "pmac_div",
     "pmac_mod",
+    "too_deep",
     "variable",
 ]

@@ -98,11 +98,20 @@ class Gosub:
 @dataclass(frozen=True, slots=True)
 class Call:
     """``CALL{prog}[.{label}][{letter}{data}...]``: jump to PROG ``prog`` (label = fraction x
-    100,000; ``CALL35.1`` is N10000 of PROG 35) with return (TSRM p416)."""
+    100,000; ``CALL35.1`` is N10000 of PROG 35) with return (TSRM p416).
+
+    ``code`` ``"G"`` / ``"M"`` / ``"T"`` / ``"D"``: a machine-tool code, ``target`` its
+    value: ``G{data}`` is ``CALL 10n0.({data'}*1000)``, n the hundreds digit of the value and
+    ``{data'}`` the rest (``G01`` is N1000 of PROG 1000, ``G115`` N15000 of PROG 1010); M-,
+    T-, D-codes the same into PROG 10n1, 10n2, 10n3 (TSRM p425 D{data}; TUM p328-330). The
+    letters after the code are its arguments (``READ``); those the subroutine does not read
+    run when it returns (``G01 X10 Y20``: LINEAR, then the move; TUM p330 "N01000 LINEAR
+    RETURN") ``[INF]`` for the unread ones."""
 
     target: Expr
     args: tuple[tuple[str, Expr], ...]
     column: int
+    code: str = ""
 
 
 @dataclass(frozen=True, slots=True)

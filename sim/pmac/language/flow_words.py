@@ -18,6 +18,8 @@ Token = tuple[str, str, int, int]
 _CONDITIONS: dict[str, Any] = {}
 _CACHE_SIZE = 4096
 
+#: What makes ``{letter}{data}`` an assignment or a definition rather than an argument.
+_ASSIGNING = frozenset(["=", "==", "&=", "|=", "^=", "->"])
 #: Argument letters of GOSUB / CALL / READ (TSRM p466): any letter but N and O (labels).
 _ARG_LETTERS = frozenset("ABCDEFGHIJKLMPQRSTUVWXYZ")
 
@@ -116,11 +118,17 @@ def _args(p: Any) -> tuple[tuple[str, Any], ...]:
         tok = p.peek()
         if tok is None or tok[0] != "word" or tok[1] not in _ARG_LETTERS:
             return tuple(out)
+        start = p.i
         p.i += 1
         if not p.has_value():
-            p.i -= 1
+            p.i = start
             return tuple(out)
-        out.append((tok[1], p.value()))
+        value = p.value()
+        after = p.peek()
+        if after is not None and after[0] == "op" and after[1] in _ASSIGNING:
+            p.i = start  # ``M1=1`` after the call is an assignment, not an argument
+            return tuple(out)
+        out.append((tok[1], value))
 
 
 def goto(p: Any, tok: Token) -> fl.Goto:
@@ -138,6 +146,11 @@ def call(p: Any, tok: Token) -> fl.Call:
     if target.const is not None and not 1 <= int(target.const) <= 32767:
         raise p.error("CALL: PROG number must be 1..32767", num)
     return fl.Call(target, _args(p), tok[2] + 1)
+
+
+def code_call(p: Any, tok: Token, value: Any) -> fl.Call:
+    """A G-, M-, T- or D-code (its value already read by the parser) and its arguments."""
+    return fl.Call(value, _args(p), tok[2] + 1, tok[1])
 
 
 def return_(p: Any, tok: Token) -> fl.Return:
@@ -180,6 +193,6 @@ def block_stop(p: Any, tok: Token) -> fl.BlockStop:
 
 
 __all__ = [
-    "block_start", "block_stop", "call", "cond_line", "else_", "endif", "endwhile", "gosub",
-    "goto", "if_", "read", "return_", "stop", "wait", "while_",
+    "block_start", "block_stop", "call", "code_call", "cond_line", "else_", "endif", "endwhile",
+    "gosub", "goto", "if_", "read", "return_", "stop", "wait", "while_",
 ]  # fmt: skip

@@ -28,7 +28,7 @@ from typing import Any
 
 from motionsim.sim.errors import ParseError
 from motionsim.sim.pmac.card import card_commands, macro_station, memory_commands, mvar_defs
-from motionsim.sim.pmac.language import axis_definitions, keywords, ranges
+from motionsim.sim.pmac.language import axis_definitions, flow_words, keywords, ranges
 from motionsim.sim.pmac.language import expressions as ex
 from motionsim.sim.pmac.language import motor_statements as motor_st
 from motionsim.sim.pmac.language import plc_statements as plc_st
@@ -61,10 +61,11 @@ _PC_PE = re.compile(r"([CE])(?![A-Za-z0-9(])", re.IGNORECASE)
 _CLEAR_ALL_PLCS = re.compile(r"\s*ALL\s*PLCS(?![A-Za-z])", re.IGNORECASE)
 _CLEAR_ALL = re.compile(r"\s*ALL(?![A-Za-z])", re.IGNORECASE)
 _VARS = frozenset("IPQM")
-#: ``G{n}``, ``T{n}``, ``D{n}`` in a motion program: calls of PROG 1000, 1002, 1003 (PUM
-#: p165, spec §12.1), not simulated.
+#: ``G{n}``, ``T{n}``, ``D{n}`` (and ``M{n}`` not followed by ``=`` / ``->`` / ``..``) in a
+#: buffer: calls of PROG 10n0, 10n2, 10n3, 10n1 (TSRM p425; TUM p328; flow_statements.Call).
 _CODE_CALLS = frozenset("GTD")
 _ASSIGN_OPS = frozenset(["=", "==", "&=", "|=", "^="])
+_NOT_M_CODE = _ASSIGN_OPS | {"->", ".."}
 
 _ERR = "ERR003"
 
@@ -103,9 +104,15 @@ def _number(tok: str) -> float:
 class _Parser:
     def __init__(self, text: str, open_: bool) -> None:
         self.text = text
+        deep = ex.too_deep(text)  # before tokenising a line that can only be refused
+        if deep is not None:
+            raise ParseError(f"expression nested deeper than {ex.MAX_NESTING} levels (the "
+                             "limit)", column=deep, text=text, pmac_error=_ERR)
         self.toks = tokenize(text)
         self.i = 0
         self.open = open_
+        #: Nesting level of the expression being parsed (``ex.MAX_NESTING`` at most).
+        self.depth = 0
         #: A SPLINE1 / SPLINE2 word came earlier on this line (no PVT-style velocities).
         self.spline_line = False
         #: The keyword row whose builder runs now (its ``objects`` for ``OPEN`` / ``LIST``...).
@@ -173,24 +180,36 @@ class _Parser:
     # -- expressions ----------------------------------------------------------------------
 
     def expression(self) -> ex.Expr:
-        left = self.term()
+        first = self.term()
+        rest: list[tuple[str, ex.Expr]] = []
         while self.at("op") and self.peek()[1] in ex.LOW:  # type: ignore[index]
             op = self.take()[1]
-            left = ex.binary(op, left, self.term())
-        return left
+            rest.append((op, self.term()))
+        return ex.chain(first, rest) if rest else first
 
     def term(self) -> ex.Expr:
-        left = self.unary()
+        first = self.unary()
+        rest: list[tuple[str, ex.Expr]] = []
         while self.at("op") and self.peek()[1] in ex.HIGH:  # type: ignore[index]
             op = self.take()[1]
-            left = ex.binary(op, left, self.unary())
-        return left
+            rest.append((op, self.unary()))
+        return ex.chain(first, rest) if rest else first
+
+    def nest(self, tok: Token | None) -> None:
+        """One more level of nesting (``(``, a unary ``-``); ERR003 past ``MAX_NESTING``."""
+        self.depth += 1
+        if self.depth > ex.MAX_NESTING:
+            raise self.error(
+                f"expression nested deeper than {ex.MAX_NESTING} levels (the limit)", tok)
 
     def unary(self) -> ex.Expr:
         tok = self.peek()
         if tok is not None and tok[0] == "op" and tok[1] == "-":
             self.i += 1
-            return ex.negate(self.unary())
+            self.nest(tok)
+            inner = self.unary()
+            self.depth -= 1
+            return ex.negate(inner)
         if tok is not None and tok[0] == "op" and tok[1] == "+":
             raise self.error("unary plus is not allowed", tok)
         return self.primary()
@@ -216,9 +235,11 @@ class _Parser:
         raise self.error("expected a value", tok)
 
     def parenthesised(self) -> ex.Expr:
+        self.nest(self.peek())
         self.expect_op("(")
         inner = self.expression()
         self.expect_op(")")
+        self.depth -= 1
         return ex.paren(inner)
 
     def index(self) -> ex.Expr:
@@ -239,7 +260,10 @@ class _Parser:
         tok = self.peek()
         if tok is not None and tok[0] == "op" and tok[1] == "-":
             self.i += 1
-            return ex.negate(self.value())
+            self.nest(tok)
+            inner = self.value()
+            self.depth -= 1
+            return ex.negate(inner)
         if tok is not None and tok[0] == "num":
             self.i += 1
             return ex.constant(_number(tok[1]), tok[1])
@@ -490,6 +514,8 @@ class _Parser:
             return motor_st.Kill()
         if word == "O" and has_value and not self.open:
             return motor_st.OpenLoop(self.value_const(tok))
+        if word == "M" and self.open and self._m_code():
+            return self.code_call(tok)
         if word in _VARS and has_value and not (word == "I" and self.open and self._i_vector()):
             return self.variable_statement(word)
         if not has_value:
@@ -526,9 +552,24 @@ class _Parser:
             return st.Modal("F", self.value())
         if word in ("N", "O"):
             return st.Label(word, self.integer())
-        if word in _CODE_CALLS and self.open:
-            raise self.not_simulated(f"{word}-code subprogram call", tok)
+        if word in _CODE_CALLS:  # a program statement: ERR005 with no buffer open
+            return self.code_call(tok)
         raise self.error(f"unrecognised command {word!r}", tok)
+
+    def _m_code(self) -> bool:
+        """Is ``M`` here an M-code (``M03``), not an M-variable (``M1=``, ``M1->``)?"""
+        num, after = self.peek(), self.peek(1)
+        if num is None or num[0] != "num":
+            return False
+        return after is None or not (after[0] == "op" and after[1] in _NOT_M_CODE)
+
+    def code_call(self, tok: Token) -> Any:
+        """``G{data}`` / ``M{data}`` / ``T{data}`` / ``D{data}`` and the letters after it (its
+        arguments): a subroutine call (:class:`~.flow_statements.Call` with ``code``)."""
+        value = self.value()
+        if value.const is not None and not 0 <= value.const < 1000:
+            raise self.error(f"{tok[1]}-code 0..999.999", tok)
+        return flow_words.code_call(self, tok, value)
 
     def online_letter(self, word: str) -> Any:
         """On-line commands whose word the tokenizer splits into letters: ``PC`` / ``PE``

@@ -39,6 +39,7 @@ from motionsim.sim.pmac.language import flow_statements as fl
 from motionsim.sim.pmac.language import plc_statements as plc_st
 from motionsim.sim.pmac.language import statements as st
 from motionsim.sim.pmac.language.axis_definitions import AxisDefinition
+from motionsim.sim.pmac.language.expressions import MAX_NESTING, too_deep
 from motionsim.sim.pmac.language.motor_statements import HomeList
 from motionsim.sim.pmac.language.parser import parse_line
 from motionsim.sim.pmac.language.ranges import RangeAssign
@@ -73,6 +74,10 @@ def parse_plc_line(text: str) -> list[tuple[Any, int]]:
     Raises:
         ParseError: column, ERR003 (ERR007 for an ``OPEN``).
     """
+    deep = too_deep(text)  # conditions parse recursively: bound the nesting first
+    if deep is not None:
+        raise _error(f"expression nested deeper than {MAX_NESTING} levels (the limit)", deep,
+                     text)
     out: list[tuple[Any, int]] = []
     for stmt, start, _ in parse_line(text, open_=True, until_close=True):
         col = start + 1

@@ -43,7 +43,6 @@ Modelled (TUM p339-341, p250; PUM p213; spec §9.1-9.3):
 
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING
 
 from motionsim.sim.pmac.card.variables import ixx
@@ -53,8 +52,8 @@ from motionsim.sim.pmac.lookahead.states import ABORTED, RUNNING, STOPPED
 from motionsim.sim.pmac.lookahead.sync_queue import segment_start
 from motionsim.sim.pmac.modes import BLENDS, DELAY, DWELL, LINEAR, PROFILES, SPLINE, Move
 from motionsim.sim.pmac.modes.pset import PsetMove
-from motionsim.sim.pmac.tasks.scheduler import first_rti_after, wake_at
-from motionsim.sim.simpy_adapter import cancel
+from motionsim.sim.pmac.tasks.scheduler import first_rti_after, servo_at_or_after, wake_at
+from motionsim.sim.simpy_adapter import cancel, supersede
 
 if TYPE_CHECKING:
     from motionsim.sim.simpy_adapter import Callback
@@ -62,8 +61,6 @@ if TYPE_CHECKING:
 #: Move kinds cut into Isx13 segments in segmentation mode (LINEAR and CIRCLE, DELAY as a
 #: zero-distance LINEAR move ``[INF]``; TSRM p177).
 _SEGMENTED = frozenset({LINEAR, DELAY})
-
-_ceil = math.ceil
 
 
 class Execution(CoordState):
@@ -145,14 +142,7 @@ class Execution(CoordState):
         if planned and not self.single_step:
             nxt = planned[0]
             if BLENDS[m.kind][nxt.kind]:
-                # = self._blend_into(m, nxt), written out (the per-line path)
-                lim = 2 * (m.tm - m.ta_in / 2)
-                ta_n = nxt.ta if nxt.ta <= lim else max(0.0, lim)
-                nxt.ta_in = ta_n
-                th = _ceil((m.b_end - ta_n / 2) / p - 1e-6) * p
-                pend = self._pending
-                cancel(pend)  # (= self._after(th, self._start_next))
-                self._pending = wake_at(env, th if th > t else t, self._start_next, pend)
+                self._blend_into(m, nxt)
                 return
         if prof.decide_at_end:  # the next move is needed only at this one's end (PVT)
             self._after(self.sched.servo_at_or_after(m.b_end - m.ta / 2), self._decide)
@@ -211,18 +201,24 @@ class Execution(CoordState):
         deceleration point) -- more than the servo cycle its hand-off is rounded to: a
         longer one (its move calculated late) is shortened to the time left to ``m``'s
         programmed end, so the blend starts now ``[INF]``."""
-        lim = min(2 * (m.tm - m.ta_in / 2), 2 * (m.b_end - self._env._now + self._period))
+        now, p = self._env._now, self._period
+        lim = 2 * (m.tm - m.ta_in / 2)
+        late = 2 * (m.b_end - now + p)
+        if late < lim:
+            lim = late
         ta_n = nxt.ta if nxt.ta <= lim else max(0.0, lim)
         nxt.ta_in = ta_n
-        self._after(self.sched.servo_at_or_after(m.b_end - ta_n / 2), self._start_next)
+        # = self._after(self.sched.servo_at_or_after(...), self._start_next) without the two
+        # calls: this is once per streamed line
+        th = servo_at_or_after(m.b_end - ta_n / 2, p)
+        pend = self._pending
+        self._pending = supersede(self._env, th if th > now else now, self._start_next, pend)
 
     def _after(self, t: float, fn: Callback) -> None:
         """Call ``fn(event)`` at ``t`` (now if that is past), superseding (cancelling) the
         pending execution wake-up."""
-        pend = self._pending
-        cancel(pend)
         now = self._env._now
-        self._pending = wake_at(self._env, t if t > now else now, fn, pend)
+        self._pending = supersede(self._env, t if t > now else now, fn, self._pending)
 
     def _cancel(self) -> None:
         """Cancel the pending execution wake-up, if it has not happened yet."""

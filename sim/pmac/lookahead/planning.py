@@ -199,7 +199,10 @@ class Planning(CoordState):
                         self._pvt_t, self._pvt_to_s, self._scale,
                     )  # fmt: skip
                     self.calc_pos = move.end
-                    self._append(move)
+                    if self.sync_pending:
+                        self._append(move)  # with the writes calculated before it
+                    else:
+                        planned.append(move)
                     if run is not None:
                         move.prog = run.taken_prog
                 elif simple is not None and fast == _FAST_LINEAR and self._ver == vars_.version:
@@ -213,7 +216,10 @@ class Planning(CoordState):
                         end[axis] = value
                     move = Move(n, LINEAR, self._tm_s, self._ta_s, start, end, None)
                     self.calc_pos = end
-                    self._append(move)
+                    if self.sync_pending:
+                        self._append(move)  # with the writes calculated before it
+                    else:
+                        planned.append(move)
                     if run is not None:
                         move.prog = run.taken_prog
                 else:

@@ -17,16 +17,20 @@ along an arc the chord is used ``[INF]``.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import TYPE_CHECKING
 
 from motionsim.sim.pmac.buffers import motion
 from motionsim.sim.pmac.card.variables import ixx
 from motionsim.sim.pmac.modes import accel_limit
 from motionsim.sim.pmac.modes.move import LINEAR, Move, PlanContext, Profile
 
+if TYPE_CHECKING:
+    from motionsim.sim.pmac.language.expressions import Expr
+
 
 def plan(
-    ctx: PlanContext, n: int, start: dict[str, float], end: dict[str, float], vectors: tuple,
-    w: Mapping[str, float] | None = None,
+    ctx: PlanContext, n: int, start: dict[str, float], end: dict[str, float],
+    vectors: tuple[tuple[str, Expr], ...], w: Mapping[str, float] | None = None,
 ) -> Move:
     """The LINEAR / CIRCLE move of line ``n`` from ``start`` to ``end`` (``vectors``: the
     circle's I, J, K / R words; ``w``: the previous calculated LINEAR move's axis velocities

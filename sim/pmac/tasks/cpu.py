@@ -210,7 +210,7 @@ class Processor:
 
     def _cancel(self) -> None:
         cancel(getattr(self, "_wake", None))
-        self._wake = None
+        self._wake: Wake | None = None
 
     def _wanted(self) -> bool:
         plcs = self.ctl.plcs

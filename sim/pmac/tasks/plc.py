@@ -267,6 +267,8 @@ class PlcTable:
         self._edit: tuple[Port, int, _Builder, list[str]] | None = None
         self._rr = 0  # background round robin: the last PLC scanned
         self._cmd_port = Port("plc-cmd")
+        #: ``(compiled, n)`` of the PLC being scanned: its own DISABLE keeps what it issued.
+        self._scanning: tuple[bool, int] | None = None
 
     # -- entry ----------------------------------------------------------------------------
 
@@ -425,6 +427,8 @@ class PlcTable:
                 changed = True
                 self.ctl.log.emit("plc", plc=n, state="enabled" if enable else "disabled",
                                   **extra)
+            if not enable and (compiled, n) != self._scanning:
+                self.ctl.commands.end((compiled, n))  # its queued CMD work ends too
         if changed:
             self.ctl.background.poke()
 
@@ -472,8 +476,10 @@ class PlcTable:
     def scan(self, plc: Plc) -> int:
         """Run one scan of ``plc`` now; returns the number of statements executed."""
         prog = plc.program
-        if prog is None:
+        source = (self.compiled[plc.n] is plc, plc.n)
+        if prog is None or self.ctl.commands.halted(source):  # waiting for command-queue room
             return 0
+        self._scanning = source
         ops = prog.ops
         vars_ = self.ctl.vars
         pc = plc.pc
@@ -524,8 +530,9 @@ class PlcTable:
         plc.scans += 1
         plc.last_scan_t = self.ctl.env.now
         plc.last_statements = count
-        for text, cs, motor in cmds:
-            self.ctl.submit_program_command(text, cs, motor)
+        self._scanning = None
+        if cmds:
+            self.ctl.issue_program_commands(source, cmds)
         return count
 
     def _send(self, plc: Plc, text: str, port: str) -> None:

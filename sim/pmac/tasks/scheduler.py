@@ -26,9 +26,16 @@ import simpy
 from motionsim.sim.simpy_adapter import Wake, wake_at
 from motionsim.sim.timing import EPS_CYCLES, ServoClock
 
-__all__ = ["Scheduler", "Wake", "first_rti_after", "wake_at"]
+__all__ = ["Scheduler", "Wake", "first_rti_after", "servo_at_or_after", "wake_at"]
 
 _floor = math.floor
+_ceil = math.ceil
+
+
+def servo_at_or_after(t: float, period_s: float) -> float:
+    """``t`` rounded up to a servo cycle (:meth:`ServoClock.at_or_after`, one call): the one
+    home of the rounding :meth:`Scheduler.servo_at_or_after` and a blend's hand-off use."""
+    return _ceil(t / period_s - EPS_CYCLES) * period_s
 
 
 def first_rti_after(t: float, period_s: float, rti_cycles: int) -> float:
@@ -76,6 +83,5 @@ class Scheduler:
 
     def servo_at_or_after(self, t: float) -> float:
         """``t`` rounded up to a servo cycle."""
-        clock = self.clock
-        return clock.t(clock.at_or_after(t))
+        return servo_at_or_after(t, self.clock.period_s)
 

@@ -10,8 +10,10 @@ from motionsim.api.trio_modbus.protocol import (
     NEED_DATA,
     ModbusCodec,
     ProtocolError,
+    ReadBits,
     ReadRegisters,
     Rejected,
+    WriteCoils,
     to_register,
 )
 from motionsim.api.trio_modbus.server import serve_modbus
@@ -54,7 +56,13 @@ def mb(tid: int, pdu: bytes, unit: int = 1) -> bytes:
 @pytest.mark.parametrize(
     ("pdu", "exception"),
     [
-        (b"\x01\x00\x00\x00\x08", 1),          # read coils: not served
+        (b"\x04\x00\x00\x00\x08", 1),          # read input registers: not in Trio's table
+        (b"\x01\x00\xf8\x00\x09", 2),          # coils 248..256: beyond channel 255
+        (b"\x02\x00\x00\x00\x00", 3),          # zero inputs
+        (b"\x05\x00\x03\xff\x00", 2),          # coil 3: channels 0..7 are inputs (M216-523)
+        (b"\x05\x00\x09\x12\x34", 3),          # coil value neither FF00 nor 0000
+        (b"\x0f\x00\x08\x00\x09\x01\xff", 3),  # 9 coils need 2 bytes, not 1
+        (b"\x0f\x00\xfe\x00\x03\x01\x07", 2),  # coils 254..256
         (b"\x03\x03\xff\x00\x02", 2),          # VR(1023), VR(1024): beyond the map
         (b"\x03\x00\x00\x00\x00", 3),          # zero registers
         (b"\x10\x00\x00\x00\x02\x02\x00\x01", 3),  # byte count does not match
@@ -84,3 +92,52 @@ def test_frames_split_anywhere_and_broken_header_closes() -> None:
 def test_vr_values_become_int16_registers() -> None:
     assert [to_register(v) for v in (2.9, -2.9, 40000, -40000, float("nan"))] == [
         2, -2, 32767, -32768, 0]
+
+
+def test_coil_and_input_requests_decode_and_answer_packed_lsb_first() -> None:
+    """Modbus application protocol framing of FC 1 / 2 / 5 / 15 (bits LSB first, FC 5 echoed,
+    FC 15 answers start and quantity); Trio maps them to its I/O (M216-522/523)."""
+    codec = ModbusCodec()
+    codec.receive_data(mb(1, b"\x01\x00\x08\x00\x0a") + mb(2, b"\x05\x00\x09\xff\x00")
+                       + mb(3, b"\x0f\x00\x10\x00\x0a\x02\x0d\x02"))
+    read, one, many = codec.next_request(), codec.next_request(), codec.next_request()
+    assert read == ReadBits(1, 1, 1, 8, 10)
+    assert one == WriteCoils(2, 1, 5, 9, (1,))
+    assert many == WriteCoils(3, 1, 15, 16, (1, 0, 1, 1, 0, 0, 0, 0, 0, 1))
+    assert codec.bits_reply(read, [1, 0, 0, 0, 0, 0, 0, 1, 1, 0]) == mb(1, b"\x01\x02\x81\x01")
+    assert codec.coils_reply(one) == mb(2, b"\x05\x00\x09\xff\x00")
+    assert codec.coils_reply(many) == mb(3, b"\x0f\x00\x10\x00\x0a")
+
+
+def test_pymodbus_reads_inputs_and_outputs_and_switches_outputs() -> None:
+    """Trio "MODBUS TCP/IP": 1 and 2 read the Trio I/O, 5 writes a Trio output (15 the same
+    for a block, [INF]); a coil write is an OP(n, ON/OFF) at the current instant and logs an
+    ``output`` event."""
+    from pymodbus.client import AsyncModbusTcpClient
+
+    async def scenario(handle, port):
+        ctl = handle.controller
+        ctl.set_variable("IN(2)", 1.0)
+        ctl.set_variable("IN(5)", 1.0)
+        ctl.io.invert(5, True)  # INVERT_IN(5, ON): the program reads input 5 as OFF
+        ctl.io.invert(6, True)  # ... and input 6 as ON
+        ctl.set_variable("OP(9)", 1.0)
+        client = AsyncModbusTcpClient("127.0.0.1", port=port)
+        await client.connect()
+        inputs = await client.read_discrete_inputs(0, count=8)
+        coils = await client.read_coils(8, count=4)
+        await client.write_coil(12, True)
+        await client.write_coils(16, [True, False, True])
+        await client.write_coil(9, False)
+        low = await client.write_coil(3, True)
+        client.close()
+        ops = {n: ctl.get_variable(f"OP({n})") for n in (9, 12, 16, 17, 18)}
+        events = [(e.t, e["output"], e["value"]) for e in ctl.log.events("output")]
+        return inputs.bits[:8], coils.bits[:4], ops, low.isError(), events
+
+    inputs, coils, ops, low_is_error, events = run_served(serve_modbus, "trio", "trio", scenario)
+    assert inputs == [False, False, True, False, False, False, True, False]
+    assert coils == [False, True, False, False]
+    assert ops == {9: 0.0, 12: 1.0, 16: 1.0, 17: 0.0, 18: 1.0}
+    assert low_is_error  # FC 5 starting address range 8..NIO-1 (M216-523)
+    assert events == [(0, 9, 1), (0, 12, 1), (0, 16, 1), (0, 18, 1), (0, 9, 0)]

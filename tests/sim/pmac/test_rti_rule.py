@@ -11,7 +11,7 @@ import math
 import simpy
 from hypothesis import given
 from hypothesis import strategies as st
-from motionsim.sim.pmac.tasks.scheduler import Scheduler, first_rti_after
+from motionsim.sim.pmac.tasks.scheduler import Scheduler, first_rti_after, servo_at_or_after
 from motionsim.sim.timing import ServoClock, pmac_servo_period_s
 
 PERIODS = [pmac_servo_period_s(i10) for i10 in (3_713_707, 1_856_853, 7_427_414, 838_860)]
@@ -47,3 +47,18 @@ def test_an_instant_on_an_rti_gives_the_next_one():
     period = PERIODS[0]
     t = 6 * period  # an RTI with I8 = 2
     assert first_rti_after(t, period, 3) == 9 * period
+
+
+@given(
+    period=st.sampled_from(PERIODS),
+    k=st.integers(0, 10**7),
+    offset=st.sampled_from([0.0, 1e-12, -1e-12, 0.3, 0.999, 0.5]),
+)
+def test_servo_rounding_is_the_clock_rule(period, k, offset):
+    """A blend's hand-off is rounded up to a servo cycle by ``servo_at_or_after``, the
+    scheduler's rounding, which is the clock's."""
+    clock = ServoClock(period)
+    t = (k + offset) * period
+    assert servo_at_or_after(t, period) == clock.t(clock.at_or_after(t))
+    sched = Scheduler(simpy.Environment(), period, lambda: 3)
+    assert sched.servo_at_or_after(t) == servo_at_or_after(t, period)

@@ -1,6 +1,7 @@
 """AXISSTATUS: the bits the simulation knows (spec trio.md §1.6: bit 9 FS limit, 10 RS
-limit, 11 move cancelling; bit 6 datuming ``[BK]``; sim/trio/axis_status.py). Limits are stored,
-not enforced: the move goes on past FS_LIMIT and the bit reports it."""
+limit, 11 move cancelling; bit 6 datuming ``[BK]``; sim/trio/card/axis_status.py). A move that
+reaches a limit ramps down beyond it and is cancelled (tests/sim/trio/test_soft_limits.py); the
+bit stays set while the axis is in the limit."""
 
 from __future__ import annotations
 
@@ -18,11 +19,11 @@ def test_forward_software_limit_bit_set_at_and_beyond_fs_limit():
     run_to(c, 0.03)
     assert c.axis(0)["dpos"] < 50 and status(c) & 512 == 0
     run_to(c, 0.5)
-    assert c.axis(0)["dpos"] == 100.0  # not enforced: the move ran to its end
+    assert c.axis(0)["dpos"] == 55.0  # stopped: ramped down past the limit (M216-367)
     assert status(c) == 512
-    c.terminal("FS_LIMIT=100")
+    c.terminal("FS_LIMIT=55")
     assert status(c) == 512  # DPOS = FS_LIMIT counts as in the limit [INF]
-    c.terminal("FS_LIMIT=100.5")
+    c.terminal("FS_LIMIT=55.5")
     assert status(c) == 0
 
 
@@ -31,11 +32,11 @@ def test_reverse_software_limit_bit_set_below_rs_limit():
     c.terminal("RS_LIMIT AXIS(1)=-20")
     c.terminal("MOVE(-30) AXIS(1)")
     run_to(c, 0.5)
-    assert status(c, 1) == 1024
+    assert c.axis(1)["dpos"] == -25.0 and status(c, 1) == 1024
     assert status(c, 0) == 0  # the limit is axis 1's
-    c.terminal("RS_LIMIT AXIS(1)=-30")
+    c.terminal("RS_LIMIT AXIS(1)=-25")
     assert status(c, 1) == 1024  # DPOS = RS_LIMIT counts as in the limit [INF]
-    c.terminal("RS_LIMIT AXIS(1)=-30.5")
+    c.terminal("RS_LIMIT AXIS(1)=-25.5")
     assert status(c, 1) == 0
 
 

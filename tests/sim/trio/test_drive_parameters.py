@@ -161,8 +161,8 @@ def test_docs_trio_md_lists_every_stored_parameter_and_set_up_command():
     """docs/trio.md says for each parameter and set-up command what the simulator does."""
     from pathlib import Path
 
-    from motionsim.sim.trio.parameters import STORED
-    from motionsim.sim.trio.setup_commands import COMMANDS
+    from motionsim.sim.trio.card.parameters import STORED
+    from motionsim.sim.trio.card.setup_commands import COMMANDS
 
     doc = (Path(__file__).resolve().parents[3] / "docs" / "trio.md").read_text()
     missing = [n for n in [*(p.name for p in STORED), *COMMANDS, "LIMIT_BUFFERED", "FE",

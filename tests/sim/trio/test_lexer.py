@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 from motionsim.sim.errors import ParseError
-from motionsim.sim.trio.lexer import tokenize
+from motionsim.sim.trio.language.lexer import tokenize
 
 
 @pytest.mark.parametrize(("line", "tokens"), [

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import pytest
 from motionsim.sim.errors import InvalidValue, NotSimulated, ParseError
-from motionsim.sim.trio.keywords import INDEX, NOT_SIMULATED, SIMULATED, index_rows
+from motionsim.sim.trio.language.keywords import INDEX, NOT_SIMULATED, SIMULATED, index_rows
 
 
 @pytest.mark.parametrize(
@@ -68,6 +68,6 @@ def test_index_split_into_simulated_and_not():
 def test_no_word_is_both_simulated_by_the_motion_modules_and_refused():
     """The refused list names only what no module models: a set-up command or stored
     parameter that :mod:`~motionsim.sim.trio.parameters` simulates is not in it."""
-    from motionsim.sim.trio.keywords import MOTION_WORDS
+    from motionsim.sim.trio.language.keywords import MOTION_WORDS
 
     assert not NOT_SIMULATED & MOTION_WORDS

@@ -6,9 +6,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from motionsim.sim.errors import NotSimulated, ParseError
-from motionsim.sim.trio import statements as s
-from motionsim.sim.trio.compiler import compile_program
-from motionsim.sim.trio.parser import parse_line, parse_program
+from motionsim.sim.trio.language import statements as s
+from motionsim.sim.trio.language.compiler import compile_program
+from motionsim.sim.trio.language.parser import parse_line, parse_program
 
 
 def test_move_with_axis_modifier():

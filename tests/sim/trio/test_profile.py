@@ -8,7 +8,7 @@ from __future__ import annotations
 import itertools
 
 import pytest
-from motionsim.sim.trio.profile import plan, ramp_distance, ramp_time
+from motionsim.sim.trio.motion.profile import plan, ramp_distance, ramp_time
 
 LENGTHS = (0.5, 1.0, 10.0, 100.0)
 V0S = (0.0, 300.0, 1000.0, 1500.0)

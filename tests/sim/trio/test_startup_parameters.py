@@ -6,7 +6,7 @@ there)."""
 from __future__ import annotations
 
 import pytest
-from motionsim.sim.trio.axis_status import STORED_DEFAULTS
+from motionsim.sim.trio.card.axis_status import STORED_DEFAULTS
 
 from tests.sim.trio.conftest import fields, make, run_to
 

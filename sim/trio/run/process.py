@@ -1,0 +1,226 @@
+"""A Trio BASIC program running in a process: one SimPy process per running program.
+
+Timing model (the statements-per-slice figure is not documented anywhere reachable,
+spec §9.6 ``[INF]``): every statement the interpreter executes costs ``statement_s`` of
+simulated time (config ``statement_us``, default 100 µs: about ten statements per 1 ms
+servo period); the jumps that structure adds (ELSE reached at the end of THEN) cost nothing.
+A statement's effect happens when it starts; the next one starts ``statement_s`` later.
+Processes run concurrently and independently (no shared slice budget is modelled).
+
+Waiting, without a SimPy event per servo period:
+
+* a move line whose process buffer is full: the process emits ``process`` ``blocked`` with
+  ``blocked_on`` (the line's text) and waits — even if only for one servo period — until
+  :mod:`motionsim.sim.trio.motion.buffers` has placed its move, then emits ``running`` and goes on;
+* ``WAIT IDLE`` / ``WAIT LOADED``: woken by the buffer change that satisfies it;
+* ``WAIT UNTIL c``: ``c`` is re-tested once per servo period (spec §1.6 ``[BK]``);
+* ``WA(ms)``: a timeout.
+
+``PRINT`` in a program writes to the process' OUTDEVICE (channel 0, the command line, unless
+changed) or to the channel of ``PRINT #n``: see :mod:`motionsim.sim.trio.card.output`.
+
+A runtime error stops this process only: a ``process`` event with ``state`` ``stopped``, the
+``line`` and an ``error`` message in the controller's style
+(:mod:`motionsim.sim.trio.card.basic_errors`); the same line is printed on channel 0. Once
+``ON BASICERROR GOTO label`` has run, the error (or a ``STOP "prog"`` of it, RUN_ERROR 31)
+instead continues at the label with RUN_ERROR / ERROR_LINE set, reported by a ``basic_error``
+event; an error inside the handler stops the process unless it ran ON BASICERROR again
+(spec §11.3, :mod:`~.branches`).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import simpy
+from motionsim.sim.trio.card.basic_errors import RUN_ERROR_STOPPED, BasicError, error_line
+from motionsim.sim.trio.language.compiler import HALT, Block, Code, Poll, Sleep, WaitFor
+from motionsim.sim.trio.motion.buffers import Waiter, schedule_at
+from motionsim.sim.trio.run.context import Context
+
+if TYPE_CHECKING:
+    from motionsim.sim.trio.controller import TrioController
+
+
+class BasicProcess:
+    """Program ``program`` running as process ``number``."""
+
+    def __init__(self, ctrl: TrioController, number: int, program: str, code: Code) -> None:
+        self.ctrl = ctrl
+        self.number = number
+        self.program = program
+        self.code = code
+        self.state = "running"
+        self.line = code.lines[0] if code.lines else 0
+        self.pc = 0
+        self.blocked_on: str | None = None
+        self.error: str | None = None
+        self._pending: dict[int, str] = {}  # channel -> text of a line not yet ended
+        self.ctx = Context(ctrl, number, self._output)
+        self._withdraw: Any = None
+        self.sim = ctrl.env.process(self._run())
+
+    # -- output ----------------------------------------------------------------------------
+
+    def _output(self, text: str, newline: bool, channel: float | None = None) -> None:
+        ch = self.ctx.outdevice if channel is None else self.ctrl.channels.check(channel)
+        line = self._pending.pop(ch, "") + text
+        if newline:
+            self.ctrl.channels.write(self.number, ch, line)
+        else:
+            self._pending[ch] = line
+
+    # -- the interpreter loop ----------------------------------------------------------------
+
+    def _run(self):
+        code, ctx, log, env = self.code, self.ctx, self.ctrl.log, self.ctrl.env
+        ops, costs, lines = code.ops, code.costs, code.lines
+        dt = self.ctrl.statement_s
+        number = self.number
+        n = len(ops)
+        pc = 0
+        log.emit("process", process=number, state="running", line=self.line)
+        while True:  # once more for each error / STOP an ON BASICERROR handler takes
+            try:
+                while pc < n:
+                    self.pc = pc
+                    cost = costs[pc]
+                    r = ops[pc](ctx)
+                    if r is None:
+                        pc += 1
+                    elif r.__class__ is int:
+                        pc = r
+                    elif r.__class__ is Block:
+                        self.line = lines[pc]
+                        yield from self._blocked(r.move, code.text(pc))
+                        pc += 1
+                    elif r is HALT:
+                        break
+                    elif r.__class__ is Sleep:
+                        yield env.timeout(r.seconds)
+                        pc += 1
+                    elif r.__class__ is WaitFor:
+                        ev = env.event()
+                        self._withdraw = self.ctrl.buffers.when(r.predicate, ev.succeed)
+                        yield ev
+                        self._withdraw = None
+                        pc += 1
+                    elif r.__class__ is Poll:
+                        yield from self._poll(r)
+                        pc += 1
+                    else:
+                        pc += 1
+                    if cost:
+                        yield env.timeout(dt)
+                self.line = lines[min(pc, n - 1)] if n else 0
+                self._finish(None)
+                return
+            except BasicError as exc:
+                self.line = lines[pc] if pc < n else self.line
+                target = self._trapped(exc.number, exc.message, self.line)
+                if target is None:
+                    self._finish(error_line(number, self.line, exc.message))
+                    return
+                pc = target
+            except simpy.Interrupt as intr:
+                if not (isinstance(intr.cause, tuple) and intr.cause[0] == "trap"):
+                    return  # stop() has already withdrawn the wait and reported the stop
+                pc = intr.cause[1]  # STOP "prog" with a handler armed: go on there
+
+    def _trapped(self, number: int, message: str, line: int) -> int | None:
+        """ON BASICERROR: the handler's pc after an error (or a STOP, RUN_ERROR 31) at
+        ``line``, with a ``basic_error`` event; None when no handler takes it."""
+        target = self.ctx.enter_handler(number, line)
+        if target is None:
+            return None
+        self.ctrl.log.emit("basic_error", process=self.number, line=line, run_error=number,
+                           error=message, handler_line=self.code.lines[target]
+                           if target < len(self.code.lines) else line)
+        return target
+
+    def _blocked(self, move: Any, text: str):
+        env, log = self.ctrl.env, self.ctrl.log
+        ev = env.event()
+        placed = self.ctrl.buffers.place_or_wait(move, ev.succeed)
+        if not isinstance(placed, Waiter):
+            return
+        self._withdraw = placed.cancel
+        self.state, self.blocked_on = "blocked", text
+        log.emit("process", process=self.number, state="blocked", line=self.line, blocked_on=text)
+        yield ev
+        self._withdraw = None
+        self.state, self.blocked_on = "running", None
+        log.emit("process", process=self.number, state="running", line=self.line)
+
+    def _poll(self, r: Poll):
+        env, clock = self.ctrl.env, self.ctrl.clock
+        while True:
+            ev = env.event()
+            schedule_at(env, clock.t(clock.after(env.now)), lambda _e, ev=ev: ev.succeed())
+            yield ev
+            if r.predicate():
+                return
+
+    def _withdraw_wait(self) -> None:
+        if self._withdraw is not None:
+            self._withdraw()
+            self._withdraw = None
+
+    def _finish(self, error: str | None) -> None:
+        for ch, text in sorted(self._pending.items()):
+            self.ctrl.channels.write(self.number, ch, text)
+        self._pending.clear()
+        if error is not None:
+            self.ctrl.channels.write(self.number, 0, error)
+            if not self.ctx.run_error:
+                self.ctx.run_error, self.ctx.error_line = 1, self.line
+        self.state, self.blocked_on, self.error = "stopped", None, error
+        fields: dict[str, Any] = {"process": self.number, "state": "stopped", "line": self.line}
+        if error is not None:
+            fields["error"] = error
+        self.ctrl.log.emit("process", **fields)
+
+    # -- control ---------------------------------------------------------------------------
+
+    def stop(self, trap: bool = False) -> None:
+        """Stop the program at once: the wait it is in (a move line, WAIT, WA) is withdrawn and
+        ``stopped`` is reported at the current instant. With ``trap`` (``STOP "prog"`` from
+        BASIC) and an ON BASICERROR handler armed, the program goes on in its handler with
+        RUN_ERROR 31 instead (spec §11.3 ``[INF]``)."""
+        if self.state == "stopped" or not self.sim.is_alive:
+            return
+        self._withdraw_wait()
+        if self.pc < len(self.code.lines):
+            self.line = self.code.lines[self.pc]
+        if trap:
+            target = self._trapped(RUN_ERROR_STOPPED, "Program stopped", self.line)
+            if target is not None:
+                self.state, self.blocked_on = "running", None
+                self.sim.interrupt(("trap", target))
+                return
+        self._finish(None)
+        self.sim.interrupt("stop")
+
+    def current_line(self) -> int:
+        """The program line being executed (the last one, once stopped)."""
+        if self.state == "stopped" or self.pc >= len(self.code.lines):
+            return self.line
+        return self.code.lines[self.pc]
+
+    def describe(self) -> dict[str, Any]:
+        """The API.md process resource."""
+        out: dict[str, Any] = {
+            "process": self.number,
+            "program": self.program,
+            "state": self.state,
+            "line": self.current_line(),
+            "pmove": self.ctrl.buffers.pmove(self.number),
+        }
+        if self.blocked_on is not None:
+            out["blocked_on"] = self.blocked_on
+        if self.error is not None:
+            out["error"] = self.error
+        return out
+
+
+__all__ = ["BasicProcess"]
