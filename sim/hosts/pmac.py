@@ -151,7 +151,7 @@ class PmacHost:
         """Start the host's SimPy process."""
         self.process = self.env.process(self._run())
 
-    def _run(self) -> Generator:  # pragma: no cover - overridden
+    def _run(self) -> Generator[Any, Any, None]:  # pragma: no cover - overridden
         raise NotImplementedError
         yield
 
@@ -402,7 +402,7 @@ class PrPollingHost(PmacHost):
         )
         return ahead
 
-    def _run(self) -> Generator:
+    def _run(self) -> Generator[Any, Any, None]:
         env = self.env
         t0 = env.now
         k = 0
@@ -493,7 +493,7 @@ class BreqInterruptHost(PmacHost):
         rot = self.controller.rotary(self.cs)
         return bool(rot and rot["breq"])
 
-    def _run(self) -> Generator:
+    def _run(self) -> Generator[Any, Any, None]:
         env = self.env
         unlisten = self.log.listen(self._on_event)
         try:
@@ -548,7 +548,7 @@ class NaiveHost(PmacHost):
             raise ValueError("lines_per_write must be >= 1")
         self.lines_per_write = lines_per_write
 
-    def _run(self) -> Generator:
+    def _run(self) -> Generator[Any, Any, None]:
         env = self.env
         while self.remaining > 0:
             res = yield from self.write(self.lines_per_write)

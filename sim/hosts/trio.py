@@ -93,14 +93,14 @@ class TrioFeeder:
         """Fault: the host does nothing until ``until_s``."""
         self.stall_until = max(self.stall_until, until_s)
 
-    def wait_if_stalled(self) -> Generator:
+    def wait_if_stalled(self) -> Generator[Any, Any, None]:
         if self.env.now < self.stall_until:
             yield self.env.timeout(self.stall_until - self.env.now)
 
     def start(self) -> None:
         self.process = self.env.process(self._run())
 
-    def _run(self) -> Generator:  # pragma: no cover - overridden
+    def _run(self) -> Generator[Any, Any, None]:  # pragma: no cover - overridden
         raise NotImplementedError
         yield
 
@@ -113,7 +113,7 @@ class TrioFeeder:
         self.issued += 1
         return True
 
-    def place_blocking(self, move: Move) -> Generator:
+    def place_blocking(self, move: Move) -> Generator[Any, Any, None]:
         """Issue ``move``, waiting (blocked) until the controller has room for it.
 
         The controller queues a move that does not fit like a BASIC move line
@@ -141,7 +141,7 @@ class TrioFeeder:
 class BlindFeeder(TrioFeeder):
     """Issues every move in order, blocking on a full axis like a BASIC move line."""
 
-    def _run(self) -> Generator:
+    def _run(self) -> Generator[Any, Any, None]:
         for move in self.moves:
             yield from self.place_blocking(move)
         self.finish()
@@ -150,7 +150,7 @@ class BlindFeeder(TrioFeeder):
 class NtypeFeeder(TrioFeeder):
     """Each pass, issues the next move of every axis whose NTYPE is 0 (TN20's fix)."""
 
-    def _run(self) -> Generator:
+    def _run(self) -> Generator[Any, Any, None]:
         queues: dict[int, list[Move]] = {}
         for m in self.moves:
             queues.setdefault(m.axis, []).append(m)
@@ -174,7 +174,7 @@ class MovesBufferedFeeder(TrioFeeder):
             raise ValueError("max_buffered must be >= 1")
         self.max_buffered = max_buffered
 
-    def _run(self) -> Generator:
+    def _run(self) -> Generator[Any, Any, None]:
         for move in self.moves:
             if moves_buffered(self.controller.axis(move.axis)) >= self.max_buffered:
                 fields = {"host": self.name, "axis": move.axis, "process": self.process_no or 0}

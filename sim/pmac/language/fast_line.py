@@ -26,6 +26,7 @@ longer word, and a mode word is refused where the lexer would read a longer word
 from __future__ import annotations
 
 import re
+from typing import Any
 
 from motionsim.sim.pmac.language import expressions as ex
 from motionsim.sim.pmac.language.compiled import (
@@ -108,10 +109,10 @@ def fast_compile(text: str) -> ProgramLine | None:
     if items[0][5]:
         return _assignment(text)
     constant = ex.constant
-    ops: list[tuple] = []
-    modal: list[tuple] = []
-    axes: list[tuple] = []
-    vectors: list[tuple] = []
+    ops: list[tuple[Any, ...]] = []
+    modal: list[tuple[Any, ...]] = []
+    axes: list[tuple[Any, ...]] = []
+    vectors: list[tuple[Any, ...]] = []
     moves = 0
     for word, neg, num, mode, circle, other in items:
         if word:

@@ -671,7 +671,7 @@ class _Parser:
                 raise self.error("bad variable range", self.toks[self.i - 1])
             if kind == "M" and self.at("op", "->"):
                 return self.m_definition(first, last, self.take())
-            if self.at("op", "=") and self.peek(1) is not None and self.peek(1)[1] == "*":
+            if self.at("op", "=") and (nxt := self.peek(1)) is not None and nxt[1] == "*":
                 if kind != "I":
                     raise self.error("=* is for I-variables only")
                 self.i += 2

@@ -14,7 +14,7 @@ from motionsim.sim.pmac.language.parser import parse_line
 #: One on-line command per row (TSRM on-line command pages; the forms the tests of each
 #: family use).
 ONLINE = [
-    "&1", "#1", "##0", "#1J+", "#1HM", "#1K", "#1O10", "#1$", "HOME1,2", "#1->X",
+    "&1", "&1E", "#1", "##0", "#1J+", "#1HM", "#1K", "#1O10", "#1$", "HOME1,2", "#1->X",
     "DEFINE ROT 100", "DELETE ROT", "DEFINE GATHER", "DELETE GATHER", "DEFINE LOOKAHEAD 50,10",
     "DELETE LOOKAHEAD", "OPEN ROT", "OPEN PROG 1", "CLOSE", "B1", "R", "S", "Q", "MFLUSH", "H",
     "A", "?", "%50", "I10", "I10..11=*", "P1=2", "P1..3=0", "P(P1+1)", "SAVE", "$$$", "LIST PLC 1",
