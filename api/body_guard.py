@@ -30,10 +30,11 @@ from typing import Any
 
 import anyio
 import anyio.to_thread
-from motionsim.api.decoded_json import SCOPE_KEY as DECODED_JSON
-from motionsim.api.off_loop import WORKER, without_gc
-from motionsim.app.settings import DEFAULT_MAX_BODY_BYTES
 from starlette.routing import Match
+
+from ..app.settings import DEFAULT_MAX_BODY_BYTES
+from .decoded_json import SCOPE_KEY as DECODED_JSON
+from .off_loop import WORKER, without_gc
 
 Scope = MutableMapping[str, Any]
 Message = MutableMapping[str, Any]

@@ -17,9 +17,10 @@ from __future__ import annotations
 from typing import Annotated
 
 from fastapi import Depends, Path, Request
-from motionsim.app.registry import ControllerHandle, Registry
-from motionsim.app.settings import Settings
 from starlette.requests import HTTPConnection
+
+from ..app.registry import ControllerHandle, Registry
+from ..app.settings import Settings
 
 
 async def get_registry(conn: HTTPConnection) -> Registry:

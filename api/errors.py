@@ -14,11 +14,12 @@ from typing import Any
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
-from motionsim.app.fatal import exit_if_fatal
-from motionsim.sim.errors import MotionSimError
-from motionsim.sim.pmac import meaning
 from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.routing import Match
+
+from ..app.fatal import exit_if_fatal
+from ..sim.errors import MotionSimError
+from ..sim.pmac import meaning
 
 log = logging.getLogger("motionsim.api")
 

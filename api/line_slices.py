@@ -18,10 +18,10 @@ import contextlib
 import time
 from typing import Any
 
-from motionsim.api.off_loop import gc_paused
-from motionsim.app.clock import SLICE_S, loop_turns
-from motionsim.sim.errors import MotionSimError
-from motionsim.sim.pmac import MAX_LINE_CHARS, PmacController, ProgramLine, compile_line
+from ..app.clock import SLICE_S, loop_turns
+from ..sim.errors import MotionSimError
+from ..sim.pmac import MAX_LINE_CHARS, PmacController, ProgramLine, compile_line
+from .off_loop import gc_paused
 
 #: Most lines in one ``POST .../rotary/lines`` batch [INF: no manual limit; a host streams in
 #: batches, and storing one is a single step on the loop (all or nothing): 1 024 lines take

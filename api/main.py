@@ -17,18 +17,19 @@ from contextlib import asynccontextmanager
 from fastapi import APIRouter, FastAPI
 from fastapi.middleware.cors import CORSMiddleware
 from fastapi_offline import FastAPIOffline
-from motionsim.api import openapi_extras
-from motionsim.api import routes as route_modules
-from motionsim.api.body_guard import BodyGuard
-from motionsim.api.errors import install_error_handlers
-from motionsim.api.routes.favicon import FAVICON_URL
-from motionsim.api.schemas.common import ERROR_RESPONSES
-from motionsim.api.web_guard import WebGuard, allowed_host_set
-from motionsim.app import __version__
-from motionsim.app.fatal import install_loop_handler
-from motionsim.app.registry import Registry
-from motionsim.app.service import build_registry
-from motionsim.app.settings import Settings
+
+from ..app import __version__
+from ..app.fatal import install_loop_handler
+from ..app.registry import Registry
+from ..app.service import build_registry
+from ..app.settings import Settings
+from . import openapi_extras
+from . import routes as route_modules
+from .body_guard import BodyGuard
+from .errors import install_error_handlers
+from .routes.favicon import FAVICON_URL
+from .schemas.common import ERROR_RESPONSES
+from .web_guard import WebGuard, allowed_host_set
 
 #: Where the Swagger UI / ReDoc scripts and styles are served from.
 DOCS_STATIC_URL = "/static/docs"

@@ -24,8 +24,8 @@ _INT64_MAX = 2**63 - 1
 
 def known_event_types() -> list[str]:
     """Every event type a controller of a registered kind may emit."""
-    from motionsim.app.kinds import kinds
-    from motionsim.sim.events import EVENT_FIELDS
+    from ..app.kinds import kinds
+    from ..sim.events import EVENT_FIELDS
 
     types = set(EVENT_FIELDS)
     for kind in kinds().values():
@@ -34,7 +34,7 @@ def known_event_types() -> list[str]:
 
 
 def processes_by_model() -> dict[str, int]:
-    from motionsim.sim.trio import MODELS
+    from ..sim.trio import MODELS
 
     return {name: m.processes for name, m in MODELS.items()}
 

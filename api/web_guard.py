@@ -29,7 +29,7 @@ from collections.abc import Iterable
 from http.cookies import SimpleCookie
 from urllib.parse import parse_qs, urlsplit
 
-from motionsim.api.body_guard import ASGIApp, Receive, Scope, Send, header, send_error
+from .body_guard import ASGIApp, Receive, Scope, Send, header, send_error
 
 #: Always allowed in ``Host``: the loopback names.
 LOOPBACK_HOSTS = frozenset({"localhost", "127.0.0.1", "::1"})

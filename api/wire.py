@@ -16,9 +16,9 @@ import logging
 from collections.abc import AsyncIterator, Callable
 from typing import Any, Final
 
-from motionsim.api.connection_table import ConnectionTable, current_connection
-from motionsim.app.fatal import exit_if_fatal
-from motionsim.app.faults import ReplyAction, faults_of, has_faults
+from ..app.fatal import exit_if_fatal
+from ..app.faults import ReplyAction, faults_of, has_faults
+from .connection_table import ConnectionTable, current_connection
 
 
 class NeedData:
@@ -303,7 +303,7 @@ async def _faulty_reply(action: ReplyAction, out: bytes, writer: asyncio.StreamW
 
 
 def default_limits() -> Any:
-    from motionsim.app.listeners import ConnectionLimits
+    from ..app.listeners import ConnectionLimits
 
     return ConnectionLimits()
 

@@ -37,7 +37,7 @@ import weakref
 from collections.abc import Iterable
 from typing import Any
 
-from motionsim.sim.events import Event, EventLog, ReadResult, Reset
+from ..sim.events import Event, EventLog, ReadResult, Reset
 
 #: The shared texts cover the newest this many events of a log (up to twice as many are held
 #: between two prunes): what every subscriber that keeps up reads. One further behind encodes

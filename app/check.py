@@ -28,7 +28,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
-from motionsim.sim.errors import MotionSimError, NotSimulated, ParseError
+from ..sim.errors import MotionSimError, NotSimulated, ParseError
 
 #: File suffixes read as Trio BASIC; anything else is PMAC text unless ``--kind`` says.
 TRIO_SUFFIXES = (".bas", ".txt.bas")
@@ -76,7 +76,7 @@ def kind_of(path: Path) -> str:
 
 
 def _new_controller(kind: str, model: str | None) -> Any:
-    from motionsim.app.kinds import kind_class
+    from .kinds import kind_class
 
     config: dict[str, Any] = {}
     if model is not None:
@@ -178,8 +178,8 @@ def _display_name(file: str, top: Path) -> str:
 
 def check_pmac(lines: Sequence[SourceLine], ctl: Any) -> list[Finding]:
     """Send each line to ``ctl``'s terminal and collect what it refuses."""
-    from motionsim.app.clock import VirtualClock
-    from motionsim.sim.pmac.card.error_codes import meaning
+    from ..sim.pmac.card.error_codes import meaning
+    from .clock import VirtualClock
 
     clock = VirtualClock(ctl.env)
     found: list[Finding] = []

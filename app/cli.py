@@ -15,8 +15,9 @@ from pathlib import Path
 from typing import Annotated, Any
 
 import typer
-from motionsim.app import __version__
 from pydantic import ValidationError
+
+from . import __version__
 
 cli = typer.Typer(
     name="motionsim",
@@ -121,14 +122,14 @@ def serve(
     """
     import logging
 
-    from motionsim.app.settings import build_settings
+    from .settings import build_settings
 
     logging.basicConfig(level=logging.WARNING, format="motionsim: %(message)s")
 
     if clock is not None and clock not in ("realtime", "virtual", "host-paced"):
         raise typer.BadParameter("must be 'realtime', 'virtual' or 'host-paced'",
                                  param_hint="--clock")
-    from motionsim.app.config_file import ConfigFileError, read_config, where
+    from .config_file import ConfigFileError, read_config, where
 
     try:
         file_data, lines = read_config(config) if config else ({}, {})
@@ -159,7 +160,7 @@ def serve(
     try:
         settings = build_settings(None, **file_data)
     except ValidationError as exc:
-        from motionsim.app.config_file import dotted
+        from .config_file import dotted
 
         for e in exc.errors():
             place = where(config, as_written, lines, e["loc"]) if config else None
@@ -167,7 +168,7 @@ def serve(
                        f"{e['msg']}", err=True)
         raise typer.Exit(2) from None
 
-    from motionsim.app.sockets import bind_tcp
+    from .sockets import bind_tcp
 
     try:
         sock = bind_tcp(settings.host, settings.port)
@@ -176,8 +177,8 @@ def serve(
                     f"{exc.strerror or exc}", 1) from None
     settings = settings.model_copy(update={"port": sock.getsockname()[1]})
 
-    from motionsim.api.main import create_app
-    from motionsim.sim.errors import MotionSimError
+    from ..api.main import create_app
+    from ..sim.errors import MotionSimError
 
     try:
         app = create_app(settings)
@@ -191,7 +192,7 @@ def serve(
 
     recorder = None
     if record is not None:
-        from motionsim.app.recorder import Recorder
+        from .recorder import Recorder
 
         try:
             recorder = Recorder(record, {h.id: {"kind": h.kind, "config": h.controller.config}
@@ -209,7 +210,7 @@ def _config_key_place(config: Path, data: dict[str, Any], lines: Any,
                       exc: BaseException) -> str | None:
     """``FILE:LINE: controllers[i].config.KEY`` of the controller config key a kind refused
     (its error names the key as ``field``), when the settings file has it."""
-    from motionsim.app.config_file import dotted, where
+    from .config_file import dotted, where
 
     key = getattr(exc, "details", {}).get("field")
     for i, spec in enumerate(data.get("controllers") or []):
@@ -224,8 +225,9 @@ def _config_key_place(config: Path, data: dict[str, Any], lines: Any,
 async def _serve(app: Any, settings: Any, sock: socket.socket, recorder: Any) -> int:
     """Start the protocol listeners, then serve HTTP on ``sock``; the exit code."""
     import uvicorn
-    from motionsim.app.http_server import uvicorn_config
-    from motionsim.app.listeners import ListenerError, start_listeners
+
+    from .http_server import uvicorn_config
+    from .listeners import ListenerError, start_listeners
 
     app.state.ready = False
     kwargs = {"recorder": recorder} if recorder is not None else {}
@@ -252,7 +254,7 @@ def replay(
                                          help="A transcript written by serve --record.")],
 ) -> None:
     """Replay a wire transcript against fresh controllers; exit 1 if any answer differs."""
-    from motionsim.app.replay import main as replay_main
+    from .replay import main as replay_main
 
     code = replay_main(file)
     if code:
@@ -283,8 +285,8 @@ def check(
     (warning). Exit status 1 when there is an error, 2 when a file cannot be checked."""
     import json
 
-    from motionsim.app.check import check_file
-    from motionsim.sim.errors import MotionSimError
+    from ..sim.errors import MotionSimError
+    from .check import check_file
 
     if kind is not None and kind not in ("pmac", "trio"):
         raise typer.BadParameter("must be 'pmac' or 'trio'", param_hint="--kind")
@@ -327,7 +329,7 @@ def examples(
 
 
 # What-if scenarios: `motionsim run` and `motionsim sweep` (app/scenarios/cli.py).
-from motionsim.app.scenarios.cli import register as _register_scenarios  # noqa: E402
+from .scenarios.cli import register as _register_scenarios  # noqa: E402
 
 _register_scenarios(cli)
 

@@ -1,6 +1,6 @@
 """A small typed client for motionsim's REST API (sync, on httpx), for host authors' tests.
 
-    from motionsim.app.client import MotionSimClient
+    from .client import MotionSimClient
 
     with MotionSimClient("http://127.0.0.1:8000") as ms:
         ms.create_controller("pmac", id="p", clock="virtual", config={"i16": 5, "i17": 10})

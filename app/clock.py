@@ -43,9 +43,10 @@ from collections.abc import Callable, Generator, Mapping
 from typing import Any, Literal, TypeVar
 
 import simpy
-from motionsim.sim.controller import Reply
-from motionsim.sim.errors import Conflict, InvalidValue
-from motionsim.sim.events import Event, EventLog
+
+from ..sim.controller import Reply
+from ..sim.errors import Conflict, InvalidValue
+from ..sim.events import Event, EventLog
 
 log = logging.getLogger("motionsim.clock")
 
@@ -602,7 +603,7 @@ def make_clock(
     if mode == "realtime":
         return RealtimeClock(env, factor, paused, log=log)
     if mode == "host-paced":
-        from motionsim.app.host_paced import HostPacedClock
+        from .host_paced import HostPacedClock
 
         return HostPacedClock(env, factor, paused, log=log, reaction_s=reaction_s)
     raise InvalidValue(

@@ -15,8 +15,9 @@ from pathlib import Path
 from typing import Any
 
 import yaml
-from motionsim.app.scenarios.errors import dotted
-from motionsim.app.scenarios.source import locate
+
+from .scenarios.errors import dotted
+from .scenarios.source import locate
 
 Lines = dict[tuple[Any, ...], int]
 

@@ -14,8 +14,8 @@ import asyncio
 import threading
 from typing import Any
 
-from motionsim.app.settings import Settings
-from motionsim.app.sockets import bind_tcp
+from .settings import Settings
+from .sockets import bind_tcp
 
 
 class EmbeddedService:
@@ -39,8 +39,9 @@ class EmbeddedService:
 
     def start(self, timeout: float = 20.0) -> EmbeddedService:
         import uvicorn
-        from motionsim.api.main import create_app
-        from motionsim.app.http_server import uvicorn_config
+
+        from ..api.main import create_app
+        from .http_server import uvicorn_config
 
         sock = bind_tcp(self.settings.host, self.settings.port)
         self.port = sock.getsockname()[1]
@@ -51,7 +52,7 @@ class EmbeddedService:
         self._server = uvicorn.Server(config)
 
         async def main() -> None:
-            from motionsim.app.listeners import start_listeners
+            from .listeners import start_listeners
 
             try:
                 listeners = await start_listeners(self.app.state.registry, self.settings,

@@ -29,10 +29,11 @@ import weakref
 from dataclasses import dataclass
 from typing import Annotated, Any, Literal
 
-from motionsim.app.fault_match import CommandPattern
-from motionsim.sim.errors import InvalidValue, NotFound
-from motionsim.sim.faults import EdgeLoss, Selector
 from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, field_validator
+
+from ..sim.errors import InvalidValue, NotFound
+from ..sim.faults import EdgeLoss, Selector
+from .fault_match import CommandPattern
 
 #: Faults one controller may hold at once.
 MAX_FAULTS = 64

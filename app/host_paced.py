@@ -35,7 +35,10 @@ from dataclasses import dataclass, field
 from typing import Any, Literal
 
 import simpy
-from motionsim.app.clock import (
+
+from ..sim.errors import Conflict, InvalidValue
+from ..sim.events import Event, EventLog
+from .clock import (
     _INF,
     _WALL_CHECK_STEPS,
     RUN_UNTIL_WALL_S,
@@ -47,8 +50,6 @@ from motionsim.app.clock import (
     loop_turns,
     run_env_to,
 )
-from motionsim.sim.errors import Conflict, InvalidValue
-from motionsim.sim.events import Event, EventLog
 
 log = logging.getLogger("motionsim.clock")
 

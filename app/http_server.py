@@ -4,14 +4,15 @@ from __future__ import annotations
 
 from typing import Any
 
-from motionsim.app.settings import Settings
+from .settings import Settings
 
 
 def uvicorn_config(app: Any, settings: Settings, *, graceful_s: float) -> Any:
     """A ``uvicorn.Config`` for ``app`` with the HTTP port's limits from ``settings``
     (:mod:`motionsim.api.http_limits`)."""
     import uvicorn
-    from motionsim.api.http_limits import HttpLimits, uvicorn_limits
+
+    from ..api.http_limits import HttpLimits, uvicorn_limits
 
     limits = HttpLimits(max_connections=settings.http_max_connections,
                         header_timeout_s=settings.http_header_timeout_s,

@@ -14,7 +14,7 @@ import asyncio
 from collections.abc import Awaitable
 from typing import TypeVar
 
-from motionsim.sim.errors import MotionSimError
+from ..sim.errors import MotionSimError
 
 T = TypeVar("T")
 

@@ -10,8 +10,8 @@ from __future__ import annotations
 import logging
 from importlib.metadata import entry_points
 
-from motionsim.sim.controller import Controller
-from motionsim.sim.errors import InvalidValue
+from ..sim.controller import Controller
+from ..sim.errors import InvalidValue
 
 _registered: dict[str, type[Controller]] = {}
 #: Entry points that failed to load: kind -> why (a kind still being written is not fatal).

@@ -36,8 +36,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from motionsim.app.registry import Registry
-from motionsim.app.settings import (
+from .registry import Registry
+from .settings import (
     DEFAULT_MODBUS_PORT,
     DEFAULT_PMAC_PORT,
     DEFAULT_TRIO_PORT,

@@ -27,7 +27,7 @@ controllers' TCP protocols on free ports::
 
     @pytest.fixture
     def motionsim_settings():
-        from motionsim.app.settings import Settings
+        from .settings import Settings
         return Settings(port=0, clock={"mode": "virtual"}, pmac_port="auto", trio_port="auto")
 
 **Scaling to a suite.** A service start costs a second or more, so a suite shares one:
@@ -61,9 +61,10 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import pytest
-from motionsim.app.pytest_failure_log import pytest_runtest_makereport  # noqa: F401 (a hook)
-from motionsim.app.pytest_failure_log import watch as _watch
-from motionsim.app.scenarios.fed import assert_fed
+
+from .pytest_failure_log import pytest_runtest_makereport  # noqa: F401 (a hook)
+from .pytest_failure_log import watch as _watch
+from .scenarios.fed import assert_fed
 
 #: Environment variable naming an external server (the ``--motionsim-url`` option wins).
 URL_ENV = "MOTIONSIM_URL"
@@ -95,7 +96,7 @@ class Server:
 
     def client(self) -> Any:
         """A new :class:`motionsim.app.client.MotionSimClient` for this server."""
-        from motionsim.app.client import MotionSimClient
+        from .client import MotionSimClient
 
         client = MotionSimClient(self.url, token=self.token)
         client.ports = dict(self.ports)
@@ -124,7 +125,7 @@ class Controller:
 @pytest.fixture
 def motionsim_settings() -> Any:
     """What the ``motionsim`` fixture serves (override it in your conftest.py)."""
-    from motionsim.app.settings import Settings
+    from .settings import Settings
 
     return Settings(port=0, clock={"mode": "virtual"}, pmac_port=0, trio_port=0)
 
@@ -132,8 +133,8 @@ def motionsim_settings() -> Any:
 @pytest.fixture
 def motionsim(request: pytest.FixtureRequest, motionsim_settings: Any) -> Iterator[Any]:
     """A served motionsim (virtual clock, free port) and a client for it."""
-    from motionsim.app.client import MotionSimClient
-    from motionsim.app.embedded import EmbeddedService
+    from .client import MotionSimClient
+    from .embedded import EmbeddedService
 
     settings = motionsim_settings.model_copy(update={"host": "127.0.0.1", "port": 0})
     service = EmbeddedService(settings).start()
@@ -168,7 +169,7 @@ def _release_hosts(client: Any) -> None:
 def motionsim_session_settings() -> Any:
     """What ``motionsim_server`` serves (override it in your conftest.py, session scope):
     by default no controllers (each test makes its own) and no TCP protocol listeners."""
-    from motionsim.app.settings import Settings
+    from .settings import Settings
 
     return Settings(port=0, clock={"mode": "virtual"}, controllers=[], pmac_port=0,
                     trio_port=0)
@@ -196,7 +197,7 @@ def motionsim_server(request: pytest.FixtureRequest,
                             f"give its token with --motionsim-token or {TOKEN_ENV}", returncode=3)
         yield server
         return
-    from motionsim.app.embedded import EmbeddedService
+    from .embedded import EmbeddedService
 
     settings = motionsim_session_settings.model_copy(update={"host": "127.0.0.1", "port": 0})
     service = EmbeddedService(settings).start()
@@ -245,7 +246,7 @@ def motionsim_controllers(request: pytest.FixtureRequest,
 
 
 def _delete(ctl: Controller) -> None:
-    from motionsim.app.client import MotionSimHTTPError
+    from .client import MotionSimHTTPError
 
     try:
         for holder in ctl.clock().holders or ():
@@ -271,8 +272,8 @@ def motionsim_trio(motionsim_controllers: Callable[..., Controller]) -> Controll
 def motionsim_services() -> Iterator[Callable[..., Server]]:
     """A factory: ``start(settings=None)`` serves another motionsim (default: the
     ``motionsim_session_settings`` defaults) on a free port; each is stopped after the test."""
-    from motionsim.app.embedded import EmbeddedService
-    from motionsim.app.settings import Settings
+    from .embedded import EmbeddedService
+    from .settings import Settings
 
     started: list[Any] = []
 

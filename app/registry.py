@@ -15,7 +15,10 @@ import re
 from collections.abc import Callable, Iterator, Mapping
 from typing import Any, TypeVar
 
-from motionsim.app.clock import (
+from ..sim.controller import Controller, Port, Reply
+from ..sim.errors import Conflict, InvalidValue, NotFound
+from ..sim.events import Event
+from .clock import (
     RUN_UNTIL_WALL_S,
     Clock,
     ClockMode,
@@ -26,13 +29,10 @@ from motionsim.app.clock import (
     make_clock,
     reply_steps,
 )
-from motionsim.app.faults import faults_of, has_faults
-from motionsim.app.host_paced import DEFAULT_HOLDER, HostPacedClock
-from motionsim.app.inflight import InFlight
-from motionsim.app.kinds import kind_class
-from motionsim.sim.controller import Controller, Port, Reply
-from motionsim.sim.errors import Conflict, InvalidValue, NotFound
-from motionsim.sim.events import Event
+from .faults import faults_of, has_faults
+from .host_paced import DEFAULT_HOLDER, HostPacedClock
+from .inflight import InFlight
+from .kinds import kind_class
 
 T = TypeVar("T")
 

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from motionsim.app.recorder import read_transcript
+from .recorder import read_transcript
 
 #: Event-loop turns without new output after which a replayed input is considered answered.
 _SETTLE_TURNS = 5
@@ -138,10 +138,10 @@ async def _settle(replayed: list[_Replayed]) -> None:
 
 async def replay(path: str | Path) -> ReplayResult:
     """Replay the transcript at ``path``; see the module docstring."""
-    from motionsim.api.pmac_ethernet.server import PmacSession
-    from motionsim.api.trio_terminal.server import TrioSession
-    from motionsim.app.clock import VirtualClock
-    from motionsim.app.registry import Registry
+    from ..api.pmac_ethernet.server import PmacSession
+    from ..api.trio_terminal.server import TrioSession
+    from .clock import VirtualClock
+    from .registry import Registry
 
     registry = Registry()
     result = ReplayResult()

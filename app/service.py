@@ -11,9 +11,9 @@ from __future__ import annotations
 import importlib
 import logging
 
-from motionsim.app.kinds import broken_kinds, kinds
-from motionsim.app.registry import Registry
-from motionsim.app.settings import ControllerSpec, Settings
+from .kinds import broken_kinds, kinds
+from .registry import Registry
+from .settings import ControllerSpec, Settings
 
 log = logging.getLogger("motionsim")
 

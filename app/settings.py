@@ -24,9 +24,10 @@ from pathlib import Path
 from typing import Annotated, Any, Literal
 
 import yaml
-from motionsim.sim.bounds import CLOCK_FACTOR
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 from pydantic_settings import BaseSettings, NoDecode, SettingsConfigDict
+
+from ..sim.bounds import CLOCK_FACTOR
 
 #: Default request body limit (bytes); the setting ``max_body_bytes``.
 DEFAULT_MAX_BODY_BYTES = 8 * 1024 * 1024

@@ -3,8 +3,8 @@
 Pure: simpy and the standard library only — no asyncio, no wall clock, no I/O, no web types.
 """
 
-from motionsim.sim.controller import Controller, Port, Reply
-from motionsim.sim.errors import (
+from .controller import Controller, Port, Reply
+from .errors import (
     BufferFull,
     Conflict,
     Halted,
@@ -13,7 +13,7 @@ from motionsim.sim.errors import (
     NotFound,
     ParseError,
 )
-from motionsim.sim.events import Event, EventLog, Gap
+from .events import Event, EventLog, Gap
 
 __all__ = [
     "BufferFull",

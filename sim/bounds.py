@@ -15,7 +15,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from motionsim.sim.errors import InvalidValue
+from .errors import InvalidValue
 
 
 @dataclass(frozen=True, slots=True)

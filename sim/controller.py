@@ -21,7 +21,8 @@ from collections.abc import Callable, Iterable, Mapping
 from typing import Any, ClassVar
 
 import simpy
-from motionsim.sim.events import EVENT_FIELDS, EventLog
+
+from .events import EVENT_FIELDS, EventLog
 
 
 class Reply:

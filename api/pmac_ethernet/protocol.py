@@ -55,7 +55,7 @@ from dataclasses import dataclass
 from enum import IntEnum
 from typing import Final
 
-from motionsim.api.wire import NEED_DATA, NeedData, ProtocolError
+from ..wire import NEED_DATA, NeedData, ProtocolError
 
 #: Header layout: RequestType, Request, wValue, wIndex, wLength — 16-bit fields big-endian.
 HEADER: Final = struct.Struct(">BBHHH")

@@ -21,7 +21,17 @@ import logging
 from collections.abc import AsyncIterator
 from typing import Any
 
-from motionsim.api.pmac_ethernet.protocol import (
+from ...sim.errors import Halted, MotionSimError, NotFound
+from ..wire import (
+    NEED_DATA,
+    WireSession,
+    await_reply,
+    current_handle,
+    peer_name,
+    serve_connection,
+    start_server,
+)
+from .protocol import (
     Answer,
     CtrlResponse,
     GetResponse,
@@ -31,16 +41,6 @@ from motionsim.api.pmac_ethernet.protocol import (
     WriteBuffer,
     illegal_character,
 )
-from motionsim.api.wire import (
-    NEED_DATA,
-    WireSession,
-    await_reply,
-    current_handle,
-    peer_name,
-    serve_connection,
-    start_server,
-)
-from motionsim.sim.errors import Halted, MotionSimError, NotFound
 
 log = logging.getLogger("motionsim.pmac_ethernet")
 

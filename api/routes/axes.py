@@ -14,12 +14,13 @@ import contextlib
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Path, Query
-from motionsim.api.decoded_json import DecodedJsonRoute
-from motionsim.api.deps import HandleDep
-from motionsim.api.schemas.axes import AxisOut, AxisPatch, MoveIn, MovePlaced
-from motionsim.app.clock import RealtimeClock
-from motionsim.app.registry import RUN_UNTIL_WALL_CAP_S, ControllerHandle
-from motionsim.sim.errors import BufferFull, NotFound
+
+from ...app.clock import RealtimeClock
+from ...app.registry import RUN_UNTIL_WALL_CAP_S, ControllerHandle
+from ...sim.errors import BufferFull, NotFound
+from ..decoded_json import DecodedJsonRoute
+from ..deps import HandleDep
+from ..schemas.axes import AxisOut, AxisPatch, MoveIn, MovePlaced
 
 router = APIRouter(tags=["trio axes"], route_class=DecodedJsonRoute)
 

@@ -12,13 +12,14 @@ from collections.abc import Awaitable
 from typing import Annotated, TypeVar
 
 from fastapi import APIRouter, Path, Request
-from motionsim.api.decoded_json import DecodedJsonRoute
-from motionsim.api.deps import HandleDep
-from motionsim.api.schemas.clock import AdvanceIn, ClockOut, ClockPatch, RunUntilIn, RunUntilOut
-from motionsim.app.host_paced import HostPacedClock
-from motionsim.app.registry import ControllerHandle
-from motionsim.sim.errors import Conflict, MotionSimError
-from motionsim.sim.events import Event
+
+from ...app.host_paced import HostPacedClock
+from ...app.registry import ControllerHandle
+from ...sim.errors import Conflict, MotionSimError
+from ...sim.events import Event
+from ..decoded_json import DecodedJsonRoute
+from ..deps import HandleDep
+from ..schemas.clock import AdvanceIn, ClockOut, ClockPatch, RunUntilIn, RunUntilOut
 
 router = APIRouter(tags=["clock"], route_class=DecodedJsonRoute)
 

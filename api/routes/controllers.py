@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 from fastapi import APIRouter, Response
-from motionsim.api.decoded_json import DecodedJsonRoute
-from motionsim.api.deps import HandleDep, RegistryDep
-from motionsim.api.schemas.controllers import ControllerIn, ControllerOut
+
+from ..decoded_json import DecodedJsonRoute
+from ..deps import HandleDep, RegistryDep
+from ..schemas.controllers import ControllerIn, ControllerOut
 
 router = APIRouter(tags=["controllers"], route_class=DecodedJsonRoute)
 

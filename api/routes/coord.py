@@ -9,13 +9,14 @@ from __future__ import annotations
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Path, Response
-from motionsim.api.decoded_json import DecodedJsonRoute
-from motionsim.api.deps import HandleDep
-from motionsim.api.line_slices import precompile
-from motionsim.api.schemas.coord import CoordPublic, LinesAccepted, LinesIn, RotaryIn, RotaryPublic
-from motionsim.app.registry import ControllerHandle
-from motionsim.sim.errors import NotFound
-from motionsim.sim.pmac import PmacController
+
+from ...app.registry import ControllerHandle
+from ...sim.errors import NotFound
+from ...sim.pmac import PmacController
+from ..decoded_json import DecodedJsonRoute
+from ..deps import HandleDep
+from ..line_slices import precompile
+from ..schemas.coord import CoordPublic, LinesAccepted, LinesIn, RotaryIn, RotaryPublic
 
 router = APIRouter(tags=["coord"], route_class=DecodedJsonRoute)
 

@@ -12,8 +12,9 @@ from pathlib import Path
 
 from fastapi import APIRouter
 from fastapi.responses import FileResponse
-from motionsim.api.decoded_json import DecodedJsonRoute
-from motionsim.sim.errors import NotFound
+
+from ...sim.errors import NotFound
+from ..decoded_json import DecodedJsonRoute
 
 #: The dashboard's files (package data, see pyproject.toml).
 STATIC_DIR = Path(__file__).resolve().parent.parent / "static" / "dashboard"

@@ -25,14 +25,15 @@ import time
 from typing import Annotated
 
 from fastapi import APIRouter, Query, Response, WebSocket, WebSocketDisconnect
-from motionsim.api.decoded_json import DecodedJsonRoute
-from motionsim.api.deps import HandleDep
-from motionsim.api.schemas.events import EventsPage, StreamQuery, stream_query
-from motionsim.app.bus import Cursor, epoch_message
-from motionsim.app.clock import SLICE_S, loop_turns
-from motionsim.sim.controller import Controller
-from motionsim.sim.errors import InvalidValue, NotFound
 from pydantic import Field
+
+from ...app.bus import Cursor, epoch_message
+from ...app.clock import SLICE_S, loop_turns
+from ...sim.controller import Controller
+from ...sim.errors import InvalidValue, NotFound
+from ..decoded_json import DecodedJsonRoute
+from ..deps import HandleDep
+from ..schemas.events import EventsPage, StreamQuery, stream_query
 
 router = APIRouter(tags=["events"], route_class=DecodedJsonRoute)
 

@@ -9,10 +9,11 @@ from __future__ import annotations
 
 from fastapi import APIRouter, Path
 from fastapi.responses import Response
-from motionsim.api.decoded_json import DecodedJsonRoute
-from motionsim.api.deps import HandleDep
-from motionsim.api.schemas.faults import FaultList, FaultOut
-from motionsim.app.faults import FaultSpec, faults_of
+
+from ...app.faults import FaultSpec, faults_of
+from ..decoded_json import DecodedJsonRoute
+from ..deps import HandleDep
+from ..schemas.faults import FaultList, FaultOut
 
 router = APIRouter(tags=["faults"], route_class=DecodedJsonRoute)
 

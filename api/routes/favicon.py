@@ -5,7 +5,8 @@ from __future__ import annotations
 
 from fastapi import APIRouter
 from fastapi.responses import Response
-from motionsim.api.decoded_json import DecodedJsonRoute
+
+from ..decoded_json import DecodedJsonRoute
 
 router = APIRouter(tags=["service"], route_class=DecodedJsonRoute)
 

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from fastapi import APIRouter, Request
 from fastapi.responses import JSONResponse
-from motionsim.api.decoded_json import DecodedJsonRoute
-from motionsim.api.schemas.common import Health, ServiceInfo
-from motionsim.app import __version__
+
+from ...app import __version__
+from ..decoded_json import DecodedJsonRoute
+from ..schemas.common import Health, ServiceInfo
 
 router = APIRouter(tags=["service"], route_class=DecodedJsonRoute)
 

@@ -14,13 +14,14 @@ from __future__ import annotations
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Path
-from motionsim.api.decoded_json import DecodedJsonRoute
-from motionsim.api.deps import HandleDep
-from motionsim.api.off_loop import off_loop
-from motionsim.api.schemas.plcs import PlcDetail, PlcList, PlcProgramIn
-from motionsim.app.registry import ControllerHandle
-from motionsim.sim.errors import Halted, NotFound
-from motionsim.sim.pmac import PlcProgram, compile_plc, stored_entries
+
+from ...app.registry import ControllerHandle
+from ...sim.errors import Halted, NotFound
+from ...sim.pmac import PlcProgram, compile_plc, stored_entries
+from ..decoded_json import DecodedJsonRoute
+from ..deps import HandleDep
+from ..off_loop import off_loop
+from ..schemas.plcs import PlcDetail, PlcList, PlcProgramIn
 
 router = APIRouter(tags=["plcs"], route_class=DecodedJsonRoute)
 

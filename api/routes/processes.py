@@ -5,10 +5,11 @@ from __future__ import annotations
 from typing import Annotated
 
 from fastapi import APIRouter, Path
-from motionsim.api.decoded_json import DecodedJsonRoute
-from motionsim.api.deps import HandleDep
-from motionsim.api.routes.axes import trio_of
-from motionsim.api.schemas.processes import ProcessOut
+
+from ..decoded_json import DecodedJsonRoute
+from ..deps import HandleDep
+from ..schemas.processes import ProcessOut
+from .axes import trio_of
 
 router = APIRouter(tags=["trio processes"], route_class=DecodedJsonRoute)
 

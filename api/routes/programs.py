@@ -11,12 +11,13 @@ from typing import Annotated
 
 from fastapi import APIRouter, Path, Request, Response
 from fastapi.responses import PlainTextResponse
-from motionsim.api.decoded_json import DecodedJsonRoute
-from motionsim.api.deps import HandleDep
-from motionsim.api.off_loop import off_loop
-from motionsim.api.routes.axes import trio_of
-from motionsim.api.schemas.programs import ProgramList, ProgramStored, RunIn, RunOut
-from motionsim.sim.errors import InvalidValue
+
+from ...sim.errors import InvalidValue
+from ..decoded_json import DecodedJsonRoute
+from ..deps import HandleDep
+from ..off_loop import off_loop
+from ..schemas.programs import ProgramList, ProgramStored, RunIn, RunOut
+from .axes import trio_of
 
 router = APIRouter(tags=["trio programs"], route_class=DecodedJsonRoute)
 

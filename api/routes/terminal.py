@@ -7,10 +7,11 @@ port). Timing per API.md: see :meth:`app.registry.ControllerHandle.command`.
 from __future__ import annotations
 
 from fastapi import APIRouter
-from motionsim.api.decoded_json import DecodedJsonRoute
-from motionsim.api.deps import HandleDep
-from motionsim.api.schemas.terminal import TerminalIn, TerminalOut, TerminalState
-from motionsim.sim.pmac import meaning
+
+from ...sim.pmac import meaning
+from ..decoded_json import DecodedJsonRoute
+from ..deps import HandleDep
+from ..schemas.terminal import TerminalIn, TerminalOut, TerminalState
 
 router = APIRouter(tags=["terminal"], route_class=DecodedJsonRoute)
 

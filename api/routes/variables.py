@@ -11,10 +11,11 @@ from __future__ import annotations
 from typing import Annotated
 
 from fastapi import APIRouter, Path
-from motionsim.api.decoded_json import DecodedJsonRoute
-from motionsim.api.deps import HandleDep
-from motionsim.api.schemas.variables import VariableIn, VariableOut, VariablesIn, VariablesOut
-from motionsim.sim.errors import InvalidValue, NotFound
+
+from ...sim.errors import InvalidValue, NotFound
+from ..decoded_json import DecodedJsonRoute
+from ..deps import HandleDep
+from ..schemas.variables import VariableIn, VariableOut, VariablesIn, VariablesOut
 
 router = APIRouter(tags=["variables"], route_class=DecodedJsonRoute)
 

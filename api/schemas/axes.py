@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from motionsim.api.schemas.common import int_in
-from motionsim.sim.bounds import TRIO_DISTANCE, TRIO_RATE
 from pydantic import BaseModel, ConfigDict, Field
+
+from ...sim.bounds import TRIO_DISTANCE, TRIO_RATE
+from .common import int_in
 
 
 class AxisOut(BaseModel):

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from motionsim.api.schemas.events import EventOut
-from motionsim.sim.bounds import ADVANCE_SECONDS, CLOCK_FACTOR, TIMEOUT_SECONDS
 from pydantic import BaseModel, ConfigDict, Field
+
+from ...sim.bounds import ADVANCE_SECONDS, CLOCK_FACTOR, TIMEOUT_SECONDS
+from .events import EventOut
 
 ClockModeField = Literal["virtual", "realtime", "host-paced"]
 

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from typing import Any
 
-from motionsim.api.schemas.clock import ClockIn, ClockOut
-from motionsim.sim.bounds import PMAC_CONFIG, PMAC_CPU_COST, TRIO_CONFIG, TRIO_RATE, describe
 from pydantic import BaseModel, ConfigDict, Field
+
+from ...sim.bounds import PMAC_CONFIG, PMAC_CPU_COST, TRIO_CONFIG, TRIO_RATE, describe
+from .clock import ClockIn, ClockOut
 
 CONFIG_DOC = (
     "the kind's initial settings; unknown keys and values outside these bounds are 422. "

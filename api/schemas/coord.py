@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from motionsim.api.line_slices import MAX_BATCH_LINES
-from motionsim.api.schemas.common import Int, int_in
 from pydantic import BaseModel, ConfigDict, Field
+
+from ..line_slices import MAX_BATCH_LINES
+from .common import Int, int_in
 
 
 class RotaryPublic(BaseModel):

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 from typing import Any
 
-from motionsim.sim.errors import InvalidValue
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from ...sim.errors import InvalidValue
 
 
 class EventOut(BaseModel):

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
-from motionsim.api.schemas.common import int_in
 from pydantic import BaseModel, ConfigDict, Field
+
+from .common import int_in
 
 
 class ProgramStored(BaseModel):

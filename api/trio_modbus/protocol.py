@@ -44,7 +44,7 @@ import struct
 from dataclasses import dataclass
 from typing import Final
 
-from motionsim.api.wire import NEED_DATA, NeedData, ProtocolError
+from ..wire import NEED_DATA, NeedData, ProtocolError
 
 MBAP: Final = struct.Struct(">HHHB")
 MAX_READ: Final = 125

@@ -16,7 +16,17 @@ import contextlib
 import logging
 from typing import Any
 
-from motionsim.api.trio_modbus.protocol import (
+from ...sim.errors import MotionSimError, NotFound
+from ...sim.trio import CHANNELS, PATTERN_FIRST
+from ..wire import (
+    FAIR_SHARE,
+    close_when_deleted,
+    current_handle,
+    default_limits,
+    read_chunk,
+    start_server,
+)
+from .protocol import (
     ILLEGAL_ADDRESS,
     NEED_DATA,
     ModbusCodec,
@@ -28,16 +38,6 @@ from motionsim.api.trio_modbus.protocol import (
     WriteRegisters,
     to_register,
 )
-from motionsim.api.wire import (
-    FAIR_SHARE,
-    close_when_deleted,
-    current_handle,
-    default_limits,
-    read_chunk,
-    start_server,
-)
-from motionsim.sim.errors import MotionSimError, NotFound
-from motionsim.sim.trio import CHANNELS, PATTERN_FIRST
 
 log = logging.getLogger("motionsim.trio_modbus")
 

@@ -25,7 +25,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Final
 
-from motionsim.api.wire import NEED_DATA, NeedData
+from ..wire import NEED_DATA, NeedData
 
 PROMPT: Final = b">>"
 EOL: Final = b"\r\n"

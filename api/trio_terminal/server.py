@@ -20,8 +20,8 @@ import contextlib
 import logging
 from typing import Any
 
-from motionsim.api.trio_terminal.protocol import TrioTerminalCodec
-from motionsim.api.wire import (
+from ...sim.errors import MotionSimError, NotFound
+from ..wire import (
     NEED_DATA,
     WireSession,
     await_reply,
@@ -30,7 +30,7 @@ from motionsim.api.wire import (
     serve_connection,
     start_server,
 )
-from motionsim.sim.errors import MotionSimError, NotFound
+from .protocol import TrioTerminalCodec
 
 log = logging.getLogger("motionsim.trio_terminal")
 

@@ -42,13 +42,13 @@ def run_command(
 ) -> None:
     """Run a what-if scenario in virtual time: summary table, event log (JSON Lines + CSV),
     metrics.json and PNG plots in the output folder."""
-    from motionsim.app.scenarios.errors import ScenarioError
-    from motionsim.app.scenarios.model import load_scenario, parse_scenario
+    from .errors import ScenarioError
+    from .model import load_scenario, parse_scenario
 
     wall0 = time.perf_counter()
     span = None
     if window is not None:
-        from motionsim.app.scenarios.plots import parse_window
+        from .plots import parse_window
 
         try:
             span = parse_window(window)
@@ -63,17 +63,17 @@ def run_command(
     except ScenarioError as exc:
         raise _fail(str(exc)) from None
     if realtime:
-        from motionsim.app.scenarios.remote import play
+        from .remote import play
 
         try:
             play(scn, server, factor=factor)
         except ScenarioError as exc:
             raise _fail(str(exc), 1) from None
         return
-    from motionsim.app.scenarios.outputs import write_outputs
-    from motionsim.app.scenarios.report import report
-    from motionsim.app.scenarios.runner import run
-    from motionsim.app.scenarios.summary import print_summary
+    from .outputs import write_outputs
+    from .report import report
+    from .runner import run
+    from .summary import print_summary
 
     out_dir = out or Path("out") / scn.name
     replacing = _previous_run(out_dir, scn.name, force)
@@ -188,11 +188,12 @@ def sweep_command(
         "--yes", "-y", help="Run even when the grid has more than 100 000 runs.")] = False,
 ) -> None:
     """Run a scenario over a grid of parameters; CSV (and Parquet) table and a heat-map."""
-    from motionsim.app.scenarios import sweep as sw
-    from motionsim.app.scenarios.errors import ScenarioError
-    from motionsim.app.scenarios.model import load_scenario
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeRemainingColumn
+
+    from . import sweep as sw
+    from .errors import ScenarioError
+    from .model import load_scenario
 
     wall0 = time.perf_counter()
     try:

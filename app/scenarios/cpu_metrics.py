@@ -19,8 +19,8 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
-from motionsim.app.scenarios.metrics import _stats
-from motionsim.sim.events import Event
+from ...sim.events import Event
+from .metrics import _stats
 
 
 @dataclass(slots=True)

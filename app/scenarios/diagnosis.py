@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import re
 
-from motionsim.app.scenarios.metrics import CsTrace, Interval, Starvation, motion_gaps
+from .metrics import CsTrace, Interval, Starvation, motion_gaps
 
 _RAPID = re.compile(r"\bRAPID\b", re.I)
 _MODE = re.compile(r"\b(LINEAR|CIRCLE[12]|PVT|SPLINE[12]?)\b", re.I)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from motionsim.sim.errors import InvalidValue
+from ...sim.errors import InvalidValue
 
 
 def dotted(path: tuple[Any, ...] | list[Any]) -> str:

@@ -8,7 +8,7 @@ A served controller's event log is read back over REST and handed to the same re
 What this module adds is the sentence a failing test prints: per episode the simulated
 instant, the line it happened after, the lines ahead of move planning, and the cause.
 
-    from motionsim.app.scenarios.fed import assert_fed
+    from .fed import assert_fed
     assert_fed(motionsim, "pmac", cs=1)     # AssertionError naming each starvation
 """
 
@@ -17,8 +17,8 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
-from motionsim.app.scenarios.metrics import CsTrace, Starvation, pmac_traces
-from motionsim.sim.events import Event
+from ...sim.events import Event
+from .metrics import CsTrace, Starvation, pmac_traces
 
 #: Episodes ``assert_fed`` tolerates unless told otherwise: a DWELL or RAPID stops lookahead
 #: by design (TUM p341), so motion pausing there is what the program asked for.
@@ -69,7 +69,7 @@ def episodes(client: Any, id: str, *, cs: int | None = None,
              ) -> tuple[list[Starvation], dict[int, CsTrace]]:
     """The diagnosed starvations of controller ``id`` so far, and (PMAC) the coordinate
     systems' traces :func:`describe` reads the line and lines ahead from."""
-    from motionsim.app.scenarios.report import pmac_report, trio_report
+    from .report import pmac_report, trio_report
 
     kind = client.controller(id)["kind"]
     t_end = client.clock(id).t

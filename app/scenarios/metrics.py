@@ -36,7 +36,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from motionsim.sim.events import Event
+from ...sim.events import Event
 
 _MOVE_WORD = re.compile(r"(?<![A-Z])([XYZABCUVW])\s*-?[\d.(]", re.I)
 _MASSIGN = re.compile(r"^\s*(M\d+)\s*(==|&=|\|=|\^=|=)", re.I)

@@ -19,9 +19,6 @@ import re
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-from motionsim.app.faults import FaultSpec as InjectedFaultSpec
-from motionsim.app.scenarios.errors import ScenarioError, dotted
-from motionsim.app.scenarios.source import load_yaml, locate, read_text, value_line
 from pydantic import (
     BaseModel,
     ConfigDict,
@@ -32,6 +29,10 @@ from pydantic import (
     field_validator,
     model_validator,
 )
+
+from ..faults import FaultSpec as InjectedFaultSpec
+from .errors import ScenarioError, dotted
+from .source import load_yaml, locate, read_text, value_line
 
 NonNeg = Annotated[float, Field(ge=0, allow_inf_nan=False)]
 Pos = Annotated[float, Field(gt=0, allow_inf_nan=False)]
@@ -106,7 +107,7 @@ class DelaySpec(Strict):
 
     def to_delay(self) -> Any:
         """The :class:`motionsim.sim.hosts.Delay` (seconds) this spec describes."""
-        from motionsim.sim.hosts.distributions import Delay
+        from ...sim.hosts.distributions import Delay
 
         ms = 1e-3
         j = self.jitter_ms * ms
@@ -444,7 +445,7 @@ class MovesSpec(Strict):
         return self
 
     def to_moves(self) -> list[Any]:
-        from motionsim.sim.hosts.trio import Move, interleave
+        from ...sim.hosts.trio import Move, interleave
 
         if self.per_axis is not None:
             return interleave(self.per_axis, self.type)
@@ -645,8 +646,8 @@ def _plc_checks(
 ) -> list[tuple[tuple[Any, ...], str, int | None]]:
     """Each PLC program compiles (errors at the file line of the bad PLC line), and I5 lets
     every enabled PLC run."""
-    from motionsim.sim.errors import ParseError
-    from motionsim.sim.pmac.tasks.plc import compile_plc
+    from ...sim.errors import ParseError
+    from ...sim.pmac.tasks.plc import compile_plc
 
     out: list[tuple[tuple[Any, ...], str, int | None]] = []
     for cid, spec in s.controllers.items():

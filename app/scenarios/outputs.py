@@ -8,7 +8,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from motionsim.app.scenarios.runner import RunResult
+from .runner import RunResult
 
 
 def events_csv(result: RunResult) -> str:
@@ -59,7 +59,7 @@ def write_outputs(
     p.write_text(json.dumps(rep, indent=2, default=str) + "\n", encoding="utf-8")
     paths["metrics.json"] = p
     if plots:
-        from motionsim.app.scenarios.plots import plot_run
+        from .plots import plot_run
 
         for name, path in plot_run(result, rep, out, window).items():
             paths[name] = path

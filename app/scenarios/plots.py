@@ -26,8 +26,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
-from motionsim.app.scenarios.metrics import pmac_traces, trio_traces  # noqa: E402
-from motionsim.app.scenarios.runner import RunResult  # noqa: E402
+
+from .metrics import pmac_traces, trio_traces  # noqa: E402
+from .runner import RunResult  # noqa: E402
 
 _SHADE = {"buffer_empty": "tab:red", "lookahead_break": "tab:orange", "axis_blocked": "tab:red",
           "run_time_error": "tab:brown"}

@@ -19,15 +19,15 @@ import contextlib
 import time
 from typing import Any
 
-from motionsim.app.scenarios.errors import ScenarioError
-from motionsim.app.scenarios.model import (
+from ...sim.events import Event
+from .errors import ScenarioError
+from .model import (
     BreqInterruptSpec,
     NaiveSpec,
     PrPollingSpec,
     Scenario,
     TrioFeederSpec,
 )
-from motionsim.sim.events import Event
 
 
 class _Host:
@@ -48,7 +48,7 @@ class _PmacHost(_Host):
         self.started = False
 
     def post(self, n: int) -> Any:
-        from motionsim.app.client import MotionSimHTTPError
+        from ..client import MotionSimHTTPError
 
         batch = self.lines[self.sent : self.sent + n]
         try:
@@ -115,14 +115,14 @@ class _TrioHost(_Host):
 
 def play(scn: Scenario, server: str, *, factor: float = 1.0, echo: Any = print) -> dict[str, Any]:
     """Create the scenario's controllers on ``server`` and feed them in wall-clock time."""
-    from motionsim.app.client import MotionSimClient, MotionSimHTTPError
-    from motionsim.app.scenarios.report import (
+    from ..client import MotionSimClient, MotionSimHTTPError
+    from .report import (
         headline,
         pmac_report,
         summarise_starvations,
         trio_report,
     )
-    from motionsim.app.scenarios.summary import print_summary
+    from .summary import print_summary
 
     if factor <= 0:
         raise ScenarioError("--factor must be > 0")

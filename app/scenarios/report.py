@@ -6,8 +6,10 @@ from __future__ import annotations
 
 from typing import Any
 
-from motionsim.app.scenarios.cpu_metrics import CpuTrace, cpu_metrics, cpu_trace
-from motionsim.app.scenarios.diagnosis import (
+from ...sim.events import Event
+from ...sim.timing import pmac_servo_period_s
+from .cpu_metrics import CpuTrace, cpu_metrics, cpu_trace
+from .diagnosis import (
     diagnose_axis_blocked,
     diagnose_buffer_empty,
     diagnose_run_time_error,
@@ -15,7 +17,7 @@ from motionsim.app.scenarios.diagnosis import (
     diagnose_watchdog,
     lookahead_breaks,
 )
-from motionsim.app.scenarios.metrics import (
+from .metrics import (
     Starvation,
     pmac_cs_metrics,
     pmac_traces,
@@ -23,9 +25,7 @@ from motionsim.app.scenarios.metrics import (
     trio_metrics,
     waiting_intervals,
 )
-from motionsim.app.scenarios.runner import RunResult
-from motionsim.sim.events import Event
-from motionsim.sim.timing import pmac_servo_period_s
+from .runner import RunResult
 
 #: The flat metrics of a run, in table order (a sweep's columns).
 HEADLINE = (
@@ -127,8 +127,8 @@ def _watchdog_episode(
     rti_s: float | None,
 ) -> Starvation:
     """The trip as an episode, with the PLC 0 / RTI arithmetic that explains it."""
-    from motionsim.sim.pmac.tasks.cpu import CpuCosts
-    from motionsim.sim.pmac.tasks.watchdog import DEFAULT_LIMIT_CYCLES
+    from ...sim.pmac.tasks.cpu import CpuCosts
+    from ...sim.pmac.tasks.watchdog import DEFAULT_LIMIT_CYCLES
 
     assert ct.trip is not None
     t_trip = ct.trip[0]

@@ -23,8 +23,11 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-from motionsim.app.faults import faults_of
-from motionsim.app.scenarios.model import (
+from ...sim.controller import Controller
+from ...sim.errors import Halted, MotionSimError
+from ...sim.events import Event
+from ..faults import faults_of
+from .model import (
     BreqInterruptSpec,
     HostStallFault,
     InjectFault,
@@ -35,25 +38,22 @@ from motionsim.app.scenarios.model import (
     TerminalFault,
     TrioFeederSpec,
 )
-from motionsim.sim.controller import Controller
-from motionsim.sim.errors import Halted, MotionSimError
-from motionsim.sim.events import Event
 
 
 @functools.lru_cache(maxsize=8)
 def controller_class(kind: str) -> type[Controller]:
     """The kind's class: the plug-in registry, else the core package itself."""
-    from motionsim.app.kinds import kind_class
+    from ..kinds import kind_class
 
     try:
         return kind_class(kind)
     except MotionSimError:
         if kind == "pmac":
-            from motionsim.sim.pmac import PmacController
+            from ...sim.pmac import PmacController
 
             return PmacController
         if kind == "trio":
-            from motionsim.sim.trio import TrioController
+            from ...sim.trio import TrioController
 
             return TrioController
         raise
@@ -119,7 +119,7 @@ def _log_capacity(scn: Scenario) -> int:
 
 def build(scn: Scenario) -> tuple[dict[str, Controller], dict[str, Any]]:
     """Controllers set up at t = 0 and hosts started; errors name the scenario field."""
-    from motionsim.sim.hosts import (
+    from ...sim.hosts import (
         BlindFeeder,
         BreqInterruptHost,
         CpuMonitor,

@@ -12,7 +12,8 @@ from pathlib import Path
 from typing import Any
 
 import yaml
-from motionsim.app.scenarios.errors import ScenarioError
+
+from .errors import ScenarioError
 
 Path_ = tuple[Any, ...]
 

@@ -22,7 +22,8 @@ from pathlib import Path
 from typing import Any
 
 import yaml
-from motionsim.app.scenarios.errors import ScenarioError
+
+from .errors import ScenarioError
 
 #: Runs above which a sweep needs an explicit yes.
 CONFIRM_ABOVE = 100_000
@@ -183,9 +184,9 @@ def run_point(
     same_seed: bool = False,
 ) -> dict[str, Any]:
     """One run of the sweep (runs in any worker): apply ``point``, run, headline metrics."""
-    from motionsim.app.scenarios.model import parse_scenario
-    from motionsim.app.scenarios.report import report
-    from motionsim.app.scenarios.runner import run
+    from .model import parse_scenario
+    from .report import report
+    from .runner import run
 
     data = copy.deepcopy(raw)
     for name, path in paths.items():
@@ -221,7 +222,7 @@ SEP = "."
 def per_controller(rep: dict[str, Any]) -> dict[str, Any]:
     """Each controller's own headline, its columns prefixed ``<id>.`` (metrics a kind does not
     have are left out)."""
-    from motionsim.app.scenarios.report import headline
+    from .report import headline
 
     out: dict[str, Any] = {}
     for cid, r in rep["controllers"].items():

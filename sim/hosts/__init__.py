@@ -8,10 +8,10 @@ does. See :mod:`motionsim.sim.hosts.pmac` (rotary-buffer writers) and
 processor load into the log.
 """
 
-from motionsim.sim.hosts.distributions import Delay, empirical, fixed
-from motionsim.sim.hosts.monitor import CpuMonitor
-from motionsim.sim.hosts.pmac import BreqInterruptHost, NaiveHost, PmacHost, PrPollingHost
-from motionsim.sim.hosts.trio import BlindFeeder, Move, MovesBufferedFeeder, NtypeFeeder, TrioFeeder
+from .distributions import Delay, empirical, fixed
+from .monitor import CpuMonitor
+from .pmac import BreqInterruptHost, NaiveHost, PmacHost, PrPollingHost
+from .trio import BlindFeeder, Move, MovesBufferedFeeder, NtypeFeeder, TrioFeeder
 
 __all__ = [
     "BlindFeeder",

@@ -56,8 +56,8 @@ import random
 from collections.abc import Generator, Sequence
 from typing import Any, NamedTuple
 
-from motionsim.sim.errors import BufferFull, Halted
-from motionsim.sim.hosts.distributions import Delay, fixed
+from ..errors import BufferFull, Halted
+from .distributions import Delay, fixed
 
 _ZERO = fixed(0.0)
 

@@ -24,7 +24,7 @@ from collections.abc import Generator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from motionsim.sim.errors import BufferFull
+from ..errors import BufferFull
 
 
 @dataclass(frozen=True, slots=True)

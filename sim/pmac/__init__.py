@@ -20,12 +20,12 @@ the controller, the compiled line and PLC program a REST body is checked against
 meaning of an ``ERRnnn`` code and the PLC listing.
 """
 
-from motionsim.sim.pmac.buffers.program import compile_line
-from motionsim.sim.pmac.card.error_codes import meaning
-from motionsim.sim.pmac.controller import MAX_LINE_CHARS, LoadResult, PmacController
-from motionsim.sim.pmac.host.listing import stored_entries
-from motionsim.sim.pmac.language.compiled import ProgramLine
-from motionsim.sim.pmac.tasks.plc import PlcProgram, compile_plc
+from .buffers.program import compile_line
+from .card.error_codes import meaning
+from .controller import MAX_LINE_CHARS, LoadResult, PmacController
+from .host.listing import stored_entries
+from .language.compiled import ProgramLine
+from .tasks.plc import PlcProgram, compile_plc
 
 __all__ = [
     "MAX_LINE_CHARS", "LoadResult", "PlcProgram", "PmacController", "ProgramLine", "compile_line",

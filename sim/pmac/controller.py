@@ -23,35 +23,36 @@ from collections.abc import Callable, Iterable, Mapping
 from typing import Any, NamedTuple
 
 import simpy
-from motionsim.sim.bounds import FINITE, PMAC_CONFIG, PMAC_CPU_COST
-from motionsim.sim.controller import Controller, Port, Reply
-from motionsim.sim.errors import BufferFull, Conflict, Halted, InvalidValue, NotFound, ParseError
-from motionsim.sim.faults import CardFaults
-from motionsim.sim.pmac.buffers import lookahead_buffer
-from motionsim.sim.pmac.buffers.program import ProgramLine, compile_line
-from motionsim.sim.pmac.buffers.programs import MotionPrograms
-from motionsim.sim.pmac.buffers.rotary import RotaryBuffer
-from motionsim.sim.pmac.card import card_commands, pmac_float, registers, servo_ic
-from motionsim.sim.pmac.card.macro_station import MacroStations
-from motionsim.sim.pmac.card.timers import CountdownTimers
-from motionsim.sim.pmac.card.variables import N_CS, N_MOTORS, Variables, parse_name
-from motionsim.sim.pmac.host import commands
-from motionsim.sim.pmac.host.messages import HostMessages
-from motionsim.sim.pmac.host.messages import frame as frame_message
-from motionsim.sim.pmac.host.terminal import Terminal
-from motionsim.sim.pmac.kinematics.engine import Kinematics
-from motionsim.sim.pmac.language import axis_definitions
-from motionsim.sim.pmac.language import motor_statements as motor_st
-from motionsim.sim.pmac.lookahead import CoordSystem
-from motionsim.sim.pmac.lookahead.start_checks import check_start
-from motionsim.sim.pmac.motor.motor_status import motor_status_words
-from motionsim.sim.pmac.motor.motors import Motor, MotorTable
-from motionsim.sim.pmac.tasks.command_queue import CommandQueue
-from motionsim.sim.pmac.tasks.cpu import CONFIG_KEYS as CPU_CONFIG_KEYS
-from motionsim.sim.pmac.tasks.cpu import Processor
-from motionsim.sim.pmac.tasks.plc import PlcTable
-from motionsim.sim.pmac.tasks.scheduler import Scheduler
-from motionsim.sim.timing import pmac_servo_period_s
+
+from ..bounds import FINITE, PMAC_CONFIG, PMAC_CPU_COST
+from ..controller import Controller, Port, Reply
+from ..errors import BufferFull, Conflict, Halted, InvalidValue, NotFound, ParseError
+from ..faults import CardFaults
+from ..timing import pmac_servo_period_s
+from .buffers import lookahead_buffer
+from .buffers.program import ProgramLine, compile_line
+from .buffers.programs import MotionPrograms
+from .buffers.rotary import RotaryBuffer
+from .card import card_commands, pmac_float, registers, servo_ic
+from .card.macro_station import MacroStations
+from .card.timers import CountdownTimers
+from .card.variables import N_CS, N_MOTORS, Variables, parse_name
+from .host import commands
+from .host.messages import HostMessages
+from .host.messages import frame as frame_message
+from .host.terminal import Terminal
+from .kinematics.engine import Kinematics
+from .language import axis_definitions
+from .language import motor_statements as motor_st
+from .lookahead import CoordSystem
+from .lookahead.start_checks import check_start
+from .motor.motor_status import motor_status_words
+from .motor.motors import Motor, MotorTable
+from .tasks.command_queue import CommandQueue
+from .tasks.cpu import CONFIG_KEYS as CPU_CONFIG_KEYS
+from .tasks.cpu import Processor
+from .tasks.plc import PlcTable
+from .tasks.scheduler import Scheduler
 
 MEMORY_WORDS = 65_536
 

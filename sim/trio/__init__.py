@@ -17,9 +17,9 @@ stay importable, as the same module objects, for code written before the split
 import importlib
 import sys
 
-from motionsim.sim.trio.card.io import CHANNELS, PATTERN_FIRST
-from motionsim.sim.trio.card.models import MODELS
-from motionsim.sim.trio.controller import TrioController
+from .card.io import CHANNELS, PATTERN_FIRST
+from .card.models import MODELS
+from .controller import TrioController
 
 #: Old module name -> the part it lives in now.
 MOVED: dict[str, str] = {

@@ -25,9 +25,9 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from motionsim.sim.bounds import TRIO_CONFIG
-from motionsim.sim.controller import Controller, Port, Reply
-from motionsim.sim.errors import (
+from ..bounds import TRIO_CONFIG
+from ..controller import Controller, Port, Reply
+from ..errors import (
     BufferFull,
     Conflict,
     InvalidValue,
@@ -35,26 +35,26 @@ from motionsim.sim.errors import (
     NotSimulated,
     ParseError,
 )
-from motionsim.sim.timing import ServoClock
-from motionsim.sim.trio.card.axis_status import StoredParams, axisstatus
-from motionsim.sim.trio.card.basic_errors import BasicError
-from motionsim.sim.trio.card.io import CHANNELS, IoImage
-from motionsim.sim.trio.card.models import DEFAULT_MODEL, WORD_MAX, out_of_word
-from motionsim.sim.trio.card.models import model as model_named
-from motionsim.sim.trio.card.output import Channels
-from motionsim.sim.trio.card.system import SystemParams
-from motionsim.sim.trio.language.compiler import Code, compile_program
-from motionsim.sim.trio.language.move_words import LINKED, MOVE_ARGS
-from motionsim.sim.trio.language.parser import parse_program
-from motionsim.sim.trio.language.scope import Decl, rebinding
-from motionsim.sim.trio.language.statements import Program
-from motionsim.sim.trio.motion.axis import DEFAULTS, Axis
-from motionsim.sim.trio.motion.buffers import MotionBuffers, Waiter
-from motionsim.sim.trio.motion.issue import new_move
-from motionsim.sim.trio.motion.mtypes import MTYPE, axes_driven
-from motionsim.sim.trio.run.context import Context
-from motionsim.sim.trio.run.process import BasicProcess
-from motionsim.sim.trio.terminal import CommandLine
+from ..timing import ServoClock
+from .card.axis_status import StoredParams, axisstatus
+from .card.basic_errors import BasicError
+from .card.io import CHANNELS, IoImage
+from .card.models import DEFAULT_MODEL, WORD_MAX, out_of_word
+from .card.models import model as model_named
+from .card.output import Channels
+from .card.system import SystemParams
+from .language.compiler import Code, compile_program
+from .language.move_words import LINKED, MOVE_ARGS
+from .language.parser import parse_program
+from .language.scope import Decl, rebinding
+from .language.statements import Program
+from .motion.axis import DEFAULTS, Axis
+from .motion.buffers import MotionBuffers, Waiter
+from .motion.issue import new_move
+from .motion.mtypes import MTYPE, axes_driven
+from .run.context import Context
+from .run.process import BasicProcess
+from .terminal import CommandLine
 
 _CONFIG_DEFAULTS: dict[str, float] = {
     "servo_period_ms": 1.0,

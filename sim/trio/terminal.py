@@ -28,17 +28,17 @@ from __future__ import annotations
 from collections import deque
 from typing import TYPE_CHECKING, Any
 
-from motionsim.sim.controller import Reply
-from motionsim.sim.errors import NotSimulated, ParseError
-from motionsim.sim.trio.card import basic_errors as msg
-from motionsim.sim.trio.card.basic_errors import BasicError, error_line
-from motionsim.sim.trio.language.compiler import HALT, Block, Code, compile_program
-from motionsim.sim.trio.language.parser import parse_program
-from motionsim.sim.trio.motion.buffers import Waiter
-from motionsim.sim.trio.run.context import Context
+from ..controller import Reply
+from ..errors import NotSimulated, ParseError
+from .card import basic_errors as msg
+from .card.basic_errors import BasicError, error_line
+from .language.compiler import HALT, Block, Code, compile_program
+from .language.parser import parse_program
+from .motion.buffers import Waiter
+from .run.context import Context
 
 if TYPE_CHECKING:
-    from motionsim.sim.trio.controller import TrioController
+    from .controller import TrioController
 
 #: Operations a single command line may execute (a FOR loop typed with ``:`` included).
 MAX_STEPS = 100_000

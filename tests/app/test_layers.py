@@ -12,6 +12,8 @@ from pathlib import Path
 
 import pytest
 
+from tests.import_names import module_of
+
 ROOT = Path(__file__).resolve().parents[2]
 
 
@@ -31,8 +33,8 @@ def _imports(path: Path) -> list[tuple[str, int, bool]]:
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
             out += [(_layer(a.name), node.lineno, id(node) in top_level) for a in node.names]
-        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
-            out.append((_layer(node.module), node.lineno, id(node) in top_level))
+        elif isinstance(node, ast.ImportFrom) and (mod := module_of(path, node, ROOT)):
+            out.append((_layer(mod), node.lineno, id(node) in top_level))
     return out
 
 
@@ -93,8 +95,8 @@ def _pmac_imports(path: Path) -> list[tuple[str, int, bool]]:
     for node in ast.walk(tree):
         if id(node) in typing_only:
             continue
-        if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
-            names = [node.module] + [f"{node.module}.{a.name}" for a in node.names]
+        if isinstance(node, ast.ImportFrom) and (mod := module_of(path, node, ROOT)):
+            names = [mod] + [f"{mod}.{a.name}" for a in node.names]
         elif isinstance(node, ast.Import):
             names = [a.name for a in node.names]
         else:
@@ -182,8 +184,8 @@ def test_api_imports_only_the_controllers_public_surface():
     for p in sorted((ROOT / "api").rglob("*.py")):
         tree = ast.parse(p.read_text(encoding="utf-8"), str(p))
         for node in ast.walk(tree):
-            if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
-                mods = [node.module]
+            if isinstance(node, ast.ImportFrom) and (mod := module_of(p, node, ROOT)):
+                mods = [mod]
             elif isinstance(node, ast.Import):
                 mods = [a.name for a in node.names]
             else:
@@ -191,3 +193,36 @@ def test_api_imports_only_the_controllers_public_surface():
             bad += [f"{p.relative_to(ROOT)}:{node.lineno} imports {m}" for m in mods
                     if not _public(m)]
     assert bad == []
+
+
+def test_the_package_imports_itself_by_relative_names():
+    """Issue 31 item 4: inside sim/, app/ and api/ every import of the package is relative,
+    so the layers connect in the source tree alone (an IDE or a structure tool without the
+    editable install); and the checks above read those imports (the PMAC graph is not empty)."""
+    bad = []
+    for tree in ("sim", "app", "api"):
+        for p in sorted((ROOT / tree).rglob("*.py")):
+            for node in ast.walk(ast.parse(p.read_text(encoding="utf-8"), str(p))):
+                if isinstance(node, ast.ImportFrom) and node.level == 0 and (
+                        node.module or "").split(".")[:2] in (["motionsim", t] for t in
+                                                              ("sim", "app", "api")):
+                    bad.append(f"{p.relative_to(ROOT)}:{node.lineno} from {node.module}")
+                elif isinstance(node, ast.Import):
+                    bad += [f"{p.relative_to(ROOT)}:{node.lineno} import {a.name}"
+                            for a in node.names if a.name.startswith("motionsim.")]
+    assert bad == []
+    edges = _pmac_edges()
+    assert ("host", "language") in edges and ("controller", "lookahead") in edges
+
+
+def test_the_layer_checks_see_a_relative_cycle(tmp_path, monkeypatch):
+    """The same cycle written with relative imports fails the checks too."""
+    fake = tmp_path / "sim" / "pmac"
+    for part, text in (("language", "from ..buffers import program\n"),
+                       ("buffers", "from ..language import parser\n")):
+        (fake / part).mkdir(parents=True)
+        (fake / part / "m.py").write_text(text)
+    monkeypatch.setattr(sys.modules[__name__], "_PMAC", fake)
+    monkeypatch.setattr(sys.modules[__name__], "ROOT", tmp_path)
+    with pytest.raises(AssertionError):
+        test_pmac_sub_packages_have_no_import_cycle()

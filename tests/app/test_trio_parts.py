@@ -14,6 +14,8 @@ from pathlib import Path
 
 import pytest
 
+from tests.import_names import module_of
+
 ROOT = Path(__file__).resolve().parents[2]
 TRIO = ROOT / "sim" / "trio"
 PACKAGE = "motionsim.sim.trio"
@@ -40,14 +42,14 @@ def _type_checking(node: ast.AST) -> bool:
     return isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test)
 
 
-def _targets(node: ast.Import | ast.ImportFrom) -> list[str]:
+def _targets(node: ast.Import | ast.ImportFrom, path: Path) -> list[str]:
     """The sim/trio modules an import statement loads (a name imported from a package is the
     submodule of that name when there is one, else the package itself)."""
     if isinstance(node, ast.Import):
         names = [a.name for a in node.names]
-    elif node.level == 0 and node.module:
-        names = [f"{node.module}.{a.name}" if f"{node.module}.{a.name}"[len(PACKAGE) + 1:]
-                 in MODULES else node.module for a in node.names]
+    elif mod := module_of(path, node, ROOT):
+        names = [f"{mod}.{a.name}" if f"{mod}.{a.name}"[len(PACKAGE) + 1:]
+                 in MODULES else mod for a in node.names]
     else:
         return []
     return [n[len(PACKAGE) + 1:] for n in names if n.startswith(PACKAGE + ".")]
@@ -64,7 +66,7 @@ def imports(path: Path) -> list[tuple[str, int, bool]]:
             if _type_checking(child):
                 continue
             if isinstance(child, ast.Import | ast.ImportFrom):
-                out.extend((t, child.lineno, top) for t in _targets(child))
+                out.extend((t, child.lineno, top) for t in _targets(child, path))
             nested = isinstance(child, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef
                                 | ast.Lambda)
             walk(child, top and not nested)

@@ -25,10 +25,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from motionsim.sim.errors import ParseError
-from motionsim.sim.pmac.buffers.program import ProgramLine, compile_statements
-from motionsim.sim.pmac.language import flow_statements as fl
-from motionsim.sim.pmac.language import statements as st
+from ...errors import ParseError
+from ..language import flow_statements as fl
+from ..language import statements as st
+from .program import ProgramLine, compile_statements
 
 I_LINE = 0  # (I_LINE, n, ProgramLine)
 I_IF = 1  # (I_IF, n, cond, target if false)

@@ -24,7 +24,7 @@ from __future__ import annotations
 from collections import deque
 from collections.abc import Sequence
 
-from motionsim.sim.errors import Conflict
+from ...errors import Conflict
 
 #: The highest line number accepted: the largest integer a JSON client (JavaScript) holds exactly.
 MAX_SEQ = 2**53 - 1

@@ -29,7 +29,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Protocol
 
-from motionsim.sim.errors import Conflict, InvalidValue
+from ...errors import Conflict, InvalidValue
 
 
 @dataclass(frozen=True, slots=True)

@@ -19,11 +19,11 @@ from __future__ import annotations
 
 from typing import Any
 
-from motionsim.sim.errors import NotSimulated, ParseError
-from motionsim.sim.pmac.language import flow_statements as fl
-from motionsim.sim.pmac.language import statements as st
-from motionsim.sim.pmac.language.axis_definitions import Frax
-from motionsim.sim.pmac.language.compiled import (
+from ...errors import NotSimulated, ParseError
+from ..language import flow_statements as fl
+from ..language import statements as st
+from ..language.axis_definitions import Frax
+from ..language.compiled import (
     OP_ASSIGN,
     OP_AXISMODE,
     OP_DELAY,
@@ -36,11 +36,11 @@ from motionsim.sim.pmac.language.compiled import (
     OP_SEND,
     ProgramLine,
 )
-from motionsim.sim.pmac.language.expressions import constant
-from motionsim.sim.pmac.language.fast_line import fast_compile
-from motionsim.sim.pmac.language.flow_statements import FLOW_TYPES
-from motionsim.sim.pmac.language.parser import parse_program_line
-from motionsim.sim.pmac.language.ranges import RangeAssign
+from ..language.expressions import constant
+from ..language.fast_line import fast_compile
+from ..language.flow_statements import FLOW_TYPES
+from ..language.parser import parse_program_line
+from ..language.ranges import RangeAssign
 
 #: Statements that make a line a control-flow line (:attr:`ProgramLine.flow`).
 _MARKS = (st.Label, *FLOW_TYPES)

@@ -27,8 +27,9 @@ from collections import deque
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-from motionsim.sim.errors import MotionSimError
-from motionsim.sim.pmac.buffers.flow import (
+from ...errors import MotionSimError
+from ..language.parser import parse_program_line
+from .flow import (
     I_BLOCKSTART,
     I_BLOCKSTOP,
     I_CALL,
@@ -45,11 +46,10 @@ from motionsim.sim.pmac.buffers.flow import (
     Code,
     build,
 )
-from motionsim.sim.pmac.buffers.program import ProgramLine, compile_statements
-from motionsim.sim.pmac.language.parser import parse_program_line
+from .program import ProgramLine, compile_statements
 
 if TYPE_CHECKING:
-    from motionsim.sim.pmac.buffers.programs import MotionPrograms
+    from .programs import MotionPrograms
 
 #: Above any line number of any program (see ``ProgramRun.n_loaded``).
 N_LINES_MAX = 1 << 30

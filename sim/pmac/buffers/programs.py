@@ -25,11 +25,11 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from motionsim.sim.controller import Port
-from motionsim.sim.errors import Conflict, NotFound
-from motionsim.sim.pmac.buffers.flow import STRUCTURAL, Code, Structure, build
-from motionsim.sim.pmac.buffers.program import ProgramLine
-from motionsim.sim.pmac.buffers.program_run import ProgramRun
+from ...controller import Port
+from ...errors import Conflict, NotFound
+from .flow import STRUCTURAL, Code, Structure, build
+from .program import ProgramLine
+from .program_run import ProgramRun
 
 N_PROGRAMS = 32767
 

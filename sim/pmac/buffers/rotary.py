@@ -31,13 +31,13 @@ from collections import deque
 from collections.abc import Callable
 from typing import Any
 
-from motionsim.sim.errors import BufferFull
-from motionsim.sim.events import EventLog
-from motionsim.sim.pmac.buffers.flow import build
-from motionsim.sim.pmac.buffers.line_numbers import LineNumbering
-from motionsim.sim.pmac.buffers.program import ProgramLine, rotary_check
-from motionsim.sim.pmac.buffers.program_run import ProgramRun
-from motionsim.sim.pmac.language.flow_statements import FLOW_TYPES
+from ...errors import BufferFull
+from ...events import EventLog
+from ..language.flow_statements import FLOW_TYPES
+from .flow import build
+from .line_numbers import LineNumbering
+from .program import ProgramLine, rotary_check
+from .program_run import ProgramRun
 
 
 class RotaryBuffer:

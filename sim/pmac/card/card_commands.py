@@ -19,10 +19,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from motionsim.sim.simpy_adapter import wake_at
+from ...simpy_adapter import wake_at
 
 if TYPE_CHECKING:
-    from motionsim.sim.pmac.controller import PmacController
+    from ..controller import PmacController
 
 
 @dataclass(frozen=True, slots=True)

@@ -33,8 +33,8 @@ from __future__ import annotations
 
 from typing import Final
 
-from motionsim.sim.pmac.card import servo_ic
-from motionsim.sim.timing import pmac_servo_period_s
+from ...timing import pmac_servo_period_s
+from . import servo_ic
 
 N_IVARS: Final = 8192
 

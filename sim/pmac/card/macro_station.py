@@ -31,11 +31,11 @@ import re
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-from motionsim.sim.errors import ParseError
-from motionsim.sim.pmac.card.variables import format_value
+from ...errors import ParseError
+from .variables import format_value
 
 if TYPE_CHECKING:
-    from motionsim.sim.pmac.card.variables import Variables
+    from .variables import Variables
 
 N_NODES = 64
 #: What ``MSVER`` / ``MSDATE`` answer: a MACRO station's firmware as in the manual's

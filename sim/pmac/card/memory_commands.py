@@ -34,13 +34,13 @@ import re
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Final
 
-from motionsim.sim.errors import Conflict
-from motionsim.sim.pmac.card import pmac_float
-from motionsim.sim.pmac.card.mvar_defs import MAX_ADDRESS
-from motionsim.sim.pmac.card.variables import format_value
+from ...errors import Conflict
+from . import pmac_float
+from .mvar_defs import MAX_ADDRESS
+from .variables import format_value
 
 if TYPE_CHECKING:
-    from motionsim.sim.pmac.card.mvars import MVariables
+    from .mvars import MVariables
 
 SPACES: Final = ("X", "Y", "D", "L")
 #: Right after ``R``: ``H`` for hex, then the space and ``:`` (``RHX:``, ``RY:``).

@@ -27,7 +27,7 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import Final
 
-from motionsim.sim.pmac.card.mvar_defs import MDef
+from .mvar_defs import MDef
 
 MDEF_BASE: Final = 0x004000
 N_MDEFS: Final = 8192

@@ -28,9 +28,9 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-from motionsim.sim.pmac.card import memory_map, pmac_float
-from motionsim.sim.pmac.card.mvar_defs import SELF, TW_KINDS, MDef
-from motionsim.sim.pmac.card.registers import Register
+from . import memory_map, pmac_float
+from .mvar_defs import SELF, TW_KINDS, MDef
+from .registers import Register
 
 _LONG_BITS = 48
 _WORD = 0xFFFFFF

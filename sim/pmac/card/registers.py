@@ -47,7 +47,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Protocol
 
 if TYPE_CHECKING:
-    from motionsim.sim.pmac.controller import PmacController
+    from ..controller import PmacController
 
 
 class Card(Protocol):

@@ -17,12 +17,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from motionsim.sim.errors import Conflict
-from motionsim.sim.pmac.card import memory_map
-from motionsim.sim.pmac.card.factory import default_i
+from ...errors import Conflict
+from . import memory_map
+from .factory import default_i
 
 if TYPE_CHECKING:
-    from motionsim.sim.pmac.controller import PmacController
+    from ..controller import PmacController
 
 I_END_OF_OPEN_MEMORY = 4908
 MAX_WORDS = memory_map.OPEN_MEMORY_END - memory_map.OPEN_MEMORY_START

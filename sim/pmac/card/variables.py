@@ -21,11 +21,11 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
-from motionsim.sim.errors import NotFound
-from motionsim.sim.pmac.card.factory import HEX_IVARS, default_i
-from motionsim.sim.pmac.card.ivar_ranges import locked, roll_over
-from motionsim.sim.pmac.card.mvars import MVariables
-from motionsim.sim.pmac.card.timers import TIMER_NUMBERS, CountdownTimers, timer_cs
+from ...errors import NotFound
+from .factory import HEX_IVARS, default_i
+from .ivar_ranges import locked, roll_over
+from .mvars import MVariables
+from .timers import TIMER_NUMBERS, CountdownTimers, timer_cs
 
 N_VARS = 8192
 N_CS = 16

@@ -28,27 +28,27 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Final
 
-from motionsim.sim.errors import Conflict, InvalidValue
-from motionsim.sim.pmac.card import (
+from ...errors import Conflict, InvalidValue
+from ..card import (
     card_commands,
     macro_station,
     memory_commands,
     mvar_defs,
     user_buffer,
 )
-from motionsim.sim.pmac.card.variables import N_CS, N_MOTORS, N_VARS, format_ivar, format_value
-from motionsim.sim.pmac.host import list_commands, program_counter
-from motionsim.sim.pmac.kinematics import commands as kin
-from motionsim.sim.pmac.language import axis_definitions as axdef
-from motionsim.sim.pmac.language import card_words, list_words, ranges
-from motionsim.sim.pmac.language import motor_statements as motor_st
-from motionsim.sim.pmac.language import plc_statements as plc_st
-from motionsim.sim.pmac.language import statements as st
-from motionsim.sim.pmac.language.cs_enable import EnableCS
+from ..card.variables import N_CS, N_MOTORS, N_VARS, format_ivar, format_value
+from ..kinematics import commands as kin
+from ..language import axis_definitions as axdef
+from ..language import card_words, list_words, ranges
+from ..language import motor_statements as motor_st
+from ..language import plc_statements as plc_st
+from ..language import statements as st
+from ..language.cs_enable import EnableCS
+from . import list_commands, program_counter
 
 if TYPE_CHECKING:
-    from motionsim.sim.controller import Port
-    from motionsim.sim.pmac.controller import PmacController
+    from ...controller import Port
+    from ..controller import PmacController
 
 VERSION = "1.947  "
 CARD_ID = "603382"

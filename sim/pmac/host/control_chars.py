@@ -33,11 +33,11 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from motionsim.sim.controller import Port
-from motionsim.sim.pmac.card.variables import N_CS, N_MOTORS, format_value
+from ...controller import Port
+from ..card.variables import N_CS, N_MOTORS, format_value
 
 if TYPE_CHECKING:
-    from motionsim.sim.pmac.controller import PmacController
+    from ..controller import PmacController
 
 #: Characters that are text, not control commands.
 _TEXT = frozenset("\t\r\n\x00")

@@ -27,14 +27,14 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from motionsim.sim.errors import Conflict, NotSimulated
-from motionsim.sim.pmac.host import listing
-from motionsim.sim.pmac.kinematics.commands import buffer_key
-from motionsim.sim.pmac.language.list_words import ListBuffer
+from ...errors import Conflict, NotSimulated
+from ..kinematics.commands import buffer_key
+from ..language.list_words import ListBuffer
+from . import listing
 
 if TYPE_CHECKING:
-    from motionsim.sim.controller import Port
-    from motionsim.sim.pmac.controller import PmacController
+    from ...controller import Port
+    from ..controller import PmacController
 
 N_PLCS = 32
 

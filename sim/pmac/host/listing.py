@@ -31,7 +31,7 @@ import threading
 from collections.abc import Callable, Iterable, Sequence
 from typing import Any, Final
 
-from motionsim.sim.pmac.card.variables import format_value
+from ..card.variables import format_value
 
 #: Long keyword -> the short form the card lists (I9 bit 0 = 0).
 SHORT: Final[dict[str, str]] = {

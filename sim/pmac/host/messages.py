@@ -34,7 +34,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Final
 
-from motionsim.sim.controller import Port
+from ...controller import Port
 
 #: Lines kept for the host ports, oldest first; beyond it the oldest is dropped.
 MAX_LINES: Final = 256

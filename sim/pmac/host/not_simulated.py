@@ -19,7 +19,7 @@ from __future__ import annotations
 import re
 from typing import Final
 
-from motionsim.sim.pmac.language import keywords
+from ..language import keywords
 
 #: Valid commands the keyword table cannot hold as words (the lexer would split them into
 #: letters that start other commands: ``MS``, ``LIST PE``); (pattern, what to call it).

@@ -27,13 +27,13 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
-from motionsim.sim.errors import Conflict
-from motionsim.sim.pmac.host import listing
-from motionsim.sim.pmac.language.statements import ProgramCounter
+from ...errors import Conflict
+from ..language.statements import ProgramCounter
+from . import listing
 
 if TYPE_CHECKING:
-    from motionsim.sim.pmac.controller import PmacController
-    from motionsim.sim.pmac.lookahead.coord import CoordSystem
+    from ..controller import PmacController
+    from ..lookahead.coord import CoordSystem
 
 
 def line_offset(texts: Sequence[str], n: int) -> int:

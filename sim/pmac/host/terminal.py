@@ -27,17 +27,17 @@ from __future__ import annotations
 import re
 from typing import TYPE_CHECKING, Any
 
-from motionsim.sim.controller import Port
-from motionsim.sim.errors import MotionSimError, NotSimulated, ParseError
-from motionsim.sim.pmac.buffers.program import compile_statements
-from motionsim.sim.pmac.host import commands, not_simulated
-from motionsim.sim.pmac.host.commands import CommandError
-from motionsim.sim.pmac.host.control_chars import ControlCharacters, split_controls
-from motionsim.sim.pmac.language import statements as st
-from motionsim.sim.pmac.language.parser import parse_line
+from ...controller import Port
+from ...errors import MotionSimError, NotSimulated, ParseError
+from ..buffers.program import compile_statements
+from ..language import statements as st
+from ..language.parser import parse_line
+from . import commands, not_simulated
+from .commands import CommandError
+from .control_chars import ControlCharacters, split_controls
 
 if TYPE_CHECKING:
-    from motionsim.sim.pmac.controller import PmacController
+    from ..controller import PmacController
 
 _OPEN_PLC = re.compile(r"OPEN\s*PLCC?\s*\d+", re.IGNORECASE)
 

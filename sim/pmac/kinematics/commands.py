@@ -16,13 +16,13 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from motionsim.sim.errors import Conflict
-from motionsim.sim.pmac.language.axis_definitions import lookup
+from ...errors import Conflict
+from ..language.axis_definitions import lookup
 
 if TYPE_CHECKING:
-    from motionsim.sim.controller import Port
-    from motionsim.sim.pmac.controller import PmacController
-    from motionsim.sim.pmac.language.card_words import OpenKinematic, Undefine
+    from ...controller import Port
+    from ..controller import PmacController
+    from ..language.card_words import OpenKinematic, Undefine
 
 N_CS = 16
 

@@ -31,15 +31,15 @@ import math
 from functools import partial
 from typing import TYPE_CHECKING, Any, Final
 
-from motionsim.sim.pmac.card.variables import isx
-from motionsim.sim.pmac.kinematics.commands import buffer_key
-from motionsim.sim.pmac.kinematics.subroutine import Q_TAG, KinematicFailure, Subroutine
-from motionsim.sim.pmac.language import axis_definitions
-from motionsim.sim.pmac.motor.jog import Profile
-from motionsim.sim.pmac.tasks.scheduler import wake_at
+from ..card.variables import isx
+from ..language import axis_definitions
+from ..motor.jog import Profile
+from ..tasks.scheduler import wake_at
+from .commands import buffer_key
+from .subroutine import Q_TAG, KinematicFailure, Subroutine
 
 if TYPE_CHECKING:
-    from motionsim.sim.pmac.controller import PmacController
+    from ..controller import PmacController
 
 #: Axis letters in Q-variable order: Q1 = A … Q9 = Z.
 AXES_Q: Final = "ABCUVWXYZ"

@@ -19,7 +19,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any, Final
 
-from motionsim.sim.pmac.buffers.flow import (
+from ..buffers.flow import (
     I_GOSUB,
     I_GOTO,
     I_IF,
@@ -30,7 +30,7 @@ from motionsim.sim.pmac.buffers.flow import (
     I_WHILE,
     Code,
 )
-from motionsim.sim.pmac.buffers.program import OP_ASSIGN
+from ..buffers.program import OP_ASSIGN
 
 #: Statements (each line's assignments, and each IF / WHILE / jump) one run may execute before
 #: it is abandoned as a runaway loop ``[INF]``: what a 4 ms slice of the event loop holds.

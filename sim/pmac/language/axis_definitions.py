@@ -30,8 +30,8 @@ from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
 
-from motionsim.sim.errors import ParseError
-from motionsim.sim.pmac.card.variables import format_value
+from ...errors import ParseError
+from ..card.variables import format_value
 
 _NUMBER = r"(?:\d+\.?\d*|\.\d+)"
 _TERM = re.compile(rf"\s*(?P<sign>[+-])?\s*(?P<scale>{_NUMBER})?\s*(?P<axis>[XYZABCUVW])?",

@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from motionsim.sim.pmac.card.user_buffer import DefineUbuffer, DeleteAll
+from ..card.user_buffer import DefineUbuffer, DeleteAll
 
 Token = tuple[str, str, int, int]
 

@@ -28,8 +28,8 @@ from __future__ import annotations
 import re
 from typing import Any
 
-from motionsim.sim.pmac.language import expressions as ex
-from motionsim.sim.pmac.language.compiled import (
+from . import expressions as ex
+from .compiled import (
     OP_ASSIGN,
     OP_AXISMODE,
     OP_DELAY,
@@ -39,7 +39,7 @@ from motionsim.sim.pmac.language.compiled import (
     OP_MOVE,
     ProgramLine,
 )
-from motionsim.sim.pmac.language.parser import _WORDS as _LEXER_WORDS  # the general lexer's
+from .parser import _WORDS as _LEXER_WORDS  # the general lexer's
 
 
 def _whole(*words: str) -> str:

@@ -16,7 +16,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from motionsim.sim.pmac.language.expressions import Expr
+from .expressions import Expr
 
 Cond = Callable[[Any, int], bool]
 

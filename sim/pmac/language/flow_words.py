@@ -8,8 +8,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from motionsim.sim.pmac.language import flow_statements as fl
-from motionsim.sim.pmac.language.conditions import any_of_all
+from . import flow_statements as fl
+from .conditions import any_of_all
 
 Token = tuple[str, str, int, int]
 

@@ -28,7 +28,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, Final
 
-from motionsim.sim.pmac.language import (
+from . import (
     axis_definitions,
     card_words,
     flow_words,
@@ -36,7 +36,7 @@ from motionsim.sim.pmac.language import (
     online_words,
     plc_idioms,
 )
-from motionsim.sim.pmac.language.object_words import OBJECTS
+from .object_words import OBJECTS
 
 Builder = Callable[[Any, tuple[str, str, int, int]], Any]
 

@@ -9,12 +9,12 @@ from __future__ import annotations
 
 from typing import Any
 
-from motionsim.sim.pmac.card import card_commands
-from motionsim.sim.pmac.language import card_words, list_words
-from motionsim.sim.pmac.language import motor_statements as motor_st
-from motionsim.sim.pmac.language import plc_statements as plc_st
-from motionsim.sim.pmac.language import statements as st
-from motionsim.sim.pmac.language.object_words import OBJECTS
+from ..card import card_commands
+from . import card_words, list_words
+from . import motor_statements as motor_st
+from . import plc_statements as plc_st
+from . import statements as st
+from .object_words import OBJECTS
 
 Token = tuple[str, str, int, int]
 

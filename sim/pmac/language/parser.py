@@ -26,20 +26,20 @@ from __future__ import annotations
 import re
 from typing import Any
 
-from motionsim.sim.errors import ParseError
-from motionsim.sim.pmac.card import card_commands, macro_station, memory_commands, mvar_defs
-from motionsim.sim.pmac.language import axis_definitions, flow_words, keywords, ranges
-from motionsim.sim.pmac.language import expressions as ex
-from motionsim.sim.pmac.language import motor_statements as motor_st
-from motionsim.sim.pmac.language import plc_statements as plc_st
-from motionsim.sim.pmac.language import statements as st
-from motionsim.sim.pmac.language.conditions import (
+from ...errors import ParseError
+from ..card import card_commands, macro_station, memory_commands, mvar_defs
+from . import axis_definitions, flow_words, keywords, ranges
+from . import expressions as ex
+from . import motor_statements as motor_st
+from . import plc_statements as plc_st
+from . import statements as st
+from .conditions import (
     _NOT_COMPARATORS,
     COMPARATORS,
     Cond,
     any_of_all,
 )
-from motionsim.sim.pmac.language.cs_enable import EnableCS
+from .cs_enable import EnableCS
 
 #: Words the lexer reads whole: the keyword table's spellings and objects, and the functions.
 _WORDS = keywords.lexer_words(tuple(ex.FUNCTIONS))

@@ -21,7 +21,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from motionsim.sim.errors import ParseError
+from ...errors import ParseError
 
 
 @dataclass(frozen=True, slots=True)
@@ -126,7 +126,7 @@ def message_word(p: Any, tok: tuple[str, str, int, int]) -> Any:
     become a stored message (a ``SEND`` reaches the host when the line is calculated; a
     ``CMD`` takes no action in a motion program ``[INF]``); ``CMD^{letter}`` stores the
     control character."""
-    from motionsim.sim.pmac.language import statements as st  # statements imports this module
+    from . import statements as st  # statements imports this module
 
     word = tok[1]
     stmt, end = build(word, p.text, tok[3])

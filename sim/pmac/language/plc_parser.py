@@ -32,17 +32,17 @@ from __future__ import annotations
 
 from typing import Any
 
-from motionsim.sim.errors import ParseError
-from motionsim.sim.pmac.card.macro_station import StationCommand
-from motionsim.sim.pmac.language import card_words, plc_idioms
-from motionsim.sim.pmac.language import flow_statements as fl
-from motionsim.sim.pmac.language import plc_statements as plc_st
-from motionsim.sim.pmac.language import statements as st
-from motionsim.sim.pmac.language.axis_definitions import AxisDefinition
-from motionsim.sim.pmac.language.expressions import MAX_NESTING, too_deep
-from motionsim.sim.pmac.language.motor_statements import HomeList
-from motionsim.sim.pmac.language.parser import parse_line
-from motionsim.sim.pmac.language.ranges import RangeAssign
+from ...errors import ParseError
+from ..card.macro_station import StationCommand
+from . import card_words, plc_idioms
+from . import flow_statements as fl
+from . import plc_statements as plc_st
+from . import statements as st
+from .axis_definitions import AxisDefinition
+from .expressions import MAX_NESTING, too_deep
+from .motor_statements import HomeList
+from .parser import parse_line
+from .ranges import RangeAssign
 
 _ERR = "ERR003"
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from motionsim.sim.pmac.language.expressions import Expr
+from .expressions import Expr
 
 N_VARS = 8192
 

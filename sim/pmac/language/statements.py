@@ -15,11 +15,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from motionsim.sim.pmac.language.axis_definitions import AxisDefinition, Frax
-from motionsim.sim.pmac.language.expressions import Expr
-from motionsim.sim.pmac.language.flow_statements import FLOW_TYPES
-from motionsim.sim.pmac.language.plc_idioms import Address
-from motionsim.sim.pmac.language.ranges import RangeAssign
+from .axis_definitions import AxisDefinition, Frax
+from .expressions import Expr
+from .flow_statements import FLOW_TYPES
+from .plc_idioms import Address
+from .ranges import RangeAssign
 
 # -- on-line commands -------------------------------------------------------------------------
 

@@ -7,8 +7,8 @@ What is modelled, with sources, is in each part's docstring: :mod:`.planning`,
 
 from __future__ import annotations
 
-from motionsim.sim.pmac.lookahead.coord import CoordSystem
-from motionsim.sim.pmac.lookahead.states import TRANSITIONS
-from motionsim.sim.pmac.modes import Move
+from ..modes import Move
+from .coord import CoordSystem
+from .states import TRANSITIONS
 
 __all__ = ["TRANSITIONS", "CoordSystem", "Move"]

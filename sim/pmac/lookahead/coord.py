@@ -12,13 +12,13 @@ from __future__ import annotations
 
 from typing import Any
 
-from motionsim.sim.pmac.card.variables import isx
-from motionsim.sim.pmac.lookahead.execution import Execution
-from motionsim.sim.pmac.lookahead.planning import Planning
-from motionsim.sim.pmac.lookahead.states import IDLE, RUNNING, STOPPED, WAITING
-from motionsim.sim.pmac.lookahead.timebase import TimeBase
-from motionsim.sim.pmac.modes import DWELL
-from motionsim.sim.simpy_adapter import cancel
+from ...simpy_adapter import cancel
+from ..card.variables import isx
+from ..modes import DWELL
+from .execution import Execution
+from .planning import Planning
+from .states import IDLE, RUNNING, STOPPED, WAITING
+from .timebase import TimeBase
 
 #: ``??`` word 2 move-mode bits (4, 1, 0): LINEAR 000, RAPID 010, CIRCLE1 001, CIRCLE2 011,
 #: SPLINE 101, PVT 110 (TSRM p286-287; PSRM p195).

@@ -45,18 +45,18 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from motionsim.sim.pmac.card.variables import ixx
-from motionsim.sim.pmac.lookahead import abort_stop
-from motionsim.sim.pmac.lookahead.state import CoordState
-from motionsim.sim.pmac.lookahead.states import ABORTED, RUNNING, STOPPED
-from motionsim.sim.pmac.lookahead.sync_queue import segment_start
-from motionsim.sim.pmac.modes import BLENDS, DELAY, DWELL, LINEAR, PROFILES, SPLINE, Move
-from motionsim.sim.pmac.modes.pset import PsetMove
-from motionsim.sim.pmac.tasks.scheduler import first_rti_after, servo_at_or_after, wake_at
-from motionsim.sim.simpy_adapter import cancel, supersede
+from ...simpy_adapter import cancel, supersede
+from ..card.variables import ixx
+from ..modes import BLENDS, DELAY, DWELL, LINEAR, PROFILES, SPLINE, Move
+from ..modes.pset import PsetMove
+from ..tasks.scheduler import first_rti_after, servo_at_or_after, wake_at
+from . import abort_stop
+from .state import CoordState
+from .states import ABORTED, RUNNING, STOPPED
+from .sync_queue import segment_start
 
 if TYPE_CHECKING:
-    from motionsim.sim.simpy_adapter import Callback
+    from ...simpy_adapter import Callback
 
 #: Move kinds cut into Isx13 segments in segmentation mode (LINEAR and CIRCLE, DELAY as a
 #: zero-distance LINEAR move ``[INF]``; TSRM p177).

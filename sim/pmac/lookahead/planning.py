@@ -44,7 +44,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from motionsim.sim.pmac.buffers.program import (
+from ...simpy_adapter import cancel, pending
+from ..buffers.program import (
     OP_ASSIGN,
     OP_AXISMODE,
     OP_DELAY,
@@ -57,10 +58,8 @@ from motionsim.sim.pmac.buffers.program import (
     OP_SEND,
     ProgramLine,
 )
-from motionsim.sim.pmac.card.variables import isx
-from motionsim.sim.pmac.lookahead.state import SPLINES, CoordState
-from motionsim.sim.pmac.lookahead.states import RUNNING, STOPPED, WAITING
-from motionsim.sim.pmac.modes import (
+from ..card.variables import isx
+from ..modes import (
     LINEAR,
     PROFILES,
     Move,
@@ -72,14 +71,15 @@ from motionsim.sim.pmac.modes import (
     rapid,
     spline,
 )
-from motionsim.sim.pmac.tasks.scheduler import Wake, wake_at
-from motionsim.sim.simpy_adapter import cancel, pending
+from ..tasks.scheduler import Wake, wake_at
+from .state import SPLINES, CoordState
+from .states import RUNNING, STOPPED, WAITING
 
 if TYPE_CHECKING:
-    from motionsim.sim.pmac.buffers.programs import ProgramRun
-    from motionsim.sim.pmac.buffers.rotary import RotaryBuffer
-    from motionsim.sim.pmac.language.expressions import Expr
-    from motionsim.sim.simpy_adapter import Callback
+    from ...simpy_adapter import Callback
+    from ..buffers.programs import ProgramRun
+    from ..buffers.rotary import RotaryBuffer
+    from ..language.expressions import Expr
 
     #: A move op's axis words, vector words or velocity words: ``((letter, expr), ...)``
     #: (:data:`motionsim.sim.pmac.buffers.program.OP_MOVE`).

@@ -29,12 +29,12 @@ from __future__ import annotations
 from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
-from motionsim.sim.errors import Conflict
-from motionsim.sim.pmac.card.variables import ixx
+from ...errors import Conflict
+from ..card.variables import ixx
 
 if TYPE_CHECKING:
-    from motionsim.sim.pmac.card.variables import Variables
-    from motionsim.sim.pmac.motor.motors import Motor
+    from ..card.variables import Variables
+    from ..motor.motors import Motor
 
 
 def check_start(cs: int, motors: Iterable[Motor], vars_: Variables, strict: bool) -> None:

@@ -19,23 +19,24 @@ from collections import deque
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-from motionsim.sim.pmac.buffers import motion
-from motionsim.sim.pmac.card.variables import isx
-from motionsim.sim.pmac.lookahead.states import IDLE, RUNNING, STOPPED, TRANSITIONS, WAITING
-from motionsim.sim.pmac.lookahead.sync_queue import SyncQueue, Write
-from motionsim.sim.pmac.modes import Move, RunTimeError, pvt, spline
+from ..buffers import motion
+from ..card.variables import isx
+from ..modes import Move, RunTimeError, pvt, spline
+from .states import IDLE, RUNNING, STOPPED, TRANSITIONS, WAITING
+from .sync_queue import SyncQueue, Write
 
 if TYPE_CHECKING:
     import simpy
-    from motionsim.sim.events import EventLog
-    from motionsim.sim.pmac.buffers.lookahead_buffer import LookaheadBuffer
-    from motionsim.sim.pmac.buffers.programs import ProgramRun
-    from motionsim.sim.pmac.buffers.rotary import RotaryBuffer
-    from motionsim.sim.pmac.card.variables import Variables
-    from motionsim.sim.pmac.controller import PmacController
-    from motionsim.sim.pmac.lookahead.abort_stop import AbortStop
-    from motionsim.sim.pmac.tasks.scheduler import Scheduler
-    from motionsim.sim.simpy_adapter import Wake
+
+    from ...events import EventLog
+    from ...simpy_adapter import Wake
+    from ..buffers.lookahead_buffer import LookaheadBuffer
+    from ..buffers.programs import ProgramRun
+    from ..buffers.rotary import RotaryBuffer
+    from ..card.variables import Variables
+    from ..controller import PmacController
+    from ..tasks.scheduler import Scheduler
+    from .abort_stop import AbortStop
 
 #: Modes calculated two moves ahead without segmentation (TUM p339: LINEAR, and CIRCLE, which
 #: then runs as LINEAR, TSRM p177); SPLINE needs two ahead always; PVT and RAPID one.

@@ -40,13 +40,14 @@ import math
 from collections import deque
 from typing import TYPE_CHECKING, Any
 
-from motionsim.sim.pmac.language.expressions import pmac_and, pmac_or, pmac_xor
-from motionsim.sim.pmac.tasks.scheduler import Scheduler, Wake, wake_at
-from motionsim.sim.simpy_adapter import cancel
+from ...simpy_adapter import cancel
+from ..language.expressions import pmac_and, pmac_or, pmac_xor
+from ..tasks.scheduler import Scheduler, Wake, wake_at
 
 if TYPE_CHECKING:
     import simpy
-    from motionsim.sim.pmac.card.variables import Variables
+
+    from ..card.variables import Variables
 
 #: One queued write: ``(M-variable number, operator, value)``.
 Write = tuple[int, str, float]

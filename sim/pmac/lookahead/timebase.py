@@ -12,15 +12,15 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from motionsim.sim.pmac.card.variables import isx
-from motionsim.sim.pmac.lookahead.state import CoordState
-from motionsim.sim.pmac.lookahead.states import RUNNING, WAITING
-from motionsim.sim.pmac.modes import DWELL, PROFILES, Move
-from motionsim.sim.pmac.tasks.scheduler import wake_at
-from motionsim.sim.simpy_adapter import cancel
+from ...simpy_adapter import cancel
+from ..card.variables import isx
+from ..modes import DWELL, PROFILES, Move
+from ..tasks.scheduler import wake_at
+from .state import CoordState
+from .states import RUNNING, WAITING
 
 if TYPE_CHECKING:
-    from motionsim.sim.simpy_adapter import Callback
+    from ...simpy_adapter import Callback
 
 
 class TimeBase(CoordState):

@@ -8,8 +8,8 @@ and executor (:mod:`motionsim.sim.pmac.lookahead`) call only this interface.
 
 from __future__ import annotations
 
-from motionsim.sim.pmac.modes import dwell, linear, pvt, rapid, spline
-from motionsim.sim.pmac.modes.move import (
+from . import dwell, linear, pvt, rapid, spline
+from .move import (
     DELAY,
     DWELL,
     LINEAR,

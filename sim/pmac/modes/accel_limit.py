@@ -54,8 +54,8 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
-from motionsim.sim.pmac.card.variables import ixx
-from motionsim.sim.pmac.modes.move import PlanContext
+from ..card.variables import ixx
+from .move import PlanContext
 
 #: Relative slack of the feasibility test (rounding of the roots).
 _EPS = 1e-9

@@ -8,9 +8,9 @@ LINEAR move.
 
 from __future__ import annotations
 
-from motionsim.sim.pmac.buffers import motion
-from motionsim.sim.pmac.modes.linear import BlendedProfile
-from motionsim.sim.pmac.modes.move import DELAY, DWELL, Move, PlanContext, Profile
+from ..buffers import motion
+from .linear import BlendedProfile
+from .move import DELAY, DWELL, Move, PlanContext, Profile
 
 
 def plan_dwell(n: int, ms: float, pos: dict[str, float]) -> Move:

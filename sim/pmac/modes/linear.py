@@ -19,13 +19,13 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
-from motionsim.sim.pmac.buffers import motion
-from motionsim.sim.pmac.card.variables import ixx
-from motionsim.sim.pmac.modes import accel_limit
-from motionsim.sim.pmac.modes.move import LINEAR, Move, PlanContext, Profile
+from ..buffers import motion
+from ..card.variables import ixx
+from . import accel_limit
+from .move import LINEAR, Move, PlanContext, Profile
 
 if TYPE_CHECKING:
-    from motionsim.sim.pmac.language.expressions import Expr
+    from ..language.expressions import Expr
 
 
 def plan(

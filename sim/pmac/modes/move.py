@@ -11,10 +11,10 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, ClassVar, Protocol
 
-from motionsim.sim.pmac.buffers.motion import DELAY, DWELL, LINEAR, PVT, RAPID, SPLINE
+from ..buffers.motion import DELAY, DWELL, LINEAR, PVT, RAPID, SPLINE
 
 if TYPE_CHECKING:
-    from motionsim.sim.pmac.card.variables import Variables
+    from ..card.variables import Variables
 
 # Move kinds (index into :data:`motionsim.sim.pmac.modes.PROFILES`): buffers/motion.py.
 _BLENDING = frozenset({LINEAR, DELAY, PVT, SPLINE})

@@ -25,7 +25,7 @@ end is the new positions. ``[INF]``:
 
 from __future__ import annotations
 
-from motionsim.sim.pmac.modes.move import DWELL, Move
+from .move import DWELL, Move
 
 
 class PsetMove(Move):

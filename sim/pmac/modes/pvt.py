@@ -18,8 +18,8 @@ error of the coordinate system (a constant one is refused when the line is sent,
 
 from __future__ import annotations
 
-from motionsim.sim.pmac.modes.hermite import rate_weights, weights
-from motionsim.sim.pmac.modes.move import PVT, Move, PlanContext, Profile, RunTimeError
+from .hermite import rate_weights, weights
+from .move import PVT, Move, PlanContext, Profile, RunTimeError
 
 #: The largest segment time of the move-time register with I42 = 0 (ms).
 MAX_SEGMENT_MS = 4095.9998

@@ -17,10 +17,10 @@ TSRM p98, p100-101; spec §11.3).
 
 from __future__ import annotations
 
-from motionsim.sim.pmac.buffers import motion
-from motionsim.sim.pmac.card.variables import ixx
-from motionsim.sim.pmac.modes.move import RAPID, Move, PlanContext, Profile
-from motionsim.sim.pmac.motor import jog
+from ..buffers import motion
+from ..card.variables import ixx
+from ..motor import jog
+from .move import RAPID, Move, PlanContext, Profile
 
 
 class RapidMove(Move):

@@ -36,9 +36,9 @@ segment part of the last line's.
 
 from __future__ import annotations
 
-from motionsim.sim.pmac.modes import pvt
-from motionsim.sim.pmac.modes.hermite import rate_weights, weights
-from motionsim.sim.pmac.modes.move import SPLINE, Move, PlanContext, Profile, RunTimeError
+from . import pvt
+from .hermite import rate_weights, weights
+from .move import SPLINE, Move, PlanContext, Profile, RunTimeError
 
 #: One piece of a spline move: its share ``(f0, f1)`` of the move's time, its start position
 #: and tangent and its end position and tangent (tangents in units per piece, so the piece

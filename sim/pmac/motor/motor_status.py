@@ -30,9 +30,9 @@ from __future__ import annotations
 
 from typing import Any
 
-from motionsim.sim.pmac.buffers.motion import DWELL
-from motionsim.sim.pmac.card.variables import Variables, ixx
-from motionsim.sim.pmac.motor.motors import CLOSED, KILLED, Motor
+from ..buffers.motion import DWELL
+from ..card.variables import Variables, ixx
+from .motors import CLOSED, KILLED, Motor
 
 #: Axis definition code in word 2 bits 19-16, by axis letter.
 AXIS_CODE = {"A": 1, "B": 2, "C": 3, "U": 4, "V": 4, "W": 4, "X": 7, "Y": 7, "Z": 7}

@@ -51,12 +51,12 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from motionsim.sim.errors import Conflict
-from motionsim.sim.pmac.card.variables import N_MOTORS, Variables, ixx
-from motionsim.sim.pmac.motor import jog
-from motionsim.sim.pmac.motor.jog import Profile
-from motionsim.sim.pmac.tasks.scheduler import Scheduler, Wake, wake_at
-from motionsim.sim.simpy_adapter import cancel
+from ...errors import Conflict
+from ...simpy_adapter import cancel
+from ..card.variables import N_MOTORS, Variables, ixx
+from ..tasks.scheduler import Scheduler, Wake, wake_at
+from . import jog
+from .jog import Profile
 
 CLOSED, OPEN, KILLED = "closed_loop", "open_loop", "killed"
 

@@ -56,13 +56,13 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING, Any
 
-from motionsim.sim.pmac.tasks.scheduler import Wake
-from motionsim.sim.pmac.tasks.watchdog import Watchdog
-from motionsim.sim.simpy_adapter import cancel
+from ...simpy_adapter import cancel
+from .scheduler import Wake
+from .watchdog import Watchdog
 
 if TYPE_CHECKING:
-    from motionsim.sim.pmac.controller import PmacController
-    from motionsim.sim.pmac.tasks.plc import Plc
+    from ..controller import PmacController
+    from .plc import Plc
 
 _EPS = 1e-12
 _INF = math.inf

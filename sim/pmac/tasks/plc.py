@@ -39,18 +39,18 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from motionsim.sim.controller import Port
-from motionsim.sim.errors import Conflict, NotFound, ParseError
-from motionsim.sim.pmac.buffers.flow import STRUCTURAL
-from motionsim.sim.pmac.language import flow_statements as fl
-from motionsim.sim.pmac.language import plc_idioms as idioms
-from motionsim.sim.pmac.language import plc_parser as pp
-from motionsim.sim.pmac.language import plc_statements as plc_st
-from motionsim.sim.pmac.language import statements as st
-from motionsim.sim.pmac.language.conditions import any_of_all
+from ...controller import Port
+from ...errors import Conflict, NotFound, ParseError
+from ..buffers.flow import STRUCTURAL
+from ..language import flow_statements as fl
+from ..language import plc_idioms as idioms
+from ..language import plc_parser as pp
+from ..language import plc_statements as plc_st
+from ..language import statements as st
+from ..language.conditions import any_of_all
 
 if TYPE_CHECKING:
-    from motionsim.sim.pmac.controller import PmacController
+    from ..controller import PmacController
 
 # Operation codes of a compiled PLC program.
 OP_SET = 0  # (OP_SET, kind, index_expr, value_expr)

@@ -23,8 +23,9 @@ import math
 from collections.abc import Callable
 
 import simpy
-from motionsim.sim.simpy_adapter import Wake, wake_at
-from motionsim.sim.timing import EPS_CYCLES, ServoClock
+
+from ...simpy_adapter import Wake, wake_at
+from ...timing import EPS_CYCLES, ServoClock
 
 __all__ = ["Scheduler", "Wake", "first_rti_after", "servo_at_or_after", "wake_at"]
 

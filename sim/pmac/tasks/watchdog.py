@@ -24,7 +24,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from motionsim.sim.pmac.controller import PmacController
+    from ..controller import PmacController
 
 #: I40 = 0 selects this many servo cycles (TSRM p57: "4095/4096").
 DEFAULT_LIMIT_CYCLES = 4096

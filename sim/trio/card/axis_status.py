@@ -44,12 +44,12 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from motionsim.sim.trio.card.basic_errors import BasicError
-from motionsim.sim.trio.card.parameters import STORED, STORED_BY_NAME
-from motionsim.sim.trio.card.scaling import encoder_count
+from .basic_errors import BasicError
+from .parameters import STORED, STORED_BY_NAME
+from .scaling import encoder_count
 
 if TYPE_CHECKING:
-    from motionsim.sim.trio.motion.axis import Axis
+    from ..motion.axis import Axis
 
 #: Power-up values of every stored axis parameter (the table of
 #: :data:`motionsim.sim.trio.card.parameters.STORED`).

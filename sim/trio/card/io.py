@@ -19,8 +19,8 @@ logs nothing.
 
 from __future__ import annotations
 
-from motionsim.sim.events import EventLog
-from motionsim.sim.trio.card.basic_errors import BasicError
+from ...events import EventLog
+from .basic_errors import BasicError
 
 CHANNELS = 256
 #: ``OP(pattern)``: the first output the pattern's bit 0 drives, and how many it drives.

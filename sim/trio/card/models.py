@@ -26,7 +26,7 @@ from __future__ import annotations
 import struct
 from dataclasses import dataclass
 
-from motionsim.sim.errors import InvalidValue
+from ...errors import InvalidValue
 
 
 @dataclass(frozen=True, slots=True)

@@ -21,8 +21,8 @@ from __future__ import annotations
 from collections import deque
 from collections.abc import Callable
 
-from motionsim.sim.events import EventLog
-from motionsim.sim.trio.card.basic_errors import BasicError
+from ...events import EventLog
+from .basic_errors import BasicError
 
 #: Channel-0 lines kept for cursor readers (older ones are dropped, counted in ``dropped``).
 KEEP = 1000

@@ -33,10 +33,10 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from motionsim.sim.trio.card.basic_errors import BasicError
+from .basic_errors import BasicError
 
 if TYPE_CHECKING:
-    from motionsim.sim.trio.run.context import Context
+    from ..run.context import Context
 
 Run = Callable[["Context", tuple[float, ...], int], None]
 

@@ -27,11 +27,11 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from motionsim.sim.trio.card.basic_errors import BasicError
-from motionsim.sim.trio.card.setup_commands import Comms
+from .basic_errors import BasicError
+from .setup_commands import Comms
 
 if TYPE_CHECKING:
-    from motionsim.sim.trio.controller import TrioController
+    from ..controller import TrioController
 
 #: LIMIT_BUFFERED per model: (power-up, largest). MC4xx: up to 64 motion buffers per axis
 #: (TJ2P-20), the look-ahead size LIMIT_BUFFERED (TJ2H-57), power-up 64 ``[BK]``; the MC2xx

@@ -18,8 +18,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from motionsim.sim.trio.card.basic_errors import GOSUB_DEPTH, ON_GOTO_RANGE, BasicError
-from motionsim.sim.trio.language import statements as s
+from ..card.basic_errors import GOSUB_DEPTH, ON_GOTO_RANGE, BasicError
+from . import statements as s
 
 Op = Callable[[Any], Any]
 

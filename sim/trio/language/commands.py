@@ -23,7 +23,7 @@ from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from motionsim.sim.trio.language import statements as s
+from . import statements as s
 
 #: ``(parser, line, column) -> statement``: the keyword is taken (``parser.word`` holds it).
 ParseFn = Callable[[Any, int, int], s.Stmt]

@@ -28,13 +28,13 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from motionsim.sim.errors import ParseError
-from motionsim.sim.trio.card.basic_errors import GOSUB_DEPTH, RETURN_WITHOUT_GOSUB, BasicError
-from motionsim.sim.trio.language import statements as s
-from motionsim.sim.trio.language.branches import GOSUB_LIMIT, Branches
-from motionsim.sim.trio.language.declarations import Declarations, Resolver
-from motionsim.sim.trio.language.expressions import compile_expr, kind_of
-from motionsim.sim.trio.language.scope import Decl, ExprError, Scope
+from ...errors import ParseError
+from ..card.basic_errors import GOSUB_DEPTH, RETURN_WITHOUT_GOSUB, BasicError
+from . import statements as s
+from .branches import GOSUB_LIMIT, Branches
+from .declarations import Declarations, Resolver
+from .expressions import compile_expr, kind_of
+from .scope import Decl, ExprError, Scope
 
 Op = Callable[[Any], Any]
 

@@ -12,10 +12,10 @@ import re
 from collections.abc import Callable
 from typing import Any
 
-from motionsim.sim.errors import ParseError
-from motionsim.sim.trio.card.data_memory import too_big
-from motionsim.sim.trio.language import statements as s
-from motionsim.sim.trio.language.strings import DEFAULT_LENGTH
+from ...errors import ParseError
+from ..card.data_memory import too_big
+from . import statements as s
+from .strings import DEFAULT_LENGTH
 
 #: DIM types (MC4, spec §11.4).
 TYPES = ("INTEGER", "FLOAT", "STRING", "BOOLEAN")

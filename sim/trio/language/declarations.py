@@ -19,10 +19,10 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from motionsim.sim.trio.language import statements as s
-from motionsim.sim.trio.language.expressions import compile_expr, kind_of
-from motionsim.sim.trio.language.scope import Decl, ExprError, coerce, rebinding
-from motionsim.sim.trio.language.strings import DEFAULT_LENGTH
+from . import statements as s
+from .expressions import compile_expr, kind_of
+from .scope import Decl, ExprError, coerce, rebinding
+from .strings import DEFAULT_LENGTH
 
 #: Finds a stored program's parsed text by name (None when there is none).
 Resolver = Callable[[str], "s.Program | None"]

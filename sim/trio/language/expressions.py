@@ -15,10 +15,10 @@ import math
 from collections.abc import Callable
 from typing import Any
 
-from motionsim.sim.trio.card.basic_errors import DIVIDE_BY_ZERO, BasicError
-from motionsim.sim.trio.language import statements as s
-from motionsim.sim.trio.language.scope import ExprError, Scope
-from motionsim.sim.trio.language.strings import STRING_FUNCTIONS, arg_kinds
+from ..card.basic_errors import DIVIDE_BY_ZERO, BasicError
+from . import statements as s
+from .scope import ExprError, Scope
+from .strings import STRING_FUNCTIONS, arg_kinds
 
 Eval = Callable[[Any], float]
 

@@ -12,8 +12,8 @@ HTTP 501 ``not_simulated``) — not as a syntax error. ``docs/trio.md`` prints t
 
 from __future__ import annotations
 
-from motionsim.sim.trio.card.parameters import STORED
-from motionsim.sim.trio.card.setup_commands import COMMANDS
+from ..card.parameters import STORED
+from ..card.setup_commands import COMMANDS
 
 #: TRM chapter 8 contents, by section, in the manual's order.
 INDEX: dict[str, tuple[str, ...]] = {

@@ -10,7 +10,7 @@ from __future__ import annotations
 import re
 from typing import NamedTuple
 
-from motionsim.sim.errors import ParseError
+from ...errors import ParseError
 
 #: One token after optional blanks; the group that matched is its kind (:data:`_KINDS`).
 _TOKEN = re.compile(

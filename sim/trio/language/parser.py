@@ -29,20 +29,20 @@ from __future__ import annotations
 import math
 import re
 
-from motionsim.sim.errors import NotSimulated, ParseError
-from motionsim.sim.trio.card.models import DEFAULT_MODEL
-from motionsim.sim.trio.card.parameters import ALL_PARAMS, WRITABLE
-from motionsim.sim.trio.card.setup_commands import COMMANDS as SETUP_COMMANDS
-from motionsim.sim.trio.language import statements as s
-from motionsim.sim.trio.language.commands import Dialect, Row
-from motionsim.sim.trio.language.compiler import _Compiler
-from motionsim.sim.trio.language.constants import CONSTANTS, LANGUAGE_PARAMS
-from motionsim.sim.trio.language.declaration_parser import DeclarationParser
-from motionsim.sim.trio.language.expressions import FUNCTIONS
-from motionsim.sim.trio.language.keywords import INDEX, MC4_MODELS, MC4_WORDS, NOT_SIMULATED
-from motionsim.sim.trio.language.lexer import Token, tokenize
-from motionsim.sim.trio.language.move_words import MOVE_ARGS
-from motionsim.sim.trio.language.strings import STRING_FUNCTIONS
+from ...errors import NotSimulated, ParseError
+from ..card.models import DEFAULT_MODEL
+from ..card.parameters import ALL_PARAMS, WRITABLE
+from ..card.setup_commands import COMMANDS as SETUP_COMMANDS
+from . import statements as s
+from .commands import Dialect, Row
+from .compiler import _Compiler
+from .constants import CONSTANTS, LANGUAGE_PARAMS
+from .declaration_parser import DeclarationParser
+from .expressions import FUNCTIONS
+from .keywords import INDEX, MC4_MODELS, MC4_WORDS, NOT_SIMULATED
+from .lexer import Token, tokenize
+from .move_words import MOVE_ARGS
+from .strings import STRING_FUNCTIONS
 
 #: The deepest a line may nest ``[INF]`` (no figure in the manuals): sub-expressions (brackets,
 #: function arguments, indexes), unary operators, the binary operators of one expression and

@@ -22,7 +22,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from motionsim.sim.trio.language.strings import DEFAULT_LENGTH
+from .strings import DEFAULT_LENGTH
 
 
 class ExprError(Exception):

@@ -21,7 +21,7 @@ import re
 from collections.abc import Callable
 from typing import Any
 
-from motionsim.sim.trio.card.basic_errors import BasicError
+from ..card.basic_errors import BasicError
 
 #: Characters a STRING local holds when DIM gives no length ``[INF]``.
 DEFAULT_LENGTH = 32

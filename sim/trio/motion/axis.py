@@ -33,16 +33,17 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from motionsim.sim.bounds import TRIO_RATE
-from motionsim.sim.errors import InvalidValue
-from motionsim.sim.timing import ServoClock
-from motionsim.sim.trio.card import scaling
-from motionsim.sim.trio.card.axis_status import StoredParams
-from motionsim.sim.trio.motion.mtypes import IDLE
+from ...bounds import TRIO_RATE
+from ...errors import InvalidValue
+from ...timing import ServoClock
+from ..card import scaling
+from ..card.axis_status import StoredParams
+from .mtypes import IDLE
 
 if TYPE_CHECKING:
     import simpy
-    from motionsim.sim.trio.motion.moves import Move
+
+    from .moves import Move
 
 DEFAULTS: dict[str, float] = {
     "speed": 1000.0,

@@ -71,17 +71,18 @@ from collections.abc import Callable
 from typing import Any
 
 import simpy
-from motionsim.sim.events import EventLog
-from motionsim.sim.simpy_adapter import URGENT, triggered_at
-from motionsim.sim.timing import ServoClock
-from motionsim.sim.trio.card.basic_errors import BasicError
-from motionsim.sim.trio.card.scaling import nearest_edge
-from motionsim.sim.trio.motion.axis import Axis
-from motionsim.sim.trio.motion.datum import DatumMove
-from motionsim.sim.trio.motion.guards import AxisGuards
-from motionsim.sim.trio.motion.linked import LinkedMove
-from motionsim.sim.trio.motion.moves import Move
-from motionsim.sim.trio.motion.profile import diverges_at
+
+from ...events import EventLog
+from ...simpy_adapter import URGENT, triggered_at
+from ...timing import ServoClock
+from ..card.basic_errors import BasicError
+from ..card.scaling import nearest_edge
+from .axis import Axis
+from .datum import DatumMove
+from .guards import AxisGuards
+from .linked import LinkedMove
+from .moves import Move
+from .profile import diverges_at
 
 Placed = str  # "mtype" | "ntype" | "process_buffer"
 

@@ -39,15 +39,15 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-from motionsim.sim.trio.card.basic_errors import BasicError
-from motionsim.sim.trio.motion.moves import Move
-from motionsim.sim.trio.motion.profile import Profile, endless
+from ..card.basic_errors import BasicError
+from .moves import Move
+from .profile import Profile, endless
 
 if TYPE_CHECKING:
-    from motionsim.sim.events import EventLog
-    from motionsim.sim.trio.card.io import IoImage
-    from motionsim.sim.trio.controller import TrioController
-    from motionsim.sim.trio.motion.axis import Axis
+    from ...events import EventLog
+    from ..card.io import IoImage
+    from ..controller import TrioController
+    from .axis import Axis
 
 _HOLD = Profile([(0.0, 0.0, 0.0, 0.0, 0.0)], math.inf, math.inf)
 _EPS = 1e-9

@@ -23,14 +23,14 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-from motionsim.sim.events import EventLog
-from motionsim.sim.timing import ServoClock
-from motionsim.sim.trio.motion import limits
-from motionsim.sim.trio.motion.axis import Axis
-from motionsim.sim.trio.motion.datum import DatumMove
-from motionsim.sim.trio.motion.linked import LinkedMove
-from motionsim.sim.trio.motion.moves import Move
-from motionsim.sim.trio.motion.profile import Profile
+from ...events import EventLog
+from ...timing import ServoClock
+from . import limits
+from .axis import Axis
+from .datum import DatumMove
+from .linked import LinkedMove
+from .moves import Move
+from .profile import Profile
 
 #: AXISSTATUS bit 8: the following error exceeded FE_LIMIT (spec §1.6).
 FE_LIMIT_BIT = 1 << 8

@@ -12,12 +12,12 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from motionsim.sim.trio.motion.datum import datum_move
-from motionsim.sim.trio.motion.moves import Move
-from motionsim.sim.trio.motion.mtypes import SP_GEOMETRY
+from .datum import datum_move
+from .moves import Move
+from .mtypes import SP_GEOMETRY
 
 if TYPE_CHECKING:
-    from motionsim.sim.trio.controller import TrioController
+    from ..controller import TrioController
 
 
 def new_move(ctrl: TrioController, kind: str, axes: tuple[int, ...], args: tuple[float, ...],

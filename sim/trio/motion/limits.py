@@ -34,8 +34,8 @@ import math
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from motionsim.sim.trio.motion.axis import Axis
-    from motionsim.sim.trio.motion.moves import Move
+    from .axis import Axis
+    from .moves import Move
 
 #: Samples per arc when searching a MOVECIRC / MHELICAL for its first crossing.
 ARC_SAMPLES = 512

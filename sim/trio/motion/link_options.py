@@ -32,7 +32,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
-from motionsim.sim.trio.card.basic_errors import BasicError
+from ..card.basic_errors import BasicError
 
 START_AT_POS = 1 << 1
 REPEAT = 1 << 2

@@ -28,11 +28,11 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from motionsim.sim.trio.card.basic_errors import BasicError
-from motionsim.sim.trio.motion.link_options import PATTERN, POSITIVE_ONLY, REPEAT, START_AT_POS
+from ..card.basic_errors import BasicError
+from .link_options import PATTERN, POSITIVE_ONLY, REPEAT, START_AT_POS
 
 if TYPE_CHECKING:
-    from motionsim.sim.trio.motion.axis import Axis
+    from .axis import Axis
 
 Cycle = Callable[[float, float], float]
 _EPS = 1e-9

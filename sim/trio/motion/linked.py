@@ -47,16 +47,16 @@ import math
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from motionsim.sim.trio.card.basic_errors import BasicError
-from motionsim.sim.trio.card.scaling import whole_edges
-from motionsim.sim.trio.language.move_words import LINKED
-from motionsim.sim.trio.motion.link_options import PATTERN, check_options, ramp_of
-from motionsim.sim.trio.motion.link_run import LinkRun, check_pattern
-from motionsim.sim.trio.motion.moves import Move
-from motionsim.sim.trio.motion.profile import Profile
+from ..card.basic_errors import BasicError
+from ..card.scaling import whole_edges
+from ..language.move_words import LINKED
+from .link_options import PATTERN, check_options, ramp_of
+from .link_run import LinkRun, check_pattern
+from .moves import Move
+from .profile import Profile
 
 if TYPE_CHECKING:
-    from motionsim.sim.trio.motion.axis import Axis
+    from .axis import Axis
 
 _HOLD = Profile([(0.0, 0.0, 0.0, 0.0, 0.0)], math.inf, math.inf)
 

@@ -28,12 +28,12 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-from motionsim.sim.trio.card.scaling import whole_edges
-from motionsim.sim.trio.motion.mtypes import MTYPE, SP_GEOMETRY
-from motionsim.sim.trio.motion.profile import Profile, endless, hold, plan, trapezoid
+from ..card.scaling import whole_edges
+from .mtypes import MTYPE, SP_GEOMETRY
+from .profile import Profile, endless, hold, plan, trapezoid
 
 if TYPE_CHECKING:
-    from motionsim.sim.trio.motion.axis import Axis
+    from .axis import Axis
 
 
 class Move:

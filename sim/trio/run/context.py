@@ -14,27 +14,27 @@ import math
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-from motionsim.sim.errors import InvalidValue
-from motionsim.sim.trio.card import basic_errors as msg
-from motionsim.sim.trio.card.axis_status import computed
-from motionsim.sim.trio.card.basic_errors import BasicError
-from motionsim.sim.trio.card.data_memory import DATA_BYTES, dim_bytes, out_of_memory
-from motionsim.sim.trio.card.models import EDGES_MAX, WORD_MAX, format_number, hex_text, out_of_word
-from motionsim.sim.trio.card.parameters import (
+from ...errors import InvalidValue
+from ..card import basic_errors as msg
+from ..card.axis_status import computed
+from ..card.basic_errors import BasicError
+from ..card.data_memory import DATA_BYTES, dim_bytes, out_of_memory
+from ..card.models import EDGES_MAX, WORD_MAX, format_number, hex_text, out_of_word
+from ..card.parameters import (
     AXIS_COMPUTED,
     AXIS_PARAMS,
     AXIS_STORED,
     SYSTEM_PARAMS,
 )
-from motionsim.sim.trio.language.compiler import HALT, Block, WaitFor
-from motionsim.sim.trio.language.scope import Decl
-from motionsim.sim.trio.motion.issue import new_move
-from motionsim.sim.trio.motion.linked import LINKED, LinkedMove, check_linked, link_axis_of
-from motionsim.sim.trio.motion.moves import Move
-from motionsim.sim.trio.motion.mtypes import axes_driven
+from ..language.compiler import HALT, Block, WaitFor
+from ..language.scope import Decl
+from ..motion.issue import new_move
+from ..motion.linked import LINKED, LinkedMove, check_linked, link_axis_of
+from ..motion.moves import Move
+from ..motion.mtypes import axes_driven
 
 if TYPE_CHECKING:
-    from motionsim.sim.trio.controller import TrioController
+    from ..controller import TrioController
 
 class _NoLocals(dict):
     """The command line has no local variables (TJ1P-26): reading one is an error."""
@@ -249,7 +249,7 @@ class Context:
     def setup_command(self, name: str, args: tuple[float, ...], axis: float | None) -> None:
         """A set-up command (ADDAX, ENCODER_RATIO, SETCOM ...): :mod:`~motionsim.sim.trio.
         setup_commands`."""
-        from motionsim.sim.trio.card.setup_commands import run_command  # the motion tables' module
+        from ..card.setup_commands import run_command  # the motion tables' module
 
         run_command(self, name, args, axis)
 

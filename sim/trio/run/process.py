@@ -33,13 +33,14 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 import simpy
-from motionsim.sim.trio.card.basic_errors import RUN_ERROR_STOPPED, BasicError, error_line
-from motionsim.sim.trio.language.compiler import HALT, Block, Code, Poll, Sleep, WaitFor
-from motionsim.sim.trio.motion.buffers import Waiter, schedule_at
-from motionsim.sim.trio.run.context import Context
+
+from ..card.basic_errors import RUN_ERROR_STOPPED, BasicError, error_line
+from ..language.compiler import HALT, Block, Code, Poll, Sleep, WaitFor
+from ..motion.buffers import Waiter, schedule_at
+from .context import Context
 
 if TYPE_CHECKING:
-    from motionsim.sim.trio.controller import TrioController
+    from ..controller import TrioController
 
 
 class BasicProcess:
