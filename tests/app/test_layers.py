@@ -152,16 +152,25 @@ def test_pmac_sub_packages_have_no_import_cycle():
     assert cycles == []
 
 
-def test_the_layer_checks_see_a_cycle(tmp_path, monkeypatch):
-    """The checks above fail on a module-level cycle (a language module importing buffers,
-    which imports the language)."""
+def _fake_pmac(tmp_path, monkeypatch, language: str, buffers: str) -> None:
+    """A source tree whose ``language`` and ``buffers`` hold one module of the given text."""
     fake = tmp_path / "sim" / "pmac"
-    for part, text in (("language", "from motionsim.sim.pmac.buffers import program\n"),
-                       ("buffers", "from motionsim.sim.pmac.language import parser\n")):
+    for part, text in (("language", language), ("buffers", buffers)):
         (fake / part).mkdir(parents=True)
         (fake / part / "m.py").write_text(text)
     monkeypatch.setattr(sys.modules[__name__], "_PMAC", fake)
     monkeypatch.setattr(sys.modules[__name__], "ROOT", tmp_path)
+
+
+@pytest.mark.parametrize(("language", "buffers"), [
+    ("from motionsim.sim.pmac.buffers import program\n",
+     "from motionsim.sim.pmac.language import parser\n"),
+    ("from ..buffers import program\n", "from ..language import parser\n"),
+], ids=["absolute", "relative"])
+def test_the_layer_checks_see_a_cycle(tmp_path, monkeypatch, language, buffers):
+    """The checks above fail on a module-level cycle (a language module importing buffers,
+    which imports the language), written with absolute or relative imports."""
+    _fake_pmac(tmp_path, monkeypatch, language, buffers)
     with pytest.raises(AssertionError):
         test_pmac_sub_packages_have_no_import_cycle()
     with pytest.raises(AssertionError):
@@ -213,16 +222,3 @@ def test_the_package_imports_itself_by_relative_names():
     assert bad == []
     edges = _pmac_edges()
     assert ("host", "language") in edges and ("controller", "lookahead") in edges
-
-
-def test_the_layer_checks_see_a_relative_cycle(tmp_path, monkeypatch):
-    """The same cycle written with relative imports fails the checks too."""
-    fake = tmp_path / "sim" / "pmac"
-    for part, text in (("language", "from ..buffers import program\n"),
-                       ("buffers", "from ..language import parser\n")):
-        (fake / part).mkdir(parents=True)
-        (fake / part / "m.py").write_text(text)
-    monkeypatch.setattr(sys.modules[__name__], "_PMAC", fake)
-    monkeypatch.setattr(sys.modules[__name__], "ROOT", tmp_path)
-    with pytest.raises(AssertionError):
-        test_pmac_sub_packages_have_no_import_cycle()
