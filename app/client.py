@@ -15,8 +15,10 @@ Every error the service answers is raised as :class:`MotionSimHTTPError` with it
 
 from __future__ import annotations
 
+import contextlib
 import json
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
 from urllib.parse import quote
@@ -184,6 +186,24 @@ class PacedHost:
     def release(self) -> None:
         """Leave: time no longer waits for this host."""
         self.client.release(self.id, self.holder)
+
+    def start(self, host_code: Callable[[PacedHost], Any]) -> Future[Any]:
+        """Run ``host_code(self)`` in a thread of its own; when it ends — returning or
+        raising — the holder is released at once, so the test's ``advance`` returns then
+        (time does not stand still 30 s for a host that is gone before the 409) and the
+        future's ``result()`` gives the host's value or raises its error."""
+        pool = ThreadPoolExecutor(1, thread_name_prefix=f"host-{self.holder}")
+
+        def run() -> Any:
+            try:
+                return host_code(self)
+            finally:
+                with contextlib.suppress(Exception):  # the test may have released it first
+                    self.release()
+
+        future = pool.submit(run)
+        pool.shutdown(wait=False)
+        return future
 
     def close(self) -> None:
         self.client.close()

@@ -39,9 +39,16 @@ def run_command(
         "--realtime", help="Play it on a running server (wall-clock time) instead.")] = False,
     server: Annotated[str, typer.Option(help="Server for --realtime.")] = "http://127.0.0.1:8000",
     factor: Annotated[float, typer.Option(help="Realtime speed-up for --realtime.")] = 1.0,
+    id_prefix: Annotated[str | None, typer.Option(
+        "--id-prefix", help="With --realtime: server ids are PREFIX + the scenario's ids "
+        "[default: '<scenario name>-'].")] = None,
+    replace: Annotated[bool, typer.Option(
+        "--replace", help="With --realtime: delete and re-create server controllers that "
+        "already have those ids (their programs and variables are lost).")] = False,
 ) -> None:
     """Run a what-if scenario in virtual time: summary table, event log (JSON Lines + CSV),
-    metrics.json and PNG plots in the output folder."""
+    metrics.json and PNG plots in the output folder. With --realtime the scenario plays on a
+    running server and the same files are written from the server's event logs."""
     from .errors import ScenarioError
     from .model import load_scenario, parse_scenario
 
@@ -62,44 +69,62 @@ def run_command(
             scn = parse_scenario(raw, file=scn.file, base_dir=scn.base_dir)
     except ScenarioError as exc:
         raise _fail(str(exc)) from None
+    out_dir = out or Path("out") / scn.name
+    replacing = _previous_run(out_dir, scn.name, force)
     if realtime:
         from .remote import play
 
         try:
-            play(scn, server, factor=factor)
-        except ScenarioError as exc:
-            raise _fail(str(exc), 1) from None
-        return
-    from .outputs import write_outputs
-    from .report import report
-    from .runner import run
-    from .summary import print_summary
+            with _progress(f"play {scn.name}", "simulated s") as played:
+                rep, result = play(scn, server, factor=factor, prefix=id_prefix,
+                                   replace=replace, progress=played)
+        except ScenarioError as exc:  # the server's answer, not the file's: no file prefix
+            raise _fail(str(exc) if exc.file else exc.message, 1) from None
+        from .summary import print_summary
 
-    out_dir = out or Path("out") / scn.name
-    replacing = _previous_run(out_dir, scn.name, force)
-    try:
-        with _progress(f"run {scn.name}", "simulated s") as advance:
-            result = run(scn, progress=advance)
-    except ScenarioError as exc:
-        raise _fail(str(exc)) from None
-    rep = report(result)
-    if replacing:
-        typer.echo(f"motionsim: replacing the earlier run of {scn.name} in {out_dir}", err=True)
-    try:
-        paths = write_outputs(result, rep, out_dir, plots=plots, window=span)
-    except OSError as exc:
-        raise _fail(f"cannot write to {exc.filename or out_dir}: {exc.strerror}", 1) from None
-    print_summary(rep)
+        print_summary(rep)
+        paths = _write(result, rep, out_dir, plots, span, replacing, scn.name)
+        typer.echo(f"played {result.t_end:.3f} s in {time.perf_counter() - wall0:.3f} s wall "
+                   f"(realtime); wrote {len(paths)} files to {out_dir}")
+    else:
+        from .report import report
+        from .runner import run
+        from .summary import print_summary
+
+        try:
+            with _progress(f"run {scn.name}", "simulated s") as advance:
+                result = run(scn, progress=advance)
+        except ScenarioError as exc:
+            raise _fail(str(exc)) from None
+        with _progress(f"analyse {scn.name}", "controllers") as analysed:
+            rep = report(result, progress=analysed)
+        paths = _write(result, rep, out_dir, plots, span, replacing, scn.name)
+        print_summary(rep)
+        typer.echo(
+            f"simulated {result.t_end:.3f} s in {time.perf_counter() - wall0:.3f} s wall "
+            f"({result.stopped_by}; the simulation itself {result.wall_s:.3f} s); "
+            f"wrote {len(paths)} files to {out_dir}"
+        )
     if span is not None and span[0] >= result.t_end:
         typer.echo(f"motionsim: --window starts after the run ended ({result.t_end:.3f} s)",
                    err=True)
-    typer.echo(
-        f"simulated {result.t_end:.3f} s in {time.perf_counter() - wall0:.3f} s wall "
-        f"({result.stopped_by}; the simulation itself {result.wall_s:.3f} s); "
-        f"wrote {len(paths)} files to {out_dir}"
-    )
     if open_ and plots:
         _show([p for n, p in paths.items() if n.endswith(".png")], out_dir)
+
+
+def _write(result: Any, rep: dict[str, Any], out_dir: Path, plots: bool,
+           span: tuple[float, float] | None, replacing: bool, name: str) -> dict[str, Path]:
+    """The run's files (events, metrics, plots) into ``out_dir``, with a progress bar."""
+    from .outputs import write_outputs
+
+    if replacing:
+        typer.echo(f"motionsim: replacing the earlier run of {name} in {out_dir}", err=True)
+    try:
+        with _progress(f"write {name}", "files") as wrote:
+            return write_outputs(result, rep, out_dir, plots=plots, window=span,
+                                 progress=wrote)
+    except OSError as exc:
+        raise _fail(f"cannot write to {exc.filename or out_dir}: {exc.strerror}", 1) from None
 
 
 #: What a folder holds once a run was written into it (``metrics.json`` names the scenario).

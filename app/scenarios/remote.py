@@ -10,13 +10,21 @@ host latency distributions other than the poll period are not replayed: the netw
 server supply their own. PMAC writers post their lines to the rotary endpoint whatever their
 ``write_via`` (the REST batch write; a command line per program line is not replayed). At the
 end the server's event logs are fetched and the same metrics and summary as a virtual run are
-printed.
+printed; the CLI writes the same files as a virtual run from them (:class:`RemoteRun`).
+
+The server's controllers are the user's: a scenario controller ``c`` is created as
+``{prefix}c`` (the prefix defaults to the scenario's name, :func:`server_ids`), and a server
+controller of that id is replaced only when ``replace`` is given — otherwise the run is
+refused before anything is created, naming it. A server that cannot be reached is one
+line (:class:`~.errors.ScenarioError`), not a traceback.
 """
 
 from __future__ import annotations
 
 import contextlib
+import re
 import time
+from dataclasses import dataclass, field
 from typing import Any
 
 from ...sim.events import Event
@@ -28,6 +36,52 @@ from .model import (
     Scenario,
     TrioFeederSpec,
 )
+
+#: A server controller id (API.md: ``^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$``).
+_ID_CHARS = re.compile(r"[^A-Za-z0-9_.-]")
+_ID_MAX = 64
+
+
+def default_prefix(scn: Scenario) -> str:
+    """``{scenario name}-`` with the characters an id may not hold made ``-``."""
+    return _ID_CHARS.sub("-", scn.name) + "-"
+
+
+def server_ids(scn: Scenario, prefix: str) -> dict[str, str]:
+    """The server id of each scenario controller: ``{prefix}{id}``.
+
+    Raises:
+        ScenarioError: an id the API would refuse (empty, too long, a bad character).
+    """
+    out = {}
+    for cid in scn.controllers:
+        sid = prefix + cid
+        if not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_.-]*", sid) or len(sid) > _ID_MAX:
+            raise ScenarioError(
+                f"--id-prefix {prefix!r}: {sid!r} is not a controller id (a letter or digit, "
+                f"then letters, digits, '_', '.', '-'; at most {_ID_MAX} characters)")
+        out[cid] = sid
+    return out
+
+
+@dataclass
+class RemoteRun:
+    """What a realtime run leaves for the output files: the scenario, the events fetched
+    from the server per scenario controller, the simulated end time. It answers what
+    :func:`.outputs.write_outputs` and the plots read of a virtual
+    :class:`~.runner.RunResult`."""
+
+    scenario: Scenario
+    t_end: float
+    logs: dict[str, list[Event]] = field(default_factory=dict)
+
+    def events(self, controller: str) -> list[Event]:
+        return self.logs[controller]
+
+    def to_jsonl(self) -> str:
+        from .runner import events_jsonl
+
+        return events_jsonl(list(self.logs), self.events)
 
 
 class _Host:
@@ -113,8 +167,29 @@ class _TrioHost(_Host):
         self.done = self.i >= len(self.moves)
 
 
-def play(scn: Scenario, server: str, *, factor: float = 1.0, echo: Any = print) -> dict[str, Any]:
-    """Create the scenario's controllers on ``server`` and feed them in wall-clock time."""
+def play(scn: Scenario, server: str, *, factor: float = 1.0, echo: Any = print,
+         prefix: str | None = None, replace: bool = False,
+         progress: Any = None) -> tuple[dict[str, Any], RemoteRun]:
+    """Create the scenario's controllers on ``server`` (as ``{prefix}{id}``) and feed them in
+    wall-clock time; the report and the run (events fetched from the server).
+
+    Raises:
+        ScenarioError: the server cannot be reached or refuses; a controller of one of the
+        ids exists there and ``replace`` is not given (nothing was created then).
+    """
+    import httpx
+
+    try:
+        return _play(scn, server, factor=factor, echo=echo,
+                     prefix=default_prefix(scn) if prefix is None else prefix,
+                     replace=replace, progress=progress)
+    except httpx.TransportError as exc:
+        raise ScenarioError(f"cannot reach the server at {server} ({exc}); start one with "
+                            "`motionsim serve` or give --server URL") from None
+
+
+def _play(scn: Scenario, server: str, *, factor: float, echo: Any, prefix: str,
+          replace: bool, progress: Any) -> tuple[dict[str, Any], RemoteRun]:
     from ..client import MotionSimClient, MotionSimHTTPError
     from .report import (
         headline,
@@ -122,15 +197,24 @@ def play(scn: Scenario, server: str, *, factor: float = 1.0, echo: Any = print) 
         summarise_starvations,
         trio_report,
     )
-    from .summary import print_summary
-
     if factor <= 0:
         raise ScenarioError("--factor must be > 0")
+    ids = server_ids(scn, prefix)
+    run = RemoteRun(scn, scn.duration_s)
     with MotionSimClient(server) as c:
         try:
-            for cid, spec in scn.controllers.items():
-                with contextlib.suppress(MotionSimHTTPError):
-                    c.delete_controller(cid)
+            present = {x["id"] for x in c.controllers()}
+            taken = [ids[cid] for cid in scn.controllers if ids[cid] in present]
+            if taken and not replace:
+                raise ScenarioError(
+                    f"server {server} already has controller(s) {', '.join(taken)}: "
+                    "--replace to delete and re-create them (their programs and variables "
+                    "are lost), or --id-prefix for other ids")
+            for scid, spec in scn.controllers.items():
+                cid = ids[scid]
+                if cid in present:
+                    with contextlib.suppress(MotionSimHTTPError):
+                        c.delete_controller(cid)
                 c.create_controller(spec.kind, id=cid, clock="realtime", factor=factor,
                                     config=spec.config)  # fmt: skip
                 for name, value in spec.variables.items():
@@ -152,13 +236,15 @@ def play(scn: Scenario, server: str, *, factor: float = 1.0, echo: Any = print) 
                     c.terminal(cid, cmd)
             hosts: list[_Host] = []
             for i, h in enumerate(scn.hosts):
-                cid = scn.host_controller(i)
+                cid = ids[scn.host_controller(i)]
                 cls = _TrioHost if isinstance(h, TrioFeederSpec) else _PmacHost
                 hosts.append(cls(c, cid, h, factor))
             t0 = time.monotonic()
             end = scn.duration_s / factor
             while True:
                 now = time.monotonic() - t0
+                if progress is not None:
+                    progress(min(now, end) * factor, scn.duration_s)
                 if now >= end:
                     break
                 live = [h for h in hosts if not h.done]
@@ -170,7 +256,8 @@ def play(scn: Scenario, server: str, *, factor: float = 1.0, echo: Any = print) 
                     time.sleep(max(0.0, min(nxt, end) - now))
             per: dict[str, Any] = {}
             episodes = []
-            for cid, spec in scn.controllers.items():
+            for scid, spec in scn.controllers.items():
+                cid = ids[scid]
                 evs = [
                     Event(e["seq"], e["t"], e["type"],
                           {k: v for k, v in e.items() if k not in ("seq", "t", "type",
@@ -178,13 +265,16 @@ def play(scn: Scenario, server: str, *, factor: float = 1.0, echo: Any = print) 
                     for e in c.all_events(cid)
                 ]  # fmt: skip
                 t_end = c.clock(cid).t
+                run.logs[scid] = evs
+                run.t_end = max(run.t_end, t_end)
                 if spec.kind == "pmac":
                     i16, _ = spec.i16_i17()
-                    r = pmac_report(evs, t_end, controller=cid, i16=i16)
+                    r = pmac_report(evs, t_end, controller=scid, i16=i16)
                 else:
-                    r = trio_report(evs, t_end, controller=cid)
+                    r = trio_report(evs, t_end, controller=scid)
+                r["server_id"] = cid
                 episodes += r.pop("starvation_list")
-                per[cid] = r
+                per[scid] = r
         except MotionSimHTTPError as exc:
             raise ScenarioError(f"server {server}: {exc}") from None
     rep = {
@@ -197,9 +287,9 @@ def play(scn: Scenario, server: str, *, factor: float = 1.0, echo: Any = print) 
         "starvation_summary": summarise_starvations(sorted(episodes, key=lambda s: s.start)),
         "headline": headline(per),
     }
-    print_summary(rep)
-    echo(f"played {scn.name} on {server} at factor {factor}")
-    return rep
+    echo(f"played {scn.name} on {server} at factor {factor} as "
+         + ", ".join(ids[cid] for cid in scn.controllers))
+    return rep, run
 
 
-__all__ = ["play"]
+__all__ = ["RemoteRun", "default_prefix", "play", "server_ids"]

@@ -4,6 +4,7 @@ headline numbers (what a sweep tabulates)."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 from ...sim.events import Event
@@ -169,12 +170,16 @@ def trio_report(
     return m
 
 
-def report(result: RunResult) -> dict[str, Any]:
-    """Everything: ``{"controllers": {...}, "starvations": [...], "headline": {...}}``."""
+def report(result: RunResult,
+           progress: Callable[[float, float], None] | None = None) -> dict[str, Any]:
+    """Everything: ``{"controllers": {...}, "starvations": [...], "headline": {...}}``;
+    ``progress(done, total)`` after each controller's analysis (a long log takes a while)."""
     scn = result.scenario
     per: dict[str, Any] = {}
     episodes: list[Starvation] = []
-    for cid, spec in scn.controllers.items():
+    for k, (cid, spec) in enumerate(scn.controllers.items()):
+        if progress is not None:
+            progress(k, len(scn.controllers))
         events = result.events(cid)
         if spec.kind == "pmac":
             i16, _ = spec.i16_i17()
@@ -199,6 +204,8 @@ def report(result: RunResult) -> dict[str, Any]:
         r["events"] = result.controllers[cid].log.last_seq
         r["events_lost"] = result.events_lost(cid)
         per[cid] = r
+    if progress is not None:
+        progress(len(scn.controllers), len(scn.controllers))
     episodes.sort(key=lambda s: (s.start, s.controller))
     return {
         "scenario": scn.name,

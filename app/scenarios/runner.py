@@ -87,12 +87,7 @@ class RunResult:
 
     def to_jsonl(self) -> str:
         """Every controller's events as JSON Lines, ordered by (t, controller, seq)."""
-        rows = []
-        for ci, cid in enumerate(self.controllers):
-            for e in self.events(cid):
-                rows.append((e.t, ci, e.seq, e.to_dict(cid)))
-        rows.sort(key=lambda r: (r[0], r[1], r[2]))
-        return "".join(json.dumps(r[3], separators=(",", ":")) + "\n" for r in rows)
+        return events_jsonl(list(self.controllers), self.events)
 
     def total_lines(self, controller: str, cs: int) -> int | None:
         """Lines the hosts had to send to ``controller`` / ``&cs`` (None: no host feeds it)."""
@@ -103,6 +98,17 @@ class RunResult:
             ) == cs:
                 total = (total or 0) + len(h.lines)
         return total
+
+
+def events_jsonl(controllers: list[str], events: Callable[[str], list[Event]]) -> str:
+    """The events of ``controllers`` as JSON Lines, ordered by (t, controller, seq): the
+    ``events.jsonl`` of a virtual and of a realtime run alike."""
+    rows = []
+    for ci, cid in enumerate(controllers):
+        for e in events(cid):
+            rows.append((e.t, ci, e.seq, e.to_dict(cid)))
+    rows.sort(key=lambda r: (r[0], r[1], r[2]))
+    return "".join(json.dumps(r[3], separators=(",", ":")) + "\n" for r in rows)
 
 
 def _log_capacity(scn: Scenario) -> int:

@@ -1,12 +1,12 @@
 """Run a trajectory scan the way the EPICS ``pmac`` driver does, against a PMAC served by
 ``motionsim serve`` (PMAC Ethernet port), with a motion program already on the card — our own
-(``tests/sim/pmac/trajectory/scan_program.pmc``) or Diamond's (docs/pmac_trajectory_scan.md).
+(``scan_program.pmc`` beside this script) or Diamond's (docs/pmac_trajectory_scan.md).
 
     python examples/pmac/trajectory_scan_host.py [--host 127.0.0.1] [--port 1025]
            [--load FILE] [--points 1200]
 
 ``--load FILE`` first sends FILE's lines (already preprocessed: no ``#define``/``#include``)
-with dls-pmaclib's ``sendSeries``. The host (``tests/sim/pmac/trajectory/host.py``) reads the
+with dls-pmaclib's ``sendSeries``. The host (``scan_host.py`` beside this script) reads the
 buffer length and addresses, fills half A with ``WL:`` writes, starts ``&1B1R``, fills the idle
 half as the program moves on, polls M4034/M4039/M4040/M4038 and prints the result.
 """
@@ -18,12 +18,10 @@ import sys
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # scan_host.py beside it, in a copy too
 
 from dls_pmaclib.dls_pmacremote import PmacEthernetInterface  # noqa: E402
-
-from tests.sim.pmac.trajectory.host import ScanHost, points  # noqa: E402
+from scan_host import ScanHost, points  # noqa: E402
 
 
 def main() -> None:

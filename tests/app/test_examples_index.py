@@ -42,3 +42,27 @@ def test_motionsim_examples_copies_them_and_refuses_a_folder_in_use(tmp_path):
     again = CliRunner().invoke(cli, ["examples", str(dest)])
     assert again.exit_code == 2 and "pass --force" in again.stderr
     assert CliRunner().invoke(cli, ["examples", str(dest), "--force"]).exit_code == 0
+
+
+def test_a_copied_example_imports_nothing_of_this_repository(tmp_path):
+    """Issue 36 item 4: the copy ``motionsim examples`` writes imported ``tests`` (the
+    trajectory-scan host). An example imports the installed package, the standard library,
+    its listed dependencies, or a file beside it — never the repository's ``tests``."""
+    import ast
+
+    bad = []
+    for p in sorted(EXAMPLES.rglob("*.py")):
+        for node in ast.walk(ast.parse(p.read_text(encoding="utf-8"))):
+            names = ([a.name for a in node.names] if isinstance(node, ast.Import)
+                     else [node.module or ""] if isinstance(node, ast.ImportFrom) else [])
+            bad += [f"{p.relative_to(EXAMPLES)}:{node.lineno} {n}" for n in names
+                    if n.split(".")[0] in ("tests", "bench", "tools")]
+    assert bad == []
+
+
+def test_example_programs_are_ascii_as_the_downloaders_send_them():
+    """dls-pmaclib sizes its Ethernet packets by characters: a ``µ`` in a comment of the
+    scan program broke the download (issue 36 item 4). Card programs we ship are ASCII."""
+    bad = [p.relative_to(EXAMPLES).as_posix() for p in sorted(EXAMPLES.rglob("*"))
+           if p.suffix.lower() in (".pmc", ".plc", ".bas", ".pmh") and not p.read_bytes().isascii()]
+    assert bad == []

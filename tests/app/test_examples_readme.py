@@ -13,9 +13,9 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def _shell_block(readme: Path) -> str:
+def _shell_block(readme: Path, k: int = 0) -> str:
     text = readme.read_text()
-    return re.search(r"```sh\n(.*?)```", text, re.S).group(1)
+    return re.findall(r"```sh\n(.*?)```", text, re.S)[k]
 
 
 def _json_documents(text: str) -> list:
@@ -65,6 +65,17 @@ def test_pmac_readme_session_runs_after_make_run_on_a_virtual_controller_of_its_
     # TUM p250: the synchronous write lands at the first RTI at or after the move to X20 starts
     assert starts[3] <= write["t"] < starts[3] + 0.002
     assert served.client.clock("pmac").mode == "realtime"  # make run's own controller untouched
+    # the README's second block, where it says: the card's own command line, then the delete
+    head = script.split("curl")[0]  # S=..., B=...
+    more = head + _shell_block(ROOT / "examples" / "pmac" / "README.md", 1)
+    out = subprocess.run(["bash", "-euo", "pipefail", "-c",
+                          more.replace("http://127.0.0.1:8000", served.url)],
+                         cwd=ROOT, capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    ahead, status = _json_documents(out.stdout)
+    assert ahead["error"] is None and int(ahead["reply"]) == 0
+    assert status["error"] is None and status["reply"].strip()
+    assert "pv" not in {c["id"] for c in served.client.controllers()}
 
 
 @pytest.fixture

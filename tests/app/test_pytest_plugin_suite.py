@@ -141,7 +141,10 @@ def test_an_external_server_that_is_not_there_stops_the_session_with_its_url(pyt
     result = pytester.runpytest_inprocess("-p", "no:cacheprovider",
                                           "--motionsim-url=http://127.0.0.1:9")
     assert result.ret != 0
-    assert "http://127.0.0.1:9" in result.stdout.str() + result.stderr.str()
+    said = result.stdout.str() + result.stderr.str()
+    # issue 36 item 4: a closed port is "cannot reach", not "GET /health is not ok"
+    assert "--motionsim-url http://127.0.0.1:9: cannot reach it" in said
+    assert "not ok" not in said
 
 
 def test_one_service_per_session_and_a_fresh_controller_per_test(pytester):

@@ -28,7 +28,7 @@ from tests.api.pmac_ethernet.test_pmac_server import Client, run
 
 #: A copy of the recording (README.md there says how it was made).
 RECORDING = Path(__file__).parent / "epics_recording"
-SCAN_PROGRAM = Path(__file__).parents[2] / "sim" / "pmac" / "trajectory" / "scan_program.pmc"
+SCAN_PROGRAM = Path(__file__).parents[3] / "examples" / "pmac" / "scan_program.pmc"
 
 
 def _requests() -> list[tuple[str, str]]:

@@ -1,7 +1,7 @@
 """The EPICS trajectory scan end to end (issue 24 item 3; spec §12.7): a host doing what
-``pmacController.cpp`` does (trajectory/host.py) against a PVT scan program of our own written
-the way Diamond's is (trajectory/scan_program.pmc): double buffer in user memory, M-variables
-re-pointed through their definition words, WHILE / IF / GOSUB, ``WL:`` of 48-bit floats.
+``pmacController.cpp`` does (examples/pmac/scan_host.py) against a PVT scan program of our own
+written the way Diamond's is (examples/pmac/scan_program.pmc): double buffer in user memory,
+M-variables re-pointed through their definition words, WHILE / IF / GOSUB, ``WL:`` of 48-bit floats.
 Virtual time; the status variables and moves are asserted on the event log."""
 
 from __future__ import annotations
@@ -9,10 +9,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from motionsim.examples.pmac.scan_host import ScanHost, points
 
-from tests.sim.pmac.trajectory.host import ScanHost, points
-
-PROGRAM = Path(__file__).parent / "trajectory" / "scan_program.pmc"
+PROGRAM = Path(__file__).parents[3] / "examples" / "pmac" / "scan_program.pmc"
 
 
 def _load(rig) -> None:

@@ -1,5 +1,5 @@
 """The trajectory scan (test_trajectory_scan.py) on a realtime clock at factor 1: the host
-(trajectory/host.py) runs in a thread of its own, as the EPICS driver does, and talks to the
+(examples/pmac/scan_host.py) runs in a thread of its own, as the EPICS driver does, and talks to the
 card through the controller handle while the clock runs the program in wall time; it fills
 the idle half while the other one executes.
 
@@ -15,9 +15,9 @@ import asyncio
 import time
 
 from motionsim.app.registry import Registry
+from motionsim.examples.pmac.scan_host import ScanHost, points
 
 from tests.sim.pmac.test_trajectory_scan import PROGRAM
-from tests.sim.pmac.trajectory.host import ScanHost, points
 
 #: Simulated seconds per wall second: a half-buffer lasts twice its simulated duration.
 FACTOR = 0.5

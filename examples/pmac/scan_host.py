@@ -1,7 +1,7 @@
 """A host doing what the EPICS driver's trajectory scan does (pmacController.cpp @ 3d2e73f,
 spec §12.7): read the buffer length and the two half-buffer addresses (M4037, M4041, M4042)
 and the program version (M4049); write a half-buffer with ``WL:`` long words — time+user words
-``$<u><tttttt>`` (µs) at the half's base, each axis's positions at base + (axis+1)·length and
+``$<u><tttttt>`` (us) at the half's base, each axis's positions at base + (axis+1)·length and
 velocities at base + (axis+10)·length, as 48-bit floats in the card's layout — then its fill
 level (M4044 / M4045); set the axes mask (M4036), zero the other half's fill and the point
 count (``M4045=0 M4038=0``), enable the CS's motors (``&{cs}E``), start ``&{cs}B{prog}R``;
