@@ -106,3 +106,26 @@ def test_tsrm_i6_a_refused_command_reaches_the_client_with_its_meaning(motionsim
     unsimulated = motionsim.terminal("pmac", "CHECKSUM")
     assert (unsimulated.error, unsimulated.not_simulated) == ("ERR003", True)
     assert "CHECKSUM" in unsimulated.detail
+
+
+def test_a_paced_host_started_with_start_releases_its_holder_when_its_code_ends(motionsim):
+    """Issue 36 item 4: a host thread that ended without ``release()`` held time still until
+    the advance's 30 s wall cap (409). ``PacedHost.start`` releases the holder when the
+    host's code ends, raising or not: the advance runs to its end and the host's error
+    reaches the test."""
+    import pytest as _pytest
+
+    motionsim.host_paced("pmac", "h")
+    host = motionsim.host("pmac", "h")
+
+    def broken(h):
+        h.sleep(0.1)  # acts once, then fails without releasing
+        raise RuntimeError("host bug")
+
+    done = host.start(broken)
+    clock = motionsim.advance("pmac", 2.0)  # a 409 after 30 s if the holder were left
+    assert clock.t >= 2.0 - 1e-9  # the host's 0.1 s came before or within the advance
+    assert "h" not in {x["name"] for x in clock.holders}
+    with _pytest.raises(RuntimeError, match="host bug"):
+        done.result(timeout=30)
+    host.close()
