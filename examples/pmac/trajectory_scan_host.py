@@ -3,7 +3,7 @@
 (``scan_program.pmc`` beside this script) or Diamond's (docs/pmac_trajectory_scan.md).
 
     python examples/pmac/trajectory_scan_host.py [--host 127.0.0.1] [--port 1025]
-           [--load FILE] [--points 1200]
+           [--load FILE] [--points 1200] [--point-ms 40]
 
 ``--load FILE`` first sends FILE's lines (already preprocessed: no ``#define``/``#include``)
 with dls-pmaclib's ``sendSeries``. The host (``scan_host.py`` beside this script) reads the
@@ -30,6 +30,10 @@ def main() -> None:
     ap.add_argument("--port", type=int, default=1025)
     ap.add_argument("--load")
     ap.add_argument("--points", type=int, default=1200)
+    ap.add_argument("--point-ms", type=float, default=40.0,
+                    help="time per point: a half-buffer lasts length x this; the host must "
+                    "refill the other half within it over the network (10 ms points leave a "
+                    "host on a busy machine too little time)")
     args = ap.parse_args()
     pmac = PmacEthernetInterface()
     pmac.setConnectionParams(args.host, args.port)
@@ -52,17 +56,22 @@ def main() -> None:
     host.setup()
     print(f"buffer length {host.length}, halves at ${host.adr[0]:X} / ${host.adr[1]:X}, "
           f"program version {host.version:g}")
-    pts = points(args.points)
+    pts = points(args.points, time_us=round(args.point_ms * 1000))
     host.start(pts)
-    status = 1
+    status = total = 1
     while status == 1:
         time.sleep(0.05)
         status, index, current, total = host.poll()
         print(f"\rstatus {status} half {'AB'[current]} index {index:4d} points {total:5d}",
               end="", flush=True)
-    print(f"\nerror M4048 = {ask('M4048')}, fills {host.log}, "
+    print(f"\nerror M4048 = {ask('M4048')}, fills {len(host.log)}, "
           f"X = {ask('&1Q77')} (last point {pts[-1].pos['X']:.9f})")
     pmac.disconnect()
+    if total != len(pts):
+        sys.exit(f"scan ended after {total} of {len(pts)} points (status {status}): the "
+                 "program reached a half the host had not refilled yet — a slower "
+                 "--point-ms gives the host more time per half")
+    print(f"scan complete: {total} points")
 
 
 if __name__ == "__main__":
