@@ -49,10 +49,13 @@ def _last_line(c: CsTrace, t: float) -> int | None:
     return max(started)[1] if started else None
 
 
-def describe(s: Starvation, traces: Mapping[int, CsTrace]) -> str:
-    """One line: where, when, for how long, after which line, lines ahead, cause, why."""
-    where = f"{s.controller} &{s.cs}" if s.cs is not None else (
-        f"{s.controller} axis {s.axis}" if s.axis is not None else s.controller)
+def describe(s: Starvation, traces: Mapping[int, CsTrace], *, controller: bool = True) -> str:
+    """One line: where, when, for how long, after which line, lines ahead, cause, why
+    (``controller``: start with the controller's id; off where a header names it once)."""
+    name = s.controller if controller else ""
+    where = f"{name} &{s.cs}" if s.cs is not None else (
+        f"{name} axis {s.axis}" if s.axis is not None else name or "controller")
+    where = where.strip()
     text = f"{where}: {s.kind} at t={s.start:.6f} s for {s.length * 1e3:.3f} ms"
     c = traces.get(s.cs) if s.cs is not None else None
     if c is not None:
@@ -101,12 +104,13 @@ def assert_fed(client: Any, id: str | None = None, cs: int | None = None, *,
             ran dry before all of them were loaded starved even if the host then stopped.
         allow: episode kinds that do not fail (default: lookahead breaks at DWELL / RAPID).
     """
+    __tracebackhide__ = True  # pytest shows the test's line, not this function's source
     if id is None:  # a bound controller (pytest_plugin.Controller)
         client, id = client.client, client.id
     found, traces = episodes(client, id, cs=cs, total_lines=total_lines)
     bad = [s for s in found if s.kind not in allow]
-    if bad:
-        lines = "\n".join(f"  {describe(s, traces)}" for s in bad)
+    if bad:  # the id once (a fixture's id can be long), then one line per starvation
+        lines = "\n".join(f"  {describe(s, traces, controller=False)}" for s in bad)
         raise AssertionError(f"{id} starved {len(bad)} time(s):\n{lines}")
 
 
