@@ -48,6 +48,34 @@ def discover_routers() -> list[tuple[str, APIRouter]]:
     return found
 
 
+#: The top of ``/docs``: where to look first (issue 36 item 5: it linked neither).
+DOCS_DESCRIPTION = (
+    "The live view of every controller is the [dashboard](/dashboard). The contract these "
+    "routes keep — fields, limits, error codes, the event types — is `docs/API.md`, shipped "
+    "with the package's sources; `GET /` lists the controllers. Start with *controllers* and "
+    "*clock*: make a controller (virtual clock), send it lines or commands, advance its clock, "
+    "read its events."
+)
+
+#: The order ``/docs`` shows the route groups in: what every session needs first, then the
+#: PMAC resources, then the Trio ones.
+OPENAPI_TAGS = [
+    {"name": "service", "description": "Health, the service's own settings and limits."},
+    {"name": "controllers", "description": "Create, list, reset and delete controllers."},
+    {"name": "clock", "description": "Virtual, realtime and host-paced time: advance, "
+                                     "run-until, holders."},
+    {"name": "events", "description": "The event log: pages, CSV, the WebSocket stream."},
+    {"name": "terminal", "description": "The controller's own command line."},
+    {"name": "variables", "description": "I/P/Q/M variables (PMAC), VR/TABLE (Trio)."},
+    {"name": "coord", "description": "PMAC coordinate systems: rotary buffers, run, stop."},
+    {"name": "plcs", "description": "PMAC PLC programs."},
+    {"name": "faults", "description": "Injected faults for testing a host's retry logic."},
+    {"name": "trio programs", "description": "Trio BASIC programs: store, list, run."},
+    {"name": "trio processes", "description": "Trio processes and their state."},
+    {"name": "trio axes", "description": "Trio axes, their buffers and moves."},
+]
+
+
 def create_app(settings: Settings | None = None, registry: Registry | None = None) -> FastAPI:
     """The service for ``settings`` (defaults if ``None``); ``registry`` overrides the one built.
 
@@ -75,6 +103,8 @@ def create_app(settings: Settings | None = None, registry: Registry | None = Non
         version=__version__,
         summary="Discrete-event simulation of Turbo PMAC and Trio Motion Coordinator "
                 "program buffering",
+        description=DOCS_DESCRIPTION,
+        openapi_tags=OPENAPI_TAGS,
         lifespan=lifespan,
         responses=ERROR_RESPONSES,
         static_url=DOCS_STATIC_URL,
