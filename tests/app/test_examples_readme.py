@@ -1,5 +1,6 @@
-"""The commands of ``examples/trio/README.md`` work as written, from the repository root,
-against a served motionsim (the README's curl session, with the fixture's URL)."""
+"""The commands of ``examples/trio/README.md`` and ``examples/pmac/README.md`` work as
+written, from the folder they say, against a served motionsim (the README's curl sessions,
+with the fixture's URL)."""
 
 from __future__ import annotations
 
@@ -30,11 +31,18 @@ def _json_documents(text: str) -> list:
     return docs
 
 
-def test_trio_readme_session_runs_from_the_repo_root_and_shows_the_tn20_stall(motionsim):
-    script = _shell_block(ROOT / "examples" / "trio" / "README.md")
+def test_trio_readme_session_runs_from_a_copy_of_the_examples_and_shows_the_tn20_stall(
+        motionsim, tmp_path):
+    """Run where a user runs it: the README's own folder in the copy ``motionsim examples``
+    writes (issue 36 item 5: it spoke of the repository root)."""
+    from motionsim.app.cli import cli
+    from typer.testing import CliRunner
+
+    assert CliRunner().invoke(cli, ["examples", str(tmp_path / "ex")]).exit_code == 0
+    script = _shell_block(tmp_path / "ex" / "trio" / "README.md")
     assert "http://127.0.0.1:8000" in script
     script = script.replace("http://127.0.0.1:8000", motionsim.url)
-    out = subprocess.run(["bash", "-euo", "pipefail", "-c", script], cwd=ROOT,
+    out = subprocess.run(["bash", "-euo", "pipefail", "-c", script], cwd=tmp_path / "ex" / "trio",
                          capture_output=True, text=True, timeout=60)
     assert out.returncode == 0, out.stderr
     events = _json_documents(out.stdout)[-1]["events"]  # the last curl: the events page
