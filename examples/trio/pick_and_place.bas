@@ -2,6 +2,14 @@
 ' VR(0) = number of parts, VR(1) = pick position, VR(2) / VR(3) = the two drop positions
 ' (even parts to VR(2), odd ones to VR(3)). Each part: over the pick point, down, grip, up,
 ' over its drop point, down, release, up. VR(10) counts the parts placed.
+' With no inputs (VR(0) = 0, as on a fresh controller) it runs a demonstration of 4 parts.
+IF VR(0)=0 THEN
+  VR(0)=4
+  VR(1)=100
+  VR(2)=300
+  VR(3)=400
+  PRINT "no VR inputs: demonstration with 4 parts"
+ENDIF
 BASE(0,1)
 SPEED AXIS(0)=500
 SPEED AXIS(1)=200

@@ -86,3 +86,18 @@ def test_cp_feeder_keeps_ntype_full_and_never_stops_the_path():
     path = sum(math.dist(p, q) for p, q in zip([(0, 0), *pts], pts, strict=False))
     periods = cycle(c, runs[-1][1]) - cycle(c, runs[0][0])
     assert periods == pytest.approx(path + 10, abs=3)
+
+
+@pytest.mark.parametrize(("name", "axis", "moves", "text"), [
+    ("pick_and_place", 0, 4 * 2 + 1, "no VR inputs: demonstration with 4 parts"),
+    ("cp_feeder", 0, 8, "no VR inputs: demonstration path of 8 points"),
+])
+def test_with_no_vr_inputs_the_example_runs_its_demonstration(name, axis, moves, text):
+    """Issue 36 item 5: on a fresh controller (every VR 0) these did nothing; they now say
+    so and run a demonstration with the inputs their header names."""
+    c = make()
+    _load(c, name)
+    run_to(c, 20.0)
+    assert [f["text"] for _, f in fields(c, "print")][0] == text
+    assert len(_runs(c, axis)) == moves
+    assert "error" not in c.processes()[0]
