@@ -136,9 +136,24 @@ async function pollList() {
   if (wanted !== null && controllers.has(wanted)) {
     if (selected !== wanted) select(wanted);
     wanted = null;
+  } else if (wanted !== null) {
+    missing(wanted);                  // a link to a controller that is not there (yet)
   } else if (selected === null || !controllers.has(selected)) {
     select(controllers.keys().next().value ?? null);
   }
+}
+
+// A deep link names a controller the server does not have: say so, and show no other
+// controller in its place (the tab opens when it is created; a click on a tab wins).
+let missingShown = null;
+function missing(id) {
+  if (missingShown === id && selected === null) return;
+  missingShown = id;
+  selected = null;
+  fill($("main"), h("p", { class: "hint", "data-role": "missing" },
+    `No controller "${id}" on this server (yet): its tab opens as soon as it is created. `,
+    "Pick a tab above to see another one."));
+  schedule();
 }
 
 async function pollDetail(ctl) {
