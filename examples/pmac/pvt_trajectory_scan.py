@@ -103,11 +103,14 @@ def plot(c: PmacController, out: str) -> None:
     ax1.set_title(f"PVT{SEGMENT_MS} trajectory scan, {POINTS} segments")
     ahead = [(e.t, e["lines_ahead"]) for e in c.log.events("line_loaded")]
     ax2.step([a[0] for a in ahead], [a[1] for a in ahead], where="post", lw=1)
-    ax2.axhline(10, ls="--", c="grey", lw=0.8, label="I17 = 10")
-    ax2.axhline(5, ls=":", c="grey", lw=0.8, label="I16 = 5")
+    # the thresholds above the trace (zorder), the axis on the band the stream lives in once
+    # the start-up fill is done: I16 - 2 .. I17 + 1
+    ax2.axhline(10, ls="--", c="tab:green", lw=1.2, zorder=3, label="I17 = 10")
+    ax2.axhline(5, ls="--", c="tab:purple", lw=1.2, zorder=3, label="I16 = 5")
+    ax2.set_ylim(3, 11)
     ax2.set_xlabel("simulated time (s)")
     ax2.set_ylabel("lines ahead when a line is loaded")
-    ax2.legend(fontsize=8)
+    ax2.legend(fontsize=8, loc="lower right", framealpha=1)
     ax2.set_title("host under BREQ")
     fig.tight_layout()
     fig.savefig(out, dpi=90)
