@@ -338,3 +338,25 @@ def test_diamond_dialect_sends_what_dls_pmaclib_sends(tmp_path):
     got = [s.text for s in expand(top, "diamond", [tmp_path / "inc"])
            if isinstance(s, SourceLine)]
     assert got == want
+
+
+def test_the_readme_sample_is_what_check_prints():
+    """README "Check a program without a card": the command, run from the repository root
+    on the shipped examples, prints the sample's lines (a line ending ``...`` is cut there)."""
+    readme = (ROOT / "README.md").read_text()
+    section = readme[readme.index("## Check a program without a card"):]
+    block = re.search(r"```sh\n(.*?)```", section, re.S).group(1).splitlines()
+    (command,) = [line for line in block if line and not line.startswith("#")]
+    want = [line[2:] for line in block if line.startswith("# ")]
+    args = command.split()
+    assert args[:2] == ["motionsim", "check"]
+    done = subprocess.run([str(Path(sys.executable).parent / "motionsim"), *args[1:]],
+                          cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 1, done.stderr
+    got = done.stdout.splitlines()
+    assert len(got) == len(want), done.stdout
+    for line, sample in zip(got, want, strict=True):
+        if sample.endswith(" ..."):
+            assert line.startswith(sample[:-4]), (line, sample)
+        else:
+            assert line == sample
