@@ -31,6 +31,7 @@ one process (:func:`tree_files`).
 from __future__ import annotations
 
 import contextlib
+import functools
 import re
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import asdict, dataclass, replace
@@ -87,15 +88,22 @@ def kind_of(path: Path) -> str:
     return "trio" if path.name.lower().endswith(TRIO_SUFFIXES) else "pmac"
 
 
-def _new_controller(kind: str, model: str | None) -> Any:
+@functools.cache
+def _controller_class(kind: str) -> Any:
+    """The kind's class, looked up once per run (the entry-point scan reads every installed
+    distribution's metadata: ~80 ms, more than checking a file)."""
     from .kinds import kind_class
 
+    return kind_class(kind)
+
+
+def _new_controller(kind: str, model: str | None) -> Any:
     config: dict[str, Any] = {}
     if model is not None:
         if kind != "trio":
             raise ValueError(f"--model applies to trio controllers; {kind} has one model")
         config["model"] = model
-    return kind_class(kind)("check", config)
+    return _controller_class(kind)("check", config)
 
 
 # -- PMAC ------------------------------------------------------------------------------------
