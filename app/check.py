@@ -39,7 +39,14 @@ from pathlib import Path
 from typing import Any
 
 from ..sim.errors import MotionSimError, NotSimulated, ParseError
-from .pmac_download import Problem, SourceLine, expand, included_files, read_lines
+from .pmac_download import (
+    NON_ASCII_CAUSE,
+    Problem,
+    SourceLine,
+    expand,
+    included_files,
+    read_lines,
+)
 
 #: File suffixes read as Trio BASIC; anything else is PMAC text unless ``--kind`` says.
 TRIO_SUFFIXES = (".bas", ".txt.bas")
@@ -213,7 +220,8 @@ def check_trio(path: Path, ctl: Any) -> list[Finding]:
         if bad:
             found.append(Finding(str(path), n, bad.start() + 1, "error", "encoding",
                                  f"byte 0x{ord(bad[0]):02X} is not ASCII: Trio BASIC program "
-                                 "text is ASCII (only a comment may hold other bytes)", line))
+                                 "text is ASCII (only a comment may hold other bytes)", line,
+                                 NON_ASCII_CAUSE))
         else:
             lines[n - 1] = line[:end] + re.sub(r"[^\x00-\x7f]", "?", line[end:])
     if found:

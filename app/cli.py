@@ -324,6 +324,9 @@ def check(
                                            defines))
         except (OSError, ValueError, MotionSimError) as exc:
             failed.append(f"{path}: {exc}")
+        except Exception as exc:  # noqa: BLE001 - one file's failure must not end the tree's report
+            failed.append(f"{path}: cannot be checked: {type(exc).__name__}: {exc} "
+                          "(a motionsim bug: please report it with the file)")
     if format_ == "json":
         typer.echo(json.dumps([f.to_dict() for f in findings], indent=1))
     else:

@@ -131,12 +131,17 @@ _MSI_REF = re.compile(r"\$(?:\((?P<p>[^)=]*)(?:=(?P<pd>[^)]*))?\)"
 _MSI_INCLUDE = re.compile(r'^\s*include\s+"(?P<file>[^"]+)"\s*$')
 _MSI_SUBSTITUTE = re.compile(r'^\s*substitute\s+"(?P<pairs>[^"]*)"\s*$')
 _NON_ASCII = re.compile(r"[^\x00-\x7f]")
+#: The cause ``encoding`` problems are counted under (one file in another encoding has many).
+NON_ASCII_CAUSE: Final = "they hold bytes above 0x7F outside a comment"
 
 
 def read_lines(path: Path) -> list[str]:
     """The file's lines, byte for byte (Latin-1: one character per byte, never an error),
-    without their line ends (CR LF, LF or CR)."""
-    return path.read_bytes().decode("latin-1").splitlines()
+    without their line ends (CR LF, LF or CR only: ``str.splitlines`` would also break at
+    0x85, Windows-1252's ``…``, and at form feeds)."""
+    text = path.read_bytes().decode("latin-1").replace("\r\n", "\n").replace("\r", "\n")
+    lines = text.split("\n")
+    return lines[:-1] if text.endswith("\n") or not text else lines
 
 
 def detect(lines: Sequence[str]) -> Dialect:
@@ -267,7 +272,7 @@ def _file(path: Path, lines: list[str], state: _State, top: Path
             yield Problem(shown, n, bad.start() + 1, "encoding",
                           f"byte 0x{byte:02X} is not ASCII: a PMAC's command text is ASCII "
                           "(only a comment may hold other bytes); the line is not sent",
-                          original)
+                          original, NON_ASCII_CAUSE)
             continue
         if row.msi:
             if (sub := _MSI_SUBSTITUTE.match(code)):
@@ -330,7 +335,13 @@ def _include(name: str, column: int, path: Path, n: int, original: str, state: _
                       original, state.cause)
         return
     state.included.add(resolved)
-    yield from _file(target, read_lines(target), state, top)
+    try:
+        lines = read_lines(target)
+    except OSError as exc:
+        yield Problem(shown, n, max(column, 1), "include", f"cannot read {name!r}: {exc}",
+                      original, state.cause)
+        return
+    yield from _file(target, lines, state, top)
 
 
 def _msi_expand(code: str, values: Mapping[str, str], shown: str, n: int, original: str,
@@ -354,5 +365,5 @@ def _msi_expand(code: str, values: Mapping[str, str], shown: str, n: int, origin
     return _MSI_REF.sub(one, code), problems
 
 
-__all__ = ["DIALECTS", "DIALECT_NAMES", "Dialect", "Problem", "SourceLine", "detect", "expand",
-           "included_files", "read_lines"]
+__all__ = ["DIALECTS", "DIALECT_NAMES", "NON_ASCII_CAUSE", "Dialect", "Problem", "SourceLine",
+           "detect", "expand", "included_files", "read_lines"]

@@ -16,6 +16,8 @@ from pathlib import Path
 
 import pytest
 import yaml
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from motionsim.app.check import check_file
 from motionsim.app.cli import cli
 from motionsim.sim.pmac.card.error_codes import MEANINGS
@@ -360,3 +362,39 @@ def test_the_readme_sample_is_what_check_prints():
             assert line.startswith(sample[:-4]), (line, sample)
         else:
             assert line == sample
+
+
+def test_cp1252_ellipsis_and_form_feed_do_not_break_a_line(tmp_path):
+    """Only CR, LF and CR LF end a line: Windows-1252's ``…`` (0x85, Unicode's NEL once read
+    byte for byte) and a form feed inside a comment leave the line numbers alone."""
+    path = tmp_path / "nel.pmc"
+    path.write_bytes(b"P1=1 ; wait\x85 then go\r\nP2=2 ; page\x0c two\r\nX1\r\n")
+    result = _run(str(path))
+    assert result.output.splitlines() == [f"{path}:3:1: error: ERR005 {MEANINGS['ERR005']}"]
+
+
+def test_a_file_in_another_encoding_is_one_error_and_a_count(tmp_path):
+    """Shift-JIS command text (a file whose remarks lack ``;``): the first byte above 0x7F is
+    the error, the other lines are counted under it."""
+    path = tmp_path / "jp.pmc"
+    path.write_bytes(b"P1=1\n" + "".join(f"原点{n}\n" for n in range(40))
+                     .encode("shift_jis"))
+    result = _run(str(path))
+    assert result.exit_code == 1
+    assert result.output.splitlines() == [
+        f"{path}:2:1: error: encoding byte 0x8C is not ASCII: a PMAC's command text is ASCII "
+        "(only a comment may hold other bytes); the line is not sent",
+        "  … and 39 more lines refused because they hold bytes above 0x7F outside a comment"]
+
+
+@settings(max_examples=40, deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(data=st.binary(max_size=300), suffix=st.sampled_from([".pmc", ".bas"]),
+       dialect=st.sampled_from(["auto", "pewin", "diamond", "msi"]))
+def test_any_bytes_are_checked_never_crash(tmp_path, data, suffix, dialect):
+    """Whatever a file holds, ``check`` answers findings (exit 0 or 1), never a crash."""
+    path = tmp_path / f"any{suffix}"
+    path.write_bytes(data)
+    result = _run("--dialect", dialect, str(path))
+    assert result.exit_code in (0, 1), (result.output, result.exception)
+    assert result.exception is None or isinstance(result.exception, SystemExit)
