@@ -398,3 +398,30 @@ def test_any_bytes_are_checked_never_crash(tmp_path, data, suffix, dialect):
     result = _run("--dialect", dialect, str(path))
     assert result.exit_code in (0, 1), (result.output, result.exception)
     assert result.exception is None or isinstance(result.exception, SystemExit)
+
+
+def test_dash_d_predefines_a_pewin_or_diamond_macro(tmp_path):
+    path = tmp_path / "axis.pmc"
+    path.write_text("#define GAIN_I I130\nGAIN_I=KP\n")
+    assert _run(str(path)).exit_code == 1  # KP unknown to the card
+    assert _run("-D", "KP=1000", str(path)).exit_code == 0
+    assert _run("--dialect", "pewin", "-D", "KP=1000", str(path)).exit_code == 0
+
+
+def test_a_tree_reports_every_file_it_can_and_exits_2_for_one_it_cannot(tmp_path):
+    """Exit status as for files: 2 when a file cannot be checked (here ``--model``, which
+    only a Trio has), after the findings of those that could."""
+    (tmp_path / "a.pmc").write_text("P1=1\n")
+    (tmp_path / "b.bas").write_text("MOVE(1\n")
+    result = _run("--model", "mc4xx", str(tmp_path))
+    assert result.exit_code == 2
+    assert f"{tmp_path / 'b.bas'}:1:7: error: parse_error" in result.output
+    assert f"{tmp_path / 'a.pmc'}: --model applies to trio controllers" in result.output
+
+
+def test_the_pre_commit_hook_matches_the_suffixes_check_dir_reads():
+    from motionsim.app.check import PMAC_SUFFIXES, TRIO_SUFFIXES
+
+    (hook,) = yaml.safe_load((ROOT / ".pre-commit-hooks.yaml").read_text())
+    for suffix in (*PMAC_SUFFIXES, *TRIO_SUFFIXES):
+        assert re.search(hook["files"], f"prog{suffix}"), suffix
