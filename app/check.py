@@ -206,12 +206,9 @@ def _trio_code_end(line: str) -> int:
     return len(line)
 
 
-def check_trio(path: Path, ctl: Any) -> list[Finding]:
-    """Store the program as ``PUT /programs/{name}`` does; not-simulated keywords are
-    warnings (their line is set aside and the program compiled again), the first compile
-    error is the error. The file is read as bytes: a byte above 0x7F in a comment is
-    harmless, one in the program text an ``encoding`` error at its line and column (``[INF]``
-    the controller's program text is ASCII); a file with one is not compiled."""
+def _trio_lines(path: Path) -> tuple[list[str], list[Finding]]:
+    """The program's lines as bytes read one by one (comment bytes above 0x7F made ``?``),
+    and an ``encoding`` finding for each line with such a byte in its program text."""
     lines = read_lines(path)
     found: list[Finding] = []
     for n, line in enumerate(lines, 1):
@@ -224,8 +221,45 @@ def check_trio(path: Path, ctl: Any) -> list[Finding]:
                                  NON_ASCII_CAUSE))
         else:
             lines[n - 1] = line[:end] + re.sub(r"[^\x00-\x7f]", "?", line[end:])
+    return lines, found
+
+
+_TRIO_INCLUDE = re.compile(r'^\s*INCLUDE\s*"([^"]+)"', re.I)
+
+
+def _store_included(path: Path, lines: Sequence[str], ctl: Any, seen: set[Path]) -> None:
+    """Store first the programs of ``path``'s folder that it ``INCLUDE``s (by program name,
+    the file's stem), theirs before them: a Trio project is a folder of programs downloaded
+    to one controller together (``[BK]`` Motion Perfect's project download). One that does
+    not compile is left out: it is reported when it is checked itself."""
+    wanted = [m[1] for line in lines if (m := _TRIO_INCLUDE.match(line))]
+    if not wanted:
+        return
+    siblings = {p.stem.upper(): p for p in path.parent.iterdir()
+                if p.is_file() and kind_of(p) == "trio"}
+    for name in wanted:
+        target = siblings.get(name.upper())
+        if target is None or target.resolve() in seen:
+            continue
+        seen.add(target.resolve())
+        text, problems = _trio_lines(target)
+        _store_included(target, text, ctl, seen)
+        if not problems:
+            with contextlib.suppress(MotionSimError):
+                ctl.store_program(name, "\n".join(text) or "'")
+
+
+def check_trio(path: Path, ctl: Any) -> list[Finding]:
+    """Store the program as ``PUT /programs/{name}`` does; not-simulated keywords are
+    warnings (their line is set aside and the program compiled again), the first compile
+    error is the error. The programs it ``INCLUDE``s from its folder are stored first. The
+    file is read as bytes: a byte above 0x7F in a comment is harmless, one in the program
+    text an ``encoding`` error at its line and column (``[INF]`` the controller's program
+    text is ASCII); a file with one is not compiled."""
+    lines, found = _trio_lines(path)
     if found:
         return found
+    _store_included(path, lines, ctl, {path.resolve()})
     name = re.sub(r"[^A-Za-z0-9_]", "_", path.stem)[:14] or "CHECK"
     for _ in range(len(lines) + 1):
         try:

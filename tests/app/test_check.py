@@ -425,3 +425,19 @@ def test_the_pre_commit_hook_matches_the_suffixes_check_dir_reads():
     (hook,) = yaml.safe_load((ROOT / ".pre-commit-hooks.yaml").read_text())
     for suffix in (*PMAC_SUFFIXES, *TRIO_SUFFIXES):
         assert re.search(hook["files"], f"prog{suffix}"), suffix
+
+
+def test_a_trio_project_folder_stores_the_programs_a_program_includes(tmp_path):
+    """TRM ``INCLUDE "name"`` (MC4xx): the included program must be on the controller; the
+    programs of the folder a program includes are stored first, so a project checks clean;
+    without them the include is refused."""
+    (tmp_path / "INIT.BAS").write_bytes("feed = 10 ' 送り速度\n".encode("shift_jis"))
+    (tmp_path / "MAIN.BAS").write_text('INCLUDE "INIT"\nBASE(0)\nMOVE(feed)\n')
+    result = _run("--model", "mc4xx", str(tmp_path))
+    assert result.exit_code == 0, result.output
+    alone = tmp_path / "solo"
+    alone.mkdir()
+    (alone / "MAIN.BAS").write_text('INCLUDE "INIT"\nBASE(0)\nMOVE(feed)\n')
+    result = _run("--model", "mc4xx", str(alone))
+    assert result.exit_code == 1
+    assert 'INCLUDE "INIT": there is no program INIT' in result.output
