@@ -191,25 +191,28 @@ class _State:
         self._names = None
 
 
+def _start(path: Path, dialect: str, include: Sequence[Path],
+           defines: Mapping[str, str] | None) -> tuple[list[str], _State]:
+    lines = read_lines(path)
+    row = detect(lines) if dialect == "auto" else DIALECTS[dialect]
+    values = dict(defines or {})
+    return lines, _State(row, include, {} if row.msi else dict(values),
+                         values if row.msi else {})
+
+
 def expand(path: Path, dialect: str = "auto", include: Sequence[Path] = (),
            defines: Mapping[str, str] | None = None) -> Iterator[SourceLine | Problem]:
     """The lines a downloader of ``dialect`` sends for ``path``, in order, and the problems it
     finds on the way (each where it occurs). ``defines`` are ``-D NAME=value``: predefined
     macros of ``diamond`` / ``pewin``, ``msi`` values."""
-    lines = read_lines(path)
-    row = detect(lines) if dialect == "auto" else DIALECTS[dialect]
-    values = dict(defines or {})
-    state = _State(row, include, {} if row.msi else dict(values), values if row.msi else {})
+    lines, state = _start(path, dialect, include, defines)
     yield from _file(path, lines, state, path)
 
 
 def included_files(path: Path, dialect: str = "auto", include: Sequence[Path] = (),
                    defines: Mapping[str, str] | None = None) -> set[Path]:
     """Every file ``path`` includes, directly or not (resolved paths)."""
-    lines = read_lines(path)
-    row = detect(lines) if dialect == "auto" else DIALECTS[dialect]
-    values = dict(defines or {})
-    state = _State(row, include, {} if row.msi else dict(values), values if row.msi else {})
+    lines, state = _start(path, dialect, include, defines)
     for _ in _file(path, lines, state, path):
         pass
     return state.included
