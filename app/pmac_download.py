@@ -37,10 +37,11 @@ The conventions (:data:`DIALECTS`, ``motionsim check --dialect``):
     then goes through Diamond's directives, as a build that runs ``msi`` on a ``.pmc``
     template does.
 
-``auto`` (the default) picks per file, in :func:`detect`: ``msi`` when ``$(`` or ``${``
-appears in the command text, else ``pewin`` when the file uses a ``//`` or ``/*`` comment,
-``#include <...>`` or a directive spelled other than Diamond's, else ``diamond`` (which, for a
-file without directives, sends each line as written minus its comment).
+``auto`` (the default) picks per download — a file and the files it includes — in
+:func:`detect`: ``msi`` when ``$(`` or ``${`` appears in the command text, else ``pewin`` when
+one of them uses a ``//`` or ``/*`` comment, ``#include <...>`` or a directive spelled other
+than Diamond's, else ``diamond`` (which, for a file without directives, sends each line as
+written minus its comment).
 
 An ``#include`` is searched for beside the including file, then in each ``-I DIR`` in turn; a
 missing one is an ``include`` error at its line and column, and every refusal after it is
@@ -191,10 +192,35 @@ class _State:
         self._names = None
 
 
+def _download_lines(path: Path, include: Sequence[Path], seen: set[Path]) -> Iterator[str]:
+    """The lines of ``path`` and of every file it names in an include line of any
+    convention, found as :func:`_include` finds them (for :func:`detect`: a download has
+    one convention, which its included files may show when the top file does not)."""
+    seen.add(path.resolve())
+    try:
+        lines = read_lines(path)
+    except OSError:
+        return
+    yield from lines
+    for line in lines:
+        code = line.split(";")[0].split("//")[0]
+        m = _PEWIN_INCLUDE.match(code) or _MSI_INCLUDE.match(code)
+        if not m:
+            continue
+        name = m["file"].strip(' "\t<>')
+        for folder in (path.parent, *include):
+            target = folder / name
+            if name and target.is_file():
+                if target.resolve() not in seen:
+                    yield from _download_lines(target, include, seen)
+                break
+
+
 def _start(path: Path, dialect: str, include: Sequence[Path],
            defines: Mapping[str, str] | None) -> tuple[list[str], _State]:
     lines = read_lines(path)
-    row = detect(lines) if dialect == "auto" else DIALECTS[dialect]
+    row = (detect(list(_download_lines(path, include, set()))) if dialect == "auto"
+           else DIALECTS[dialect])
     values = dict(defines or {})
     return lines, _State(row, include, {} if row.msi else dict(values),
                          values if row.msi else {})

@@ -441,3 +441,13 @@ def test_a_trio_project_folder_stores_the_programs_a_program_includes(tmp_path):
     result = _run("--model", "mc4xx", str(alone))
     assert result.exit_code == 1
     assert 'INCLUDE "INIT": there is no program INIT' in result.output
+
+
+def test_auto_reads_the_convention_from_the_included_files_too(tmp_path):
+    """A download has one convention: a top file written like Diamond's that includes a
+    PEWIN-style file (``//`` comments) is downloaded as PEWIN would."""
+    (tmp_path / "code.pmc").write_text("// set-up\nP1=1 // first\nP2=2\n")
+    top = tmp_path / "top.pmc"
+    top.write_text('; top\n#define N 3\n#include "code.pmc"\nP3=N\n')
+    assert _run(str(top)).output == ""
+    assert "ERR003" in _run("--dialect", "diamond", str(top)).output
