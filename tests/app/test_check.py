@@ -451,3 +451,15 @@ def test_auto_reads_the_convention_from_the_included_files_too(tmp_path):
     top.write_text('; top\n#define N 3\n#include "code.pmc"\nP3=N\n')
     assert _run(str(top)).output == ""
     assert "ERR003" in _run("--dialect", "diamond", str(top)).output
+
+
+def test_msi_include_and_substitute_lines(tmp_path):
+    """``msi``'s own directives: ``substitute "NAME=VALUE,..."`` sets values for the lines
+    after it, ``include "file"`` inserts a template (searched as ``#include`` is)."""
+    (tmp_path / "motor.tmpl").write_text("I$(M)30=$(KP)\nI$(M)31=(\n")
+    top = tmp_path / "axes.pmc"
+    top.write_text('substitute "M=1,KP=1000"\ninclude "motor.tmpl"\n'
+                   'substitute "M=2"\ninclude "motor.tmpl"\n')
+    findings = check_file(top, dialect="msi")
+    assert [(Path(f.file).name, f.line, f.code, f.text) for f in findings] == [
+        ("motor.tmpl", 2, "ERR003", "I131=("), ("motor.tmpl", 2, "ERR003", "I231=(")]
