@@ -26,8 +26,9 @@ The conventions (:data:`DIALECTS`, ``motionsim check --dialect``):
     written in): ``;`` and ``//`` start a comment, ``/* ... */`` is a comment that may span
     lines; directives in any case (``#define``, ``#Define``, ``#DEFINE``, ``#include``) with
     blanks allowed after ``#``; ``#include "file"`` and ``#include <file>`` (C's two forms);
-    a macro replaces whole names only (``AX`` does not change ``MAX``), as a C preprocessor
-    does.
+    ``#ifdef`` / ``#ifndef`` / ``#else`` / ``#endif`` / ``#undef`` as in C (a line in a block
+    not taken is neither sent nor checked); a macro replaces whole names only (``AX`` does not
+    change ``MAX``), as a C preprocessor does.
 ``msi``
     EPICS ``msi`` substitution, run on templates before download: ``$(NAME)`` and
     ``${NAME}`` (``$(NAME=default)`` with a default) take their value from ``-D NAME=value``
@@ -39,9 +40,9 @@ The conventions (:data:`DIALECTS`, ``motionsim check --dialect``):
 
 ``auto`` (the default) picks per download — a file and the files it includes — in
 :func:`detect`: ``msi`` when ``$(`` or ``${`` appears in the command text, else ``pewin`` when
-one of them uses a ``//`` or ``/*`` comment, ``#include <...>`` or a directive spelled other
-than Diamond's, else ``diamond`` (which, for a file without directives, sends each line as
-written minus its comment).
+one of them uses a ``//`` or ``/*`` comment, ``#include <...>``, ``#ifdef`` or a directive
+spelled other than Diamond's, else ``diamond`` (which, for a file without directives, sends
+each line as written minus its comment).
 
 An ``#include`` is searched for beside the including file, then in each ``-I DIR`` in turn; a
 missing one is an ``include`` error at its line and column, and every refusal after it is
@@ -54,7 +55,7 @@ import re
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Final, Literal
+from typing import Any, Final, Literal
 
 
 @dataclass(frozen=True, slots=True)
@@ -78,7 +79,7 @@ class Problem:
     file: str
     line: int
     column: int
-    code: Literal["encoding", "include", "macro"]
+    code: Literal["encoding", "include", "macro", "directive"]
     message: str
     text: str = ""
     cause: str = ""
@@ -104,6 +105,8 @@ class Dialect:
     substitution: Substitution
     #: ``msi`` ``$(NAME)`` expansion before the directives
     msi: bool = False
+    #: ``#ifdef`` / ``#ifndef`` / ``#else`` / ``#endif`` / ``#undef``
+    conditionals: bool = False
     what: str = ""
 
 
@@ -119,8 +122,10 @@ DIALECTS: Final[dict[str, Dialect]] = {d.name: d for d in (
             what="Diamond's .pmc preprocessor (dls-pmaclib): ; comments, #define/#DEFINE, "
                  "#include \"file\", plain text replacement"),
     Dialect("pewin", (";", "//"), True, _PEWIN_DEFINE, _PEWIN_INCLUDE, "names",
+            conditionals=True,
             what="PEWIN32 / PComm32: ; // /* */ comments, #define in any case, "
-                 "#include \"file\" or <file>, whole-name replacement"),
+                 "#include \"file\" or <file>, #ifdef/#ifndef/#else/#endif/#undef, "
+                 "whole-name replacement"),
     Dialect("msi", (";",), False, _DIAMOND_DEFINE, _DIAMOND_INCLUDE, "text", msi=True,
             what="EPICS msi: $(NAME) ${NAME} from -D NAME=value, include \"file\", "
                  "then Diamond's directives"),
@@ -131,6 +136,8 @@ _MSI_REF = re.compile(r"\$(?:\((?P<p>[^)=]*)(?:=(?P<pd>[^)]*))?\)"
                       r"|\{(?P<b>[^}=]*)(?:=(?P<bd>[^}]*))?\})")
 _MSI_INCLUDE = re.compile(r'^\s*include\s+"(?P<file>[^"]+)"\s*$')
 _MSI_SUBSTITUTE = re.compile(r'^\s*substitute\s+"(?P<pairs>[^"]*)"\s*$')
+_CONDITIONAL = re.compile(
+    r"^\s*#\s*(?P<word>ifdef|ifndef|else|endif|undef)\b[ \t]*(?P<name>[^ \t]*)", re.I)
 _NON_ASCII = re.compile(r"[^\x00-\x7f]")
 #: The cause ``encoding`` problems are counted under (one file in another encoding has many).
 NON_ASCII_CAUSE: Final = "they hold bytes above 0x7F outside a comment"
@@ -156,7 +163,7 @@ def detect(lines: Sequence[str]) -> Dialect:
         directive = include or _PEWIN_DEFINE.match(code)
         diamonds = _DIAMOND_DEFINE.match(code) or _DIAMOND_INCLUDE.match(code)
         if "//" in code or "/*" in code or (include and "<" in code) or (
-                directive and not diamonds):
+                directive and not diamonds) or _CONDITIONAL.match(code):
             pewin = True
     return DIALECTS["pewin" if pewin else "diamond"]
 
@@ -189,6 +196,10 @@ class _State:
 
     def define(self, name: str, text: str) -> None:
         self.defines[name] = self.substitute(text)
+        self._names = None
+
+    def undefine(self, name: str) -> None:
+        self.defines.pop(name, None)
         self._names = None
 
 
@@ -290,11 +301,22 @@ def _file(path: Path, lines: list[str], state: _State, top: Path
     shown = _shown(path, top)
     state.stack.append(path.resolve())
     in_block = False
+    #: open #ifdef blocks: [taking lines, the condition, #else seen, line of the #ifdef]
+    blocks: list[list[Any]] = []
     for n, original in enumerate(lines, 1):
         if row.block_comments or len(row.line_comments) > 1:
             code, in_block = _strip_comments(original, row, in_block)
         else:
             code = original.split(";")[0]
+        if row.conditionals:
+            cond = _CONDITIONAL.match(code)
+            if cond:
+                problem = _conditional(cond, blocks, state, shown, n, original)
+                if problem:
+                    yield problem
+                continue
+            if blocks and not blocks[-1][0]:
+                continue  # inside an #ifdef not taken: not sent, not checked
         bad = _NON_ASCII.search(code)
         if bad:
             byte = ord(bad[0])
@@ -340,7 +362,38 @@ def _file(path: Path, lines: list[str], state: _State, top: Path
                              cause=state.cause)
         else:
             yield SourceLine(shown, n, stripped, expanded=True, cause=state.cause)
+    for block in blocks:
+        yield Problem(shown, block[3], 1, "directive", "#ifdef / #ifndef without its #endif",
+                      lines[block[3] - 1])
     state.stack.pop()
+
+
+def _conditional(m: re.Match[str], blocks: list[list[Any]], state: _State, shown: str,
+                 n: int, original: str) -> Problem | None:
+    """One ``#ifdef`` / ``#ifndef`` / ``#else`` / ``#endif`` / ``#undef`` line (``pewin``
+    ``[INF]``, as a C preprocessor reads them): lines are taken while every enclosing block
+    is taken; a misplaced ``#else`` / ``#endif`` is a ``directive`` problem."""
+    word, name = m["word"].lower(), m["name"]
+    outer = all(b[0] for b in blocks)
+    if word in ("ifdef", "ifndef"):
+        if not name:
+            return Problem(shown, n, m.end() + 1, "directive", f"#{word} needs a macro name",
+                           original)
+        holds = (name in state.defines) == (word == "ifdef")
+        blocks.append([outer and holds, holds, False, n])
+    elif word == "undef":
+        if outer:
+            state.undefine(name)
+    elif not blocks:
+        return Problem(shown, n, 1, "directive", f"#{word} without #ifdef / #ifndef", original)
+    elif word == "else":
+        if blocks[-1][2]:
+            return Problem(shown, n, 1, "directive", "a second #else in one #ifdef", original)
+        enclosing = all(b[0] for b in blocks[:-1])
+        blocks[-1][0], blocks[-1][2] = enclosing and not blocks[-1][1], True
+    else:
+        blocks.pop()
+    return None
 
 
 def _include(name: str, column: int, path: Path, n: int, original: str, state: _State,

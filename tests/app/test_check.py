@@ -463,3 +463,20 @@ def test_msi_include_and_substitute_lines(tmp_path):
     findings = check_file(top, dialect="msi")
     assert [(Path(f.file).name, f.line, f.code, f.text) for f in findings] == [
         ("motor.tmpl", 2, "ERR003", "I131=("), ("motor.tmpl", 2, "ERR003", "I231=(")]
+
+
+def test_pewin_conditionals_take_or_skip_lines(tmp_path):
+    """PEWIN ``[INF]`` (C's ``#ifdef``): a block not taken is neither sent nor checked, so
+    its refusals and bytes do not count; ``-D`` defines a name for ``#ifdef``; a missing
+    ``#endif`` is an error at its ``#ifdef``."""
+    path = tmp_path / "opt.pmc"
+    path.write_bytes(b"#ifdef BRAKE\nM1=1\n#else\nP1=(\n\xe9\n#endif\n#ifndef BRAKE\nP2=2\n"
+                     b"#endif\n#define X P3\n#undef X\n#ifdef X\nP4=(\n#endif\n")
+    result = _run("--format", "json", str(path))
+    assert [(f["line"], f["code"]) for f in json.loads(result.output)] == [
+        (4, "ERR003"), (5, "encoding")]
+    assert _run("-D", "BRAKE=1", str(path)).exit_code == 0
+    open_ = tmp_path / "open.pmc"
+    open_.write_text("#ifndef A\nP1=1\n")
+    assert _run(str(open_)).output.startswith(
+        f"{open_}:1:1: error: directive #ifdef / #ifndef without its #endif")
