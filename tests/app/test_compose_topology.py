@@ -20,6 +20,7 @@ from tests.app.test_cli import ENV, ROOT, _serve, _stop
 from tests.app.test_image_entrypoint import image_healthcheck
 
 COMPOSE = yaml.safe_load((ROOT / "docker-compose.yml").read_text())
+README = (ROOT / "README.md").read_text()
 
 
 def test_compose_declares_the_service_and_the_example_client():
@@ -42,6 +43,17 @@ def test_compose_v2_builds_the_client_instead_of_pulling_an_image_of_that_name()
 def test_compose_documents_exit_code_from_client():
     for text in ((ROOT / "docker-compose.yml").read_text(), (ROOT / "README.md").read_text()):
         assert "docker compose up --build --exit-code-from client" in text
+
+
+def test_the_readme_says_what_to_type_with_either_compose():
+    """Compose v2 is the ``docker compose`` plugin, v1 Debian's ``docker-compose`` (bookworm has
+    no v2 package): the Docker section's first block gives the command for each."""
+    section = README.split("\n## Docker\n", 1)[1].split("\n## ", 1)[0]
+    block = re.search(r"```sh\n(.*?)```", section, re.S)[1]
+    assert [line.split("#")[0].strip() for line in block.splitlines()] == [
+        "docker compose up --build --exit-code-from client",
+        "docker-compose up --build --exit-code-from client"]
+    assert "make docker-test" in section
 
 
 def test_the_health_checks_follow_the_configured_port():
