@@ -11,7 +11,7 @@ TEST_STAMP := $(VENV)/.installed-test
 # ("Editable installation ... be careful with folders named like your package"); not a problem.
 PIP_INSTALL := PYTHONWARNINGS="ignore:Editable installation" $(BIN)/python -m pip install -q
 
-.PHONY: run test docker-test lint bench profile cov mutate plots fuzz screenshot clean
+.PHONY: run test docker-test docker-image lint bench profile cov mutate plots fuzz screenshot clean
 
 $(VENV_STAMP):
 	$(PYTHON) -m venv $(VENV)
@@ -41,6 +41,10 @@ DOCKER_TEST_TIMEOUT_S ?= 1500
 # Needs only the venv's Python and pip (not motionsim's own install).
 docker-test: $(VENV_STAMP)
 	$(BIN)/python tools/docker_test.py --timeout-s $(DOCKER_TEST_TIMEOUT_S)
+
+# Its first steps only: the base image if missing, pip's settings for the build, docker build.
+docker-image: $(VENV_STAMP)
+	$(BIN)/python tools/docker_test.py --image-only --timeout-s $(DOCKER_TEST_TIMEOUT_S)
 
 lint: $(TEST_STAMP)
 	$(BIN)/ruff check .

@@ -10,7 +10,9 @@
    the program run to its end and ``starved`` 0;
 5. ``down -v`` whatever happened.
 
-Every step is bounded in time (``--timeout-s``, default 1500 s in all). Exit 0: passed; 1: a
+``--image-only`` (``make docker-image``) stops after step 3: ``.ci/run`` runs it while the
+suite runs, so the ``make docker-test`` after the suite finds the images built. Every step is
+bounded in time (``--timeout-s``, default 1500 s in all). Exit 0: passed; 1: a
 step failed (its output says which); 3: no Docker engine answers (``.ci/run`` tells that
 apart from a failure).
 """
@@ -203,25 +205,30 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--timeout-s", type=float, default=1500.0,
                     help="the whole run's time limit (base image, build, compose)")
+    ap.add_argument("--image-only", action="store_true",
+                    help="steps 1-3 only: the base image, pip's settings and the build "
+                         "(`make docker-image`; .ci/run does it while the suite runs)")
     args = ap.parse_args(argv)
+    what = "make docker-image" if args.image_only else "make docker-test"
     if not engine_answers():
-        print("make docker-test: no Docker engine answers (`docker info` fails): start dockerd",
+        print(f"{what}: no Docker engine answers (`docker info` fails): start dockerd",
               file=sys.stderr)
         return NO_ENGINE
     budget = Budget(args.timeout_s)
     start = time.monotonic()
     try:
-        compose = compose_command()
+        compose = [] if args.image_only else compose_command()
         run(["bash", "tools/docker_base_image.sh"], budget, "base image")
         run([sys.executable, "tools/docker_pip_context.py"], budget, "pip settings")
         run(["docker", "build", "-t", IMAGE, "."], budget, "build")
-        check_image_health(budget)
-        compose_up(compose, budget)
+        if not args.image_only:
+            check_image_health(budget)
+            compose_up(compose, budget)
     except Failed as exc:
-        print(f"make docker-test: FAILED: {exc}", file=sys.stderr)
+        print(f"{what}: FAILED: {exc}", file=sys.stderr)
         return 1
-    print(f"make docker-test: passed in {time.monotonic() - start:.0f} s "
-          f"({' '.join(compose)})", flush=True)
+    print(f"{what}: passed in {time.monotonic() - start:.0f} s"
+          + (f" ({' '.join(compose)})" if compose else ""), flush=True)
     return 0
 
 
