@@ -56,6 +56,7 @@ EVENT_FIELDS: dict[str, tuple[str, ...]] = {
     "plc_send": ("plc", "port", "text"),  # PMAC: a PLC's SEND"..." line (port S/P/R/A/host)
     "program_send": ("cs", "line", "port", "text"),  # PMAC: a motion program's SEND"..." line
     "host_message_dropped": ("source", "port", "text", "dropped"),  # PMAC: a SEND line lost
+    "gather": ("state", "reason|sources", "samples|period"),  # PMAC: gathering started/stopped
     "timer": ("var", "value"),  # PMAC: an Isx11/Isx12 countdown timer was written (cycles)
     "rti_overrun": ("over_s",),
     "watchdog": ("reason",),

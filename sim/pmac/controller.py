@@ -51,6 +51,7 @@ from .motor.motors import Motor, MotorTable
 from .tasks.command_queue import CommandQueue
 from .tasks.cpu import CONFIG_KEYS as CPU_CONFIG_KEYS
 from .tasks.cpu import Processor
+from .tasks.gather import Gather
 from .tasks.plc import PlcTable
 from .tasks.scheduler import Scheduler
 
@@ -168,7 +169,11 @@ class PmacController(Controller):
         self.coord_systems = {n: CoordSystem(self, n) for n in range(1, N_CS + 1)}
         self.vars.mvars.registers = registers.for_controller(self)
         self.kinematics = Kinematics(self)  # OPEN FORWARD / INVERSE, #n->I (sim.pmac.kinematics)
-        self.gather_words: int | None = None
+        if hasattr(self, "gather"):
+            self.gather.detach()
+        #: The gather buffer and data gathering (sim.pmac.tasks.gather).
+        self.gather = Gather(self.env, self.scheduler.clock, self.vars.I, self.vars.mvars,
+                             self.log.emit)
         self.programs = MotionPrograms()
         self.buffer_holder: Port | None = None
         self.motors: dict[int, tuple[int, str]] = {}  # axis definitions: n -> (cs, "1000X")
@@ -361,18 +366,26 @@ class PmacController(Controller):
             raise Conflict(f"CS {cs} is running its program", pmac_error="ERR001")
         c.rotary = None
 
+    @property
+    def gather_words(self) -> int | None:
+        """Long words the gather buffer holds (None: no buffer)."""
+        return self.gather.words
+
     def define_gather(self, words: int | None) -> None:
-        """``DEFINE GATHER [n]``: with no size it takes all free memory."""
-        if self.gather_words is not None:
-            raise Conflict("a gather buffer already exists", pmac_error="ERR003")
-        free = abs(self.size_words())
+        """``DEFINE GATHER [n]`` (TSRM p307): ``n`` long words, all free memory without it; on
+        an existing buffer it rewinds the storage address (its words count as free for the
+        new size). ERR006 when memory is short, ERR003 while gathering
+        (:mod:`motionsim.sim.pmac.tasks.gather`)."""
+        self._alive()
+        free = abs(self.size_words()) + (self.gather.words or 0)
         if words is not None and words > free:
-            raise BufferFull("not enough memory for the gather buffer", pmac_error="ERR006")
-        self.gather_words = free if words is None else words
+            raise BufferFull(f"only {free} words of memory free for the gather buffer",
+                             pmac_error="ERR006")
+        self.gather.define(free if words is None else words)
 
     def delete_gather(self) -> None:
-        """``DELETE GATHER``."""
-        self.gather_words = None
+        """``DELETE GATHER`` (TSRM p315): ERR003 while gathering."""
+        self.gather.delete()
 
     def define_lookahead(self, cs: int, segments: int, outputs: int) -> None:
         """``&cs DEFINE LOOKAHEAD segments,outputs`` (ordering: :mod:`.lookahead_buffer`)."""

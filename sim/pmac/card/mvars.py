@@ -83,6 +83,30 @@ class MVariables:
         buffer, :mod:`.memory_map`)."""
         return memory_map.writable(address, self.ubuffer)
 
+    def holds(self, space: str, address: int) -> bool:
+        """Does the model give the ``space`` (``X``, ``Y`` or ``D`` for a 48-bit long) word at
+        ``address`` a meaning: a mapped register, an M-variable definition word, a word an
+        M-variable points at, the user buffer, or a word the host or a program wrote? Data
+        gathering (:mod:`motionsim.sim.pmac.tasks.gather`) refuses a source that is none of
+        these rather than record zeros the card would not have."""
+        if (space, address) in self.registers:
+            return True
+        halves = ("X", "Y") if space == "D" else (space,)
+        if space == "D" and any((h, address) in self.registers for h in halves):
+            return True
+        if 0 <= address - memory_map.MDEF_BASE < memory_map.N_MDEFS:
+            return True
+        if self.ubuffer is not None and self.ubuffer[0] <= address <= self.ubuffer[1]:
+            return True
+        if any((h, address) in self.words for h in halves):
+            return True
+        for d in self.defs.values():
+            if d.address == address and (
+                d.kind == space or d.kind in ("D", "L") or space == "D"
+            ):
+                return True
+        return False
+
     def word(self, space: str, address: int) -> int:
         """The 24-bit X or Y word at ``address``."""
         reg = self.registers.get((space, address))

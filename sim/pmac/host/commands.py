@@ -312,6 +312,8 @@ TABLE: Final[tuple[Command, ...]] = (
     Command(st.DeleteRotary, _of("delete_rotary")),
     Command(st.DefineGather, lambda c, s: c.ctl.define_gather(s.words)),
     Command(st.DeleteGather, lambda c, s: c.ctl.delete_gather()),
+    Command(st.Gather, lambda c, s: c.ctl.gather.start()),
+    Command(st.EndGather, lambda c, s: c.ctl.gather.end()),
     Command(st.DefineLookahead,
             lambda c, s: c.ctl.define_lookahead(c.state["cs"], s.segments, s.outputs)),
     Command(st.DeleteLookahead, _of("delete_lookahead")),

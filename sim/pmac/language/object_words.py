@@ -16,6 +16,7 @@ SPELLINGS: Final[dict[str, tuple[str, ...]]] = {
     "PLC": (), "PLCC": (), "FORWARD": ("FWD",), "INVERSE": ("INV",), "BINARY": (),
     "CCBUF": (), "COMP": (), "TCOMP": (), "BLCOMP": (), "UBUFFER": ("UBUF",), "TEMPS": (),
     "LDS": (), "LINK": (), "ALL": (), "TRACE": (),
+    "TRIGGER": (),
 }  # fmt: skip
 
 #: Object spelling -> its long form.

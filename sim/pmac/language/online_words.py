@@ -99,6 +99,19 @@ def list_(p: Any, tok: Token) -> Any:
     return list_words.parse(p)
 
 
+def gather(p: Any, tok: Token) -> Any:
+    """``GATHER``; ``GATHER TRIGGER`` is valid and answered ``not_simulated`` (its trigger
+    condition was not found in the Turbo SRM pages searched, docs/pmac.md)."""
+    nxt = p.peek()
+    if nxt is not None and nxt[0] == "word" and OBJECTS.get(nxt[1]) == "TRIGGER":
+        raise p.not_simulated("GATHER TRIGGER", tok)
+    return st.Gather()
+
+
+def endgather(p: Any, tok: Token) -> Any:
+    return st.EndGather()
+
+
 def mflush(p: Any, tok: Token) -> Any:
     return st.MFlush()
 

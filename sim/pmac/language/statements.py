@@ -63,6 +63,17 @@ class DeleteGather:
 
 
 @dataclass(frozen=True, slots=True)
+class Gather:
+    """``GATHER`` (``GAT``): start data gathering at the next servo cycle
+    (:mod:`motionsim.sim.pmac.tasks.gather`)."""
+
+
+@dataclass(frozen=True, slots=True)
+class EndGather:
+    """``ENDGATHER`` (``ENDG``, ``END GATHER``): stop data gathering."""
+
+
+@dataclass(frozen=True, slots=True)
 class DefineLookahead:
     """``DEFINE LOOKAHEAD segs,outputs``: the addressed CS's special lookahead buffer."""
 
@@ -310,6 +321,8 @@ OnlineStatement = (
     | DeleteRotary
     | DefineGather
     | DeleteGather
+    | Gather
+    | EndGather
     | OpenRotary
     | Close
     | ProgramPointer
