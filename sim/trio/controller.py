@@ -54,6 +54,7 @@ from .motion.issue import new_move
 from .motion.mtypes import MTYPE, axes_driven
 from .run.context import Context
 from .run.process import BasicProcess
+from .run.scope import Scope
 from .terminal import CommandLine
 
 _CONFIG_DEFAULTS: dict[str, float] = {
@@ -95,7 +96,7 @@ class TrioController(Controller):
     #: written at rest stepped the demand (``axis``, ``dpos``), a following error beyond
     #: FE_LIMIT (``axis``, ``fe``), a motion error (``axis``, ``axisstatus``).
     event_types += ("setup", "datum", "soft_limit", "endmove", "following_error",
-                    "motion_error")
+                    "motion_error", "scope")
 
     def __init__(
         self, id: str, config: Mapping[str, Any] | None = None, *, log_capacity: int = 100_000
@@ -146,6 +147,10 @@ class TrioController(Controller):
             ax.stored = st
         self.command_line = CommandLine(self)
         self._move_waits: dict[int, Waiter] = {}
+        if hasattr(self, "scope"):
+            self.scope.detach()
+        #: SCOPE / TRIGGER sampling into TABLE (sim.trio.run.scope).
+        self.scope = Scope(self)
 
     def _axis_error(self, n: int) -> None:
         """An error condition on axis ``n``: a motion error if AXISSTATUS meets ERRORMASK."""

@@ -24,7 +24,8 @@ A command is one row of :data:`COMMANDS` — its argument counts and the functio
   ``VR(arg 3)``: 3 = operational ``[INF]`` (a start-up loop waiting for it then goes on); the
   other functions are accepted with no effect ``[INF]`` (no EtherCAT network);
 * ``UNIT_CLEAR`` — clears unit (drive, bus) errors: there are none ``[BK]``;
-* ``TRIGGER`` — starts a SCOPE capture ``[BK]``: no scope, logged only.
+* ``TRIGGER[(mode)]`` — starts the capture SCOPE armed, one shot (0) or automatic (1)
+  (:mod:`motionsim.sim.trio.run.scope`); nothing while SCOPE is off.
 """
 
 from __future__ import annotations
@@ -135,7 +136,11 @@ def _ethercat(ctx: Context, args: tuple[float, ...], _n: int) -> None:
 
 
 def _log_only(ctx: Context, args: tuple[float, ...], _n: int) -> None:
-    """UNIT_CLEAR, TRIGGER: nothing to clear, no scope to start (logged by the caller)."""
+    """UNIT_CLEAR: nothing to clear (logged by the caller)."""
+
+
+def _trigger(ctx: Context, args: tuple[float, ...], _n: int) -> None:
+    ctx.ctrl.scope.trigger(args[0] if args else 0.0)
 
 
 COMMANDS: dict[str, Command] = {c.name: c for c in (
@@ -147,7 +152,7 @@ COMMANDS: dict[str, Command] = {c.name: c for c in (
     Command("ETHERNET", 3, 12, _ethernet),
     Command("ETHERCAT", 2, 8, _ethercat),
     Command("UNIT_CLEAR", 0, 0, _log_only),
-    Command("TRIGGER", 0, 0, _log_only),
+    Command("TRIGGER", 0, 1, _trigger),
 )}
 
 

@@ -254,6 +254,19 @@ class _Compiler(Declarations, Branches):
         self.emit(lambda c: c.setup_command(
             name, tuple(a(c) for a in args), axis(c) if axis is not None else None), st)
 
+    def st_ScopeCmd(self, st: s.ScopeCmd) -> None:
+        """SCOPE: the parameters stay compiled readers, sampled by the scope
+        (:mod:`motionsim.sim.trio.run.scope`) with the context of the process that ran it."""
+        args = [self.num(a) for a in st.args]
+        readers, names = args[4:], tuple(_param_name(a, i) for i, a in enumerate(st.args[4:]))
+
+        def op(c: Any) -> None:
+            period = args[1](c) if len(args) > 1 else None
+            table = (args[2](c), args[3](c)) if len(args) > 2 else None
+            c.ctrl.scope.set(c, args[0](c), period, table, readers, names)
+
+        self.emit(op, st)
+
     def st_OpWrite(self, st: s.OpWrite) -> None:
         args = [self.num(a) for a in st.args]
         self.emit(lambda c: c.op_write([a(c) for a in args]), st)
@@ -530,3 +543,15 @@ def compile_program(
 
 
 __all__ = ["HALT", "Block", "Code", "Poll", "Sleep", "WaitFor", "compile_program"]
+
+
+def _param_name(e: s.Expr, i: int) -> str:
+    """A SCOPE parameter's column name: ``MPOS AXIS(5)``, ``VR(3)``, else ``p{i}``."""
+    if isinstance(e, s.Param):
+        if e.axis is None:
+            return e.name
+        if isinstance(e.axis, s.Num):
+            return f"{e.name} AXIS({e.axis.value:g})"
+    if isinstance(e, s.VrRef) and isinstance(e.index, s.Num):
+        return f"VR({e.index.value:g})"
+    return f"p{i}"

@@ -375,6 +375,14 @@ class _Line(DeclarationParser):
             self.expect(",")
         return s.Print(ln, col, *self.print_items(), channel=channel)
 
+    def st_SCOPE(self, ln: int, col: int) -> s.Stmt:
+        """``SCOPE(OFF)``, ``SCOPE(ON, period)``, ``SCOPE(ON, period, start, stop, p0..p7)``."""
+        c = self.col()
+        args = self.args()
+        if len(args) not in (1, 2) and not 5 <= len(args) <= 12:
+            raise self.error(f"SCOPE takes 1, 2 or 5 to 12 arguments, got {len(args)}", c)
+        return s.ScopeCmd(ln, col, args)
+
     def st_DEFPOS(self, ln: int, col: int) -> s.Stmt:
         values = self.args()
         return s.DefPos(ln, col, values, self.axis_modifier())
@@ -727,6 +735,7 @@ BASE = Dialect("series2 / mc2xx", (
     Row(("ON",), _P.st_ON, {s.OnError: _C.st_OnError, s.OnBranch: _C.st_OnBranch}),
     Row(tuple(MOVE_ARGS), _P.st_move, {s.MoveCmd: _C.st_MoveCmd}),
     Row(tuple(SETUP_COMMANDS), _P.st_setup, {s.SetupCmd: _C.st_SetupCmd}),
+    Row(("SCOPE",), _P.st_SCOPE, {s.ScopeCmd: _C.st_ScopeCmd}),  # TRIGGER: a set-up command
 ), later_words=MC4_WORDS)
 
 #: The MC4xx / MC6xx language (firmware 2.x, spec §11): the base table, its declarations,

@@ -138,6 +138,14 @@ class TableWrite(Stmt):
 
 
 @dataclass(frozen=True, slots=True)
+class ScopeCmd(Stmt):
+    """``SCOPE(enable[, period[, table_start, table_stop, p0 ... p7]])``
+    (:mod:`motionsim.sim.trio.run.scope`)."""
+
+    args: tuple[Expr, ...]
+
+
+@dataclass(frozen=True, slots=True)
 class Base(Stmt):
     """``BASE(a, b, ...)``: the axis group the process' motion commands and parameters act on."""
 
