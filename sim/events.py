@@ -62,6 +62,7 @@ EVENT_FIELDS: dict[str, tuple[str, ...]] = {
     "watchdog": ("reason",),
     "reset": (),
     "print": ("process", "channel", "text"),  # Trio: a line a BASIC program printed
+    "scope": ("state", "period", "samples"),  # Trio: SCOPE armed / triggered / done / off
     # scenario host models (sim/hosts/): what the simulated host did and saw
     "host_write": ("host", "cs", "lines", "sent"),
     "host_timeout": ("host", "cs", "command"),

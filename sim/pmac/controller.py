@@ -28,6 +28,7 @@ from ..bounds import FINITE, PMAC_CONFIG, PMAC_CPU_COST
 from ..controller import Controller, Port, Reply
 from ..errors import BufferFull, Conflict, Halted, InvalidValue, NotFound, ParseError
 from ..faults import CardFaults
+from ..recording import Recording as SharedRecording
 from ..timing import pmac_servo_period_s
 from .buffers import lookahead_buffer
 from .buffers.program import ProgramLine, compile_line
@@ -382,6 +383,10 @@ class PmacController(Controller):
             raise BufferFull(f"only {free} words of memory free for the gather buffer",
                              pmac_error="ERR006")
         self.gather.define(free if words is None else words)
+
+    def recording(self) -> SharedRecording:
+        """What the last ``GATHER`` recorded (sim.recording; sim.pmac.tasks.gather)."""
+        return self.gather.recording().shared()
 
     def delete_gather(self) -> None:
         """``DELETE GATHER`` (TSRM p315): ERR003 while gathering."""

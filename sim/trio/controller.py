@@ -35,6 +35,7 @@ from ..errors import (
     NotSimulated,
     ParseError,
 )
+from ..recording import Recording
 from ..timing import ServoClock
 from .card.axis_status import StoredParams, axisstatus
 from .card.basic_errors import BasicError
@@ -168,6 +169,10 @@ class TrioController(Controller):
         self.buffers.shutdown()
         self._build()
         self.log.emit("reset")
+
+    def recording(self) -> Recording:
+        """What the last SCOPE capture put in TABLE (sim.recording; sim.trio.run.scope)."""
+        return self.scope.recording().shared()
 
     def status(self) -> dict[str, Any]:
         return {

@@ -59,8 +59,10 @@ from typing import Any, Final
 import simpy
 
 from ...errors import Conflict
+from ...recording import Recording as SharedRecording
 from ...simpy_adapter import Wake, cancel, wake_at
 from ...timing import ServoClock
+from ..card import pmac_float
 from ..card.mvars import MVariables
 
 #: First hex digit of I50nn -> (memory space read, bits). ``L`` reads the 48 bits as ``D``
@@ -132,6 +134,24 @@ class Recording:
     running: bool
     wrapped: bool
     capacity: int
+
+    def shared(self) -> SharedRecording:
+        """As :class:`motionsim.sim.recording.Recording`: each word a signed integer of its
+        width, a ``$C`` source's 48 bits as the float they hold."""
+        columns = []
+        for i, s in enumerate(self.sources):
+            raw = [v[i] for v in self.values]
+            if s.space == "L":
+                columns.append(tuple(pmac_float.decode(r) for r in raw))
+            else:
+                half = 1 << (s.bits - 1)
+                columns.append(tuple(float(r - 2 * half if r >= half else r) for r in raw))
+        return SharedRecording(
+            "gather", tuple(s.name for s in self.sources),
+            tuple({"name": s.name, "spec": f"${s.spec:06X}", "address": s.address_text,
+                   "bits": s.bits} for s in self.sources),
+            self.cycles, tuple(columns), self.period_cycles, self.servo_period_s,
+            self.running, self.wrapped, self.capacity)
 
 
 class Gather:

@@ -31,6 +31,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Final
 
+from ...recording import Recording
 from ...simpy_adapter import Wake, cancel, wake_at
 from ..card.basic_errors import BasicError
 
@@ -55,6 +56,18 @@ class ScopeRecording:
     running: bool
     cyclic: bool
     armed: bool
+    per_param: int
+    wrapped: bool
+
+    def shared(self) -> Recording:
+        """As :class:`motionsim.sim.recording.Recording` (a capture that went round is
+        ``wrapped``)."""
+        return Recording(
+            "scope", self.names,
+            tuple({"name": n, "table_start": self.table_start + i * self.per_param}
+                  for i, n in enumerate(self.names)),
+            self.cycles, self.columns, self.period_cycles, self.servo_period_s, self.running,
+            self.wrapped, self.per_param)
 
 
 def _range_error(what: str) -> BasicError:
@@ -209,7 +222,8 @@ class Scope:
         )
         return ScopeRecording(self.names, self.period, self._ctrl.clock.period_s, self.start,
                               tuple(self._slots[j] for j in order), columns, self.running,
-                              self.cyclic, self.armed)
+                              self.cyclic, self.armed, self.per_param,
+                              self._stored > self.per_param)
 
     def _emit(self, state: str, **extra: Any) -> None:
         self._ctrl.log.emit("scope", state=state, period=self.period, samples=min(
