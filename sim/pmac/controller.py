@@ -170,8 +170,9 @@ class PmacController(Controller):
         self.coord_systems = {n: CoordSystem(self, n) for n in range(1, N_CS + 1)}
         self.vars.mvars.registers = registers.for_controller(self)
         self.kinematics = Kinematics(self)  # OPEN FORWARD / INVERSE, #n->I (sim.pmac.kinematics)
-        if hasattr(self, "gather"):
-            self.gather.detach()
+        old_gather = getattr(self, "gather", None)
+        if old_gather is not None:
+            old_gather.detach()
         #: The gather buffer and data gathering (sim.pmac.tasks.gather).
         self.gather = Gather(self.env, self.scheduler.clock, self.vars.I, self.vars.mvars,
                              self.log.emit)
@@ -383,6 +384,15 @@ class PmacController(Controller):
             raise BufferFull(f"only {free} words of memory free for the gather buffer",
                              pmac_error="ERR006")
         self.gather.define(free if words is None else words)
+
+    def start_gather(self) -> None:
+        """``GATHER``: data gathering from the next servo cycle (sim.pmac.tasks.gather)."""
+        self._alive()
+        self.gather.start()
+
+    def end_gather(self) -> None:
+        """``ENDGATHER``."""
+        self.gather.end()
 
     def recording(self) -> SharedRecording:
         """What the last ``GATHER`` recorded (sim.recording; sim.pmac.tasks.gather)."""

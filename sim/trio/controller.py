@@ -148,8 +148,9 @@ class TrioController(Controller):
             ax.stored = st
         self.command_line = CommandLine(self)
         self._move_waits: dict[int, Waiter] = {}
-        if hasattr(self, "scope"):
-            self.scope.detach()
+        old_scope = getattr(self, "scope", None)
+        if old_scope is not None:
+            old_scope.detach()
         #: SCOPE / TRIGGER sampling into TABLE (sim.trio.run.scope).
         self.scope = Scope(self)
 
