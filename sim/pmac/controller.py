@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Callable, Iterable, Mapping
-from typing import Any, NamedTuple
+from typing import Any, NamedTuple, TypeVar
 
 import simpy
 
@@ -57,6 +57,7 @@ from .tasks.plc import PlcTable
 from .tasks.scheduler import Scheduler
 
 MEMORY_WORDS = 65_536
+_T = TypeVar("_T")
 
 #: Parsed lines by text: streams repeat line texts, and a parse is the costliest per-line step.
 _LINE_CACHE: dict[str, ProgramLine] = {}
@@ -159,6 +160,8 @@ class PmacController(Controller):
                 lambda: clock.index(self.env.now),
                 lambda n, v: self.log.emit("timer", var=f"I{n}", value=v),
             )
+        #: Axis positions by CS while one instant's registers are read (_at_one_instant).
+        self._positions_memo: dict[Any, Any] | None = None
         self.halted = False  # the watchdog tripped (sim.pmac.watchdog); until reset
         #: The bounded queue of CMD"..." commands (sim.pmac.tasks.command_queue).
         self.commands = CommandQueue(self._place_program_command)
@@ -175,7 +178,7 @@ class PmacController(Controller):
             old_gather.detach()
         #: The gather buffer and data gathering (sim.pmac.tasks.gather).
         self.gather = Gather(self.env, self.scheduler.clock, self.vars.I, self.vars.mvars,
-                             self.log.emit)
+                             self.log.emit, self._at_one_instant)
         self.programs = MotionPrograms()
         self.buffer_holder: Port | None = None
         self.motors: dict[int, tuple[int, str]] = {}  # axis definitions: n -> (cs, "1000X")
@@ -702,6 +705,25 @@ class PmacController(Controller):
             return None
         return have[0], terms[0][0], terms[0][1]
 
+    def _at_one_instant(self, read: Callable[[], _T]) -> _T:
+        """Run ``read`` (reads only, no state change: a gather sample's registers) with each
+        coordinate system's axis positions computed once for the instant, not once per
+        register read."""
+        self._positions_memo = {}
+        try:
+            return read()
+        finally:
+            self._positions_memo = None
+
+    def _cs_positions(self, cs: int, t: float) -> Mapping[str, float]:
+        memo = self._positions_memo
+        if memo is None:
+            return self.coord_systems[cs].positions(t)
+        pos = memo.get(cs)
+        if pos is None:
+            pos = memo[cs] = self.coord_systems[cs].positions(t)
+        return pos
+
     def _motor_base(self, motor: int, t: float) -> float:
         """Motor ``motor``'s position from its CS axes (counts): the sum of its definition's
         terms plus its constant offset (``#3->2000Z-6000``: Z=3 puts the motor at 0, TSRM
@@ -714,9 +736,9 @@ class PmacController(Controller):
             return self.kinematics.motor_base(have[0], motor, t)
         terms = d.terms
         if len(terms) == 1:
-            return (self.coord_systems[have[0]].positions(t).get(terms[0][0], 0.0)
+            return (self._cs_positions(have[0], t).get(terms[0][0], 0.0)
                     * terms[0][1] + d.offset)
-        pos = self.coord_systems[have[0]].positions(t) if terms else {}
+        pos = self._cs_positions(have[0], t) if terms else {}
         return sum(pos.get(a, 0.0) * s for a, s in terms) + d.offset
 
     def axis_offset_changed(self, motor: int, delta: float) -> None:
@@ -786,6 +808,16 @@ class PmacController(Controller):
         last cycle) or ``F`` (following error: 0, the loop tracks perfectly ``[INF]``)."""
         if what == "F":
             return 0.0
+        memo = self._positions_memo
+        if memo is None:
+            return self._report(motor, what)
+        key = (motor, what)  # one instant's reads (_at_one_instant): each report once
+        value = memo.get(key)
+        if value is None:
+            value = memo[key] = self._report(motor, what)
+        return float(value)
+
+    def _report(self, motor: int, what: str) -> float:
         now = self.env.now
         p1 = self.motor_position(motor, now)
         if what == "P":

@@ -163,11 +163,15 @@ class Gather:
         ivar: reads an I-variable.
         memory: card memory (registers, M-variable targets, plain words).
         emit: the event log's ``emit``.
+        at_one_instant: runs a sample's reads as one instant's (the controller computes
+            each CS's positions once for all of them); plain call if None.
     """
 
     def __init__(self, env: simpy.Environment, clock: ServoClock, ivar: Callable[[int], float],
-                 memory: MVariables, emit: Callable[..., Any]) -> None:
+                 memory: MVariables, emit: Callable[..., Any],
+                 at_one_instant: Callable[[Callable[[], Any]], Any] | None = None) -> None:
         self._env = env
+        self._at_one_instant = at_one_instant or (lambda read: read())
         self._clock = clock
         self._ivar = ivar
         self._memory = memory
@@ -273,10 +277,11 @@ class Gather:
         if not self.running:
             return
         memory = self._memory
-        values = tuple(
+        sources = self._sources
+        values: tuple[int, ...] = self._at_one_instant(lambda: tuple(
             memory.long(s.address) if s.bits == 48 else memory.word(s.space, s.address)
-            for s in self._sources
-        )
+            for s in sources
+        ))
         k = self._next_k
         slot = self._stored % self._capacity
         if slot < len(self._slots):
