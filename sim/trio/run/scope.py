@@ -117,7 +117,7 @@ class Scope:
                 raise BasicError("SCOPE(ON, period) needs the TABLE range and parameters "
                                  "the first time")
             self.period = int(period)  # on the fly (the page's example 3)
-            self._emit("armed")
+            self._log_state("armed")
             return
         start, stop = table
         size = self._ctrl.table_size
@@ -137,7 +137,7 @@ class Scope:
         self._readers, self.names, self._ctx = tuple(readers), tuple(names), ctx
         self.armed = True
         self._slots, self._stored = [], 0
-        self._emit("armed")
+        self._log_state("armed")
 
     def off(self) -> None:
         """``SCOPE(OFF)``: disarm; a capture in progress stops where it is."""
@@ -145,7 +145,7 @@ class Scope:
         self.end()
         self.armed = False
         if was:
-            self._emit("off")
+            self._log_state("off")
 
     def end(self) -> None:
         cancel(self._wake)
@@ -171,7 +171,7 @@ class Scope:
         self._slots, self._stored = [], 0
         clock = self._ctrl.clock
         self._next_k = clock.after(self._ctrl.env.now)
-        self._emit("triggered")
+        self._log_state("triggered")
         self._wake = wake_at(self._ctrl.env, clock.t(self._next_k), self._sample, self._wake)
 
     def _sample(self, _event: Any) -> None:
@@ -183,7 +183,7 @@ class Scope:
             values = [float(read(ctx)) for read in self._readers]
         except BasicError as exc:
             self.running = False
-            self._emit("done", error=str(exc))
+            self._log_state("done", error=str(exc))
             return
         table = ctrl.table
         for i, v in enumerate(values):
@@ -196,7 +196,7 @@ class Scope:
         self._stored += 1
         if self._stored >= self.per_param and not self.cyclic:
             self.running = False
-            self._emit("done")
+            self._log_state("done")
             return
         self._next_k = k + self.period
         self._wake = wake_at(ctrl.env, ctrl.clock.t(self._next_k), self._sample, self._wake)
@@ -225,7 +225,7 @@ class Scope:
                               self.cyclic, self.armed, self.per_param,
                               self._stored > self.per_param)
 
-    def _emit(self, state: str, **extra: Any) -> None:
+    def _log_state(self, state: str, **extra: Any) -> None:
         self._ctrl.log.emit("scope", state=state, period=self.period, samples=min(
             self._stored, self.per_param), **extra)
 
