@@ -40,4 +40,5 @@ class RecordingPage(BaseModel):
     since: int
     next: int
     sources: list[RecordingSource]
-    columns: dict[str, list[float]]
+    columns: dict[str, list[int] | list[float]] = Field(
+        description="`cycle` (int), `t` (s), then one column per source")

@@ -148,3 +148,10 @@ def test_list_gather_over_pmac_ethernet_decodes_as_a_cards_answer():
     samples = decode_list_gather(text, [24, 48])
     assert len(samples) == 3 == len(rec.cycles)  # 6 long words, 2 a sample
     assert samples == [[0x123, 0x456 << 24 | 0x123]] * 3
+
+
+async def test_cycles_are_integers_on_the_wire(pmac_api):
+    await gather_jog(pmac_api)
+    cols = (await pmac_api.get(f"{P}/gather", params={"limit": 3})).json()["columns"]
+    assert all(type(k) is int for k in cols["cycle"])
+    assert all(type(v) is float for v in cols["t"] + cols["I5001"])

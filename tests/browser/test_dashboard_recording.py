@@ -20,7 +20,7 @@ def _gather(ms) -> dict:
         assert ms.terminal(CID, command).error is None
     ms.advance(CID, 0.3)
     assert ms.terminal(CID, "ENDGATHER").error is None
-    return ms.request("GET", f"/controllers/{CID}/gather", params={"limit": 100_000})
+    return ms.recording(CID)
 
 
 def test_a_gather_is_drawn_one_trace_per_source_and_zooms_to_a_span(browser, ms):
