@@ -171,6 +171,11 @@ class TrioController(Controller):
         self._build()
         self.log.emit("reset")
 
+    def modbus_registers(self) -> str:
+        """What Modbus holding register n is: ``"VR"`` (VR(n), the default) or, after
+        ``ETHERNET(2, slot, 9, 1)``, ``"TABLE"`` (TABLE(n); spec trio.md §3.3, M224-550)."""
+        return "TABLE" if self.system.comms.ethernet.get(9) == 1.0 else "VR"
+
     def recording(self) -> Recording:
         """What the last SCOPE capture put in TABLE (sim.recording; sim.trio.run.scope)."""
         return self.scope.recording().shared()

@@ -18,8 +18,10 @@ A command is one row of :data:`COMMANDS` — its argument counts and the functio
 * ``SETCOM(baud, data, stop, parity, port[, mode])`` — RS-232 default 9600, 7, 2, even
   (M206-252, TRM p. 8-62); kept per port, no serial line is simulated;
 * ``ETHERNET(rw, slot, function[, value...])`` — ``rw`` 0 reads (printed, e.g.
-  ``ETHERNET(0,-1,0)`` → ``192.168.0.250``, M216-547), 1 writes; the values are kept per
-  function number (``ETHERNET(1,-1,10,502)`` Modbus port, ``…,14,…`` register maps: §3.3);
+  ``ETHERNET(0,-1,0)`` → ``192.168.0.250``, M216-547), 1 writes, 2 sets a Modbus TCP mode on
+  the MC2xx (``ETHERNET(2,slot,9,1)``: holding registers are TABLE instead of VR, M224-550;
+  read by :meth:`TrioController.modbus_registers`); the values are kept per function number
+  (``ETHERNET(1,-1,10,502)`` Modbus port, ``…,14,…`` register maps: §3.3);
 * ``ETHERCAT(function, slot[, ...])`` — 0 starts the bus; ``$22`` writes the bus state to
   ``VR(arg 3)``: 3 = operational ``[INF]`` (a start-up loop waiting for it then goes on); the
   other functions are accepted with no effect ``[INF]`` (no EtherCAT network);
@@ -119,9 +121,9 @@ def _ethernet(ctx: Context, args: tuple[float, ...], _n: int) -> None:
     if rw == 0:
         v = values.get(fn, 0.0)
         ctx.output(v if isinstance(v, str) else ctx.number(v), True, None)
-    elif rw == 1:
+    elif rw in (1, 2):  # 2: the MC2xx Modbus mode settings, ETHERNET(2,slot,7|9,1) (§3.3)
         if len(args) < 4:
-            raise BasicError("ETHERNET(1, slot, function, value...) needs a value")
+            raise BasicError(f"ETHERNET({rw}, slot, function, value...) needs a value")
         values[fn] = args[3] if len(args) == 4 else args[3:]
     else:
         raise BasicError(f"Parameter out of range: ETHERNET read/write {args[0]:g}")
