@@ -300,9 +300,6 @@ class Gather:
 
     # -- reading ----------------------------------------------------------------------------
 
-    def _memory_order(self) -> list[tuple[int, tuple[int, ...]]]:
-        return self._slots
-
     def recording(self) -> Recording:
         """The samples in time order (wrapped: the newest ``capacity`` of them)."""
         slots = self._slots
@@ -336,7 +333,7 @@ class Gather:
         if self.words is None:
             raise _err("no gather buffer is defined (DEFINE GATHER)")
         tokens: list[str] = []
-        for _, values in self._memory_order():
+        for _, values in self._slots:  # memory order (a wrapped buffer: newest first)
             w = self.words24(values)
             tokens += (f"{w[i + 1]:06X}{w[i]:06X}" for i in range(0, len(w), 2))
         return [" ".join(tokens[i:i + WORDS_PER_LINE])

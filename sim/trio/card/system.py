@@ -73,6 +73,8 @@ class SystemParams:
             return float(self.motion_error)
         if name == "ERROR_AXIS":
             return float(self.error_axis)
+        if name == "SCOPE_POS":  # the SCOPE's next TABLE entry (sim.trio.run.scope)
+            return float(self.ctrl.scope.pos)
         return _FIXED[name]
 
     def write(self, name: str, value: float) -> None:

@@ -18,8 +18,9 @@ TRIGGER, then one every ``period`` servo periods; the parameters are read as the
 ran ``SCOPE(ON, ...)`` reads them (its BASE axis for a parameter without ``AXIS(n)``), and are
 read once when SCOPE runs so that a bad one is that statement's run-time error; a one-shot
 capture that has filled its range leaves the scope armed for the next TRIGGER; a parameter
-that fails while sampling (its axis gone after a reset) ends the capture. The FIFO form
-(``SCOPE(ON, period, "name", ...)``) and ``SCOPE_DELAY`` are not simulated.
+that fails while sampling (its axis gone after a reset) ends the capture. ``SCOPE_POS`` reads
+:attr:`Scope.pos`. The FIFO form (``SCOPE(ON, period, "name", ...)``) and ``SCOPE_DELAY`` are
+not simulated.
 
 Each change is a ``scope`` event (``state``: ``armed``, ``triggered``, ``done``, ``off``).
 Nothing runs while no capture does; a capture costs one wake-up per sample.
@@ -205,8 +206,13 @@ class Scope:
 
     @property
     def pos(self) -> int:
-        """SCOPE_POS: the TABLE entry the first parameter's next sample goes to ``[BK]``."""
-        return self.start + (self._stored % self.per_param if self.per_param else 0)
+        """SCOPE_POS: the TABLE entry the first parameter's next sample goes to ``[BK]``; a
+        one-shot capture that filled its range: one past its last entry ``[INF]``."""
+        if not self.per_param:
+            return self.start
+        if self.cyclic:
+            return self.start + self._stored % self.per_param
+        return self.start + min(self._stored, self.per_param)
 
     def recording(self) -> ScopeRecording:
         """The samples now in TABLE, oldest first (a capture that went round: the newest

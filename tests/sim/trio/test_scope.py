@@ -154,3 +154,17 @@ def test_a_scope_with_the_wrong_number_of_arguments_is_a_parse_error(trio, text)
     with pytest.raises(ParseError) as exc:
         trio.store_program("BAD", text + "\n")
     assert "SCOPE takes" in str(exc.value)
+
+
+def test_scope_pos_is_the_table_entry_the_next_sample_goes_to(trio):
+    """SCOPE_POS (the help page's See Also): the first parameter's next TABLE entry while the
+    capture runs; one past the last once a one-shot capture is done [INF]."""
+    c = trio
+    cmd(c, "SCOPE(ON, 1, 100, 120, VR(1), VR(2))")  # 10 entries each: 100..109, 110..119
+    assert c.terminal("PRINT SCOPE_POS").reply.strip() == "100.0000"
+    cmd(c, "TRIGGER")
+    run_to(c, 0.0035)  # samples at servo periods 1, 2, 3
+    assert len(c.scope.recording().cycles) == 3
+    assert c.terminal("PRINT SCOPE_POS").reply.strip() == "103.0000"
+    run_to(c, 0.1)
+    assert c.terminal("PRINT SCOPE_POS").reply.strip() == "110.0000"
