@@ -333,7 +333,7 @@ class Gather:
         if self.words is None:
             raise _err("no gather buffer is defined (DEFINE GATHER)")
         tokens: list[str] = []
-        for _, values in self._slots:  # memory order (a wrapped buffer: newest first)
+        for _, values in self._slots:  # memory order (wrapped: slot 0 on, not time order)
             w = self.words24(values)
             tokens += (f"{w[i + 1]:06X}{w[i]:06X}" for i in range(0, len(w), 2))
         return [" ".join(tokens[i:i + WORDS_PER_LINE])
