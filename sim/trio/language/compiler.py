@@ -34,6 +34,7 @@ from . import statements as s
 from .branches import GOSUB_LIMIT, Branches
 from .declarations import Declarations, Resolver
 from .expressions import compile_expr, kind_of
+from .names import LABEL_CHARS
 from .scope import Decl, ExprError, Scope
 
 Op = Callable[[Any], Any]
@@ -353,7 +354,9 @@ class _Compiler(Declarations, Branches):
 
     def st_Label(self, st: s.Label) -> None:
         if st.name in self.labels:
-            raise self.error(st, f"label {st.name!r} is defined twice")
+            why = (f" (only the first {LABEL_CHARS} characters of a label are significant)"
+                   if len(st.name) == LABEL_CHARS else "")
+            raise self.error(st, f"label {st.name!r} is defined twice{why}")
         self.labels[st.name] = len(self.ops)
 
     def st_Goto(self, st: s.Goto) -> None:

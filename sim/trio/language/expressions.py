@@ -17,7 +17,7 @@ from typing import Any
 
 from ..card.basic_errors import DIVIDE_BY_ZERO, BasicError
 from . import statements as s
-from .scope import ExprError, Scope
+from .scope import Decl, ExprError, Scope
 from .strings import STRING_FUNCTIONS, arg_kinds
 
 Eval = Callable[[Any], float]
@@ -152,11 +152,26 @@ def _local(node: s.Local, scope: Scope | None) -> Eval:
     return lambda c: c.locals.get(name, initial)
 
 
+def index_of(node: s.Element, decl: Decl, scope: Scope | None) -> Eval:
+    """``name(i)`` / ``name(i, j)`` of a DIM array: its indexes compiled, one per dimension
+    (``i`` for a one-dimensional array, the tuple ``(i, j)`` for two; the context checks each
+    against its size at run time)."""
+    want = max(len(decl.dims), 1)
+    if len(node.indices) != want:
+        form = ", ".join("ijk"[:want])
+        raise ExprError(f"{node.name} has {want} dimension{'s' if want > 1 else ''}: it needs "
+                        f"{want} index{'es' if want > 1 else ''}, {node.name}({form})")
+    parts = [_num(i, scope, "an array index") for i in node.indices]
+    if len(parts) == 1:
+        return parts[0]
+    return lambda c: tuple(p(c) for p in parts)  # type: ignore[return-value]
+
+
 def _element(node: s.Element, scope: Scope | None) -> Eval:
     decl = scope.get(node.name) if scope is not None else None
     if decl is None or decl.size is None:
         raise ExprError(f"{node.name} is not an array (DIM {node.name}(n) AS ... declares one)")
-    idx = _num(node.index, scope, "an array index")
+    idx = index_of(node, decl, scope)
     name = node.name
     return lambda c: c.element(name, decl, idx(c))
 
@@ -288,4 +303,4 @@ _COMPILE: dict[type, Callable[[Any, Scope | None], Eval]] = {
 }
 
 
-__all__ = ["FALSE", "FUNCTIONS", "FUZZ", "TRUE", "compile_expr", "kind_of", "truth"]
+__all__ = ["FALSE", "FUNCTIONS", "FUZZ", "TRUE", "compile_expr", "index_of", "kind_of", "truth"]

@@ -42,6 +42,7 @@ from .expressions import FUNCTIONS
 from .keywords import INDEX, MC4_MODELS, MC4_WORDS, NOT_SIMULATED
 from .lexer import Token, tokenize
 from .move_words import MOVE_ARGS
+from .names import label, variable
 from .strings import STRING_FUNCTIONS
 
 #: The deepest a line may nest ``[INF]`` (no figure in the manuals): sub-expressions (brackets,
@@ -190,7 +191,11 @@ class _Line(DeclarationParser):
         word = self.name()
         if self.reserved(word):
             raise self.error(f"{word} is a Trio BASIC keyword: it cannot be a {what}", tok.col)
-        return word
+        return variable(word)
+
+    def label_name(self) -> str:
+        """A label a GOTO / GOSUB / ON names: its significant characters (:mod:`.names`)."""
+        return label(self.name())
 
     def bit_suffix(self, node: s.Expr) -> s.Expr:
         """``value.n`` (MC4): a ``.digits`` number written straight after a name, ``)`` or
@@ -222,7 +227,7 @@ class _Line(DeclarationParser):
             and second.text == ":"
             and first.text not in _KEYWORDS
         ):
-            out.append(s.Label(self.line_no, first.col, first.text))
+            out.append(s.Label(self.line_no, first.col, label(first.text)))
             self.i += 2
         out.extend(self.statements(stop=()))
         if self.peek().kind != "eol":
@@ -298,12 +303,10 @@ class _Line(DeclarationParser):
 
     def assignment(self, ln: int, col: int) -> s.Stmt:
         """``name = e``, ``name(i) = e`` (an array element, MC4), ``name.n = e`` (a bit, MC4)."""
-        word = self.take().text
+        word = variable(self.take().text)
         target: s.Local | s.Element | s.Bit = s.Local(word)
         if self.at("(") and self.dialect.arrays:
-            self.i += 1
-            target = s.Element(word, self.expr())
-            self.expect(")")
+            target = s.Element(word, self.args())
         bit = self.bit_suffix(target)
         if isinstance(bit, s.Bit):
             target = bit
@@ -459,7 +462,7 @@ class _Line(DeclarationParser):
         return s.For(ln, col, var, start, end, step)
 
     def st_NEXT(self, ln: int, col: int) -> s.Stmt:
-        var = None if self.end_of_statement() else self.name()
+        var = None if self.end_of_statement() else variable(self.name())
         return s.Next(ln, col, var)
 
     def st_IF(self, ln: int, col: int) -> s.Stmt:
@@ -514,10 +517,10 @@ class _Line(DeclarationParser):
         return s.Wa(ln, col, ms)
 
     def st_GOTO(self, ln: int, col: int) -> s.Stmt:
-        return s.Goto(ln, col, self.name())
+        return s.Goto(ln, col, self.label_name())
 
     def st_GOSUB(self, ln: int, col: int) -> s.Stmt:
-        return s.Gosub(ln, col, self.name())
+        return s.Gosub(ln, col, self.label_name())
 
     def st_RETURN(self, ln: int, col: int) -> s.Stmt:
         return s.Return(ln, col)
@@ -669,11 +672,8 @@ class _Line(DeclarationParser):
         if self.reserved(word):
             raise self.error(f"{word} is a Trio BASIC keyword, not a value", tok.col)
         if self.dialect.arrays and self.at("("):
-            self.i += 1
-            index = self.expr()
-            self.expect(")")
-            return s.Element(word, index)
-        return s.Local(word)
+            return s.Element(variable(word), self.args())
+        return s.Local(variable(word))
 
     def param_ref(self, word: str, col: int) -> s.Param:
         axis = self.axis_modifier()
@@ -733,7 +733,7 @@ BASE = Dialect("series2 / mc2xx", (
 #: its words reserved, string values, bit access and arrays.
 MC4 = BASE.extend("mc4xx", (
     Row(("INCLUDE",), _P.st_INCLUDE, {s.Include: _C.st_Include}),
-    Row(("DIM",), _P.st_DIM, {s.Dim: _C.st_Dim}),
+    Row(("DIM",), _P.st_DIM, {s.Dim: _C.st_Dim, s.DimList: _C.st_DimList}),
     Row(("GLOBAL",), _P.st_GLOBAL, {s.Global: _C.st_Global}),
     Row(("CONSTANT",), _P.st_CONSTANT, {s.Constant: _C.st_Constant}),
 ), keywords=MC4_WORDS, later_words=frozenset(), strings=True, bit_access=True, arrays=True)

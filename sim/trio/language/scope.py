@@ -36,10 +36,11 @@ class Decl:
 
     kind: str
     type: str = "FLOAT"  # DIM: INTEGER, FLOAT, STRING, BOOLEAN
-    size: int | None = None  # DIM: array size
+    size: int | None = None  # DIM: array size (elements in all)
     length: int = DEFAULT_LENGTH  # DIM STRING: characters kept
     index: int = 0  # GLOBAL: the VR
     value: float = 0.0  # CONSTANT
+    dims: tuple[int, ...] = ()  # DIM: the array's shape, (n,) or (n, m)
 
     @property
     def is_str(self) -> bool:

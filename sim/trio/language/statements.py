@@ -93,10 +93,12 @@ class IoRead:
 
 @dataclass(frozen=True, slots=True)
 class Element:
-    """``name(i)``: element ``i`` (from 0) of a local array declared ``DIM name(n) AS ...``."""
+    """``name(i)`` / ``name(i, j)``: an element (from 0) of a local array declared ``DIM
+    name(n) AS ...`` / ``DIM name(n, m) AS ...`` — or, when ``name`` is a function of a BASIC
+    library, a call of it with ``indices`` as its arguments (MC4)."""
 
     name: str
-    index: Expr
+    indices: tuple[Expr, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -358,13 +360,24 @@ class Include(Stmt):
 
 @dataclass(frozen=True, slots=True)
 class Dim(Stmt):
-    """``DIM name[(size)] AS INTEGER|FLOAT|STRING[(length)]|BOOLEAN``: a typed local, an
-    array when ``size`` is given (MC4)."""
+    """``DIM name[(n[, m])] AS INTEGER|FLOAT|STRING[(length)]|BOOLEAN [= value]``: a typed
+    local, an array when ``dims`` are given (``size`` elements in all), set to ``init`` when
+    declared (MC4)."""
 
     name: str
     type: str
     size: int | None = None
     length: int | None = None
+    dims: tuple[int, ...] = ()
+    init: Expr | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class DimList(Stmt):
+    """``DIM a, b(4) AS FLOAT``: several names of one type on one line, one :class:`Dim`
+    each (MC4)."""
+
+    dims: tuple[Dim, ...]
 
 
 @dataclass(frozen=True, slots=True)

@@ -105,7 +105,18 @@ class Context:
             arr = self.locals[name] = [decl.initial()] * (decl.size or 0)
         return arr
 
-    def _element_index(self, name: str, decl: Decl, i: float) -> int:
+    def _element_index(self, name: str, decl: Decl, i: Any) -> int:
+        """The element ``i`` (``(i, j)`` of a two-dimensional array) names, each index from 0
+        and below its dimension's size; beyond, a run-time error naming the element."""
+        if decl.dims and len(decl.dims) > 1:
+            flat = 0
+            for k, size in zip(i, decl.dims, strict=True):
+                n = int(k)
+                if not 0 <= n < size:
+                    shown = ", ".join(f"{v:g}" for v in i)
+                    raise BasicError(msg.ARRAY_RANGE.format(name=name, index=shown))
+                flat = flat * size + n
+            return flat
         n = int(i)
         if not 0 <= n < (decl.size or 0):
             raise BasicError(msg.ARRAY_RANGE.format(name=name, index=f"{i:g}"))
