@@ -44,6 +44,7 @@ from .card.models import model as model_named
 from .card.output import Channels
 from .card.system import SystemParams
 from .language.compiler import Code, compile_program
+from .language.functions import FunctionDef, Library, visible
 from .language.move_words import LINKED, MOVE_ARGS
 from .language.parser import parse_program
 from .language.scope import Decl, rebinding
@@ -136,6 +137,7 @@ class TrioController(Controller):
         self.programs: dict[str, tuple[str, Code]] = {}
         self.parsed: dict[str, Program] = {}  # for INCLUDE (sim/trio/language/declarations.py)
         self.declared: dict[str, Decl] = {}  # GLOBAL / CONSTANT names that have run
+        self.libraries: dict[str, Library] = {}  # stored BASIC libraries (language/functions)
         self.declared_version = 0
         self.basic: dict[int, BasicProcess] = {}
         self.io = IoImage(self.log)
@@ -313,6 +315,7 @@ class TrioController(Controller):
         stored = dict(self.parsed)
         declared = dict(self.declared)
         version = self.declared_version
+        functions = visible(self.libraries, replacing=key)
 
         def compile_text(text: str) -> Precompiled:
             try:
@@ -321,7 +324,8 @@ class TrioController(Controller):
                 exc.details.setdefault("program", key)
                 raise
             code = compile_program(
-                parsed, key, lambda n: parsed if n == key else stored.get(n), declared, version)
+                parsed, key, lambda n: parsed if n == key else stored.get(n), declared, version,
+                functions)
             used = {n: stored.get(n) for n in code.includes}
             return Precompiled(parsed, code, version, used)
 
@@ -340,7 +344,7 @@ class TrioController(Controller):
             )
         if pre is not None and pre.version == self.declared_version and all(
             self.parsed.get(n) is p for n, p in pre.used.items()
-        ):
+        ) and key not in self.libraries:
             parsed, code = pre.parsed, pre.code
         else:
             try:
@@ -349,8 +353,9 @@ class TrioController(Controller):
                 exc.details.setdefault("program", key)
                 raise
             code = self._compile(key, parsed, {key: parsed})
+        library = code.library
         dependants = {
-            other: self._compile(other, self.parsed[other], {key: parsed})
+            other: self._compile(other, self.parsed[other], {key: parsed}, (key, library))
             for other, (_text, other_code) in self.programs.items()
             if key in other_code.includes and other in self.parsed
         }
@@ -358,15 +363,27 @@ class TrioController(Controller):
         self.parsed[key] = parsed
         for other, other_code in dependants.items():
             self.programs[other] = (self.programs[other][0], other_code)
+        if library is not None or self.libraries.pop(key, None) is not None:
+            if library is not None:
+                self.libraries[key] = library
+            self.declared_version += 1  # programs RUN from now on see the new functions
 
-    def _compile(self, key: str, parsed: Program, pending: dict[str, Program]) -> Code:
-        """Compile program ``key`` against the stored programs (``pending`` first) and the
-        GLOBAL / CONSTANT names declared so far."""
+    def _compile(self, key: str, parsed: Program, pending: dict[str, Program],
+                 library: tuple[str, Library | None] | None = None) -> Code:
+        """Compile program ``key`` against the stored programs (``pending`` first), the
+        GLOBAL / CONSTANT names declared so far and the functions of the stored libraries
+        (``library``: a library being stored, ``(name, its functions or None)``)."""
 
         def resolve(name: str) -> Program | None:
             return pending.get(name) or self.parsed.get(name)
 
-        return compile_program(parsed, key, resolve, self.declared, self.declared_version)
+        replacing, new = library if library is not None else (key, None)
+        return compile_program(parsed, key, resolve, self.declared, self.declared_version,
+                               visible(self.libraries, replacing, new))
+
+    def functions(self) -> dict[str, FunctionDef]:
+        """The functions of every stored BASIC library (the command line calls them too)."""
+        return visible(self.libraries)
 
     def declare(self, name: str, decl: Decl) -> None:
         """GLOBAL / CONSTANT ran: programs compiled (or RUN) from now on see ``name``.
@@ -394,6 +411,8 @@ class TrioController(Controller):
             if proc.program == key and proc.state != "stopped":
                 raise Conflict(f"program {key} is running in process {p}")
         del self.programs[key]
+        if self.libraries.pop(key, None) is not None:
+            self.declared_version += 1
 
     def process_number(self, p: Any, allow_zero: bool = False) -> int:
         lo = 0 if allow_zero else 1
@@ -421,6 +440,9 @@ class TrioController(Controller):
             if p in busy:
                 raise Conflict(f"process {p} is already running {self.basic[p].program}")
         text, code = self.programs[key]
+        if code.library is not None:
+            raise InvalidValue(f"{key} is a BASIC library: its FUNCTIONs are called from other "
+                               "programs, it cannot be RUN", field="name")
         if code.shared_version != self.declared_version and key in self.parsed:
             code = self._compile(key, self.parsed[key], {})  # new GLOBAL / CONSTANT names
             self.programs[key] = (text, code)

@@ -24,7 +24,7 @@ the jumps structure adds (an ELSE reached at the end of the THEN branch).
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -34,8 +34,10 @@ from . import statements as s
 from .branches import GOSUB_LIMIT, Branches
 from .declarations import Declarations, Resolver
 from .expressions import compile_expr, kind_of
+from .functions import FunctionDef, Functions, Library
 from .names import LABEL_CHARS
 from .scope import Decl, ExprError, Scope
+from .structure import Structure
 
 Op = Callable[[Any], Any]
 
@@ -86,27 +88,34 @@ class Code:
     costs: list[int]
     texts: tuple[str, ...]
     labels: dict[str, int]
-    includes: tuple[str, ...] = ()  # programs INCLUDEd, in order
+    includes: tuple[str, ...] = ()  # programs INCLUDEd (and libraries called), in order
     shared_version: int = 0  # the controller's GLOBAL / CONSTANT table it was compiled with
+    library: Library | None = None  # a BASIC library's functions (then there are no ops)
 
     def text(self, pc: int) -> str:
         ln = self.lines[pc]
         return self.texts[ln - 1].strip() if 0 < ln <= len(self.texts) else ""
 
 
-class _Compiler(Declarations, Branches):
+class _Compiler(Declarations, Branches, Structure, Functions):
     def __init__(
         self,
         program: s.Program,
         name: str = "",
         resolve: Resolver | None = None,
-        shared: dict[str, Decl] | None = None,
+        shared: Mapping[str, Decl] | None = None,
+        functions: Mapping[str, FunctionDef] | None = None,
+        function: FunctionDef | None = None,
     ) -> None:
         self.program = program
         self.compilers = program.dialect.compilers
         self.name = name
         self.resolve = resolve
-        self.scope = Scope(shared)
+        self.shared = shared
+        self.function = function  # the FUNCTION whose body this compiles (a library's)
+        self.scope = Scope(shared, functions)
+        if function is not None:  # the parameters: the function's own typed locals
+            self.scope.names.update(function.params)
         self.ops: list[Op] = []
         self.lines: list[int] = []
         self.costs: list[int] = []
@@ -150,17 +159,25 @@ class _Compiler(Declarations, Branches):
     # -- driving ---------------------------------------------------------------------------
 
     def run(self) -> Code:
-        for st in self.program.statements:
+        statements = self.program.statements
+        if self.function is None and any(isinstance(st, s.Function) for st in statements):
+            library = self.compile_library()
+            return Code([], [], [], self.program.lines, {}, tuple(self.includes),
+                        library=library)
+        for st in statements:
             self.statement(st)
         if self.blocks:
             kind, st, _ = self.blocks[-1]
-            closer = {"FOR": "NEXT", "IF": "ENDIF", "WHILE": "WEND", "REPEAT": "UNTIL"}[kind]
-            raise self.error(st, f"{kind} without {closer}")
+            closer = {"FOR": "NEXT", "IF": "ENDIF", "WHILE": "WEND", "REPEAT": "UNTIL",
+                      "SELECT": "END_CASE"}[kind]
+            raise self.error(st, f"{'SELECT_CASE' if kind == 'SELECT' else kind} without "
+                                 f"{closer}")
         for pc, labels, st, build in self.patches:
             for label in labels:
                 if label not in self.labels:
                     raise self.error(st, f"label {label!r} is not defined")
             self.set_op(pc, build([self.labels[label] for label in labels]))
+        self.includes.extend(sorted(self.scope.used - {self.name, *self.includes}))
         return Code(self.ops, self.lines, self.costs, self.program.lines, self.labels,
                     tuple(self.includes))
 
@@ -168,6 +185,10 @@ class _Compiler(Declarations, Branches):
         """Emit one statement's operations: the compile function its row in the program's
         statement table names (:mod:`motionsim.sim.trio.language.commands`)."""
         compile_fn = self.compilers[type(st)]
+        if self.blocks:
+            self.before_in_select(st)
+        if self.function is not None:
+            self.refuse_in_library(st)
         try:
             compile_fn(self, st)
         except ExprError as exc:
@@ -367,6 +388,9 @@ class _Compiler(Declarations, Branches):
         self.patches.append((pc, (st.label,), st, lambda t: _gosub(t[0], pc + 1)))
 
     def st_Return(self, st: s.Return) -> None:
+        if self.return_value(st):
+            return
+
         def op(c: Any) -> int:
             if not c.gosub_stack:
                 raise BasicError(RETURN_WITHOUT_GOSUB)
@@ -416,6 +440,7 @@ class _Compiler(Declarations, Branches):
 
         self.set_op(for_pc, op_for)
         self.emit(op_next, st)
+        self.close_exits(info, after)
 
     def st_If(self, st: s.If) -> None:
         cond = self.num(st.cond)
@@ -482,6 +507,7 @@ class _Compiler(Declarations, Branches):
         assert isinstance(wst, s.While)
         self.emit(_jump(info["pc"]), st)
         self.set_op(info["pc"], _branch(self.num(wst.cond), len(self.ops)))
+        self.close_exits(info, len(self.ops))
 
     def st_Repeat(self, st: s.Repeat) -> None:
         self.blocks.append(("REPEAT", st, {"pc": len(self.ops)}))
@@ -491,6 +517,7 @@ class _Compiler(Declarations, Branches):
             raise self.error(st, "UNTIL without REPEAT")
         _, _, info = self.blocks.pop()
         self.emit(_branch(self.num(st.cond), info["pc"]), st)
+        self.close_exits(info, len(self.ops))
 
 
 def _unpatched(c: Any) -> None:  # pragma: no cover - replaced before any program runs
@@ -520,14 +547,17 @@ def compile_program(
     program: s.Program,
     name: str = "",
     resolve: Resolver | None = None,
-    shared: dict[str, Decl] | None = None,
+    shared: Mapping[str, Decl] | None = None,
     shared_version: int = 0,
+    functions: Mapping[str, FunctionDef] | None = None,
 ) -> Code:
     """Compile a parsed program; structure errors raise :class:`ParseError` (with ``program``
     = ``name`` or the INCLUDEd program at fault). ``resolve`` finds the parsed program an
     ``INCLUDE`` names (None: INCLUDE is refused, as at the command line); ``shared`` holds the
-    controller's GLOBAL / CONSTANT names (:mod:`motionsim.sim.trio.language.scope`)."""
-    code = _Compiler(program, name, resolve, shared).run()
+    controller's GLOBAL / CONSTANT names (:mod:`motionsim.sim.trio.language.scope`),
+    ``functions`` the functions of its stored BASIC libraries (:mod:`.functions`); a program of
+    FUNCTION blocks compiles to a library (``Code.library``)."""
+    code = _Compiler(program, name, resolve, shared, functions).run()
     code.shared_version = shared_version
     return code
 

@@ -75,6 +75,16 @@ def _mod(a: float, b: float) -> float:
     return float(int(a) % ib)
 
 
+def _shift(a: float, b: float, left: bool) -> float:
+    """``a << b`` / ``a >> b``: the integer part of ``a`` shifted by the integer part of ``b``
+    bits (``>>`` keeps the sign, an arithmetic shift ``[INF]``); a count below 0 or above 63
+    (the MC4 integer is 64-bit) is a run-time error ``[INF]``."""
+    n = int(b)
+    if not 0 <= n <= 63:
+        raise BasicError(f"Parameter out of range: shift by {b:g} bits")
+    return float(int(a) << n) if left else float(int(a) >> n)
+
+
 def _pow(a: float, b: float) -> float:
     try:
         r = a**b
@@ -101,6 +111,8 @@ _BINARY: dict[str, Callable[[float, float], float]] = {
     "AND": lambda a, b: float(int(a) & int(b)),
     "OR": lambda a, b: float(int(a) | int(b)),
     "XOR": lambda a, b: float(int(a) ^ int(b)),
+    "<<": lambda a, b: _shift(a, b, True),
+    ">>": lambda a, b: _shift(a, b, False),
 }
 
 
@@ -117,7 +129,10 @@ def kind_of(node: s.Expr, scope: Scope | None = None) -> str:
         return "str"
     if isinstance(node, (s.Local, s.Element)) and scope is not None:
         decl = scope.get(node.name)
-        return "str" if decl is not None and decl.is_str else "num"
+        if decl is None:
+            fn = scope.function(node.name)
+            return "str" if fn is not None and fn.is_str else "num"
+        return "str" if decl.is_str else "num"
     if isinstance(node, s.Call) and node.name in STRING_FUNCTIONS:
         return STRING_FUNCTIONS[node.name][3]
     if isinstance(node, s.Binary) and node.op == "+":
@@ -135,8 +150,23 @@ def _num(node: s.Expr, scope: Scope | None, what: str) -> Eval:
     return compile_expr(node, scope)
 
 
+def _call(node: s.Local | s.Element, scope: Scope) -> Eval | None:
+    """A call of a library function (:mod:`.functions`) when the name is one, else None."""
+    fn = scope.function(node.name)
+    if fn is None:
+        return None
+    from .functions import call_of
+
+    scope.used.add(fn.library)
+    args = node.indices if isinstance(node, s.Element) else ()
+    return call_of(fn, args, scope, value=True)
+
+
 def _local(node: s.Local, scope: Scope | None) -> Eval:
     name = node.name
+    call = _call(node, scope) if scope is not None else None
+    if call is not None:
+        return call
     decl = scope.plain(name) if scope is not None else None
     if decl is None:
         return lambda c: c.locals.get(name, 0.0)
@@ -168,9 +198,13 @@ def index_of(node: s.Element, decl: Decl, scope: Scope | None) -> Eval:
 
 
 def _element(node: s.Element, scope: Scope | None) -> Eval:
+    call = _call(node, scope) if scope is not None else None
+    if call is not None:
+        return call
     decl = scope.get(node.name) if scope is not None else None
     if decl is None or decl.size is None:
-        raise ExprError(f"{node.name} is not an array (DIM {node.name}(n) AS ... declares one)")
+        raise ExprError(f"{node.name} is not an array (DIM {node.name}(n) AS ... declares one) "
+                        f"nor a FUNCTION of a stored BASIC library")
     idx = index_of(node, decl, scope)
     name = node.name
     return lambda c: c.element(name, decl, idx(c))

@@ -77,6 +77,7 @@ NOT_SIMULATED = frozenset({
 MC4_WORDS = frozenset({
     "INCLUDE", "DIM", "AS", "INTEGER", "FLOAT", "STRING", "BOOLEAN", "GLOBAL", "CONSTANT",
     "LEN", "LEFT", "RIGHT", "MID", "INSTR", "VAL", "UCASE", "LCASE", "STR",
+    "SELECT_CASE", "CASE", "END_CASE", "EXIT_LOOP", "FUNCTION", "ENDFUNC",
 })
 
 #: Models whose language has :data:`MC4_WORDS`, bit access (``v.n``) and string values.

@@ -44,6 +44,7 @@ from .lexer import Token, tokenize
 from .move_words import MOVE_ARGS
 from .names import label, variable
 from .strings import STRING_FUNCTIONS
+from .structure_parser import StructureParser
 
 #: The deepest a line may nest ``[INF]`` (no figure in the manuals): sub-expressions (brackets,
 #: function arguments, indexes), unary operators, the binary operators of one expression and
@@ -86,20 +87,25 @@ RESERVED = (
 _CMP = frozenset({"=", "<>", "<", "<=", ">", ">="})
 
 #: Binary operators and their precedence, highest last (spec §9.2); unary - and NOT bind
-#: tighter than all of them.
+#: tighter than all of them. The MC4 shifts ``<<`` ``>>`` (:data:`SHIFTS`) bind between the
+#: comparisons and ``+`` ``-`` (no manual figure reached: the place C and most BASICs with
+#: shifts give them, ``[INF]``), so ``a << 2 + 1`` is ``a << 3`` and ``x >> 4 = 1`` compares.
 _PRECEDENCE: dict[str, int] = {
     "AND": 1, "OR": 1, "XOR": 1,
     **dict.fromkeys(_CMP, 2),
-    "+": 3, "-": 3,
-    "MOD": 4,
-    "*": 5, "/": 5,
-    "^": 6,
+    "<<": 3, ">>": 3,
+    "+": 4, "-": 4,
+    "MOD": 5,
+    "*": 6, "/": 6,
+    "^": 7,
 }
+#: The shift operators: MC4xx / MC6xx language only ``[INF]`` (issue 32: in MC4xx programs).
+SHIFTS = frozenset({"<<", ">>"})
 _EOL = Token("eol", "", 0)
 _PAD = [_EOL] * 4
 
 
-class _Line(DeclarationParser):
+class _Line(DeclarationParser, StructureParser):
     """Recursive-descent parser over the tokens of one source line."""
 
     def __init__(self, text: str, line_no: int, model: str = DEFAULT_MODEL,
@@ -306,7 +312,9 @@ class _Line(DeclarationParser):
         word = variable(self.take().text)
         target: s.Local | s.Element | s.Bit = s.Local(word)
         if self.at("(") and self.dialect.arrays:
-            target = s.Element(word, self.args())
+            target = s.Element(word, self.call_args())
+            if self.end_of_statement() and "FUNCTION" in self.dialect.parsers:
+                return s.CallStmt(ln, col, target)  # f(a, b): a library function's call
         bit = self.bit_suffix(target)
         if isinstance(bit, s.Bit):
             target = bit
@@ -523,7 +531,10 @@ class _Line(DeclarationParser):
         return s.Gosub(ln, col, self.label_name())
 
     def st_RETURN(self, ln: int, col: int) -> s.Stmt:
-        return s.Return(ln, col)
+        """``RETURN``; in the MC4 language also ``RETURN value`` (a FUNCTION's result)."""
+        if self.end_of_statement() or "FUNCTION" not in self.dialect.parsers:
+            return s.Return(ln, col)
+        return s.Return(ln, col, self.expr())
 
     def st_STOP(self, ln: int, col: int) -> s.Stmt:
         return s.Stop(ln, col, None if self.end_of_statement() else self.string())
@@ -590,6 +601,9 @@ class _Line(DeclarationParser):
             if prec is None or prec < min_prec:
                 self.depth = base - 1
                 return left
+            if op in SHIFTS and not self.dialect.shifts:
+                raise self.error(f"the shift operator {op} is not Trio BASIC on the {self.model} "
+                                 "model: it came with the MC4xx / MC6xx language (firmware 2.x)")
             self.i += 1
             self.nest()  # the tree of a run of operators is as deep as the run is long
             left = s.Binary(op, left, self.expr(prec + 1, sub=False))
@@ -672,7 +686,7 @@ class _Line(DeclarationParser):
         if self.reserved(word):
             raise self.error(f"{word} is a Trio BASIC keyword, not a value", tok.col)
         if self.dialect.arrays and self.at("("):
-            return s.Element(variable(word), self.args())
+            return s.Element(variable(word), self.call_args())
         return s.Local(variable(word))
 
     def param_ref(self, word: str, col: int) -> s.Param:
@@ -736,7 +750,15 @@ MC4 = BASE.extend("mc4xx", (
     Row(("DIM",), _P.st_DIM, {s.Dim: _C.st_Dim, s.DimList: _C.st_DimList}),
     Row(("GLOBAL",), _P.st_GLOBAL, {s.Global: _C.st_Global}),
     Row(("CONSTANT",), _P.st_CONSTANT, {s.Constant: _C.st_Constant}),
-), keywords=MC4_WORDS, later_words=frozenset(), strings=True, bit_access=True, arrays=True)
+    Row(("SELECT_CASE",), _P.st_SELECT_CASE, {s.SelectCase: _C.st_SelectCase}),
+    Row(("CASE",), _P.st_CASE, {s.Case: _C.st_Case}),
+    Row(("END_CASE",), _P.st_END_CASE, {s.EndCase: _C.st_EndCase}),
+    Row(("EXIT_LOOP",), _P.st_EXIT_LOOP, {s.ExitLoop: _C.st_ExitLoop}),
+    Row(("FUNCTION",), _P.st_FUNCTION, {s.Function: _C.st_Function}),
+    Row(("ENDFUNC",), _P.st_ENDFUNC, {s.EndFunc: _C.st_EndFunc}),
+    Row((), None, {s.CallStmt: _C.st_CallStmt}),  # f(a, b): a library function called
+), keywords=MC4_WORDS, later_words=frozenset(), strings=True, bit_access=True, arrays=True,
+   shifts=True)
 
 
 def dialect_of(model: str) -> Dialect:

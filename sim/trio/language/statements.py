@@ -295,7 +295,9 @@ class Gosub(Stmt):
 
 @dataclass(frozen=True, slots=True)
 class Return(Stmt):
-    pass
+    """``RETURN`` (from a GOSUB) or, in a FUNCTION, ``RETURN value`` (MC4)."""
+
+    value: Expr | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -394,6 +396,59 @@ class Constant(Stmt):
 
     name: str
     value: float
+
+
+@dataclass(frozen=True, slots=True)
+class SelectCase(Stmt):
+    """``SELECT_CASE expr``: opens a block of CASE branches closed by ``END_CASE`` (MC4)."""
+
+    value: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class Case(Stmt):
+    """``CASE v1, v2, lo TO hi``: the branch taken when the SELECT_CASE value equals one of
+    the values or lies in one of the ranges (``hi`` None: a single value); ``CASE ELSE`` has
+    no choices and is taken when no CASE before it was (MC4)."""
+
+    choices: tuple[tuple[Expr, Expr | None], ...]
+
+    @property
+    def is_else(self) -> bool:
+        return not self.choices
+
+
+@dataclass(frozen=True, slots=True)
+class EndCase(Stmt):
+    """``END_CASE``: closes a SELECT_CASE block (MC4)."""
+
+
+@dataclass(frozen=True, slots=True)
+class ExitLoop(Stmt):
+    """``EXIT_LOOP``: leave the innermost FOR, WHILE or REPEAT loop (MC4)."""
+
+
+@dataclass(frozen=True, slots=True)
+class Function(Stmt):
+    """``FUNCTION name(p1 AS type, ...) [AS type]``: opens a function of a BASIC library,
+    closed by ``ENDFUNC`` (MC4). ``params`` are ``(name, type)`` pairs; ``type`` is the
+    return value's (None: the function returns no value)."""
+
+    name: str
+    params: tuple[tuple[str, str], ...]
+    type: str | None
+
+
+@dataclass(frozen=True, slots=True)
+class EndFunc(Stmt):
+    """``ENDFUNC``: closes a FUNCTION (MC4)."""
+
+
+@dataclass(frozen=True, slots=True)
+class CallStmt(Stmt):
+    """``name(args)`` as a statement: a call of a library function, its value unused (MC4)."""
+
+    call: Element
 
 
 @dataclass(frozen=True, slots=True)
