@@ -13,6 +13,8 @@ Config (``POST /controllers {"kind": "trio", "config": {...}}``), unknown keys r
   processes 1..processes (process 0 is the command line on every model here);
 * ``statement_us`` (100.0): simulated time one BASIC statement costs (spec §9.6 ``[INF]``);
 * ``vr_count`` (1024) and ``table_size`` (16384): sizes of VR() and TABLE();
+* ``ethercat_slaves`` (one per axis): the slaves of the EtherCAT network ETHERCAT() reports
+  (:mod:`motionsim.sim.trio.card.fieldbus`);
 * ``speed``, ``accel``, ``decel``, ``creep``, ``units``: axis parameter defaults for all axes.
 
 The public methods act at the current simulated instant and never step the environment.
@@ -64,6 +66,7 @@ _CONFIG_DEFAULTS: dict[str, float] = {
     "statement_us": 100.0,
     "vr_count": 1024,
     "table_size": 16384,
+    "ethercat_slaves": -1,  # -1: one per axis (sim/trio/card/fieldbus.py)
 }
 _VARIABLE = re.compile(r"^\s*(VR|TABLE|IN|OP)\s*\(\s*(\d+)\s*\)\s*$", re.I)
 _PROGRAM_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]{0,31}$")
@@ -123,6 +126,8 @@ class TrioController(Controller):
         self.n_processes = int(settings["processes"])
         self.vr_count = int(settings["vr_count"])
         self.table_size = int(settings["table_size"])
+        slaves = int(settings["ethercat_slaves"])
+        self.ethercat_slaves = self.n_axes if slaves < 0 else slaves
         Axis(0, self.env, self.clock, axis_defaults)  # validates the axis defaults
         self._axis_defaults = axis_defaults
         self.channels = Channels(self.log)

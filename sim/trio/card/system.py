@@ -49,7 +49,7 @@ class SystemParams:
     def __init__(self, ctrl: TrioController) -> None:
         self.ctrl = ctrl
         self.wdog = 0
-        self.comms = Comms()  # what SETCOM / ETHERNET wrote
+        self.comms = Comms(ctrl.ethercat_slaves)  # what SETCOM / ETHERNET wrote, the EtherCAT bus
         self.limit_buffered = LIMIT_BUFFERED[ctrl.model.name][0]
         ctrl.buffers.depth = self.limit_buffered
         self.motion_error = 0  # bit n: axis n has a motion error

@@ -276,6 +276,15 @@ class _Compiler(Declarations, Branches, Structure, Functions):
         self.emit(lambda c: c.setup_command(
             name, tuple(a(c) for a in args), axis(c) if axis is not None else None), st)
 
+    def st_BusCall(self, st: s.BusCall) -> None:
+        name = st.name
+        args = [self.num(a) for a in st.args]
+
+        def op(c: Any) -> None:
+            c.bus_call(name, tuple(a(c) for a in args), True)
+
+        self.emit(op, st)
+
     def st_OpWrite(self, st: s.OpWrite) -> None:
         args = [self.num(a) for a in st.args]
         self.emit(lambda c: c.op_write([a(c) for a in args]), st)

@@ -16,6 +16,7 @@ from collections.abc import Callable
 from typing import Any
 
 from ..card.basic_errors import DIVIDE_BY_ZERO, BasicError
+from ..card.fieldbus import BUS_FUNCTIONS
 from . import statements as s
 from .scope import Decl, ExprError, Scope
 from .strings import STRING_FUNCTIONS, arg_kinds
@@ -316,6 +317,10 @@ def _c_binary(node: s.Binary, scope: Scope | None) -> Eval:
 def _c_call(node: s.Call, scope: Scope | None) -> Eval:
     if node.name in STRING_FUNCTIONS:
         return _string_call(node, scope)
+    if node.name in BUS_FUNCTIONS:  # ETHERCAT(...), PEEK(...) as values (card/fieldbus.py)
+        name = node.name
+        bus_args = [_num(a, scope, name) for a in node.args]
+        return lambda c: c.bus_call(name, tuple(a(c) for a in bus_args), False)
     impl = FUNCTIONS[node.name][1]
     args = [_num(a, scope, node.name) for a in node.args]
     if len(args) == 1:

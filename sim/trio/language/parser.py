@@ -30,6 +30,7 @@ import math
 import re
 
 from ...errors import NotSimulated, ParseError
+from ..card.fieldbus import BUS_FUNCTIONS
 from ..card.models import DEFAULT_MODEL
 from ..card.parameters import ALL_PARAMS, WRITABLE
 from ..card.setup_commands import COMMANDS as SETUP_COMMANDS
@@ -80,6 +81,7 @@ PARAMS_WRITABLE = WRITABLE | frozenset(k for k, (_kind, w) in LANGUAGE_PARAMS.it
 RESERVED = (
     (_KEYWORDS - MC4_WORDS) | frozenset(FUNCTIONS) | frozenset(CONSTANTS) | PARAMS
     | NOT_SIMULATED | frozenset({"BASICERROR", "IDLE", "LOADED", "STEP", "PROC"})
+    | frozenset(BUS_FUNCTIONS)
     | frozenset(w for kws in INDEX.values() for k in kws
                 for w in re.findall(r"[A-Z_][A-Z0-9_]*", k))
 )
@@ -350,6 +352,21 @@ class _Line(DeclarationParser, StructureParser):
 
     def st_setup(self, ln: int, col: int) -> s.Stmt:
         return self.setup_command(self.word, ln, col)
+
+    def st_bus(self, ln: int, col: int) -> s.Stmt:
+        return s.BusCall(ln, col, self.word, self.bus_args(self.word))
+
+    def bus_args(self, name: str) -> tuple[s.Expr, ...]:
+        """The arguments of a system / fieldbus function, counted against its row."""
+        fn = BUS_FUNCTIONS[name]
+        c = self.col()
+        if not self.at("("):
+            raise self.error(f"{name} needs its arguments in brackets, {name}(...)")
+        args = self.args()
+        if not fn.low <= len(args) <= fn.high:
+            want = str(fn.low) if fn.low == fn.high else f"{fn.low} to {fn.high}"
+            raise self.error(f"{name} takes {want} arguments, got {len(args)}", c)
+        return args
 
     def st_QUERY(self, ln: int, col: int) -> s.Stmt:
         """``? items``: PRINT's short form, to the process' OUTDEVICE (no ``#n``)."""
@@ -665,6 +682,8 @@ class _Line(DeclarationParser, StructureParser):
         if word in FUNCTIONS:
             arity = FUNCTIONS[word][0]
             return s.Call(word, self.args_exact(arity, word))
+        if word in BUS_FUNCTIONS:
+            return s.Call(word, self.bus_args(word))
         if word in STRING_FUNCTIONS and self.dialect.strings:
             lo, hi = STRING_FUNCTIONS[word][:2]
             c = self.col()
@@ -741,6 +760,7 @@ BASE = Dialect("series2 / mc2xx", (
     Row(("ON",), _P.st_ON, {s.OnError: _C.st_OnError, s.OnBranch: _C.st_OnBranch}),
     Row(tuple(MOVE_ARGS), _P.st_move, {s.MoveCmd: _C.st_MoveCmd}),
     Row(tuple(SETUP_COMMANDS), _P.st_setup, {s.SetupCmd: _C.st_SetupCmd}),
+    Row(tuple(BUS_FUNCTIONS), _P.st_bus, {s.BusCall: _C.st_BusCall}),
 ), later_words=MC4_WORDS)
 
 #: The MC4xx / MC6xx language (firmware 2.x, spec §11): the base table, its declarations,

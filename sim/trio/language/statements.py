@@ -167,6 +167,15 @@ class SetupCmd(Stmt):
 
 
 @dataclass(frozen=True, slots=True)
+class BusCall(Stmt):
+    """A system / fieldbus function as a statement (``ETHERCAT(0, 0)``,
+    ``PROFINET(2, 0, ...)``): :mod:`motionsim.sim.trio.card.fieldbus`."""
+
+    name: str
+    args: tuple[Expr, ...]
+
+
+@dataclass(frozen=True, slots=True)
 class OpWrite(Stmt):
     """``OP(n, state)`` (one output) or ``OP(pattern)`` (outputs 8.. from the bits)."""
 

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 from ...errors import InvalidValue
 from ..card import basic_errors as msg
+from ..card import fieldbus
 from ..card.axis_status import computed
 from ..card.basic_errors import BasicError
 from ..card.data_memory import DATA_BYTES, dim_bytes, out_of_memory
@@ -193,6 +194,10 @@ class Context:
         n = self._table_index(i)
         self._check_word(f"TABLE({n})", value)
         self.ctrl.table[n] = value
+
+    def bus_call(self, name: str, args: tuple[float, ...], alone: bool) -> float:
+        """A system / fieldbus function (``alone``: as a statement; card/fieldbus.py)."""
+        return fieldbus.call(self, name, args, alone)
 
     # -- library functions -------------------------------------------------------------------
 
