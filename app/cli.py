@@ -272,7 +272,7 @@ def check(
     ] = None,
     model: Annotated[str | None, typer.Option(
         metavar="MODEL",
-        help="Trio model (series2, mc2xx, mc4xx); the PMAC is a Turbo PMAC.")] = None,
+        help="Trio model (series2, mc2xx, mc4xx, mc6xx); the PMAC is a Turbo PMAC.")] = None,
     include: Annotated[list[Path] | None, typer.Option(
         "--include", "-I", metavar="DIR", help="Search DIR for #include files. Repeatable.")
     ] = None,

@@ -5,14 +5,16 @@ running as processes 1..N, and the command line as process 0 — the buffering o
 
 Config (``POST /controllers {"kind": "trio", "config": {...}}``), unknown keys refused:
 
-* ``model`` (``"mc2xx"``): the generation — number word size and HEX width, default process
-  count (:mod:`motionsim.sim.trio.card.models`: ``series2``, ``mc2xx``, ``mc4xx``);
+* ``model`` (``"mc2xx"``): the generation — number word size and HEX width, language, default
+  process count and VR / TABLE sizes (:mod:`motionsim.sim.trio.card.models`: ``series2``,
+  ``mc2xx``, ``mc4xx``, ``mc6xx``);
 * ``servo_period_ms`` (1.0): SERVO_PERIOD; moves start and end on servo periods;
 * ``axes`` (8): number of axes, 0..axes-1;
-* ``processes`` (the model's: 7 on mc2xx = MC206, 14 series2 = MC216, 22 mc4xx): BASIC
-  processes 1..processes (process 0 is the command line on every model here);
+* ``processes`` (the model's: 7 on mc2xx = MC206, 14 series2 = MC216, 22 mc4xx / mc6xx):
+  BASIC processes 1..processes (process 0 is the command line on every model here);
 * ``statement_us`` (100.0): simulated time one BASIC statement costs (spec §9.6 ``[INF]``);
-* ``vr_count`` (1024) and ``table_size`` (16384): sizes of VR() and TABLE();
+* ``vr_count`` and ``table_size`` (the model's: 1024 / 16384 on series2 and mc2xx, 64000 /
+  500000 on mc4xx, 65536 / 512000 on mc6xx): sizes of VR() and TABLE();
 * ``ethercat_slaves`` (one per axis): the slaves of the EtherCAT network ETHERCAT() reports
   (:mod:`motionsim.sim.trio.card.fieldbus`);
 * ``speed``, ``accel``, ``decel``, ``creep``, ``units``: axis parameter defaults for all axes.
@@ -109,6 +111,8 @@ class TrioController(Controller):
         axis_defaults: dict[str, float] = {}
         self.model = model_named(self.config.get("model", DEFAULT_MODEL))
         settings["processes"] = self.model.processes
+        settings["vr_count"] = self.model.vr_count
+        settings["table_size"] = self.model.table_size
         for key, value in self.config.items():
             if key == "model":
                 continue

@@ -430,7 +430,7 @@ class Context:
             step = 1 if hi >= lo else -1
             table = [self.table(i) for i in range(lo, hi + step, step)]
         move = LinkedMove(self.ctrl.buffers.new_id(), kind, (base,), args, self.process, text)
-        move.bind(link_axis, table, self.ctrl.table, self.ctrl.model.name == "mc4xx")
+        move.bind(link_axis, table, self.ctrl.table, self.ctrl.model.mc4)
         return move
 
     def defpos(self, values: list[float], axis: float | None = None) -> None:
