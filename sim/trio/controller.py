@@ -377,6 +377,29 @@ class TrioController(Controller):
                 self.libraries[key] = library
             self.declared_version += 1  # programs RUN from now on see the new functions
 
+    def check_program(self, name: str, text: str) -> list[ParseError | NotSimulated]:
+        """Every error storing ``text`` as program ``name`` would meet, in line order, and
+        nothing stored: a line that does not parse is left out and the rest still parsed, a
+        statement that does not compile is left out and the rest still compiled (the check
+        tool, ``motionsim check``). Errors after the first may follow from it (a FOR left out
+        makes its NEXT a NEXT without FOR)."""
+        key = self._name(name)
+        errors: list[ParseError | NotSimulated] = []
+        parsed = parse_program(text, self.model.name, errors=errors)
+        compiled: list[ParseError] = []
+
+        def resolve(n: str) -> Program | None:
+            return parsed if n == key else self.parsed.get(n)
+
+        compile_program(parsed, key, resolve, self.declared, self.declared_version,
+                        visible(self.libraries, replacing=key), errors=compiled)
+        errors.extend(compiled)
+        for err in errors:
+            err.details.setdefault("program", key)
+        return sorted(errors, key=lambda e: (e.details.get("program") != key,
+                                             int(e.details.get("line") or 0),
+                                             int(e.details.get("column") or 0)))
+
     def _compile(self, key: str, parsed: Program, pending: dict[str, Program],
                  library: tuple[str, Library | None] | None = None) -> Code:
         """Compile program ``key`` against the stored programs (``pending`` first), the

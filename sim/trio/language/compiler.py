@@ -106,8 +106,11 @@ class _Compiler(Declarations, Branches, Structure, Functions):
         shared: Mapping[str, Decl] | None = None,
         functions: Mapping[str, FunctionDef] | None = None,
         function: FunctionDef | None = None,
+        errors: list[ParseError] | None = None,
     ) -> None:
         self.program = program
+        #: Collect the errors and go on past them (the check tool) instead of raising the first.
+        self.errors = errors
         self.compilers = program.dialect.compilers
         self.name = name
         self.resolve = resolve
@@ -158,24 +161,34 @@ class _Compiler(Declarations, Branches, Structure, Functions):
 
     # -- driving ---------------------------------------------------------------------------
 
+    def report(self, err: ParseError) -> None:
+        """A compile error: raised, or (collecting) kept and the compile goes on."""
+        if self.errors is None:
+            raise err
+        self.errors.append(err)
+
     def run(self) -> Code:
         statements = self.program.statements
         if self.function is None and any(isinstance(st, s.Function) for st in statements):
-            library = self.compile_library()
+            try:
+                library = self.compile_library()
+            except ParseError as err:  # a library's layout error: no further recovery
+                self.report(err)
+                library = None
             return Code([], [], [], self.program.lines, {}, tuple(self.includes),
                         library=library)
         for st in statements:
             self.statement(st)
-        if self.blocks:
-            kind, st, _ = self.blocks[-1]
-            closer = {"FOR": "NEXT", "IF": "ENDIF", "WHILE": "WEND", "REPEAT": "UNTIL",
-                      "SELECT": "END_CASE"}[kind]
-            raise self.error(st, f"{'SELECT_CASE' if kind == 'SELECT' else kind} without "
-                                 f"{closer}")
+        closers = {"FOR": "NEXT", "IF": "ENDIF", "WHILE": "WEND", "REPEAT": "UNTIL",
+                   "SELECT": "END_CASE"}
+        for kind, st, _ in reversed(self.blocks):  # the innermost first, as raised
+            self.report(self.error(st, f"{'SELECT_CASE' if kind == 'SELECT' else kind} "
+                                       f"without {closers[kind]}"))
         for pc, labels, st, build in self.patches:
-            for label in labels:
-                if label not in self.labels:
-                    raise self.error(st, f"label {label!r} is not defined")
+            missing = [label for label in labels if label not in self.labels]
+            if missing:
+                self.report(self.error(st, f"label {missing[0]!r} is not defined"))
+                continue
             self.set_op(pc, build([self.labels[label] for label in labels]))
         self.includes.extend(sorted(self.scope.used - {self.name, *self.includes}))
         return Code(self.ops, self.lines, self.costs, self.program.lines, self.labels,
@@ -184,15 +197,18 @@ class _Compiler(Declarations, Branches, Structure, Functions):
     def statement(self, st: s.Stmt) -> None:
         """Emit one statement's operations: the compile function its row in the program's
         statement table names (:mod:`motionsim.sim.trio.language.commands`)."""
-        compile_fn = self.compilers[type(st)]
-        if self.blocks:
-            self.before_in_select(st)
-        if self.function is not None:
-            self.refuse_in_library(st)
         try:
-            compile_fn(self, st)
-        except ExprError as exc:
-            raise self.error(st, str(exc)) from None
+            compile_fn = self.compilers[type(st)]
+            if self.blocks:
+                self.before_in_select(st)
+            if self.function is not None:
+                self.refuse_in_library(st)
+            try:
+                compile_fn(self, st)
+            except ExprError as exc:
+                raise self.error(st, str(exc)) from None
+        except ParseError as err:
+            self.report(err)
 
     # -- simple statements -----------------------------------------------------------------
 
@@ -559,14 +575,17 @@ def compile_program(
     shared: Mapping[str, Decl] | None = None,
     shared_version: int = 0,
     functions: Mapping[str, FunctionDef] | None = None,
+    errors: list[ParseError] | None = None,
 ) -> Code:
     """Compile a parsed program; structure errors raise :class:`ParseError` (with ``program``
     = ``name`` or the INCLUDEd program at fault). ``resolve`` finds the parsed program an
     ``INCLUDE`` names (None: INCLUDE is refused, as at the command line); ``shared`` holds the
     controller's GLOBAL / CONSTANT names (:mod:`motionsim.sim.trio.language.scope`),
     ``functions`` the functions of its stored BASIC libraries (:mod:`.functions`); a program of
-    FUNCTION blocks compiles to a library (``Code.library``)."""
-    code = _Compiler(program, name, resolve, shared, functions).run()
+    FUNCTION blocks compiles to a library (``Code.library``). With ``errors`` (a list) every
+    compile error it can go on past is appended there instead of raised: the code returned
+    is then only good for its messages (the check tool), never for running."""
+    code = _Compiler(program, name, resolve, shared, functions, errors=errors).run()
     code.shared_version = shared_version
     return code
 

@@ -154,6 +154,7 @@ class Functions:
     scope: Any
     includes: list[str]
     function: FunctionDef | None
+    errors: Any
     emit: Callable[..., int]
     error: Callable[..., Any]
 
@@ -193,7 +194,7 @@ class Functions:
         for _st, fn, body in groups:
             sub = type(self)(s.Program(tuple(body), self.program.lines, self.program.dialect),
                              self.name, self.resolve, self.shared, functions=functions,
-                             function=fn)
+                             function=fn, errors=self.errors)
             fn.code = sub.run()  # type: ignore[attr-defined]
             self.includes.extend(n for n in sub.includes if n not in self.includes)
         return lib

@@ -794,14 +794,21 @@ def parse_line(text: str, line_no: int = 1, model: str = DEFAULT_MODEL,
 
 
 def parse_program(text: str, model: str = DEFAULT_MODEL,
-                  dialect: Dialect | None = None) -> s.Program:
-    """Parse a whole program text in the language of ``model`` (series2 / mc2xx / mc4xx) or
-    of ``dialect``; raises :class:`ParseError` at the first bad line."""
+                  dialect: Dialect | None = None,
+                  errors: list[ParseError | NotSimulated] | None = None) -> s.Program:
+    """Parse a whole program text in the language of ``model`` (series2 / mc2xx / mc4xx /
+    mc6xx) or of ``dialect``; raises :class:`ParseError` at the first bad line — or, given
+    ``errors`` (a list), appends each bad line's error there and leaves that line out."""
     lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
     language = dialect or dialect_of(model)
     out: list[s.Stmt] = []
     for i, line in enumerate(lines, start=1):
-        out.extend(_Line(line, i, model, language).parse())
+        try:
+            out.extend(_Line(line, i, model, language).parse())
+        except (ParseError, NotSimulated) as err:
+            if errors is None:
+                raise
+            errors.append(err)
     return s.Program(tuple(out), tuple(lines), language)
 
 
