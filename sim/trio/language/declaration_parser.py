@@ -33,6 +33,7 @@ class DeclarationParser:
 
     i: int
     accept: Callable[[str], bool]
+    at: Callable[[str], bool]
     expect: Callable[[str], Any]
     error: Callable[..., ParseError]
     peek: Callable[..., Any]
@@ -83,7 +84,8 @@ class DeclarationParser:
         kind = self.name() if tok.kind == "name" else ""
         if kind not in TYPES:
             raise self.error(f"DIM needs a type ({', '.join(TYPES)})", tok.col)
-        length, shape = None, ()
+        length: int | None = None
+        shape: tuple[int, ...] = ()
         if self.at("("):
             if kind == "STRING":
                 self.i += 1

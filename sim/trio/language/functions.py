@@ -191,11 +191,12 @@ class Functions:
         if current is not None:
             raise self.error(current[0], f"FUNCTION {current[0].name} without ENDFUNC")
         functions = {**self.scope.functions, **lib.functions}
+        compiler: Any = type(self)  # the compiler class this mixin is part of
         for _st, fn, body in groups:
-            sub = type(self)(s.Program(tuple(body), self.program.lines, self.program.dialect),
+            sub = compiler(s.Program(tuple(body), self.program.lines, self.program.dialect),
                              self.name, self.resolve, self.shared, functions=functions,
                              function=fn, errors=self.errors)
-            fn.code = sub.run()  # type: ignore[attr-defined]
+            fn.code = sub.run()
             self.includes.extend(n for n in sub.includes if n not in self.includes)
         return lib
 

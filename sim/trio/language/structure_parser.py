@@ -89,8 +89,8 @@ class StructureParser:
                     break
             self.expect(")")
             params.extend((p, "FLOAT") for p in untyped)  # [INF]
-        kind = self.type_name() if self.accept("AS") else None
-        return s.Function(ln, col, name, tuple(params), kind)
+        returns = self.type_name() if self.accept("AS") else None
+        return s.Function(ln, col, name, tuple(params), returns)
 
     def type_name(self) -> str:
         tok = self.peek()

@@ -210,8 +210,9 @@ class Context:
                              f"({fn.name})")
         code = fn.code
         saved = (self.locals, self.loops, self.selected, dict(self.data_bytes))
-        self.locals = {name: coerce(decl, v) for (name, decl), v in zip(fn.params, args,
-                                                                        strict=True)}
+        own: dict[str, Any] = {name: coerce(decl, v)
+                               for (name, decl), v in zip(fn.params, args, strict=True)}
+        self.locals = own
         self.loops, self.selected = {}, {}
         self.calls += 1
         ops, pc, steps = code.ops, 0, 0
