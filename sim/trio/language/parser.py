@@ -315,7 +315,8 @@ class _Line(DeclarationParser, StructureParser):
         target: s.Local | s.Element | s.Bit = s.Local(word)
         if self.at("(") and self.dialect.arrays:
             target = s.Element(word, self.call_args())
-            if self.end_of_statement() and "FUNCTION" in self.dialect.parsers:
+            if ((self.end_of_statement() or self.at("ELSE"))
+                    and "FUNCTION" in self.dialect.parsers):
                 return s.CallStmt(ln, col, target)  # f(a, b): a library function's call
         bit = self.bit_suffix(target)
         if isinstance(bit, s.Bit):
@@ -549,7 +550,8 @@ class _Line(DeclarationParser, StructureParser):
 
     def st_RETURN(self, ln: int, col: int) -> s.Stmt:
         """``RETURN``; in the MC4 language also ``RETURN value`` (a FUNCTION's result)."""
-        if self.end_of_statement() or "FUNCTION" not in self.dialect.parsers:
+        if (self.end_of_statement() or self.at("ELSE")
+                or "FUNCTION" not in self.dialect.parsers):
             return s.Return(ln, col)
         return s.Return(ln, col, self.expr())
 

@@ -405,3 +405,21 @@ def test_a_caller_stored_before_its_library_is_refused_and_accepted_after():
     c.store_program("MATHLIB", MATHLIB)
     assert "error" not in run(c, "VR(0) = fact(3)\n", name="MAIN")
     assert c.vr[0] == 6.0
+
+
+def test_calls_and_return_stand_before_else_in_a_one_line_if():
+    c = mc4()
+    c.store_program("LIB", "FUNCTION mark(n AS INTEGER)\n  VR(n) = 1\nENDFUNC\n"
+                           "FUNCTION pick(a AS INTEGER) AS INTEGER\n"
+                           "  IF a > 2 THEN RETURN 5 ELSE RETURN 6\nENDFUNC\n")
+    last = run(c, """\
+GOSUB sub
+IF 1 THEN mark(3) ELSE mark(4)
+IF 0 THEN mark(5) ELSE mark(6)
+VR(7) = pick(3) * 10 + pick(1)
+STOP
+sub:
+  IF 1 THEN RETURN ELSE VR(9) = 1
+""")
+    assert "error" not in last
+    assert c.vr[3:10] == [1.0, 0.0, 0.0, 1.0, 56.0, 0.0, 0.0]
