@@ -21,6 +21,10 @@ and states come from Trio-controller host code (spec §11.7, a host tool's ``Eth
   — request a state 0..3; ``ETHERCAT($22, slot[, vr])`` — the state;
 * the result of 3 and $22 goes to ``VR(vr)``; with no vr, or vr = -1, it is printed as a
   whole number (``ETHERCAT($22,0,-1)`` prints ``3``: a host reads it as an integer);
+* ``ETHERCAT($64, axis, ...)`` — reset the fault of the drive of ``axis`` ``[BK]`` (real
+  error handlers issue it for an EtherCAT axis, ATYPE 65, whose AXISSTATUS is not 0): a
+  simulated drive has no fault of its own, so it succeeds and changes nothing (the
+  controller's axis errors are cleared by DATUM(0), as on the card);
 * any other function number is a run-time error naming it: not simulated.
 
 **ETHERNET(rw, slot, function[, value ...])**: ``rw`` 0 reads (the statement prints it:
@@ -108,8 +112,11 @@ def _ethercat(ctx: Context, args: tuple[float, ...], alone: bool) -> float:
         return TRUE
     if fn == 0x22:
         return _result(ctx, float(bus.state), args, 2, alone)
+    if fn == 0x64:
+        ctx.axis_number(args[1])  # a drive fault reset [BK]: no simulated drive faults
+        return TRUE
     raise BasicError(f"ETHERCAT function {_hex(fn)} is not simulated (simulated: 0, 1, 3, $21, "
-                     "$22)")
+                     "$22, $64)")
 
 
 def _ethernet(ctx: Context, args: tuple[float, ...], alone: bool) -> float:

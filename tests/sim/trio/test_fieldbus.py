@@ -99,10 +99,19 @@ VR(3) = ETHERCAT($22, 0, -1)
 
 def test_an_ethercat_function_not_modelled_is_a_run_time_error_naming_it():
     c = mc4()
-    last = run(c, "ETHERCAT(0, 0)\nETHERCAT($64, 1, 1, 50)\nVR(0) = 1\n")
+    last = run(c, "ETHERCAT(0, 0)\nETHERCAT($87, 0)\nVR(0) = 1\n")
     assert last["state"] == "stopped" and last["line"] == 2
-    assert "ETHERCAT function $64 is not simulated" in last["error"]
+    assert "ETHERCAT function $87 is not simulated" in last["error"]
     assert c.vr[0] == 0.0
+
+
+def test_a_drive_fault_reset_succeeds_there_being_no_drive_fault():
+    """``ETHERCAT($64, axis, 1, 50)`` in a real error handler [BK]: TRUE, nothing changes;
+    an axis that does not exist is still an error."""
+    c = mc4(axes=2)
+    last = run(c, "VR(0) = ETHERCAT($64, 1, 1, 50)\nETHERCAT($64, 7, 1, 50)\n")
+    assert c.vr[0] == -1.0
+    assert last["line"] == 2 and "Axis number out of range: 7" in last["error"]
 
 
 # -- the buses not simulated --------------------------------------------------------------------
