@@ -199,7 +199,8 @@ class _Compiler(Declarations, Branches, Structure, Functions):
         statement table names (:mod:`motionsim.sim.trio.language.commands`)."""
         try:
             compile_fn = self.compilers[type(st)]
-            if self.blocks:
+            blocks = self.blocks
+            if blocks and blocks[-1][0] == "SELECT":
                 self.before_in_select(st)
             if self.function is not None:
                 self.refuse_in_library(st)

@@ -131,7 +131,7 @@ def kind_of(node: s.Expr, scope: Scope | None = None) -> str:
     if isinstance(node, (s.Local, s.Element)) and scope is not None:
         decl = scope.get(node.name)
         if decl is None:
-            fn = scope.function(node.name)
+            fn = scope.function(node.name) if scope.functions else None
             return "str" if fn is not None and fn.is_str else "num"
         return "str" if decl.is_str else "num"
     if isinstance(node, s.Call) and node.name in STRING_FUNCTIONS:
@@ -165,7 +165,7 @@ def _call(node: s.Local | s.Element, scope: Scope) -> Eval | None:
 
 def _local(node: s.Local, scope: Scope | None) -> Eval:
     name = node.name
-    call = _call(node, scope) if scope is not None else None
+    call = _call(node, scope) if scope is not None and scope.functions else None
     if call is not None:
         return call
     decl = scope.plain(name) if scope is not None else None
