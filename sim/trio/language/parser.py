@@ -7,8 +7,9 @@ precedence follows the manual (spec §9.2), highest first: unary ``-`` and ``NOT
 ``*`` ``/``; ``MOD``; ``+`` ``-``; comparisons; ``AND`` ``OR`` ``XOR``; equal precedence
 left to right.
 
-The language is the model's (config ``model``, spec §11): on ``mc4xx`` also ``INCLUDE``,
-``DIM``, ``GLOBAL``, ``CONSTANT``, string values and functions and bit access ``v.n``; on
+The language is the model's (config ``model``, spec §11): on ``mc4xx`` / ``mc6xx`` also
+``INCLUDE``, ``DIM``, ``GLOBAL``, ``CONSTANT``, ``SELECT_CASE``, ``EXIT_LOOP``, ``FUNCTION``
+(BASIC libraries), string values and functions, bit access ``v.n`` and the shifts; on
 ``series2`` / ``mc2xx`` those words are the syntax error that generation answers and otherwise
 ordinary names. A Trio keyword (:data:`RESERVED`, plus the MC4 words on ``mc4xx``) is never a
 local variable. ``ON BASICERROR GOTO`` and ``ON e GOSUB/GOTO`` are every model's.
