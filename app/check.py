@@ -11,10 +11,13 @@ public interfaces the service uses — nothing here parses a command:
   uses ``#define`` / ``#include`` is expanded first by Diamond's preprocessor
   (``dls_pmaclib.dls_pmcpreprocessor``), whose line markers map each expanded line back to
   its file and line.
-* **Trio** (``.bas``, ``.bas``-like text): the program is stored (``store_program``), i.e.
-  parsed and compiled as ``PUT /programs/{name}`` does. A keyword motionsim does not simulate
-  is a warning (the line is then set aside and the program compiled again); the first
-  compile error is the error, as the controller's own compiler reports one.
+* **Trio** (``.bas``; ``.bal`` BASIC libraries): the program is parsed and compiled as
+  ``PUT /programs/{name}`` does (:meth:`TrioController.check_program`), and every error is
+  reported: a line that does not parse or compile is left out and the rest still checked. A
+  keyword motionsim does not simulate is a warning. What the program needs is stored first:
+  each ``INCLUDE "NAME"`` is satisfied by a file ``NAME.bas`` given on the same command line
+  or found in a ``-I DIR`` folder, and the ``.bal`` libraries given or found there make their
+  FUNCTIONs known.
 
 Findings are :class:`Finding` records, printed as ``FILE:LINE:COLUMN: severity: message`` or
 as JSON (``--format json``) for CI annotations.
@@ -22,16 +25,20 @@ as JSON (``--format json``) for CI annotations.
 
 from __future__ import annotations
 
+import contextlib
 import re
 from collections.abc import Iterator, Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from ..sim.errors import MotionSimError, NotSimulated, ParseError
+from ..sim.errors import MotionSimError, NotSimulated
 
 #: File suffixes read as Trio BASIC; anything else is PMAC text unless ``--kind`` says.
-TRIO_SUFFIXES = (".bas", ".txt.bas")
+TRIO_SUFFIXES = (".bas", ".txt.bas", ".bal")
+#: Suffixes of the files an ``INCLUDE "NAME"`` may name (a program or a library).
+_INCLUDABLE_SUFFIXES = (".bas", ".bal", ".txt")
+_TRIO_INCLUDE = re.compile(r'^\s*INCLUDE\s*\(?\s*"([^"]+)"', re.I)
 _PREPROCESSOR = re.compile(r"^#\s*(define|include)\b", re.I | re.M)
 _MARKER = re.compile(r"^;#\* (.+) (\d+)$")
 _COLUMN = re.compile(r"\(column (\d+)\)")
@@ -214,33 +221,85 @@ def check_pmac(lines: Sequence[SourceLine], ctl: Any) -> list[Finding]:
 # -- Trio ------------------------------------------------------------------------------------
 
 
-def check_trio(path: Path, ctl: Any) -> list[Finding]:
-    """Store the program as ``PUT /programs/{name}`` does; not-simulated keywords are
-    warnings (their line is set aside and the program compiled again), the first compile
-    error is the error."""
-    lines = path.read_text(encoding="utf-8", errors="replace").splitlines()
-    name = re.sub(r"[^A-Za-z0-9_]", "_", path.stem)[:14] or "CHECK"
+def _program_name(path: Path) -> str:
+    return re.sub(r"[^A-Za-z0-9_]", "_", path.name.split(".")[0])[:14].upper() or "CHECK"
+
+
+def _find_included(name: str, siblings: Sequence[Path], include: Sequence[Path]
+                   ) -> Path | None:
+    """The file an ``INCLUDE "NAME"`` names: given on the command line, else in a ``-I``
+    folder (``NAME.bas`` / ``.bal`` / ``.txt``, any case)."""
+    for p in siblings:
+        if _program_name(p) == name:
+            return p
+    for folder in include:
+        if folder.is_dir():
+            for p in sorted(folder.iterdir()):
+                if p.suffix.lower() in _INCLUDABLE_SUFFIXES and _program_name(p) == name:
+                    return p
+    return None
+
+
+def _libraries(siblings: Sequence[Path], include: Sequence[Path]) -> list[Path]:
+    found = [p for p in siblings if p.suffix.lower() == ".bal"]
+    for folder in include:
+        if folder.is_dir():
+            found += [p for p in sorted(folder.iterdir()) if p.suffix.lower() == ".bal"]
+    return found
+
+
+def _store_needed(path: Path, lines: Sequence[str], ctl: Any, siblings: Sequence[Path],
+                  include: Sequence[Path]) -> list[Finding]:
+    """Store what the program uses before it is checked: the BASIC libraries, then each
+    INCLUDEd program; an INCLUDEd file that does not compile is an error at its INCLUDE."""
+    me = path.resolve()
+    for lib in _libraries(siblings, include):
+        if lib.resolve() != me:  # a broken one defines nothing; checked on its own if given
+            with contextlib.suppress(MotionSimError):
+                ctl.store_program(_program_name(lib), lib.read_text(errors="replace") or "'")
     found: list[Finding] = []
-    for _ in range(len(lines) + 1):
+    for n, line in enumerate(lines, 1):
+        m = _TRIO_INCLUDE.match(line)
+        if not m:
+            continue
+        name = m[1].upper()
+        target = _find_included(name, siblings, include)
+        if target is None or target.resolve() == me:
+            continue  # the compile reports it, with the hint below
         try:
-            ctl.store_program(name, "\n".join(lines) or "'")
-            return found
-        except NotSimulated as exc:
-            n = int(exc.details.get("line", 1))
-            found.append(_trio_finding(path, exc, "warning", lines))
-            if not 0 < n <= len(lines) or not lines[n - 1]:
-                return found
-            lines[n - 1] = ""
-        except (ParseError, MotionSimError) as exc:
-            found.append(_trio_finding(path, exc, "error", lines))
-            return found
+            ctl.store_program(name, target.read_text(errors="replace") or "'")
+        except MotionSimError as exc:
+            found.append(Finding(str(path), n, m.start(1) + 1, "error", exc.code,
+                                 f'INCLUDE "{name}": {target} does not compile (line '
+                                 f'{exc.details.get("line")}: {exc.message})', line))
+    return found
+
+
+def check_trio(path: Path, ctl: Any, siblings: Sequence[Path] = (),
+               include: Sequence[Path] = ()) -> list[Finding]:
+    """Every error compiling the program as ``PUT /programs/{name}`` does would meet
+    (:meth:`TrioController.check_program`), after storing what it INCLUDEs and the libraries;
+    not-simulated keywords are warnings."""
+    lines = path.read_text(encoding="utf-8", errors="replace").splitlines()
+    found = _store_needed(path, lines, ctl, siblings, include)
+    name = _program_name(path)
+    for exc in ctl.check_program(name, "\n".join(lines) or "'"):
+        severity = "warning" if isinstance(exc, NotSimulated) else "error"
+        finding = _trio_finding(path, exc, severity, lines)
+        if "there is no program" in finding.message:
+            missing = finding.message.rsplit(" ", 1)[-1]
+            finding = replace(finding, message=finding.message + f" (give {missing}.bas on the "
+                              "command line, or its folder with -I DIR)")
+        found.append(finding)
     return found
 
 
 def _trio_finding(path: Path, exc: MotionSimError, severity: str,
                   lines: Sequence[str]) -> Finding:
     n = int(exc.details.get("line") or 1)
-    text = lines[n - 1] if 0 < n <= len(lines) else ""
+    text = exc.details.get("text")
+    if not isinstance(text, str):
+        text = lines[n - 1] if 0 < n <= len(lines) else ""
     return Finding(str(path), n, int(exc.details.get("column") or 1), severity, exc.code,
                    exc.message, text)
 
@@ -249,12 +308,14 @@ def _trio_finding(path: Path, exc: MotionSimError, severity: str,
 
 
 def check_file(path: Path, kind: str | None = None, model: str | None = None,
-               include: Sequence[Path] = ()) -> list[Finding]:
-    """Everything a fresh card of ``kind`` (default: from the suffix) finds in ``path``."""
+               include: Sequence[Path] = (), siblings: Sequence[Path] = ()) -> list[Finding]:
+    """Everything a fresh card of ``kind`` (default: from the suffix) finds in ``path``
+    (``siblings``: the other files of the same check, a Trio program's INCLUDEs and
+    libraries among them)."""
     kind = kind or kind_of(path)
     ctl = _new_controller(kind, model)
     if kind == "trio":
-        return check_trio(path, ctl)
+        return check_trio(path, ctl, siblings, include)
     missing = missing_includes(path, include)
     return missing + check_pmac(pmac_source(path, include), ctl)
 

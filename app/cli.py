@@ -266,15 +266,18 @@ def check(
     files: Annotated[list[Path], typer.Argument(
         metavar="FILE...", exists=True, dir_okay=False, readable=True,
         help="PMAC files (.pmc, .pmac, .plc ...; #define/#include expanded by the .pmc "
-             "preprocessor) or Trio BASIC programs (.bas).")],
+             "preprocessor) or Trio BASIC programs (.bas) and libraries (.bal); a Trio "
+             "INCLUDE \"NAME\" is NAME.bas given here or found with -I.")],
     kind: Annotated[str | None, typer.Option(
         metavar="pmac|trio", help="Controller kind [default: trio for .bas, else pmac].")
     ] = None,
     model: Annotated[str | None, typer.Option(
         metavar="MODEL",
-        help="Trio model (series2, mc2xx, mc4xx); the PMAC is a Turbo PMAC.")] = None,
+        help="Trio model (series2, mc2xx, mc4xx, mc6xx); the PMAC is a Turbo PMAC.")] = None,
     include: Annotated[list[Path] | None, typer.Option(
-        "--include", "-I", metavar="DIR", help="Search DIR for #include files. Repeatable.")
+        "--include", "-I", metavar="DIR",
+        help="Search DIR for #include files (PMAC) and INCLUDEd programs / .bal libraries "
+             "(Trio). Repeatable.")
     ] = None,
     format_: Annotated[str, typer.Option(
         "--format", metavar="text|json", help="text: FILE:LINE:COLUMN: ...; json: a list of "
@@ -295,7 +298,7 @@ def check(
     findings = []
     for path in files:
         try:
-            findings += check_file(path, kind, model, include or ())
+            findings += check_file(path, kind, model, include or (), siblings=files)
         except (OSError, ValueError, MotionSimError) as exc:
             raise _fail(f"{path}: {exc}", 2) from None
     if format_ == "json":

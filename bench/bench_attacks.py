@@ -390,7 +390,9 @@ def main() -> None:
         idle_done = threading.Event()
         threading.Timer(3.0, idle_done.set).start()
         idle = summary(poll_health(http_client, idle_done))
-        for name, attack in ATTACKS.items():
+        chosen = sys.argv[1:] or list(ATTACKS)  # `bench_attacks.py NAME...`: only those
+        for name in chosen:
+            attack = ATTACKS[name]
             figures[name] = during(http_client, lambda a=attack: a(url, ports))
             h = figures[name]["health"]
             print(f"{name:20s} /health p50 {h['p50_ms']:6.1f} ms  p99 {h['p99_ms']:6.1f} ms  "

@@ -152,16 +152,25 @@ def test_pmac_sub_packages_have_no_import_cycle():
     assert cycles == []
 
 
-def test_the_layer_checks_see_a_cycle(tmp_path, monkeypatch):
-    """The checks above fail on a module-level cycle (a language module importing buffers,
-    which imports the language)."""
+def _fake_pmac(tmp_path, monkeypatch, language: str, buffers: str) -> None:
+    """A source tree whose ``language`` and ``buffers`` hold one module of the given text."""
     fake = tmp_path / "sim" / "pmac"
-    for part, text in (("language", "from motionsim.sim.pmac.buffers import program\n"),
-                       ("buffers", "from motionsim.sim.pmac.language import parser\n")):
+    for part, text in (("language", language), ("buffers", buffers)):
         (fake / part).mkdir(parents=True)
         (fake / part / "m.py").write_text(text)
     monkeypatch.setattr(sys.modules[__name__], "_PMAC", fake)
     monkeypatch.setattr(sys.modules[__name__], "ROOT", tmp_path)
+
+
+@pytest.mark.parametrize(("language", "buffers"), [
+    ("from motionsim.sim.pmac.buffers import program\n",
+     "from motionsim.sim.pmac.language import parser\n"),
+    ("from ..buffers import program\n", "from ..language import parser\n"),
+], ids=["absolute", "relative"])
+def test_the_layer_checks_see_a_cycle(tmp_path, monkeypatch, language, buffers):
+    """The checks above fail on a module-level cycle (a language module importing buffers,
+    which imports the language), written with absolute or relative imports."""
+    _fake_pmac(tmp_path, monkeypatch, language, buffers)
     with pytest.raises(AssertionError):
         test_pmac_sub_packages_have_no_import_cycle()
     with pytest.raises(AssertionError):
@@ -215,14 +224,15 @@ def test_the_package_imports_itself_by_relative_names():
     assert ("host", "language") in edges and ("controller", "lookahead") in edges
 
 
-def test_the_layer_checks_see_a_relative_cycle(tmp_path, monkeypatch):
-    """The same cycle written with relative imports fails the checks too."""
-    fake = tmp_path / "sim" / "pmac"
-    for part, text in (("language", "from ..buffers import program\n"),
-                       ("buffers", "from ..language import parser\n")):
-        (fake / part).mkdir(parents=True)
-        (fake / part / "m.py").write_text(text)
-    monkeypatch.setattr(sys.modules[__name__], "_PMAC", fake)
-    monkeypatch.setattr(sys.modules[__name__], "ROOT", tmp_path)
-    with pytest.raises(AssertionError):
-        test_pmac_sub_packages_have_no_import_cycle()
+def test_no_command_line_imports_the_bare_layer_names():
+    """A ``python -c "from app.cli import main"`` run from the source tree imports ``app`` as
+    a top-level package, whose relative imports then reach beyond it: commands run
+    ``python -m motionsim`` (or the ``motionsim`` script)."""
+    import re
+
+    bare = re.compile(r"""["']\s*(?:from|import)\s+(?:app|sim|api)\b""")
+    bad = [f"{p.relative_to(ROOT)}:{n}" for tree in ("tests", "bench", "tools", "examples")
+           for p in sorted((ROOT / tree).rglob("*.py")) if p != Path(__file__).resolve()
+           for n, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1)
+           if bare.search(line) and "user's own" not in line]
+    assert bad == []

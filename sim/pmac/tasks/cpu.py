@@ -102,14 +102,29 @@ def config_key(field_name: str) -> str:
 CONFIG_KEYS = frozenset(config_key(f.name) for f in fields(CpuCosts))
 
 
-class _BgCycle:
-    __slots__ = ("start", "left", "min_end", "plc")
+#: Statements of background PLC scans worked through at one simulated instant: a longer
+#: scan goes on at the servo cycle its processor time has run out (it is charged the same
+#: time in all), so one scan of a 200 000-character PLC is many short events, not one long
+#: one, and a realtime clock slice stays short (issue 33 item 4). Scans below it run as
+#: one piece, at the instant they always did.
+SCAN_SLICE = 2000
 
-    def __init__(self, start: float, left: float, min_end: float, plc: int | None) -> None:
+#: In a background cycle's ``todo``: "the active compiled PLCs, low to high", expanded when
+#: the interpreted PLC's scan is over (its scan may enable or disable one).
+_PLCCS = None
+
+
+class _BgCycle:
+    __slots__ = ("start", "left", "min_end", "plc", "todo")
+
+    def __init__(self, start: float, left: float, min_end: float, plc: int | None,
+                 todo: list[Plc | None]) -> None:
         self.start = start
         self.left = left
         self.min_end = min_end
         self.plc = plc
+        #: The scans of this cycle still to run: a sliced scan in progress first.
+        self.todo = todo
 
 
 class Processor:
@@ -257,7 +272,9 @@ class Processor:
                 s0, s1 = self._stall
                 if s1 > now and s0 < done:
                     done += s1 - max(now, s0)  # the stall holds the background back
-                t_bg = max(self.scheduler.servo_at_or_after(done), bg.min_end)
+                t_bg = self.scheduler.servo_at_or_after(done)
+                if not bg.todo:
+                    t_bg = max(t_bg, bg.min_end)
                 t_next = min(t_next, t_bg)
             elif self._stall[0] > now:
                 t_next = min(t_next, self.scheduler.servo_at_or_after(self._stall[0]))
@@ -309,7 +326,12 @@ class Processor:
                 self._rti(now)
                 self._next_rti = self.scheduler.next_rti_after(now)
             bg = self._bg
-            if bg is not None and bg.left <= _EPS and now >= bg.min_end - 1e-9:
+            if bg is not None and bg.left <= _EPS and bg.todo:
+                # the next slice of a long scan; a PLC disabled meanwhile is left out
+                bg.todo = [p for p in bg.todo if p is None or p.enabled]
+                bg.left += self._run_scans(bg.todo)
+            if bg is not None and bg.left <= _EPS and not bg.todo \
+                    and now >= bg.min_end - 1e-9:
                 self._end_bg(now)
         finally:
             self._in_wake = False
@@ -361,26 +383,43 @@ class Processor:
         # else: waking between servo cycles, the free-running housekeeping pass in progress
         # answers; PLC scans start with the next cycle (every instant stays on a servo cycle).
         work = self.costs.housekeeping_s
-        if plc is not None:
-            # A CMD"..." in the scan queues a command (``submit`` -> ``poke``); it must not
-            # re-plan (and re-scan) from inside this scan: the queue is charged just below.
-            self._scanning = True
-            try:
-                work += self._scan_cost(plcs.scan(plc))
-            finally:
-                self._scanning = False
+        todo: list[Plc | None] = [] if plc is None else [plc]
         if abs(now - clock.t(k)) < 1e-9:
-            # between two interpreted-PLC scans: one scan of every active PLCC, low to high
-            self._scanning = True
-            try:
-                for plcc in plcs.background_compiled():
-                    work += self._compiled_cost(plcs.scan(plcc))
-            finally:
-                self._scanning = False
+            todo.append(_PLCCS)  # between two interpreted-PLC scans: every active PLCC
+        work += self._run_scans(todo)
         if self.queue:
             work += self.costs.host_command_s
         self._bg = _BgCycle(clock.t(k), work, clock.t(k + self._min_cycles),
-                            plc.n if plc else None)
+                            plc.n if plc else None, todo)
+
+    def _run_scans(self, todo: list[Plc | None]) -> float:
+        """Work through the background cycle's scans, :data:`SCAN_SLICE` statements at most
+        (the rest stays in ``todo``); returns the processor time they take. A scan is
+        charged its start once (``plc_scan_s``) and each statement it runs."""
+        plcs = self.ctl.plcs
+        c = self.costs
+        budget = SCAN_SLICE
+        work = 0.0
+        # A CMD"..." in the scan queues a command (``submit`` -> ``poke``); it must not
+        # re-plan (and re-scan) from inside this scan: the queue is charged by the caller.
+        self._scanning = True
+        try:
+            while todo and budget > 0:
+                plc = todo[0]
+                if plc is None:  # _PLCCS
+                    todo[0:1] = plcs.background_compiled()
+                    continue
+                fresh = not plc.mid_scan
+                n = plcs.scan(plc, budget)
+                budget -= n
+                per = c.plcc_statement_s if plcs.compiled[plc.n] is plc else c.plc_statement_s
+                work += (c.plc_scan_s if fresh else 0.0) + per * n
+                if plc.mid_scan:
+                    break
+                todo.pop(0)
+        finally:
+            self._scanning = False
+        return work
 
     def _end_bg(self, now: float) -> None:
         bg = self._bg

@@ -9,7 +9,9 @@ What is modelled (seed 003; TUM p237, p253, p376; TSRM p39, p381, p422-424; spec
   The edit works on a copy: the PLC keeps its old program until a structurally complete
   ``CLOSE``; ``CLOSE`` with an unmatched ``IF`` / ``WHILE`` answers ERR009 ("program
   structural error") and the buffer stays open ``[INF]``. An ``ELSE``/``ENDIF``/``ENDWHILE``
-  without its opener is refused on its own line (ERR003).
+  without its opener is refused on its own line with ERR009, as in a motion program: the
+  structure is the one of :mod:`..buffers.flow` in its PLC context (no one-line forms,
+  ``AND`` / ``OR`` condition lines), each statement one instruction (:func:`plc_instruction`).
 * **Enable.** ``ENABLE PLC n`` / ``DISABLE PLC n`` (lists, ranges, also from inside a PLC)
   emit ``plc`` events. ``OPEN PLC n`` disables PLC ``n`` while it is edited; it runs again only
   after ``CLOSE`` and ``ENABLE`` (spec §9.5 ``[INF]``). I5 decides which classes may run: 1/3
@@ -41,146 +43,60 @@ from typing import TYPE_CHECKING, Any
 
 from ...controller import Port
 from ...errors import Conflict, NotFound, ParseError
-from ..buffers.flow import STRUCTURAL
-from ..language import flow_statements as fl
+from ..buffers.flow import I_IF, I_JUMP, I_WHILE, PLC, STRUCTURAL, Structure
 from ..language import plc_idioms as idioms
 from ..language import plc_parser as pp
 from ..language import plc_statements as plc_st
 from ..language import statements as st
-from ..language.conditions import any_of_all
 
 if TYPE_CHECKING:
     from ..controller import PmacController
 
-# Operation codes of a compiled PLC program.
-OP_SET = 0  # (OP_SET, kind, index_expr, value_expr)
-OP_IF = 1  # (OP_IF, cond, pc_if_false)
-OP_JUMP = 2  # (OP_JUMP, pc)                      (ELSE: skip the else branch)
-OP_WHILE = 3  # (OP_WHILE, cond, pc_after_endwhile)
-OP_ENDWHILE = 4  # (OP_ENDWHILE, pc_of_while)     ends the scan
-OP_CMD = 5  # (OP_CMD, text)
-OP_SEND = 6  # (OP_SEND, text)
-OP_ENABLE = 7  # (OP_ENABLE, numbers, enable, compiled)
-OP_ADDRESS = 8  # (OP_ADDRESS, "#" or "&", n)
-OP_RUN = 9  # (OP_RUN, statement): a command-family statement, run by its on-line row
-
-
-class StructureError(Exception):
-    """Unmatched IF / WHILE at CLOSE."""
+#: The PLC's own instructions (its statements; the control flow is the shared
+#: :mod:`..buffers.flow` form: ``I_IF`` / ``I_WHILE`` / ``I_JUMP``). ``n`` is the PLC line.
+P_SET = 20  # (P_SET, n, kind, index_expr, value_expr)
+P_CMD = 21  # (P_CMD, n, text)
+P_SEND = 22  # (P_SEND, n, text, port)
+P_ENABLE = 23  # (P_ENABLE, n, numbers, enable, compiled)
+P_ADDRESS = 24  # (P_ADDRESS, n, "#" or "&", number)
+P_RUN = 25  # (P_RUN, n, statement): a command-family statement, run by its on-line row
 
 
 @dataclass(frozen=True, slots=True)
 class PlcProgram:
-    """A compiled PLC program: ``lines`` as entered, ``ops`` with resolved jump targets."""
+    """A compiled PLC program: ``lines`` as entered, ``ops`` the instructions of its
+    :class:`~..buffers.flow.Code` (jump targets resolved)."""
 
     lines: tuple[str, ...]
     ops: tuple[tuple[Any, ...], ...]
 
 
-class _Builder:
-    """Turns a PLC's statements into ops, resolving IF/ELSE/ENDIF and WHILE/ENDWHILE jumps.
+def plc_instruction(s: Any, n: int) -> list[Any]:
+    """The instruction of one PLC statement that is not control flow (the PLC's ``leaf`` of
+    the shared structure; PLCs have no moves)."""
+    t = type(s)
+    if t is st.Assign:
+        return [P_SET, n, s.target.kind, s.target.index, s.value]
+    if t is idioms.Command or (t is st.Message and s.kind == "CMD"):
+        return [P_CMD, n, s.text]
+    if t is idioms.SendText or t is st.Message:
+        return [P_SEND, n, s.text, s.port]
+    if t is idioms.Address:
+        return [P_ADDRESS, n, s.kind, s.n]
+    if t is plc_st.EnablePlc:
+        return [P_ENABLE, n, s.numbers, s.enable, s.compiled]
+    assert isinstance(s, pp.FAMILY_STATEMENTS), t  # parse_plc_line returns only these
+    return [P_RUN, n, s]
 
-    PLC rules (PUM p162; PSRM p313, p357): no one-line forms, so the block an ``IF`` /
-    ``WHILE`` / ``ELSE`` opens runs on over the following statements and lines until its
-    ``ENDIF`` / ``ENDWHILE``; ``AND`` / ``OR`` lines extend the condition of an ``IF`` /
-    ``WHILE`` that ended the line above. A structural error (``ENDIF`` with no open ``IF``,
-    ...) is ERR009, the card's "program structural error" (PSRM p25-26, the I6 table), as in
-    a motion program (:data:`motionsim.sim.pmac.buffers.flow.STRUCTURAL`).
-    """
 
-    def __init__(self) -> None:
-        self.ops: list[list[Any]] = []
-        self.stack: list[tuple[str, int, int | None]] = []  # (kind, pc, else_pc)
-        #: OR-groups of AND-ed conditions of the IF/WHILE that ``AND``/``OR`` lines may extend.
-        self.cond_at: int | None = None
-        self.groups: list[list[Any]] = []
+def plc_structure() -> Structure:
+    """An empty PLC program being built (the PLC context of the one structure)."""
+    return Structure(context=PLC, leaf=plc_instruction)
 
-    def copy(self) -> _Builder:
-        b = _Builder()
-        b.ops = [list(op) for op in self.ops]
-        b.stack = list(self.stack)
-        b.cond_at = self.cond_at
-        b.groups = [list(g) for g in self.groups]
-        return b
 
-    def _extend(self, s: fl.CondLine, col: int, text: str) -> None:
-        """``AND (...)`` / ``OR (...)`` line: extend the condition of the IF/WHILE above."""
-        if self.cond_at is None:
-            raise ParseError(
-                f"{s.op} line without an IF or WHILE just above", column=col, text=text,
-                pmac_error="ERR003",
-            )
-        if s.op == "AND":
-            self.groups[-1].append(s.cond)
-        else:
-            self.groups.append([s.cond])
-        self.ops[self.cond_at][1] = any_of_all(self.groups)
-
-    def add_line(self, text: str, stmts: list[tuple[Any, int]]) -> None:
-        for stmt, col in stmts:
-            self.add(stmt, col, text)
-
-    def _structural(self, message: str, col: int, text: str) -> ParseError:
-        return ParseError(message, column=col, text=text, pmac_error=STRUCTURAL)
-
-    def add(self, s: Any, col: int, text: str) -> None:
-        ops, stack = self.ops, self.stack
-        t = type(s)
-        if t is fl.CondLine:
-            self._extend(s, col, text)
-            return
-        if t is fl.If or t is fl.While:
-            self.cond_at = None if s.inline else len(ops)
-            self.groups = [[s.cond]]
-        else:
-            self.cond_at = None
-        if t is st.Assign:
-            ops.append([OP_SET, s.target.kind, s.target.index, s.value])
-        elif t is fl.If:
-            stack.append(("IF", len(ops), None))
-            ops.append([OP_IF, s.cond, None])
-        elif t is fl.Else:
-            if not stack or stack[-1][0] != "IF" or stack[-1][2] is not None:
-                raise self._structural("ELSE without IF", col, text)
-            kind, pc, _ = stack.pop()
-            stack.append((kind, pc, len(ops)))
-            ops.append([OP_JUMP, None])
-            ops[pc][2] = len(ops)
-        elif t is fl.EndIf:
-            if not stack or stack[-1][0] != "IF":
-                raise self._structural("ENDIF without IF", col, text)
-            _, pc, else_pc = stack.pop()
-            if else_pc is None:
-                ops[pc][2] = len(ops)
-            else:
-                ops[else_pc][1] = len(ops)
-        elif t is fl.While:
-            stack.append(("WHILE", len(ops), None))
-            ops.append([OP_WHILE, s.cond, None])
-        elif t is fl.EndWhile:
-            if not stack or stack[-1][0] != "WHILE":
-                raise self._structural("ENDWHILE without WHILE", col, text)
-            _, pc, _ = stack.pop()
-            ops.append([OP_ENDWHILE, pc])
-            ops[pc][2] = len(ops)
-        elif t is idioms.Command or (t is st.Message and s.kind == "CMD"):
-            ops.append([OP_CMD, s.text])
-        elif t is idioms.SendText or t is st.Message:
-            ops.append([OP_SEND, s.text, s.port])
-        elif t is idioms.Address:
-            ops.append([OP_ADDRESS, s.kind, s.n])
-        elif t is plc_st.EnablePlc:
-            ops.append([OP_ENABLE, s.numbers, s.enable, s.compiled])
-        elif isinstance(s, pp.FAMILY_STATEMENTS):
-            ops.append([OP_RUN, s])
-        else:  # pragma: no cover - parse_plc_line returns only the types above
-            raise ParseError("not a PLC statement", column=col, text=text, pmac_error="ERR003")
-
-    def program(self, lines: Iterable[str]) -> PlcProgram:
-        if self.stack:
-            kind = self.stack[-1][0]
-            raise StructureError(f"{kind} without END{kind}")
-        return PlcProgram(tuple(lines), tuple(tuple(op) for op in self.ops))
+def _program(structure: Structure, lines: Iterable[str]) -> PlcProgram:
+    code = structure.finish()
+    return PlcProgram(tuple(lines), tuple(tuple(i) for i in code.instrs))
 
 
 def compile_plc(text: str) -> PlcProgram:
@@ -189,7 +105,7 @@ def compile_plc(text: str) -> PlcProgram:
     Raises:
         ParseError: ``line`` (1-based), ``column``, ERR003 (ERR009 for an unmatched block).
     """
-    b = _Builder()
+    b = plc_structure()
     lines = text.splitlines()
     kept: list[str] = []
     for i, line in enumerate(lines):
@@ -203,25 +119,26 @@ def compile_plc(text: str) -> PlcProgram:
                     text=line,
                     pmac_error="ERR003",
                 )
-            b.add_line(line, stmts)
+            if line.strip():
+                b.feed_statements(line, stmts)
         except ParseError as e:
             raise e.at(line=i + 1) from None
         if line.strip():
             kept.append(line)
-    try:
-        return b.program(kept)
-    except StructureError as e:
+    problem = b.unclosed()
+    if problem is not None:
         raise ParseError(
-            str(e), line=max(1, len(lines)), column=1, text=lines[-1] if lines else "",
+            problem, line=max(1, len(lines)), column=1, text=lines[-1] if lines else "",
             pmac_error=STRUCTURAL,
-        ) from None
+        )
+    return _program(b, kept)
 
 
 class Plc:
     """One PLC program slot and its run state."""
 
     __slots__ = ("n", "program", "enabled", "pc", "scans", "last_scan_t", "last_statements",
-                 "last_send", "cs", "motor")
+                 "last_send", "cs", "motor", "mid_scan", "held", "so_far")
 
     def __init__(self, n: int) -> None:
         self.n = n
@@ -235,6 +152,11 @@ class Plc:
         #: The program's own addressing (``ADDRESS&n`` / ``ADDRESS#n``), default &1 #1.
         self.cs = 1
         self.motor = 1
+        #: A long scan worked through in slices (:data:`SCAN_SLICE`) is not over yet; the
+        #: ``CMD"..."`` texts it issued so far wait in ``held`` for its end.
+        self.mid_scan = False
+        self.held: list[tuple[str, int, int]] = []
+        self.so_far = 0  # statements of the sliced scan so far
 
     def to_dict(self, permitted: bool, editing: bool) -> dict[str, Any]:
         if editing:
@@ -264,7 +186,7 @@ class PlcTable:
         #: Compiled PLCs 0..31 (``OPEN PLCC n``): the source a host downloads, run as compiled.
         self.compiled = [Plc(n) for n in range(plc_st.N_PLCS)]
         self._edit_table = self.plcs  # the table the open PLC belongs to
-        self._edit: tuple[Port, int, _Builder, list[str]] | None = None
+        self._edit: tuple[Port, int, Structure, list[str]] | None = None
         self._rr = 0  # background round robin: the last PLC scanned
         self._cmd_port = Port("plc-cmd")
         #: ``(compiled, n)`` of the PLC being scanned: its own DISABLE keeps what it issued.
@@ -288,11 +210,11 @@ class PlcTable:
         plc = table[n]
         self.set_enabled((n,), False, compiled)
         self._edit_table = table
-        b = _Builder()
+        b = plc_structure()
         lines: list[str] = []
         if plc.program is not None:
             for line in plc.program.lines:
-                b.add_line(line, pp.parse_plc_line(line))
+                b.feed_statements(line, pp.parse_plc_line(line))
                 lines.append(line)
         self._edit = (port, n, b, lines)
         ctl.buffer_holder = port
@@ -309,44 +231,38 @@ class PlcTable:
             stmts = pp.parse_plc_line(text)
         except ParseError as e:
             return "", e.pmac_error or "ERR003", None
-        trial = b.copy()
+        cleared = False
         body: list[tuple[Any, int]] = []
         start = 0  # where the stored text of this line begins (after a CLEAR)
-
-        def add_body(end: int) -> None:
-            nonlocal lines
-            if body:
-                trial.add_line(text, body)
-                lines = [*lines, text[start:end].strip()]
-
+        close: int | None = None  # the column of a CLOSE
         for stmt, col in stmts:
             if isinstance(stmt, plc_st.Clear):
-                trial = _Builder()
-                lines = []
-                body = []
-                start = col - 1 + len("CLEAR")
+                cleared, body, start = True, [], col - 1 + len("CLEAR")
             elif isinstance(stmt, st.Close):
-                try:
-                    add_body(col - 1)
-                    program = trial.program(lines)
-                except ParseError as e:
-                    return "", e.pmac_error or "ERR003", None
-                except StructureError:
-                    self._edit = (port, n, trial, lines)
-                    return "", STRUCTURAL, None
-                self._edit_table[n].program = program if program.ops else None
-                self._edit_table[n].pc = 0
-                self._edit = None
-                self.ctl.buffer_holder = None
-                return "", None, text[col - 1 + len("CLOSE") :]
+                close = col
+                break
             else:
                 body.append((stmt, col))
-        try:
-            add_body(len(text))
-        except ParseError as e:
-            return "", e.pmac_error or "ERR003", None
-        self._edit = (port, n, trial, lines)
-        return "", None, None
+        if cleared:
+            b, lines = plc_structure(), []
+        if body:
+            try:
+                b.copy().feed_statements(text, body)  # a refused line changes nothing
+            except ParseError as e:
+                return "", e.pmac_error or "ERR003", None
+            b.feed_statements(text, body)
+            lines.append(text[start : len(text) if close is None else close - 1].strip())
+        self._edit = (port, n, b, lines)
+        if close is None:
+            return "", None, None
+        if b.unclosed() is not None:  # CLOSE of an unmatched block: the PLC stays open
+            return "", STRUCTURAL, None
+        program = _program(b, lines)
+        self._edit_table[n].program = program if program.ops else None
+        self._edit_table[n].pc = 0
+        self._edit = None
+        self.ctl.buffer_holder = None
+        return "", None, text[close - 1 + len("CLOSE") :]
 
     def abandon(self, port: Port) -> None:
         """The port went away with a PLC open: the edit is dropped, the old program kept."""
@@ -424,6 +340,8 @@ class PlcTable:
                 plc.enabled = enable
                 if not enable:
                     plc.pc = 0
+                    if (compiled, n) != self._scanning:  # a sliced scan ends with it
+                        plc.mid_scan, plc.held = False, []
                 changed = True
                 self.ctl.log.emit("plc", plc=n, state="enabled" if enable else "disabled",
                                   **extra)
@@ -473,64 +391,88 @@ class PlcTable:
 
     # -- one scan ---------------------------------------------------------------------------
 
-    def scan(self, plc: Plc) -> int:
-        """Run one scan of ``plc`` now; returns the number of statements executed."""
+    def scan(self, plc: Plc, budget: int | None = None) -> int:
+        """Run one scan of ``plc`` now, or at most ``budget`` statements of it; returns the
+        number of statements executed.
+
+        A scan cut by its budget leaves ``plc.mid_scan`` set and goes on from there at the
+        next call: the background task works a long scan through in slices, as the card's
+        interrupts cut it (a scan still runs to its end before the next PLC's, seed 003);
+        its ``CMD"..."`` texts are issued when the whole scan ends.
+        """
         prog = plc.program
         source = (self.compiled[plc.n] is plc, plc.n)
-        if prog is None or self.ctl.commands.halted(source):  # waiting for command-queue room
+        if prog is None:
+            plc.mid_scan, plc.held = False, []
             return 0
+        if not plc.mid_scan and self.ctl.commands.halted(source):
+            return 0  # waiting for command-queue room
         self._scanning = source
         ops = prog.ops
         vars_ = self.ctl.vars
         pc = plc.pc
         end = len(ops)
         count = 0
+        limit = -1 if budget is None else budget
+        cut = False
         cmds: list[tuple[str, int, int]] = []
         while pc < end:
+            if count == limit:
+                cut = True
+                break
             op = ops[pc]
             code = op[0]
             count += 1
             cs = plc.cs
-            if code == OP_SET:
-                idx = op[2]
+            if code == P_SET:
+                idx = op[3]
                 k = int(idx.const if idx.const is not None else idx.fn(vars_, cs))
-                vars_.write(op[1], k, op[3](vars_, cs), cs)
+                vars_.write(op[2], k, op[4](vars_, cs), cs)
                 pc += 1
-            elif code == OP_IF:
-                pc = pc + 1 if op[1](vars_, cs) else op[2]
-            elif code == OP_JUMP:
-                pc = op[1]
-            elif code == OP_WHILE:
-                pc = pc + 1 if op[1](vars_, cs) else op[2]
-            elif code == OP_ENDWHILE:
-                pc = op[1]
-                break
-            elif code == OP_CMD:
-                cmds.append((op[1], cs, plc.motor))
+            elif code in (I_IF, I_WHILE):
+                pc = pc + 1 if op[2](vars_, cs) else op[3]
+            elif code == I_JUMP:
+                pc = op[2]
+                if op[3]:  # ENDWHILE's jump back to its WHILE ends the scan (seed 003)
+                    break
+            elif code == P_CMD:
+                cmds.append((op[2], cs, plc.motor))
                 pc += 1
-            elif code == OP_SEND:
-                self._send(plc, op[1], op[2])
+            elif code == P_SEND:
+                self._send(plc, op[2], op[3])
                 pc += 1
-            elif code == OP_ADDRESS:
-                if op[1] == "&":
-                    plc.cs = op[2]
+            elif code == P_ADDRESS:
+                if op[2] == "&":
+                    plc.cs = op[3]
                 else:
-                    plc.motor = op[2]
+                    plc.motor = op[3]
                 pc += 1
-            elif code == OP_RUN:
-                self.ctl.run_statement(op[1], cs, plc.motor)
+            elif code == P_RUN:
+                self.ctl.run_statement(op[2], cs, plc.motor)
                 pc += 1
-            else:  # OP_ENABLE
-                self.set_enabled(op[1], op[2], op[3])  # its own DISABLE: the scan still ends
+            else:  # P_ENABLE
+                self.set_enabled(op[2], op[3], op[4])  # its own DISABLE: the scan still ends
                 pc += 1
         else:
             pc = 0
-        if plc.enabled:
+        self._scanning = None
+        if not plc.enabled:  # its own DISABLE: the scan still ends; the next starts at the top
+            cut = False
+        else:
             plc.pc = pc
+        if cut:
+            plc.so_far = (plc.so_far if plc.mid_scan else 0) + count
+            plc.mid_scan = True
+            plc.held += cmds
+            return count
+        count_all = count
+        if plc.mid_scan:
+            plc.mid_scan = False
+            count_all += plc.so_far
+            cmds, plc.held = plc.held + cmds, []
         plc.scans += 1
         plc.last_scan_t = self.ctl.env.now
-        plc.last_statements = count
-        self._scanning = None
+        plc.last_statements = count_all
         if cmds:
             self.ctl.issue_program_commands(source, cmds)
         return count

@@ -99,3 +99,62 @@ def test_a_refused_line_stores_nothing():
     assert rig.cmd("ENDIF").error == "ERR009"
     rig.ok("CLOSE")
     assert rig.c.program_lines(2) == ["P1=1"]
+
+
+# -- one compiled form (issue 31 item 1) ------------------------------------------------------
+
+STRUCTURED = [
+    ["IF (P1=1)", "P2=1", "ELSE", "P2=2", "ENDIF"],
+    ["WHILE (P1<10)", "P1=P1+1", "ENDWHILE", "P3=1"],
+    ["IF (P1=1)", "WHILE (P2<3)", "P2=P2+1", "ENDWHILE", "ELSE", "IF (P4=0)", "P4=1", "ENDIF",
+     "ENDIF"],
+]
+
+
+def _skeleton(instrs):
+    """Kinds and jump targets of compiled instructions; a statement (a PLC leaf or a
+    program's line chunk) counts as ``S``."""
+    from motionsim.sim.pmac.buffers import flow
+
+    names = {flow.I_IF: "IF", flow.I_WHILE: "WHILE", flow.I_JUMP: "JUMP"}
+    out = []
+    for i in instrs:
+        kind = names.get(i[0], "S")
+        out.append((kind, i[3] if kind in ("IF", "WHILE") else tuple(i[2:4]) if kind == "JUMP"
+                    else None))
+    return out
+
+
+@pytest.mark.parametrize("lines", STRUCTURED, ids=lambda v: "|".join(v))
+def test_a_plc_and_a_program_compile_the_same_text_to_the_same_structure(lines):
+    """A PLC and a motion program build their control flow in one structure
+    (``buffers/flow.py``): for a text both contexts accept, one statement per line, the
+    instructions and every jump target are the same; only the leaves differ (a PLC
+    statement, a program line chunk)."""
+    from motionsim.sim.pmac import compile_plc
+    from motionsim.sim.pmac.buffers import flow
+    from motionsim.sim.pmac.buffers.program import compile_statements
+    from motionsim.sim.pmac.language.parser import parse_program_line
+
+    plc = compile_plc("\n".join(lines))
+    code, problem = flow.build([compile_statements(t, parse_program_line(t)) for t in lines])
+    assert problem is None
+    assert _skeleton(plc.ops) == _skeleton(code.instrs)
+    assert any(k == "JUMP" for k, _ in _skeleton(plc.ops))
+
+
+def test_a_plc_scan_ends_at_the_jump_back_of_its_endwhile():
+    """The PLC's own stop rule on the shared code: a scan ends at ENDWHILE's jump back
+    (the next scan resumes at the WHILE, seed 003), so ``P1`` counts one per scan."""
+    rig = Rig()
+    rig.ok("OPEN PLC 3 CLEAR")
+    for line in ("WHILE (P1<5)", "P1=P1+1", "ENDWHILE", "P2=1"):
+        rig.ok(line)
+    rig.ok("CLOSE")
+    plcs = rig.c.plcs
+    plc = plcs.plc(3)
+    counts = []
+    for _ in range(7):
+        plcs.scan(plc)
+        counts.append((rig.c.vars.read("P", 1), rig.c.vars.read("P", 2)))
+    assert counts == [(1, 0), (2, 0), (3, 0), (4, 0), (5, 0), (5, 1), (5, 1)]
