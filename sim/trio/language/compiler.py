@@ -304,6 +304,8 @@ class _Compiler(Declarations, Branches, Structure, Functions):
             table = (args[2](c), args[3](c)) if len(args) > 2 else None
             c.ctrl.scope.set(c, args[0](c), period, table, readers, names)
 
+        self.emit(op, st)
+
     def st_BusCall(self, st: s.BusCall) -> None:
         name = st.name
         args = [self.num(a) for a in st.args]
