@@ -326,6 +326,8 @@ TABLE: Final[tuple[Command, ...]] = (
     Command(st.Quit, _of("quit"), with_plc_open=True),
     Command(st.MFlush, _of("mflush"), with_plc_open=True),
     Command(st.Hold, lambda c, s: _cs(c).hold(), with_plc_open=True),
+    Command(st.StopAtEnd, lambda c, s: _cs(c).stop_at_end(), with_plc_open=True),
+    Command(st.QuickStop, lambda c, s: _cs(c).quick_stop(), with_plc_open=True),
     Command(st.Abort, _of("abort"), with_plc_open=True),
     Command(st.Query, query, report=True, with_plc_open=True),
     Command(st.FeedOverride, lambda c, s: _cs(c).set_feed_override(s.percent),

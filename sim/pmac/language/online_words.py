@@ -155,7 +155,7 @@ def pset(p: Any, tok: Token) -> Any:
 
 
 def axis_mode(p: Any, tok: Token) -> Any:
-    return st.AxisMode(tok[1] == "INC", p.axis_list())
+    return st.AxisMode(tok[1] == "INC", p.axis_list(radius=True))
 
 
 def modal(p: Any, tok: Token) -> Any:

@@ -51,7 +51,7 @@ _TOKEN = re.compile(
     r"|(?P<comment>;.*)"
     r"|(?P<word>" + keywords.lexer_pattern(_WORDS) + r"|[A-Za-z])"
     r"|(?P<op>\?\?\?|\?\?|\?|->|\.\.|==|&=|\|=|\^=|##|\$\$\$(?:\*\*\*)?|\$\*|\$"
-    r"|![=<>~]|<>|>=|<=|[=&#|^+\-*/%(),:<>~])"
+    r"|![=<>~]|<>|>=|<=|[=&#|^+\-*/%(),:<>~\\])"
     r")",
     re.IGNORECASE | re.ASCII,
 )
@@ -392,6 +392,10 @@ class _Parser:
             return card_commands.Reset(factory=word == "$$$***")
         if word in ("$", "$*"):
             return motor_st.Enable(absolute=word == "$*")
+        if word == "/":
+            return st.StopAtEnd()
+        if word == "\\":
+            return st.QuickStop()
         if word == "%":
             if self.at("num"):
                 return st.FeedOverride(_number(self.take()[1]))
@@ -486,15 +490,18 @@ class _Parser:
             out.append(self.plc_number())
         return tuple(out)
 
-    def axis_list(self) -> tuple[str, ...] | None:
+    def axis_list(self, radius: bool = False) -> tuple[str, ...] | None:
+        """``({axis}[,{axis}...])``; with ``radius`` ``R`` too (``INC(R)`` / ``ABS(R)``, the
+        circle centre vectors, TSRM p442)."""
         if not self.at("op", "("):
             return None
         self.take()
         axes: list[str] = []
         while True:
             tok = self.take()
-            if tok[0] != "word" or len(tok[1]) != 1 or tok[1] not in st.AXES:
-                raise self.error("expected an axis letter", tok)
+            if tok[0] != "word" or len(tok[1]) != 1 or not (
+                    tok[1] in st.AXES or (radius and tok[1] == "R")):
+                raise self.error("expected an axis letter" + (" or R" if radius else ""), tok)
             axes.append(tok[1])
             if self.at("op", ","):
                 self.take()

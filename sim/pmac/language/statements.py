@@ -115,6 +115,18 @@ class Quit:
 
 
 @dataclass(frozen=True, slots=True)
+class StopAtEnd:
+    """``/``: stop at the end of the move executing now (TUM p217 "end of currently
+    executing move, undoes blending"; with Isx13 = 0 it acts as ``Q``, TSRM p177)."""
+
+
+@dataclass(frozen=True, slots=True)
+class QuickStop:
+    """``\\``: quick stop in the special lookahead; outside lookahead (and with Isx13 = 0) it
+    acts as ``H`` (TUM p217; TSRM p177, p181: Isx21 = 4 is the same request)."""
+
+
+@dataclass(frozen=True, slots=True)
 class Abort:
     """``A``: break into the trajectory now, decelerate, discard lookahead and sync writes."""
 

@@ -292,7 +292,10 @@ class Execution(CoordState):
         """Motion has come to rest: start what is calculated, or stop / wait."""
         rot = self.lines()
         if self.planned:
-            if self.feed_override > 0:
+            if self._end_stop:  # ``/``: the calculated moves wait for R / S (CoordSystem)
+                self._end_stop = self.quitting = False
+                self._set_state(STOPPED)
+            elif self.feed_override > 0:
                 self._start_next()
             return
         if (
@@ -308,7 +311,7 @@ class Execution(CoordState):
         if rot is not None and self.spline is None:  # (a waiting spline point keeps its words)
             rot.free_calculated()
         if self.quitting or self.single_step:
-            self.quitting = False
+            self.quitting = self._end_stop = False
             self.single_step = False
             self._set_state(STOPPED)  # leftover synchronous writes stay queued (TUM p250)
         elif self.state == RUNNING:
@@ -341,7 +344,7 @@ class Execution(CoordState):
         self._plan_due = None
         self._cancel()
         self._starting = False
-        self.quitting = False
+        self.quitting = self._end_stop = False
         self.blocked = False
         self.single_step = False
         self.planned.clear()
@@ -404,6 +407,7 @@ class Execution(CoordState):
         cancel(self._i11_wake)
         self._i11_wake = self._go_t = None
         self._starting = self.quitting = self.blocked = self.single_step = False
+        self._end_stop = False
         self.sync_pending.clear()
         self.sync_queue.discard()
         self.planned.clear()

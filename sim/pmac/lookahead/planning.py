@@ -361,12 +361,19 @@ class Planning(CoordState):
                 elif name == "TS":
                     vars_.write("I", isx(cs, 88), value)
                 else:
+                    if name == "F":  # TSRM p193: a larger F runs at Isx98 (0: no limit)
+                        cap = vars_.I(isx(cs, 98))
+                        if 0 < cap < value:
+                            value = cap
                     vars_.write("I", isx(cs, 89), value)
                     self.time_mode = name == "TM"
             elif code == OP_MODE:
                 self.mode = op[1]
             elif code == OP_AXISMODE:
                 axes = op[2] or tuple("XYZABCUVW")
+                if "R" in axes:  # INC(R) / ABS(R): the circle centre vectors (TSRM p442)
+                    self.abs_radius = not op[1]
+                    axes = tuple(a for a in axes if a != "R")
                 if op[1]:
                     self.incremental.update(axes)
                 else:
