@@ -306,7 +306,7 @@ TABLE: Final[tuple[Command, ...]] = (
     Command(st.AddressMotor, address_motor, report=True, with_plc_open=True),
     Command(motor_st.MotorGroup, motor_group),
     *(Command(t, motor_command) for t in motor_st.MOTOR_TYPES),
-    Command(motor_st.HomeList, home_list, program_form=True),
+    Command(motor_st.HomeList, home_list),
     Command(axdef.AxisDefinition, axis_definition, report=lambda s: s.definition is None),
     Command(st.DefineRotary, lambda c, s: c.ctl.define_rotary(c.state["cs"], s.words)),
     Command(st.DeleteRotary, _of("delete_rotary")),

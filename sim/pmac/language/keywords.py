@@ -169,6 +169,13 @@ TABLE: Final[tuple[Keyword, ...]] = (
     _ns("GATHER", "GAT"),
     _ns("ENDGATHER", "ENDG", "END GATHER", "END GAT", "ENDGAT"),
     _ns("PRELUDE", where="program", example="PRELUDE1 CALL10"),
+    # cutter radius compensation (TSRM program commands CC0, CC1, CC2, CC3, CCR; TUM "Cutter
+    # Radius Compensation"): valid, not simulated
+    _ns("CC0", where="program", example="CC0"),
+    _ns("CC1", where="program", example="CC1"),
+    _ns("CC2", where="program", example="CC2"),
+    _ns("CC3", where="program", example="CC3"),
+    _ns("CCR", where="program", example="CCR0.25"),
     _ns("TSELECT", where="program", example="TSELECT1"),
     _ns("NORMAL", where="program", example="NORMAL K-1"),
     _ns("DISPLAY", where="program", example='DISPLAY "HELLO"'),

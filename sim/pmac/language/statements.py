@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from .axis_definitions import AxisDefinition, Frax
 from .expressions import Expr
 from .flow_statements import FLOW_TYPES
+from .motor_statements import HomeList
 from .plc_idioms import Address
 from .ranges import RangeAssign
 
@@ -367,6 +368,7 @@ PROGRAM_TYPES = (
     Dwell,
     Delay,
     PSet,
+    HomeList,
     Label,
     Message,
     *FLOW_TYPES,

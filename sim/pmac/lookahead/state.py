@@ -136,6 +136,8 @@ class CoordState:
         #: ``/`` with Isx13 > 0: the executing move ends in a stop and the moves calculated
         #: after it wait for the next ``R`` / ``S`` (:meth:`.CoordSystem.stop_at_end`).
         self._end_stop = False
+        #: The motors whose home search a program ``HOME`` waits for (:mod:`..modes.home`).
+        self._homing: list[int] = []
         self._abort: AbortStop | None = None  # the A deceleration under way
         #: Commanded axis positions while no move executes.
         self.rest_pos: dict[str, float] = {}
