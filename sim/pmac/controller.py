@@ -33,7 +33,7 @@ from .buffers import lookahead_buffer
 from .buffers.program import ProgramLine, compile_line
 from .buffers.programs import MotionPrograms
 from .buffers.rotary import RotaryBuffer
-from .card import card_commands, pmac_float, registers, servo_ic
+from .card import card_commands, comp_tables, pmac_float, registers, servo_ic
 from .card.macro_station import MacroStations
 from .card.timers import CountdownTimers
 from .card.variables import N_CS, N_MOTORS, Variables, parse_name
@@ -169,6 +169,8 @@ class PmacController(Controller):
         self.vars.mvars.registers = registers.for_controller(self)
         self.kinematics = Kinematics(self)  # OPEN FORWARD / INVERSE, #n->I (sim.pmac.kinematics)
         self.gather_words: int | None = None
+        #: ``DEFINE COMP`` tables by owning motor (:mod:`.card.comp_tables`).
+        self.comp_tables: dict[int, comp_tables.CompTable] = {}
         self.programs = MotionPrograms()
         self.buffer_holder: Port | None = None
         self.motors: dict[int, tuple[int, str]] = {}  # axis definitions: n -> (cs, "1000X")

@@ -81,16 +81,16 @@ def _ns(name: str, *spellings: str, where: str = "online", example: str = "") ->
 TABLE: Final[tuple[Keyword, ...]] = (
     # buffer management (TSRM p260-420)
     _k("DEFINE", "DEF", builds=online_words.define, where="online", objects={
-        "ROTARY": True, "GATHER": True, "LOOKAHEAD": True, "CCBUF": False, "COMP": False,
+        "ROTARY": True, "GATHER": True, "LOOKAHEAD": True, "CCBUF": False, "COMP": True,
         "TCOMP": False, "BLCOMP": False, "UBUFFER": True}, example="DEFINE CCBUF 10"),
     _k("DELETE", "DEL", builds=online_words.delete, where="online", objects={
-        "ROTARY": True, "GATHER": True, "LOOKAHEAD": True, "CCBUF": False, "COMP": False,
+        "ROTARY": True, "GATHER": True, "LOOKAHEAD": True, "CCBUF": False, "COMP": True,
         "TCOMP": False, "BLCOMP": False, "PLCC": True, "TEMPS": False, "TRACE": True,
         "ALL": True},
        example="DELETE TEMPS"),
     _k("OPEN", builds=online_words.open_, where="online", objects={
         "ROTARY": True, "PROGRAM": True, "PLC": True, "PLCC": True, "FORWARD": True,
-        "INVERSE": True, "BINARY": False}, example="OPEN BINARY ROT"),
+        "INVERSE": True, "BINARY": False, "SERVO": False}, example="OPEN BINARY ROT"),
     _k("CLOSE", builds=online_words.close),
     _k("CLEAR", builds=online_words.clear),
     _k("LIST", builds=online_words.list_, where="online", objects={

@@ -193,10 +193,12 @@ class VarDefault:
 
 @dataclass(frozen=True, slots=True)
 class MDefinitionQuery:
-    """``M1->`` / ``M1..10->``: report M-variable definitions (``last`` None: just ``n``)."""
+    """``M1->`` / ``M1..10->``: report M-variable definitions (``last`` None: just ``n``);
+    ``kind`` ``"L"`` for the L-variables of compiled PLCs."""
 
     n: int
     last: int | None = None
+    kind: str = "M"
 
     def numbers(self) -> range:
         return range(self.n, (self.n if self.last is None else self.last) + 1)
