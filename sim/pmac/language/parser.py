@@ -546,6 +546,8 @@ class _Parser:
             return st.ProgramPointer(self.value_const(tok))
         if word in st.AXES:
             value = self.value()
+            if self.at("op", "^"):  # TSRM "{axis}{data}^{data}": RAPID move until trigger
+                raise self.not_simulated("move until trigger ({axis}{data}^{data})", tok)
             if self.at("op", ":"):
                 if self.spline_line:
                     raise self.error("SPLINE: an axis word takes no velocity")
