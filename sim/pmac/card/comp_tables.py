@@ -6,9 +6,11 @@ entries that follow them (TSRM p302-303; PSRM p207-210).
   span},{column span}`` (two-dimensional) define a table belonging to the addressed motor.
   "The next {entries} constants sent ... will be placed into this table" — for a 2D table
   (rows+1)·(columns+1)−1 of them — "as constants separated by spaces and/or carriage
-  returns" in 1/16 count, integers. While a table is filling, the lines a port sends are
-  its entries, not commands (a bare constant is otherwise ``P0=``, TUM p244); a line that is
-  not all integer constants answers ERR003 and changes nothing ``[INF]``.
+  returns" in 1/16 count, integers. While a table is filling, the constants a port sends are
+  its entries (PUM p150: a bare constant is P0= "unless a special table buffer such as a
+  compensation table ... has been defined but not filled – in that case, the constant value
+  will be entered into the table"); a line that is not all integer constants answers ERR003
+  and changes nothing ``[INF]``.
 * Refused with ERR003 "if any COMP buffer exists for a lower numbered motor, or if any
   TCOMP, BLCOMP, TBUF, ROTARY, LOOKAHEAD, or GATHER buffer exists" (TSRM p303); a motor
   "can only have one table that belongs to it" (a second DEFINE COMP is ERR003 ``[INF]``).

@@ -43,6 +43,7 @@ Modelled (TUM p339-341, p250; PUM p213; spec §9.1-9.3):
 
 from __future__ import annotations
 
+import functools
 from typing import TYPE_CHECKING
 
 from ...simpy_adapter import cancel, supersede
@@ -188,7 +189,7 @@ class Execution(CoordState):
             self._homed(m.motors)
             return
         for n in waiting:
-            ctl.motor(n).when_stopped.append(lambda n=n: self._home_ended(n, m.motors))
+            ctl.motor(n).when_stopped.append(functools.partial(self._home_ended, n, m.motors))
 
     def _home_ended(self, n: int, motors: tuple[int, ...]) -> None:
         """Motor ``n``'s home search of a program ``HOME`` (of ``motors``) has ended."""

@@ -1,7 +1,8 @@
 """Addressing and card set-up of issue 37 item 5.
 
 * ``DEFINE COMP`` (TSRM p302-303; PSRM p207-210): "The next {entries} constants sent ... will
-  be placed into this table" ((rows+1)(columns+1)-1 for a 2D table); refused with ERR003
+  be placed into this table" ((rows+1)(columns+1)-1 for a 2D table); a constant is P0= "unless
+  a ... compensation table ... has been defined but not filled" (PUM p150); refused with ERR003
   when a ROTARY, LOOKAHEAD or GATHER buffer exists, or a COMP table of a lower-numbered motor.
 * ``OPEN SERVO`` (the user-written servo buffer) is valid and not simulated: answered by name.
 * ``CLEAR`` with the rotary buffers open (a PComm32 host sends ``OPEN ROT`` ``CLEAR``): the
