@@ -586,7 +586,9 @@ class PmacController(Controller):
             raise Conflict("a PROG is open for entry: CLOSE first", pmac_error="ERR015")
         if c.program != 0 and not c.running:
             run = c.fixed
-            if run is None or run.number != c.program or run.finished:
+            # a program whose last lines were calculated before a ``/`` stop has not ended:
+            # its calculated moves run first (CoordSystem.stop_at_end)
+            if run is None or run.number != c.program or (run.finished and not c.planned):
                 c.fixed = self.programs.run_of(cs, int(c.program), self.log.emit, self.vars)
             else:
                 run.resume()  # after Q, A, S or a STOP: on from the program counter

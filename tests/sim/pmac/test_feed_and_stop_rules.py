@@ -154,6 +154,27 @@ def test_tum_p217_slash_with_isx13_stops_at_the_end_of_the_executing_move(rig):
     assert sorted(rig.by_n("move_start")) == [1, 2, 3]
 
 
+def test_tum_p217_slash_in_a_fixed_program_resumes_with_the_calculated_move_not_the_top(rig):
+    """PROG 4 of two moves, both calculated when ``/`` comes: ``R`` runs the second one (the
+    program has not ended), not the program again from its top."""
+    rig.ok("I5113=10")
+    rig.ok("OPEN PROG 4 CLEAR")
+    rig.ok("INC TA50 TS0 TM200 X10")
+    rig.ok("X10")
+    rig.ok("CLOSE")
+    rig.ok("&1 B4 R")
+    rig.run_for(0.05)
+    rig.ok("/")
+    rig.run_for(1.0)
+    assert rig.c.positions(1) == {"X": pytest.approx(10.0)}
+    rig.ok("R")
+    rig.run_until_idle()
+    assert rig.c.positions(1) == {"X": pytest.approx(20.0)}
+    assert [f["n"] for _, _, f in rig.events("move_start")] == [1, 2]
+    assert [f["state"] for _, _, f in rig.events("program")] == [
+        "running", "stopped", "running", "stopped"]
+
+
 def test_tsrm_p177_slash_with_isx13_zero_acts_as_q(rig):
     """Isx13 = 0: ``/`` finishes the calculated moves (two ahead) like ``Q``."""
     _run(rig, ["INC TA50 TS0 TM200 X10", "X10", "X10", "X10", "X10"])
