@@ -558,6 +558,11 @@ class PmacController(Controller):
             raise InvalidValue(f"no program {program}", field="program", pmac_error="ERR003")
         c.program = int(program)
         c.fixed = None
+        if c.planned:  # moves a ``/`` stop kept belong to the program pointed away from
+            c.planned.clear()
+            c.calc_pos = dict(c.rest_pos)
+            if c.rotary is not None:
+                c.rotary.free_calculated()
 
     def run(self, cs: int, pointer: float | None = 0, single_step: bool = False) -> None:
         """``R`` (``S`` with ``single_step``); REST's run is ``B0 R`` (``pointer=0``).

@@ -175,6 +175,22 @@ def test_tum_p217_slash_in_a_fixed_program_resumes_with_the_calculated_move_not_
         "running", "stopped", "running", "stopped"]
 
 
+def test_pointing_the_cs_elsewhere_after_slash_drops_the_kept_moves(rig):
+    """After ``/`` the calculated moves wait for ``R``; ``B{n}`` points the CS at another
+    program, whose moves alone then run [INF]."""
+    rig.ok("I5113=10")
+    rig.ok("OPEN PROG 5 CLEAR")
+    rig.ok("INC TA50 TS0 TM200 Y1")
+    rig.ok("CLOSE")
+    _run(rig, ["INC TA50 TS0 TM200 X10", "X10", "X10"])
+    rig.run_for(0.05)
+    rig.ok("/")
+    rig.run_for(1.0)
+    rig.ok("B5 R")
+    rig.run_until_idle()
+    assert rig.c.positions(1) == {"X": pytest.approx(10.0), "Y": pytest.approx(1.0)}
+
+
 def test_tsrm_p177_slash_with_isx13_zero_acts_as_q(rig):
     """Isx13 = 0: ``/`` finishes the calculated moves (two ahead) like ``Q``."""
     _run(rig, ["INC TA50 TS0 TM200 X10", "X10", "X10", "X10", "X10"])
