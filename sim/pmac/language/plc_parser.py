@@ -88,12 +88,6 @@ def parse_plc_line(text: str) -> list[tuple[Any, int]]:
             raise _error(f"{type(stmt).__name__} is not a PLC statement", col, text)
         if isinstance(stmt, st.Assign) and stmt.synchronous:
             raise _error("synchronous assignment is for motion programs", col, text)
-        if isinstance(stmt, plc_idioms.Address) and stmt.by_p:
-            # the PLC scan (tasks/plc.py) addresses constants only so far
-            e = _error(f"ADDRESS{stmt.kind}P{stmt.n} (P-variable addressing in a PLC) is valid "
-                       "Turbo PMAC but not simulated", col, text)
-            e.details["not_simulated"] = f"ADDRESS{stmt.kind}P"
-            raise e
         if isinstance(stmt, fl.CondLine) and out:
             raise _error(f"{stmt.op} must start its line", col, text)
         out.append((stmt, col))

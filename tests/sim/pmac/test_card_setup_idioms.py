@@ -147,12 +147,19 @@ def test_address_by_p_variable_in_a_motion_program_is_stored(rig):
     assert rig.ok("LIST PROG 3").replace(" ", "").split("\r") == ["ADR#P1", "ADR&P2", "RET"]
 
 
-@pytest.mark.parametrize("text", ["ADDRESS#P1", "ADDRESS&P20", "ADR&P2"])
-def test_address_by_p_variable_in_a_plc_is_answered_by_name_and_stores_nothing(rig, text):
+def test_address_by_p_variable_in_a_plc_addresses_what_the_p_variable_holds(rig):
+    """``ADDRESS&P{n}`` / ``ADDRESS#P{n}`` in a PLC: the CS (its Q-variables, the ``CMD``s'
+    start) and motor are the P-variable's value when the statement runs ``[BK]``."""
+    rig.ok("P10=3 P11=2")
     rig.ok("OPEN PLC 4 CLEAR")
-    rig.ok("P1=1")
-    r = rig.cmd(text)
-    assert r.error == "ERR003"
-    assert r.detail[0] == "not_simulated" and "ADDRESS" in r.detail[1]
+    for line in ("ADDRESS&P10", "ADR#P11", "Q5=7", "P10=1", "ADDRESS&P10", "Q5=9",
+                 "DISABLE PLC 4"):
+        rig.ok(line)
     rig.ok("CLOSE")
-    assert rig.ok("LIST PLC 4").replace(" ", "").upper().splitlines() == ["P1=1", "RET"]
+    assert rig.ok("LIST PLC 4").replace(" ", "").upper().splitlines()[:2] == ["ADR&P10",
+                                                                             "ADR#P11"]
+    rig.ok("I5=2 ENABLE PLC 4")
+    rig.run_for(0.05)
+    plc = rig.c.plcs.plc(4)
+    assert rig.c.vars.read("Q", 5, cs=3) == 7 and rig.c.vars.read("Q", 5, cs=1) == 9
+    assert (plc.cs, plc.motor) == (1, 2)
