@@ -34,7 +34,7 @@ from .buffers import lookahead_buffer
 from .buffers.program import ProgramLine, compile_line
 from .buffers.programs import MotionPrograms
 from .buffers.rotary import RotaryBuffer
-from .card import card_commands, pmac_float, registers, servo_ic
+from .card import card_commands, comp_tables, pmac_float, registers, servo_ic
 from .card.macro_station import MacroStations
 from .card.timers import CountdownTimers
 from .card.variables import N_CS, N_MOTORS, Variables, parse_name
@@ -179,6 +179,8 @@ class PmacController(Controller):
         #: The gather buffer and data gathering (sim.pmac.tasks.gather).
         self.gather = Gather(self.env, self.scheduler.clock, self.vars.I, self.vars.mvars,
                              self.log.emit, self._at_one_instant)
+        #: ``DEFINE COMP`` tables by owning motor (:mod:`.card.comp_tables`).
+        self.comp_tables: dict[int, comp_tables.CompTable] = {}
         self.programs = MotionPrograms()
         self.buffer_holder: Port | None = None
         self.motors: dict[int, tuple[int, str]] = {}  # axis definitions: n -> (cs, "1000X")
@@ -587,6 +589,11 @@ class PmacController(Controller):
             raise InvalidValue(f"no program {program}", field="program", pmac_error="ERR003")
         c.program = int(program)
         c.fixed = None
+        if c.planned:  # moves a ``/`` stop kept belong to the program pointed away from
+            c.planned.clear()
+            c.calc_pos = dict(c.rest_pos)
+            if c.rotary is not None:
+                c.rotary.free_calculated()
 
     def run(self, cs: int, pointer: float | None = 0, single_step: bool = False) -> None:
         """``R`` (``S`` with ``single_step``); REST's run is ``B0 R`` (``pointer=0``).
@@ -615,7 +622,9 @@ class PmacController(Controller):
             raise Conflict("a PROG is open for entry: CLOSE first", pmac_error="ERR015")
         if c.program != 0 and not c.running:
             run = c.fixed
-            if run is None or run.number != c.program or run.finished:
+            # a program whose last lines were calculated before a ``/`` stop has not ended:
+            # its calculated moves run first (CoordSystem.stop_at_end)
+            if run is None or run.number != c.program or (run.finished and not c.planned):
                 c.fixed = self.programs.run_of(cs, int(c.program), self.log.emit, self.vars)
             else:
                 run.resume()  # after Q, A, S or a STOP: on from the program counter

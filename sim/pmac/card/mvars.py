@@ -50,6 +50,10 @@ class MVariables:
 
     def __init__(self) -> None:
         self.defs: dict[int, MDef] = {}
+        #: L-variable definitions (``L{n}->``): the variables of compiled PLCs, which the PC
+        #: compiler resolves to these addresses; motionsim interprets PLCC source, so it
+        #: keeps them here (not in card memory, where the card has none) ``[INF]``.
+        self.ldefs: dict[int, MDef] = {}
         self.words: dict[tuple[str, int], int] = {}
         self.longs: dict[tuple[str, int], float] = {}  # DP / F words
         #: ``{(space, address): Register}`` — set by the controller (mapping table).
@@ -60,21 +64,27 @@ class MVariables:
     def clear(self) -> None:
         """Factory state: all self-referenced, memory zero, no user buffer."""
         self.defs.clear()
+        self.ldefs.clear()
         self.words.clear()
         self.longs.clear()
         self.ubuffer = None
 
     # -- definitions ------------------------------------------------------------------------
 
-    def define(self, first: int, last: int, d: MDef) -> None:
+    def define(self, first: int, last: int, d: MDef, kind: str = "M") -> None:
+        defs = self.defs if kind == "M" else self.ldefs
         for n in range(first, last + 1):
             if d is SELF or d.kind == "*":
-                self.defs.pop(n, None)
+                defs.pop(n, None)
             else:
-                self.defs[n] = d
+                defs[n] = d
 
     def definition(self, n: int) -> MDef:
         return self.defs.get(n, SELF)
+
+    def l_definition(self, n: int) -> MDef:
+        """L-variable ``n``'s definition (``*``: none)."""
+        return self.ldefs.get(n, SELF)
 
     # -- words ------------------------------------------------------------------------------
 

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from .axis_definitions import AxisDefinition, Frax
 from .expressions import Expr
 from .flow_statements import FLOW_TYPES
+from .motor_statements import HomeList
 from .plc_idioms import Address
 from .ranges import RangeAssign
 
@@ -126,6 +127,18 @@ class Quit:
 
 
 @dataclass(frozen=True, slots=True)
+class StopAtEnd:
+    """``/``: stop at the end of the move executing now (TUM p217 "end of currently
+    executing move, undoes blending"; with Isx13 = 0 it acts as ``Q``, TSRM p177)."""
+
+
+@dataclass(frozen=True, slots=True)
+class QuickStop:
+    """``\\``: quick stop in the special lookahead; outside lookahead (and with Isx13 = 0) it
+    acts as ``H`` (TUM p217; TSRM p177, p181: Isx21 = 4 is the same request)."""
+
+
+@dataclass(frozen=True, slots=True)
 class Abort:
     """``A``: break into the trajectory now, decelerate, discard lookahead and sync writes."""
 
@@ -191,10 +204,12 @@ class VarDefault:
 
 @dataclass(frozen=True, slots=True)
 class MDefinitionQuery:
-    """``M1->`` / ``M1..10->``: report M-variable definitions (``last`` None: just ``n``)."""
+    """``M1->`` / ``M1..10->``: report M-variable definitions (``last`` None: just ``n``);
+    ``kind`` ``"L"`` for the L-variables of compiled PLCs."""
 
     n: int
     last: int | None = None
+    kind: str = "M"
 
     def numbers(self) -> range:
         return range(self.n, (self.n if self.last is None else self.last) + 1)
@@ -368,6 +383,7 @@ PROGRAM_TYPES = (
     Dwell,
     Delay,
     PSet,
+    HomeList,
     Label,
     Message,
     *FLOW_TYPES,
