@@ -38,7 +38,7 @@ from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from ..sim.errors import MotionSimError, NotSimulated, ParseError
+from ..sim.errors import MotionSimError, NotSimulated
 from .pmac_download import (
     NON_ASCII_CAUSE,
     Problem,
@@ -49,7 +49,7 @@ from .pmac_download import (
 )
 
 #: File suffixes read as Trio BASIC; anything else is PMAC text unless ``--kind`` says.
-TRIO_SUFFIXES = (".bas", ".txt.bas")
+TRIO_SUFFIXES = (".bas", ".txt.bas", ".bal")
 #: Suffixes of the PMAC program files a folder is searched for (``check DIR``); named files
 #: of any other suffix are PMAC text too.
 PMAC_SUFFIXES = (".pmc", ".pmac", ".pma", ".plc")
@@ -224,63 +224,92 @@ def _trio_lines(path: Path) -> tuple[list[str], list[Finding]]:
     return lines, found
 
 
-_TRIO_INCLUDE = re.compile(r'^\s*INCLUDE\s*"([^"]+)"', re.I)
+_TRIO_INCLUDE = re.compile(r'^\s*INCLUDE\s*\(?\s*"([^"]+)"', re.I)
+#: Suffixes of the files an ``INCLUDE "NAME"`` may name (a program or a library).
+_INCLUDABLE_SUFFIXES = (".bas", ".bal", ".txt")
 
 
-def _store_included(path: Path, lines: Sequence[str], ctl: Any, seen: set[Path]) -> None:
-    """Store first the programs of ``path``'s folder that it ``INCLUDE``s (by program name,
-    the file's stem), theirs before them: a Trio project is a folder of programs downloaded
-    to one controller together (``[BK]`` Motion Perfect's project download). One that does
-    not compile is left out: it is reported when it is checked itself."""
-    wanted = [m[1] for line in lines if (m := _TRIO_INCLUDE.match(line))]
-    if not wanted:
-        return
-    siblings = {p.stem.upper(): p for p in path.parent.iterdir()
-                if p.is_file() and kind_of(p) == "trio"}
-    for name in wanted:
-        target = siblings.get(name.upper())
-        if target is None or target.resolve() in seen:
+def _program_name(path: Path) -> str:
+    return re.sub(r"[^A-Za-z0-9_]", "_", path.name.split(".")[0])[:14].upper() or "CHECK"
+
+
+def _trio_places(path: Path, siblings: Sequence[Path], include: Sequence[Path]
+                 ) -> list[Path]:
+    """Where a program's INCLUDEs and libraries are looked for, in order: the files given
+    on the command line, the program's own folder (a Trio project is a folder of programs
+    downloaded together, ``[BK]`` Motion Perfect's project download), the ``-I`` folders."""
+    out = list(siblings)
+    for folder in (path.parent, *include):
+        if folder.is_dir():
+            out += sorted(p for p in folder.iterdir() if p.is_file()
+                          and p.suffix.lower() in _INCLUDABLE_SUFFIXES)
+    return out
+
+
+def _store_needed(path: Path, lines: Sequence[str], ctl: Any, places: Sequence[Path],
+                  seen: set[Path]) -> list[Finding]:
+    """Store what the program uses before it is checked: the BASIC libraries (``.bal``),
+    then each INCLUDEd program, theirs before them; an INCLUDEd file that does not compile
+    is an error at its INCLUDE."""
+    for lib in places:
+        if lib.suffix.lower() == ".bal" and lib.resolve() not in seen:
+            seen.add(lib.resolve())
+            text, problems = _trio_lines(lib)
+            if not problems:  # a broken one defines nothing; checked on its own if given
+                with contextlib.suppress(MotionSimError):
+                    ctl.store_program(_program_name(lib), "\n".join(text) or "'")
+    found: list[Finding] = []
+    for n, line in enumerate(lines, 1):
+        m = _TRIO_INCLUDE.match(line)
+        if not m:
             continue
+        name = m[1].upper()
+        target = next((p for p in places if _program_name(p) == name), None)
+        if target is None or target.resolve() in seen:
+            continue  # the compile reports a missing one, with the hint below
         seen.add(target.resolve())
         text, problems = _trio_lines(target)
-        _store_included(target, text, ctl, seen)
-        if not problems:
-            with contextlib.suppress(MotionSimError):
-                ctl.store_program(name, "\n".join(text) or "'")
+        found += _store_needed(target, text, ctl, places, seen) if not problems else []
+        try:
+            ctl.store_program(name, "\n".join(text) or "'")
+        except MotionSimError as exc:
+            found.append(Finding(str(path), n, m.start(1) + 1, "error", exc.code,
+                                 f'INCLUDE "{name}": {target} does not compile (line '
+                                 f'{exc.details.get("line")}: {exc.message})', line))
+    return found
 
 
-def check_trio(path: Path, ctl: Any) -> list[Finding]:
-    """Store the program as ``PUT /programs/{name}`` does; not-simulated keywords are
-    warnings (their line is set aside and the program compiled again), the first compile
-    error is the error. The programs it ``INCLUDE``s from its folder are stored first. The
-    file is read as bytes: a byte above 0x7F in a comment is harmless, one in the program
-    text an ``encoding`` error at its line and column (``[INF]`` the controller's program
-    text is ASCII); a file with one is not compiled."""
+def check_trio(path: Path, ctl: Any, siblings: Sequence[Path] = (),
+               include: Sequence[Path] = ()) -> list[Finding]:
+    """Every error compiling the program as ``PUT /programs/{name}`` does would meet
+    (:meth:`TrioController.check_program`: a line that does not parse or compile is left out
+    and the rest still checked), after storing the libraries and what it INCLUDEs;
+    not-simulated keywords are warnings. The file is read as bytes: a byte above 0x7F in a
+    comment is harmless, one in the program text an ``encoding`` error at its line and
+    column (``[INF]`` the controller's program text is ASCII); a file with one is not
+    compiled."""
     lines, found = _trio_lines(path)
     if found:
         return found
-    _store_included(path, lines, ctl, {path.resolve()})
-    name = re.sub(r"[^A-Za-z0-9_]", "_", path.stem)[:14] or "CHECK"
-    for _ in range(len(lines) + 1):
-        try:
-            ctl.store_program(name, "\n".join(lines) or "'")
-            return found
-        except NotSimulated as exc:
-            n = int(exc.details.get("line", 1))
-            found.append(_trio_finding(path, exc, "warning", lines))
-            if not 0 < n <= len(lines) or not lines[n - 1]:
-                return found
-            lines[n - 1] = ""
-        except (ParseError, MotionSimError) as exc:
-            found.append(_trio_finding(path, exc, "error", lines))
-            return found
+    found = _store_needed(path, lines, ctl, _trio_places(path, siblings, include),
+                          {path.resolve()})
+    for exc in ctl.check_program(_program_name(path), "\n".join(lines) or "'"):
+        severity = "warning" if isinstance(exc, NotSimulated) else "error"
+        finding = _trio_finding(path, exc, severity, lines)
+        if "there is no program" in finding.message:
+            missing = finding.message.rsplit(" ", 1)[-1]
+            finding = replace(finding, message=finding.message + f" (give {missing}.bas on the "
+                              "command line, or its folder with -I DIR)")
+        found.append(finding)
     return found
 
 
 def _trio_finding(path: Path, exc: MotionSimError, severity: str,
                   lines: Sequence[str]) -> Finding:
     n = int(exc.details.get("line") or 1)
-    text = lines[n - 1] if 0 < n <= len(lines) else ""
+    text = exc.details.get("text")
+    if not isinstance(text, str):
+        text = lines[n - 1] if 0 < n <= len(lines) else ""
     return Finding(str(path), n, int(exc.details.get("column") or 1), severity, exc.code,
                    exc.message, text)
 
@@ -290,13 +319,15 @@ def _trio_finding(path: Path, exc: MotionSimError, severity: str,
 
 def check_file(path: Path, kind: str | None = None, model: str | None = None,
                include: Sequence[Path] = (), dialect: str = "auto",
-               defines: Mapping[str, str] | None = None) -> list[Finding]:
+               defines: Mapping[str, str] | None = None,
+               siblings: Sequence[Path] = ()) -> list[Finding]:
     """Everything a fresh card of ``kind`` (default: from the suffix) finds in ``path``
-    (ungrouped: :func:`grouped` folds the follow-ons)."""
+    (ungrouped: :func:`grouped` folds the follow-ons); ``siblings``: the other files of the
+    run, where a Trio program's INCLUDEs and libraries are looked for first."""
     kind = kind or kind_of(path)
     ctl = _new_controller(kind, model)
     if kind == "trio":
-        return check_trio(path, ctl)
+        return check_trio(path, ctl, siblings, include)
     return check_pmac(expand(path, dialect, include, defines), ctl)
 
 

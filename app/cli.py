@@ -265,17 +265,20 @@ def replay(
 def check(
     files: Annotated[list[Path], typer.Argument(
         metavar="FILE|DIR...", exists=True, readable=True,
-        help="PMAC files (.pmc, .pmac, .pma, .plc ...) or Trio BASIC programs (.bas), or "
-             "folders: every such file below them, in one run (files another one "
-             "#includes are checked where they are included).")],
+        help="PMAC files (.pmc, .pmac, .pma, .plc ...), Trio BASIC programs (.bas) and "
+             "libraries (.bal), or folders: every such file below them, in one run (files "
+             "another one #includes are checked where they are included; a Trio INCLUDE "
+             "\"NAME\" is NAME.bas given here, beside the program or found with -I).")],
     kind: Annotated[str | None, typer.Option(
         metavar="pmac|trio", help="Controller kind [default: trio for .bas, else pmac].")
     ] = None,
     model: Annotated[str | None, typer.Option(
         metavar="MODEL",
-        help="Trio model (series2, mc2xx, mc4xx); the PMAC is a Turbo PMAC.")] = None,
+        help="Trio model (series2, mc2xx, mc4xx, mc6xx); the PMAC is a Turbo PMAC.")] = None,
     include: Annotated[list[Path] | None, typer.Option(
-        "--include", "-I", metavar="DIR", help="Search DIR for #include files. Repeatable.")
+        "--include", "-I", metavar="DIR",
+        help="Search DIR for #include files (PMAC) and INCLUDEd programs / .bal libraries "
+             "(Trio). Repeatable.")
     ] = None,
     dialect: Annotated[str, typer.Option(
         metavar="auto|pewin|diamond|msi",
@@ -318,10 +321,11 @@ def check(
         defines[name.strip()] = value
     findings = []
     failed = []
-    for path in tree_files(files, include or (), dialect, defines):
+    paths = tree_files(files, include or (), dialect, defines)
+    for path in paths:
         try:
             findings += grouped(check_file(path, kind, model, include or (), dialect,
-                                           defines))
+                                           defines, siblings=paths))
         except (OSError, ValueError, MotionSimError) as exc:
             failed.append(f"{path}: {exc}")
         except Exception as exc:  # noqa: BLE001 - one file's failure must not end the tree's report

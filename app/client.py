@@ -396,6 +396,23 @@ class MotionSimClient:
                 return out
             since = page.next
 
+    # -- recordings (PMAC data gathering, Trio SCOPE) ------------------------------------------
+
+    def recording(self, id: str, resource: str = "gather") -> dict[str, Any]:
+        """The whole recording, paging through ``GET /controllers/{id}/{resource}``
+        (``"gather"`` for a PMAC, ``"scope"`` for a Trio): the first page's fields with every
+        column complete (docs/API.md "Recordings")."""
+        path = f"/controllers/{id}/{resource}"
+        page: dict[str, Any] = self.request("GET", path, params={"limit": 100_000})
+        while page["next"] < page["total"]:
+            more = self.request("GET", path, params={"since": page["next"], "limit": 100_000})
+            if more["next"] == page["next"]:
+                break
+            for name, column in more["columns"].items():
+                page["columns"][name].extend(column)
+            page["next"] = more["next"]
+        return page
+
     def subscribe(self, id: str, since: int = 0, types: Sequence[str] | None = None,
                   timeout: float | None = None, epoch: str | None = None) -> Subscription:
         """Events over the WebSocket: the backlog after ``since``, then live ones (and gaps).

@@ -77,6 +77,7 @@ TRIO_CONFIG: dict[str, Bound] = {
     "statement_us": Bound(0, 100_000, "us", low_open=True),  # [INF]
     "vr_count": Bound(1, 65_536, "VR() variables", integer=True),  # MC4xx: 65 536 VR [BK]
     "table_size": Bound(1, 4_000_000, "TABLE() values", integer=True),  # [INF]
+    "ethercat_slaves": Bound(0, 256, "EtherCAT slaves", integer=True),  # [INF]
 }
 #: Trio axis parameters (speed, accel, decel, creep, units) and move arguments.
 TRIO_RATE = Bound(0, 1e12, "units (per s, per s^2)", low_open=True)  # [INF]

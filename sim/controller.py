@@ -22,7 +22,9 @@ from typing import Any, ClassVar
 
 import simpy
 
+from .errors import NotFound
 from .events import EVENT_FIELDS, EventLog
+from .recording import Recording
 
 
 class Reply:
@@ -150,6 +152,14 @@ class Controller:
     def set_variable(self, name: str, value: float) -> None:
         """Write a variable at the current simulated instant (as an on-line command would)."""
         raise NotImplementedError
+
+    def recording(self) -> Recording:
+        """The controller's own recording (PMAC data gathering, Trio SCOPE: sim.recording).
+
+        Raises:
+            sim.errors.NotFound: the kind records nothing.
+        """
+        raise NotFound(f"a {self.kind} controller has no recording")
 
     # -- life cycle ------------------------------------------------------------------------
 

@@ -56,11 +56,13 @@ EVENT_FIELDS: dict[str, tuple[str, ...]] = {
     "plc_send": ("plc", "port", "text"),  # PMAC: a PLC's SEND"..." line (port S/P/R/A/host)
     "program_send": ("cs", "line", "port", "text"),  # PMAC: a motion program's SEND"..." line
     "host_message_dropped": ("source", "port", "text", "dropped"),  # PMAC: a SEND line lost
+    "gather": ("state", "reason|sources", "samples|period"),  # PMAC: gathering started/stopped
     "timer": ("var", "value"),  # PMAC: an Isx11/Isx12 countdown timer was written (cycles)
     "rti_overrun": ("over_s",),
     "watchdog": ("reason",),
     "reset": (),
     "print": ("process", "channel", "text"),  # Trio: a line a BASIC program printed
+    "scope": ("state", "period", "samples"),  # Trio: SCOPE armed / triggered / done / off
     # scenario host models (sim/hosts/): what the simulated host did and saw
     "host_write": ("host", "cs", "lines", "sent"),
     "host_timeout": ("host", "cs", "command"),

@@ -1,7 +1,9 @@
 """The Trio Modbus TCP slave: connections ↔ :mod:`motionsim.api.trio_modbus.protocol` ↔ ``VR()``
 and the digital I/O.
 
-Register reads come from ``controller.get_variable("VR(n)")``; coil reads (FC 1) from
+Register reads come from ``controller.get_variable("VR(n)")`` (``"TABLE(n)"`` after
+``ETHERNET(2, slot, 9, 1)``: ``TrioController.modbus_registers``; the register numbers
+mapped stay those of the VR range, ``[INF]``); coil reads (FC 1) from
 ``OP(n)`` (the output state, as ``READ_OP(n)`` reads it); discrete-input reads (FC 2) from the
 inputs as a program's ``IN(n)`` reads them (INVERT_IN applied). Writes go through
 ``handle.apply(controller.set_variable, "VR(n)" / "OP(n)", value)`` at the current simulated
@@ -45,6 +47,7 @@ log = logging.getLogger("motionsim.trio_modbus")
 def answer(handle: Any, codec: ModbusCodec, request: Any) -> bytes:
     """The bytes answering one request (writes applied first)."""
     ctl = handle.controller
+    registers = ctl.modbus_registers() if hasattr(ctl, "modbus_registers") else "VR"
     try:
         if isinstance(request, Rejected):
             return codec.exception_reply(request)
@@ -57,11 +60,11 @@ def answer(handle: Any, codec: ModbusCodec, request: Any) -> bytes:
         if isinstance(request, WriteRegisters) or request.values:
             start = request.start if isinstance(request, WriteRegisters) else request.write_start
             for i, v in enumerate(request.values):
-                handle.apply(ctl.set_variable, f"VR({start + i})", float(v))
+                handle.apply(ctl.set_variable, f"{registers}({start + i})", float(v))
             if isinstance(request, WriteRegisters):
                 return codec.write_reply(request)
         assert isinstance(request, ReadRegisters)
-        regs = [to_register(ctl.get_variable(f"VR({request.start + i})"))
+        regs = [to_register(ctl.get_variable(f"{registers}({request.start + i})"))
                 for i in range(request.count)]
         return codec.read_reply(request, regs)
     except MotionSimError:

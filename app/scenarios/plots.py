@@ -8,6 +8,10 @@
 * Trio, one figure per controller: per axis a timeline of MTYPE, NTYPE and the process buffer
   occupied, with the time the axis idled while its process was blocked shaded.
 
+* A controller that recorded (PMAC data gathering set up by the scenario's ``setup`` commands,
+  Trio SCOPE / TRIGGER): ``<controller>_recording.png``, one panel per source against
+  simulated time (``sim/recording.py``).
+
 Every shading, hatch and mark has a legend entry, and the end of the program (the last move
 ending) is a dash-dotted line. ``window=(start, end)`` shows only that span of simulated time;
 without it each PMAC figure shows the whole run, and a second one (``..._zoom.png``) the first
@@ -27,6 +31,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 
+from ...sim.errors import NotFound  # noqa: E402
 from .metrics import pmac_traces, trio_traces  # noqa: E402
 from .runner import RunResult  # noqa: E402
 
@@ -337,8 +342,38 @@ def plot_run(result: RunResult, rep: dict[str, Any], out_dir: Path,
                 title=f"{scn.name}: {cid} MTYPE / NTYPE / process buffer", path=out_dir / name,
                 window=window, moves=rep["controllers"][cid].get("axes"),
             )  # fmt: skip
+        try:
+            rec = result.controllers[cid].recording()
+        except (NotFound, AttributeError):  # a kind that records nothing
+            rec = None
+        if rec is not None and rec.cycles:
+            name = f"{cid}_recording.png"
+            paths[name] = plot_recording(rec, f"{scn.name}: {cid} {rec.kind}", out_dir / name,
+                                         window)
     return paths
 
 
-__all__ = ["ZOOM_REFILLS", "Window", "parse_window", "plot_pmac_cs", "plot_run", "plot_trio",
-           "program_end", "zoom_window"]
+def plot_recording(rec: Any, title: str, path: Path, window: Window | None = None) -> Path:
+    """What a controller recorded (``sim.recording.Recording``): one panel per source, its
+    samples against simulated time (every sample at ``cycle × servo period``)."""
+    times = rec.times()
+    n = len(rec.names)
+    fig, axes = plt.subplots(n, 1, figsize=(10, 1.8 + 1.6 * n), sharex=True, squeeze=False)
+    step = max(1, len(times) // _MAX_POINTS)
+    for ax, name, column in zip(axes[:, 0], rec.names, rec.columns, strict=True):
+        ax.plot(times[::step], column[::step], lw=1, label=name)
+        ax.set_ylabel(name, fontsize=8)
+        ax.legend(loc="upper right", fontsize=8, framealpha=0.9)
+        if window is not None:
+            ax.set_xlim(*window)
+    axes[-1, 0].set_xlabel("simulated time (s)")
+    every = f"every {rec.period_cycles} servo cycle(s)" if rec.period_cycles else "single shot"
+    axes[0, 0].set_title(f"{title} ({len(times)} samples, {every})")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+__all__ = ["ZOOM_REFILLS", "Window", "parse_window", "plot_pmac_cs", "plot_recording",
+           "plot_run", "plot_trio", "program_end", "zoom_window"]

@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Callable, Iterable, Mapping
-from typing import Any, NamedTuple
+from typing import Any, NamedTuple, TypeVar
 
 import simpy
 
@@ -28,12 +28,13 @@ from ..bounds import FINITE, PMAC_CONFIG, PMAC_CPU_COST
 from ..controller import Controller, Port, Reply
 from ..errors import BufferFull, Conflict, Halted, InvalidValue, NotFound, ParseError
 from ..faults import CardFaults
+from ..recording import Recording as SharedRecording
 from ..timing import pmac_servo_period_s
 from .buffers import lookahead_buffer
 from .buffers.program import ProgramLine, compile_line
 from .buffers.programs import MotionPrograms
 from .buffers.rotary import RotaryBuffer
-from .card import card_commands, pmac_float, registers, servo_ic
+from .card import card_commands, comp_tables, pmac_float, registers, servo_ic
 from .card.macro_station import MacroStations
 from .card.timers import CountdownTimers
 from .card.variables import N_CS, N_MOTORS, Variables, parse_name
@@ -51,10 +52,12 @@ from .motor.motors import Motor, MotorTable
 from .tasks.command_queue import CommandQueue
 from .tasks.cpu import CONFIG_KEYS as CPU_CONFIG_KEYS
 from .tasks.cpu import Processor
+from .tasks.gather import Gather
 from .tasks.plc import PlcTable
 from .tasks.scheduler import Scheduler
 
 MEMORY_WORDS = 65_536
+_T = TypeVar("_T")
 
 #: Parsed lines by text: streams repeat line texts, and a parse is the costliest per-line step.
 _LINE_CACHE: dict[str, ProgramLine] = {}
@@ -157,6 +160,8 @@ class PmacController(Controller):
                 lambda: clock.index(self.env.now),
                 lambda n, v: self.log.emit("timer", var=f"I{n}", value=v),
             )
+        #: Axis positions by CS while one instant's registers are read (_at_one_instant).
+        self._positions_memo: dict[Any, Any] | None = None
         self.halted = False  # the watchdog tripped (sim.pmac.watchdog); until reset
         #: The bounded queue of CMD"..." commands (sim.pmac.tasks.command_queue).
         self.commands = CommandQueue(self._place_program_command)
@@ -168,7 +173,14 @@ class PmacController(Controller):
         self.coord_systems = {n: CoordSystem(self, n) for n in range(1, N_CS + 1)}
         self.vars.mvars.registers = registers.for_controller(self)
         self.kinematics = Kinematics(self)  # OPEN FORWARD / INVERSE, #n->I (sim.pmac.kinematics)
-        self.gather_words: int | None = None
+        old_gather = getattr(self, "gather", None)
+        if old_gather is not None:
+            old_gather.detach()
+        #: The gather buffer and data gathering (sim.pmac.tasks.gather).
+        self.gather = Gather(self.env, self.scheduler.clock, self.vars.I, self.vars.mvars,
+                             self.log.emit, self._at_one_instant)
+        #: ``DEFINE COMP`` tables by owning motor (:mod:`.card.comp_tables`).
+        self.comp_tables: dict[int, comp_tables.CompTable] = {}
         self.programs = MotionPrograms()
         self.buffer_holder: Port | None = None
         self.motors: dict[int, tuple[int, str]] = {}  # axis definitions: n -> (cs, "1000X")
@@ -361,18 +373,39 @@ class PmacController(Controller):
             raise Conflict(f"CS {cs} is running its program", pmac_error="ERR001")
         c.rotary = None
 
+    @property
+    def gather_words(self) -> int | None:
+        """Long words the gather buffer holds (None: no buffer)."""
+        return self.gather.words
+
     def define_gather(self, words: int | None) -> None:
-        """``DEFINE GATHER [n]``: with no size it takes all free memory."""
-        if self.gather_words is not None:
-            raise Conflict("a gather buffer already exists", pmac_error="ERR003")
-        free = abs(self.size_words())
+        """``DEFINE GATHER [n]`` (TSRM p307): ``n`` long words, all free memory without it; on
+        an existing buffer it rewinds the storage address (its words count as free for the
+        new size). ERR006 when memory is short, ERR003 while gathering
+        (:mod:`motionsim.sim.pmac.tasks.gather`)."""
+        self._alive()
+        free = abs(self.size_words()) + (self.gather.words or 0)
         if words is not None and words > free:
-            raise BufferFull("not enough memory for the gather buffer", pmac_error="ERR006")
-        self.gather_words = free if words is None else words
+            raise BufferFull(f"only {free} words of memory free for the gather buffer",
+                             pmac_error="ERR006")
+        self.gather.define(free if words is None else words)
+
+    def start_gather(self) -> None:
+        """``GATHER``: data gathering from the next servo cycle (sim.pmac.tasks.gather)."""
+        self._alive()
+        self.gather.start()
+
+    def end_gather(self) -> None:
+        """``ENDGATHER``."""
+        self.gather.end()
+
+    def recording(self) -> SharedRecording:
+        """What the last ``GATHER`` recorded (sim.recording; sim.pmac.tasks.gather)."""
+        return self.gather.recording().shared()
 
     def delete_gather(self) -> None:
-        """``DELETE GATHER``."""
-        self.gather_words = None
+        """``DELETE GATHER`` (TSRM p315): ERR003 while gathering."""
+        self.gather.delete()
 
     def define_lookahead(self, cs: int, segments: int, outputs: int) -> None:
         """``&cs DEFINE LOOKAHEAD segments,outputs`` (ordering: :mod:`.lookahead_buffer`)."""
@@ -556,6 +589,11 @@ class PmacController(Controller):
             raise InvalidValue(f"no program {program}", field="program", pmac_error="ERR003")
         c.program = int(program)
         c.fixed = None
+        if c.planned:  # moves a ``/`` stop kept belong to the program pointed away from
+            c.planned.clear()
+            c.calc_pos = dict(c.rest_pos)
+            if c.rotary is not None:
+                c.rotary.free_calculated()
 
     def run(self, cs: int, pointer: float | None = 0, single_step: bool = False) -> None:
         """``R`` (``S`` with ``single_step``); REST's run is ``B0 R`` (``pointer=0``).
@@ -584,7 +622,9 @@ class PmacController(Controller):
             raise Conflict("a PROG is open for entry: CLOSE first", pmac_error="ERR015")
         if c.program != 0 and not c.running:
             run = c.fixed
-            if run is None or run.number != c.program or run.finished:
+            # a program whose last lines were calculated before a ``/`` stop has not ended:
+            # its calculated moves run first (CoordSystem.stop_at_end)
+            if run is None or run.number != c.program or (run.finished and not c.planned):
                 c.fixed = self.programs.run_of(cs, int(c.program), self.log.emit, self.vars)
             else:
                 run.resume()  # after Q, A, S or a STOP: on from the program counter
@@ -674,6 +714,25 @@ class PmacController(Controller):
             return None
         return have[0], terms[0][0], terms[0][1]
 
+    def _at_one_instant(self, read: Callable[[], _T]) -> _T:
+        """Run ``read`` (reads only, no state change: a gather sample's registers) with each
+        coordinate system's axis positions computed once for the instant, not once per
+        register read."""
+        self._positions_memo = {}
+        try:
+            return read()
+        finally:
+            self._positions_memo = None
+
+    def _cs_positions(self, cs: int, t: float) -> Mapping[str, float]:
+        memo = self._positions_memo
+        if memo is None:
+            return self.coord_systems[cs].positions(t)
+        pos = memo.get(cs)
+        if pos is None:
+            pos = memo[cs] = self.coord_systems[cs].positions(t)
+        return pos
+
     def _motor_base(self, motor: int, t: float) -> float:
         """Motor ``motor``'s position from its CS axes (counts): the sum of its definition's
         terms plus its constant offset (``#3->2000Z-6000``: Z=3 puts the motor at 0, TSRM
@@ -686,9 +745,9 @@ class PmacController(Controller):
             return self.kinematics.motor_base(have[0], motor, t)
         terms = d.terms
         if len(terms) == 1:
-            return (self.coord_systems[have[0]].positions(t).get(terms[0][0], 0.0)
+            return (self._cs_positions(have[0], t).get(terms[0][0], 0.0)
                     * terms[0][1] + d.offset)
-        pos = self.coord_systems[have[0]].positions(t) if terms else {}
+        pos = self._cs_positions(have[0], t) if terms else {}
         return sum(pos.get(a, 0.0) * s for a, s in terms) + d.offset
 
     def axis_offset_changed(self, motor: int, delta: float) -> None:
@@ -758,6 +817,16 @@ class PmacController(Controller):
         last cycle) or ``F`` (following error: 0, the loop tracks perfectly ``[INF]``)."""
         if what == "F":
             return 0.0
+        memo = self._positions_memo
+        if memo is None:
+            return self._report(motor, what)
+        key = (motor, what)  # one instant's reads (_at_one_instant): each report once
+        value = memo.get(key)
+        if value is None:
+            value = memo[key] = self._report(motor, what)
+        return float(value)
+
+    def _report(self, motor: int, what: str) -> float:
         now = self.env.now
         p1 = self.motor_position(motor, now)
         if what == "P":

@@ -5,14 +5,18 @@ running as processes 1..N, and the command line as process 0 — the buffering o
 
 Config (``POST /controllers {"kind": "trio", "config": {...}}``), unknown keys refused:
 
-* ``model`` (``"mc2xx"``): the generation — number word size and HEX width, default process
-  count (:mod:`motionsim.sim.trio.card.models`: ``series2``, ``mc2xx``, ``mc4xx``);
+* ``model`` (``"mc2xx"``): the generation — number word size and HEX width, language, default
+  process count and VR / TABLE sizes (:mod:`motionsim.sim.trio.card.models`: ``series2``,
+  ``mc2xx``, ``mc4xx``, ``mc6xx``);
 * ``servo_period_ms`` (1.0): SERVO_PERIOD; moves start and end on servo periods;
 * ``axes`` (8): number of axes, 0..axes-1;
-* ``processes`` (the model's: 7 on mc2xx = MC206, 14 series2 = MC216, 22 mc4xx): BASIC
-  processes 1..processes (process 0 is the command line on every model here);
+* ``processes`` (the model's: 7 on mc2xx = MC206, 14 series2 = MC216, 22 mc4xx / mc6xx):
+  BASIC processes 1..processes (process 0 is the command line on every model here);
 * ``statement_us`` (100.0): simulated time one BASIC statement costs (spec §9.6 ``[INF]``);
-* ``vr_count`` (1024) and ``table_size`` (16384): sizes of VR() and TABLE();
+* ``vr_count`` and ``table_size`` (the model's: 1024 / 16384 on series2 and mc2xx, 64000 /
+  500000 on mc4xx, 65536 / 512000 on mc6xx): sizes of VR() and TABLE();
+* ``ethercat_slaves`` (one per axis): the slaves of the EtherCAT network ETHERCAT() reports
+  (:mod:`motionsim.sim.trio.card.fieldbus`);
 * ``speed``, ``accel``, ``decel``, ``creep``, ``units``: axis parameter defaults for all axes.
 
 The public methods act at the current simulated instant and never step the environment.
@@ -35,6 +39,7 @@ from ..errors import (
     NotSimulated,
     ParseError,
 )
+from ..recording import Recording
 from ..timing import ServoClock
 from .card.axis_status import StoredParams, axisstatus
 from .card.basic_errors import BasicError
@@ -44,6 +49,7 @@ from .card.models import model as model_named
 from .card.output import Channels
 from .card.system import SystemParams
 from .language.compiler import Code, compile_program
+from .language.functions import FunctionDef, Library, visible
 from .language.move_words import LINKED, MOVE_ARGS
 from .language.parser import parse_program
 from .language.scope import Decl, rebinding
@@ -54,6 +60,7 @@ from .motion.issue import new_move
 from .motion.mtypes import MTYPE, axes_driven
 from .run.context import Context
 from .run.process import BasicProcess
+from .run.scope import Scope
 from .terminal import CommandLine
 
 _CONFIG_DEFAULTS: dict[str, float] = {
@@ -63,6 +70,7 @@ _CONFIG_DEFAULTS: dict[str, float] = {
     "statement_us": 100.0,
     "vr_count": 1024,
     "table_size": 16384,
+    "ethercat_slaves": -1,  # -1: one per axis (sim/trio/card/fieldbus.py)
 }
 _VARIABLE = re.compile(r"^\s*(VR|TABLE|IN|OP)\s*\(\s*(\d+)\s*\)\s*$", re.I)
 _PROGRAM_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]{0,31}$")
@@ -95,7 +103,7 @@ class TrioController(Controller):
     #: written at rest stepped the demand (``axis``, ``dpos``), a following error beyond
     #: FE_LIMIT (``axis``, ``fe``), a motion error (``axis``, ``axisstatus``).
     event_types += ("setup", "datum", "soft_limit", "endmove", "following_error",
-                    "motion_error")
+                    "motion_error", "scope")
 
     def __init__(
         self, id: str, config: Mapping[str, Any] | None = None, *, log_capacity: int = 100_000
@@ -105,6 +113,8 @@ class TrioController(Controller):
         axis_defaults: dict[str, float] = {}
         self.model = model_named(self.config.get("model", DEFAULT_MODEL))
         settings["processes"] = self.model.processes
+        settings["vr_count"] = self.model.vr_count
+        settings["table_size"] = self.model.table_size
         for key, value in self.config.items():
             if key == "model":
                 continue
@@ -122,6 +132,8 @@ class TrioController(Controller):
         self.n_processes = int(settings["processes"])
         self.vr_count = int(settings["vr_count"])
         self.table_size = int(settings["table_size"])
+        slaves = int(settings["ethercat_slaves"])
+        self.ethercat_slaves = self.n_axes if slaves < 0 else slaves
         Axis(0, self.env, self.clock, axis_defaults)  # validates the axis defaults
         self._axis_defaults = axis_defaults
         self.channels = Channels(self.log)
@@ -136,6 +148,7 @@ class TrioController(Controller):
         self.programs: dict[str, tuple[str, Code]] = {}
         self.parsed: dict[str, Program] = {}  # for INCLUDE (sim/trio/language/declarations.py)
         self.declared: dict[str, Decl] = {}  # GLOBAL / CONSTANT names that have run
+        self.libraries: dict[str, Library] = {}  # stored BASIC libraries (language/functions)
         self.declared_version = 0
         self.basic: dict[int, BasicProcess] = {}
         self.io = IoImage(self.log)
@@ -146,6 +159,11 @@ class TrioController(Controller):
             ax.stored = st
         self.command_line = CommandLine(self)
         self._move_waits: dict[int, Waiter] = {}
+        old_scope = getattr(self, "scope", None)
+        if old_scope is not None:
+            old_scope.detach()
+        #: SCOPE / TRIGGER sampling into TABLE (sim.trio.run.scope).
+        self.scope = Scope(self)
 
     def _axis_error(self, n: int) -> None:
         """An error condition on axis ``n``: a motion error if AXISSTATUS meets ERRORMASK."""
@@ -163,6 +181,15 @@ class TrioController(Controller):
         self.buffers.shutdown()
         self._build()
         self.log.emit("reset")
+
+    def modbus_registers(self) -> str:
+        """What Modbus holding register n is: ``"VR"`` (VR(n), the default) or, after
+        ``ETHERNET(2, slot, 9, 1)``, ``"TABLE"`` (TABLE(n); spec trio.md §3.3, M224-550)."""
+        return "TABLE" if self.system.comms.ethernet.get(9) == 1.0 else "VR"
+
+    def recording(self) -> Recording:
+        """What the last SCOPE capture put in TABLE (sim.recording; sim.trio.run.scope)."""
+        return self.scope.recording().shared()
 
     def status(self) -> dict[str, Any]:
         return {
@@ -313,6 +340,7 @@ class TrioController(Controller):
         stored = dict(self.parsed)
         declared = dict(self.declared)
         version = self.declared_version
+        functions = visible(self.libraries, replacing=key)
 
         def compile_text(text: str) -> Precompiled:
             try:
@@ -321,7 +349,8 @@ class TrioController(Controller):
                 exc.details.setdefault("program", key)
                 raise
             code = compile_program(
-                parsed, key, lambda n: parsed if n == key else stored.get(n), declared, version)
+                parsed, key, lambda n: parsed if n == key else stored.get(n), declared, version,
+                functions)
             used = {n: stored.get(n) for n in code.includes}
             return Precompiled(parsed, code, version, used)
 
@@ -340,7 +369,7 @@ class TrioController(Controller):
             )
         if pre is not None and pre.version == self.declared_version and all(
             self.parsed.get(n) is p for n, p in pre.used.items()
-        ):
+        ) and key not in self.libraries:
             parsed, code = pre.parsed, pre.code
         else:
             try:
@@ -349,8 +378,9 @@ class TrioController(Controller):
                 exc.details.setdefault("program", key)
                 raise
             code = self._compile(key, parsed, {key: parsed})
+        library = code.library
         dependants = {
-            other: self._compile(other, self.parsed[other], {key: parsed})
+            other: self._compile(other, self.parsed[other], {key: parsed}, (key, library))
             for other, (_text, other_code) in self.programs.items()
             if key in other_code.includes and other in self.parsed
         }
@@ -358,15 +388,50 @@ class TrioController(Controller):
         self.parsed[key] = parsed
         for other, other_code in dependants.items():
             self.programs[other] = (self.programs[other][0], other_code)
+        if library is not None or self.libraries.pop(key, None) is not None:
+            if library is not None:
+                self.libraries[key] = library
+            self.declared_version += 1  # programs RUN from now on see the new functions
 
-    def _compile(self, key: str, parsed: Program, pending: dict[str, Program]) -> Code:
-        """Compile program ``key`` against the stored programs (``pending`` first) and the
-        GLOBAL / CONSTANT names declared so far."""
+    def check_program(self, name: str, text: str) -> list[ParseError | NotSimulated]:
+        """Every error storing ``text`` as program ``name`` would meet, in line order, and
+        nothing stored: a line that does not parse is left out and the rest still parsed, a
+        statement that does not compile is left out and the rest still compiled (the check
+        tool, ``motionsim check``). Errors after the first may follow from it (a FOR left out
+        makes its NEXT a NEXT without FOR)."""
+        key = self._name(name)
+        errors: list[ParseError | NotSimulated] = []
+        parsed = parse_program(text, self.model.name, errors=errors)
+        compiled: list[ParseError] = []
+
+        def resolve(n: str) -> Program | None:
+            return parsed if n == key else self.parsed.get(n)
+
+        compile_program(parsed, key, resolve, self.declared, self.declared_version,
+                        visible(self.libraries, replacing=key), errors=compiled)
+        errors.extend(compiled)
+        for err in errors:
+            err.details.setdefault("program", key)
+        return sorted(errors, key=lambda e: (e.details.get("program") != key,
+                                             int(e.details.get("line") or 0),
+                                             int(e.details.get("column") or 0)))
+
+    def _compile(self, key: str, parsed: Program, pending: dict[str, Program],
+                 library: tuple[str, Library | None] | None = None) -> Code:
+        """Compile program ``key`` against the stored programs (``pending`` first), the
+        GLOBAL / CONSTANT names declared so far and the functions of the stored libraries
+        (``library``: a library being stored, ``(name, its functions or None)``)."""
 
         def resolve(name: str) -> Program | None:
             return pending.get(name) or self.parsed.get(name)
 
-        return compile_program(parsed, key, resolve, self.declared, self.declared_version)
+        replacing, new = library if library is not None else (key, None)
+        return compile_program(parsed, key, resolve, self.declared, self.declared_version,
+                               visible(self.libraries, replacing, new))
+
+    def functions(self) -> dict[str, FunctionDef]:
+        """The functions of every stored BASIC library (the command line calls them too)."""
+        return visible(self.libraries)
 
     def declare(self, name: str, decl: Decl) -> None:
         """GLOBAL / CONSTANT ran: programs compiled (or RUN) from now on see ``name``.
@@ -394,6 +459,8 @@ class TrioController(Controller):
             if proc.program == key and proc.state != "stopped":
                 raise Conflict(f"program {key} is running in process {p}")
         del self.programs[key]
+        if self.libraries.pop(key, None) is not None:
+            self.declared_version += 1
 
     def process_number(self, p: Any, allow_zero: bool = False) -> int:
         lo = 0 if allow_zero else 1
@@ -421,6 +488,9 @@ class TrioController(Controller):
             if p in busy:
                 raise Conflict(f"process {p} is already running {self.basic[p].program}")
         text, code = self.programs[key]
+        if code.library is not None:
+            raise InvalidValue(f"{key} is a BASIC library: its FUNCTIONs are called from other "
+                               "programs, it cannot be RUN", field="name")
         if code.shared_version != self.declared_version and key in self.parsed:
             code = self._compile(key, self.parsed[key], {})  # new GLOBAL / CONSTANT names
             self.programs[key] = (text, code)

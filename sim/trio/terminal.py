@@ -127,7 +127,7 @@ class CommandLine:
         try:
             ctrl = self.ctrl
             code = compile_program(parse_program(reply.command, ctrl.model.name),
-                                   shared=ctrl.declared)
+                                   shared=ctrl.declared, functions=ctrl.functions())
         except (ParseError, NotSimulated) as exc:
             column = exc.details.get("column")
             col = f" at column {column}" if column else ""

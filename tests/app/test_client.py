@@ -129,3 +129,23 @@ def test_a_paced_host_started_with_start_releases_its_holder_when_its_code_ends(
     with _pytest.raises(RuntimeError, match="host bug"):
         done.result(timeout=30)
     host.close()
+
+
+def test_recordings_through_the_client_page_to_the_whole_recording(motionsim):
+    """``recording`` pages through GET .../gather (PMAC) and .../scope (Trio) to every sample
+    (docs/API.md "Recordings"): here more samples than one page of the resource holds."""
+    ms = motionsim
+    for command in ("WY:$1000,9", "I5001=$001000 I5050=1 I5049=1 I5000=0",
+                    "DEFINE GATHER 60000", "GATHER"):
+        assert ms.terminal("pmac", command).error is None
+    ms.advance("pmac", 60.0)  # 60 000 samples (one long word each) fill the buffer: stopped
+    rec = ms.recording("pmac")
+    assert rec["running"] is False and rec["total"] == 60000
+    assert len(rec["columns"]["cycle"]) == 60000 and set(rec["columns"]["I5001"]) == {9.0}
+    assert rec["columns"]["cycle"] == list(range(rec["columns"]["cycle"][0],
+                                                 rec["columns"]["cycle"][0] + 60000))
+    assert ms.terminal("trio", "SCOPE(ON, 1, 0, 10, VR(1))").error is None
+    assert ms.terminal("trio", "TRIGGER").error is None
+    ms.advance("trio", 0.1)
+    scope = ms.recording("trio", "scope")
+    assert scope["kind"] == "scope" and scope["total"] == 10

@@ -222,3 +222,17 @@ def test_the_package_imports_itself_by_relative_names():
     assert bad == []
     edges = _pmac_edges()
     assert ("host", "language") in edges and ("controller", "lookahead") in edges
+
+
+def test_no_command_line_imports_the_bare_layer_names():
+    """A ``python -c "from app.cli import main"`` run from the source tree imports ``app`` as
+    a top-level package, whose relative imports then reach beyond it: commands run
+    ``python -m motionsim`` (or the ``motionsim`` script)."""
+    import re
+
+    bare = re.compile(r"""["']\s*(?:from|import)\s+(?:app|sim|api)\b""")
+    bad = [f"{p.relative_to(ROOT)}:{n}" for tree in ("tests", "bench", "tools", "examples")
+           for p in sorted((ROOT / tree).rglob("*.py")) if p != Path(__file__).resolve()
+           for n, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1)
+           if bare.search(line) and "user's own" not in line]
+    assert bad == []

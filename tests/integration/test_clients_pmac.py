@@ -56,7 +56,7 @@ class Service:
 @contextmanager
 def motionsim_serve(*args: str) -> Iterator[Service]:
     """Run ``motionsim serve --port 0 --clock virtual ARGS`` until it prints its HTTP line."""
-    cmd = [sys.executable, "-c", "from app.cli import main; main()",
+    cmd = [sys.executable, "-m", "motionsim",
            "serve", "--port", "0", "--clock", "virtual", *args]
     env = {**os.environ, "PYTHONUNBUFFERED": "1"}
     proc = subprocess.Popen(cmd, cwd=ROOT, env=env, stdout=subprocess.PIPE,

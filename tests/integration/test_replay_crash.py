@@ -20,7 +20,7 @@ GETRESPONSE = 0xBF
 
 
 def _replay(path: Path) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-c", "from app.cli import main; main()", "replay",
+    return subprocess.run([sys.executable, "-m", "motionsim", "replay",
                            str(path)], cwd=ROOT, capture_output=True, text=True, timeout=120)
 
 

@@ -16,8 +16,9 @@ Timing rules (spec §9.1; TSRM p188-189, p477; PUM p169, p175; Quick Ref p49):
 * ``DWELL t`` and ``DELAY t`` take t ms (DELAY is a zero-distance move, minimum Ta); RAPID
   moves each axis at Ixx22 counts/ms with Ixx21 ms of acceleration, the longest axis setting
   the time, never blended ``[INF]`` for the axis→motor mapping (motor 1's values are used);
-* circles (CIRCLE1/2 with Isx13 > 0) take arc length / F; the commanded position along the arc
-  is approximated by the chord in :func:`position_at` ``[INF]``.
+* circles (CIRCLE1/2 with Isx13 > 0) take arc length / F and their commanded positions lie
+  on the arc (:class:`Arc`; :mod:`motionsim.sim.pmac.modes.linear` adds the arc's offset
+  from the chord to the blended chord profile of :func:`position_at`).
 
 Positions are computed from the profile on demand: nothing runs per servo cycle. Ramps are
 modelled with constant acceleration (the S-curve shape of TS is not modelled, only its time).
@@ -71,41 +72,93 @@ def feed_time_s(distance: float, feedrate: float, isx90_ms: float) -> float:
     return distance / feedrate * isx90_ms / 1000.0
 
 
+class Arc:
+    """A CIRCLE move's arc in the XY plane: centre, radius, start angle and signed sweep
+    (radians, negative clockwise: CIRCLE1). ``point(f)`` is the point a fraction ``f`` of the
+    way along it."""
+
+    __slots__ = ("cx", "cy", "r", "a0", "sweep")
+
+    def __init__(self, cx: float, cy: float, r: float, a0: float, sweep: float) -> None:
+        self.cx, self.cy, self.r, self.a0, self.sweep = cx, cy, r, a0, sweep
+
+    @property
+    def length(self) -> float:
+        return self.r * abs(self.sweep)
+
+    def point(self, f: float) -> tuple[float, float]:
+        a = self.a0 + self.sweep * f
+        return self.cx + self.r * math.cos(a), self.cy + self.r * math.sin(a)
+
+    def tangent(self, f: float) -> tuple[float, float]:
+        """d point / d f."""
+        a = self.a0 + self.sweep * f
+        k = self.r * self.sweep
+        return -k * math.sin(a), k * math.cos(a)
+
+
+def arc(
+    start: Mapping[str, float],
+    end: Mapping[str, float],
+    centre: tuple[float, float] | None,
+    radius: float | None,
+    clockwise: bool,
+    centre_absolute: bool = False,
+) -> Arc | None:
+    """The arc in the XY plane from ``start`` to ``end``, or None when there is none (a zero
+    radius, or the R form with start = end: the chord is used ``[INF]``).
+
+    ``centre`` is the I,J vector, from the start point (``INC(R)``, the default) or from the
+    XYZ origin with ``centre_absolute`` (``ABS(R)``, TSRM p442: "radius vector"); ``radius``
+    the R form (R > 0 the short arc, R < 0 the long one; the centre is to the right of the
+    chord for a short clockwise arc). Same start and end with a centre vector is a full
+    circle (seed 000: ``I100`` with no axis words).
+    """
+    x0, y0 = start.get("X", 0.0), start.get("Y", 0.0)
+    x1, y1 = end.get("X", x0), end.get("Y", y0)
+    if centre is not None:
+        cx, cy = (centre if centre_absolute else (x0 + centre[0], y0 + centre[1]))
+        r = math.hypot(x0 - cx, y0 - cy)
+        if r == 0:
+            return None
+        a0 = math.atan2(y0 - cy, x0 - cx)
+        a1 = math.atan2(y1 - cy, x1 - cx)
+        sweep = ((a0 - a1) if clockwise else (a1 - a0)) % (2 * math.pi)
+        if sweep < 1e-12:
+            sweep = 2 * math.pi
+        return Arc(cx, cy, r, a0, -sweep if clockwise else sweep)
+    if not radius:
+        return None
+    dx, dy = x1 - x0, y1 - y0
+    c = math.hypot(dx, dy)
+    if c == 0:
+        return None
+    r = max(abs(radius), c / 2)  # an R shorter than half the chord: a half circle [INF]
+    h = math.sqrt(max(0.0, r * r - c * c / 4)) / c
+    # right of the chord: (dy, -dx); short CW arc and long CCW arc have their centre there
+    side = 1.0 if (radius > 0) == clockwise else -1.0
+    cx, cy = (x0 + x1) / 2 + side * h * dy, (y0 + y1) / 2 - side * h * dx
+    ang = 2 * math.asin(min(1.0, c / (2 * r)))
+    if radius < 0:
+        ang = 2 * math.pi - ang
+    return Arc(cx, cy, r, math.atan2(y0 - cy, x0 - cx), -ang if clockwise else ang)
+
+
 def arc_length(
     start: Mapping[str, float],
     end: Mapping[str, float],
     centre: tuple[float, float] | None,
     radius: float | None,
     clockwise: bool,
+    centre_absolute: bool = False,
 ) -> float:
-    """Arc length in the XY plane from ``start`` to ``end``.
-
-    ``centre`` is the I,J vector from the start point (incremental, the default); ``radius``
-    the R form (R > 0 short arc, R < 0 long arc). Same start and end with a centre vector is a
-    full circle (seed 000: ``I100`` with no axis words).
-    """
-    x0, y0 = start.get("X", 0.0), start.get("Y", 0.0)
-    x1, y1 = end.get("X", x0), end.get("Y", y0)
-    if centre is not None:
-        cx, cy = x0 + centre[0], y0 + centre[1]
-        r = math.hypot(x0 - cx, y0 - cy)
-        if r == 0:
-            return math.hypot(x1 - x0, y1 - y0)
-        a0 = math.atan2(y0 - cy, x0 - cx)
-        a1 = math.atan2(y1 - cy, x1 - cx)
-        sweep = (a0 - a1) if clockwise else (a1 - a0)
-        sweep %= 2 * math.pi
-        if sweep < 1e-12:
-            sweep = 2 * math.pi
-        return r * sweep
-    if radius:
-        c = math.hypot(x1 - x0, y1 - y0)
-        r = abs(radius)
-        ang = 2 * math.asin(min(1.0, c / (2 * r)))
-        if radius < 0:
-            ang = 2 * math.pi - ang
-        return r * ang
-    return math.hypot(x1 - x0, y1 - y0)
+    """Arc length in the XY plane from ``start`` to ``end`` (:func:`arc`); the chord when
+    there is no arc."""
+    a = arc(start, end, centre, radius, clockwise, centre_absolute)
+    if a is not None:
+        return a.length
+    return math.hypot(end.get("X", start.get("X", 0.0)) - start.get("X", 0.0),
+                      end.get("Y", start.get("Y", 0.0)) - start.get("Y", 0.0))
 
 
 def ramp_position(x_s: float, v0: float, v1: float, tau: float, length: float) -> float:
@@ -167,7 +220,9 @@ __all__ = [
     "FRAX",
     "MAX_MOVE_S",
     "MIN_MOVE_S",
+    "Arc",
     "accel_time_s",
+    "arc",
     "arc_length",
     "clamp_move_time",
     "feed_time_s",

@@ -29,6 +29,7 @@ from ..language.compiled import (
     OP_DELAY,
     OP_DWELL,
     OP_FRAX,
+    OP_HOME,
     OP_MODAL,
     OP_MODE,
     OP_MOVE,
@@ -39,6 +40,7 @@ from ..language.compiled import (
 from ..language.expressions import constant
 from ..language.fast_line import fast_compile
 from ..language.flow_statements import FLOW_TYPES
+from ..language.motor_statements import HomeList
 from ..language.parser import parse_program_line
 from ..language.ranges import RangeAssign
 
@@ -104,6 +106,11 @@ def compile_statements(text: str, stmts: list[Any]) -> ProgramLine:
             flush()
             ops.append((OP_PSET, s.axes))
             words += len(s.axes) - 1  # one word per value, like axis words [INF]
+        elif isinstance(s, HomeList):
+            flush()
+            ops.append((OP_HOME, s.motors, s.zero))
+            moves += 1
+            words += len(s.motors) - 1  # one word per motor, like axis words [INF]
         elif isinstance(s, _MARKS):
             flow = tuple(stmts)  # labels and control flow: split by .flow when run
             jumps = jumps or isinstance(s, FLOW_TYPES)
@@ -200,6 +207,7 @@ __all__ = [
     "OP_MODE",
     "OP_MOVE",
     "OP_FRAX",
+    "OP_HOME",
     "OP_PSET",
     "OP_SEND",
     "ProgramLine",

@@ -326,6 +326,18 @@ class RotaryBuffer:
     #: on the streaming path).
     take_simple = line_calculated
 
+    def clear(self) -> None:
+        """``CLEAR`` with the rotary buffers open: erase this buffer's lines not yet
+        calculated (those planning has calculated run on; a line whose control flow is being
+        followed stays whole) and re-evaluate BREQ as at ``OPEN ROT`` ``[INF]``: the Turbo
+        SRM's CLEAR page was not found (spec §11.12); the card's CLEAR "erases the open
+        buffer" (spec §11.8) and a PComm32 host sends ``OPEN ROT`` ``CLEAR`` before
+        streaming a new program."""
+        keep = 1 if self._run is not None and self.pending else 0
+        while len(self.pending) > keep:
+            self.used_words -= self.pending.pop()[1].words
+        self.reevaluate()
+
     def free_calculated(self) -> None:
         """Release every calculated line (motion stopped, or lookahead discarded by ``A``)."""
         while self.calculated:

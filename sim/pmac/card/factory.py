@@ -7,7 +7,8 @@ dls-pmacanalyse ships (``factorySettings_pmac.pmc``: a MACRO Turbo PMAC2 reset w
 departures (``MANUAL_OVERRIDES`` / ``CARD_OVERRIDES``):
 
 * where the dump and the Turbo SRM disagree the manual wins (spec §11.6): I5 = 1 (TSRM p39),
-  I17 = 10 (TSRM p46), I64 = 0 (TSRM p67), Isx98 = 1000 (TSRM p193);
+  I17 = 10 (TSRM p46), I64 = 0 (TSRM p67), I5049 = 1 (TSRM p171: gather every servo cycle),
+  Isx98 = 1000 (TSRM p193);
 * I4 = 0: no checksums (the dump's I4 = 1 is the capture connection's, spec §11.6 ``[INF]``);
 * I10 = 3 713 707 (442.708 µs servo cycle), the simulator's clock (spec §6) on which all of its
   timing is calibrated; the dump has 3 713 991 and TSRM p216 quotes 3 713 992 for the Turbo
@@ -75,6 +76,7 @@ MANUAL_OVERRIDES: Final[dict[int, tuple[float, str]]] = {
     5: (1, "TSRM p39"),
     17: (10, "TSRM p46"),
     64: (0, "TSRM p67"),
+    5049: (1, "TSRM p171"),
     **{5000 + 100 * cs + 98: (1000, "TSRM p193") for cs in range(1, 17)},
 }
 

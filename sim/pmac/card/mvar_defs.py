@@ -68,11 +68,13 @@ SELF: Final = MDef("*")
 
 @dataclass(frozen=True, slots=True)
 class MDefine:
-    """The on-line command ``M{first}[..{last}]->{definition}``."""
+    """The on-line command ``M{first}[..{last}]->{definition}`` (``kind`` ``"L"``: an
+    L-variable definition of compiled PLCs, ``L35->Y:$078802,2,1``, same syntax)."""
 
     first: int
     last: int
     definition: MDef
+    kind: str = "M"
 
 
 #: Where a definition's text after ``->`` ends: at a blank (``M1->X:$10,8,1 M2->*``); blanks

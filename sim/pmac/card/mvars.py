@@ -50,6 +50,10 @@ class MVariables:
 
     def __init__(self) -> None:
         self.defs: dict[int, MDef] = {}
+        #: L-variable definitions (``L{n}->``): the variables of compiled PLCs, which the PC
+        #: compiler resolves to these addresses; motionsim interprets PLCC source, so it
+        #: keeps them here (not in card memory, where the card has none) ``[INF]``.
+        self.ldefs: dict[int, MDef] = {}
         self.words: dict[tuple[str, int], int] = {}
         self.longs: dict[tuple[str, int], float] = {}  # DP / F words
         #: ``{(space, address): Register}`` — set by the controller (mapping table).
@@ -60,21 +64,27 @@ class MVariables:
     def clear(self) -> None:
         """Factory state: all self-referenced, memory zero, no user buffer."""
         self.defs.clear()
+        self.ldefs.clear()
         self.words.clear()
         self.longs.clear()
         self.ubuffer = None
 
     # -- definitions ------------------------------------------------------------------------
 
-    def define(self, first: int, last: int, d: MDef) -> None:
+    def define(self, first: int, last: int, d: MDef, kind: str = "M") -> None:
+        defs = self.defs if kind == "M" else self.ldefs
         for n in range(first, last + 1):
             if d is SELF or d.kind == "*":
-                self.defs.pop(n, None)
+                defs.pop(n, None)
             else:
-                self.defs[n] = d
+                defs[n] = d
 
     def definition(self, n: int) -> MDef:
         return self.defs.get(n, SELF)
+
+    def l_definition(self, n: int) -> MDef:
+        """L-variable ``n``'s definition (``*``: none)."""
+        return self.ldefs.get(n, SELF)
 
     # -- words ------------------------------------------------------------------------------
 
@@ -82,6 +92,30 @@ class MVariables:
         """May a write store anything at ``address``? (not program memory outside the user
         buffer, :mod:`.memory_map`)."""
         return memory_map.writable(address, self.ubuffer)
+
+    def holds(self, space: str, address: int) -> bool:
+        """Does the model give the ``space`` (``X``, ``Y`` or ``D`` for a 48-bit long) word at
+        ``address`` a meaning: a mapped register, an M-variable definition word, a word an
+        M-variable points at, the user buffer, or a word the host or a program wrote? Data
+        gathering (:mod:`motionsim.sim.pmac.tasks.gather`) refuses a source that is none of
+        these rather than record zeros the card would not have."""
+        if (space, address) in self.registers:
+            return True
+        halves = ("X", "Y") if space == "D" else (space,)
+        if space == "D" and any((h, address) in self.registers for h in halves):
+            return True
+        if 0 <= address - memory_map.MDEF_BASE < memory_map.N_MDEFS:
+            return True
+        if self.ubuffer is not None and self.ubuffer[0] <= address <= self.ubuffer[1]:
+            return True
+        if any((h, address) in self.words for h in halves):
+            return True
+        for d in self.defs.values():
+            if d.address == address and (
+                d.kind == space or d.kind in ("D", "L") or space == "D"
+            ):
+                return True
+        return False
 
     def word(self, space: str, address: int) -> int:
         """The 24-bit X or Y word at ``address``."""

@@ -13,11 +13,18 @@ checked against public definition files that carry them (``M161->D:$000088``,
 | ``Y:$0000C0 + $80·(xx−1)`` | Mxx40..49 | motor status word 2 (Mxx45: bit 10, home complete) |
 | ``D:$000088 + $80·(xx−1)`` | Mxx61 | commanded position, 1/(Ixx08·32) counts |
 | ``D:$00008B + $80·(xx−1)`` | Mxx62 | actual position, 1/(Ixx08·32) counts (writable) |
+| ``D:$000091 + $80·(xx−1)`` | | following error, 1/(Ixx08·32) counts (0: the loop tracks exactly) |
 | ``X:$00009D + $80·(xx−1)`` | Mxx66 | actual velocity, 1/(Ixx09·32) counts per servo cycle |
 | ``L:$0000D7 + $80·(xx−1)`` | Mxx72 | variable jog target or distance, counts (``J=*``) |
 | ``X:$002040 + $100·(x−1)`` | Msx80.. bits | CS status word 1 (``&x??`` digits 1–6) |
 | ``Y:$00203F + $100·(x−1)`` | | CS status word 2 (digits 7–12) |
 | ``Y:$002040 + $100·(x−1)`` | | CS status word 3 (digits 13–18) |
+
+The following-error register (motor base + $11, a 48-bit fixed-point word) is where
+Delta Tau's gathering tools point a gather source for "motor following error", beside
+commanded position (+$08), actual position (+$0B) and unfiltered actual velocity (+$1D, X)
+(dls-pmac-control ``gatherchannel.py``, spec pmac.md §11.8); data gathering
+(:mod:`motionsim.sim.pmac.tasks.gather`) reads these registers through card memory.
 
 Timing registers (the standard Geo Brick M-variable file's definitions; a CPU-load PLC reads
 M70..M73 and computes duty cycles from them), in DSP clock cycles / 2 at ``CPU_HZ``:
@@ -102,8 +109,12 @@ def table(card: Card, set_position: Callable[[int, float], None] | None) -> dict
         def velocity(xx: int = xx) -> int:
             return round(card.motor_report(xx, "V") * card.ivar(100 * xx + 9) * 32)
 
+        def following_error(xx: int = xx) -> int:
+            return round(card.motor_report(xx, "F") * card.ivar(100 * xx + 8) * 32)
+
         out[("D", 0x88 + base)] = Register(position)
         out[("D", 0x8B + base)] = Register(position, set_actual)
+        out[("D", 0x91 + base)] = Register(following_error)
         out[("X", 0x9D + base)] = Register(velocity)
     _timing(card, out)
     for x in range(1, N_CS + 1):

@@ -79,6 +79,8 @@ class Variables:
         self.p: dict[int, float] = {}
         self.q: dict[tuple[int, int], float] = {}
         self.m: dict[int, float] = {}
+        #: Undefined L-variables (compiled PLCs' integers, no ``L{n}->``) as plain values.
+        self.l: dict[int, float] = {}
         #: M-variable definitions and the memory they point into.
         self.mvars = MVariables()
         self._on_m_write = on_m_write
@@ -95,6 +97,7 @@ class Variables:
         self.p.clear()
         self.q.clear()
         self.m.clear()
+        self.l.clear()
         self.mvars.clear()
         if self.timers is not None:
             self.timers.clear()
@@ -120,6 +123,9 @@ class Variables:
         if kind == "M":
             d = self.mvars.defs.get(n)
             return self.m.get(n, 0.0) if d is None else self.mvars.read(d)
+        if kind == "L":
+            d = self.mvars.ldefs.get(n)
+            return self.l.get(n, 0.0) if d is None else self.mvars.read(d)
         return self.I(n)
 
     def angles_in_degrees(self) -> bool:
@@ -143,6 +149,12 @@ class Variables:
             else:
                 value = self.mvars.write(d, value)
             self._on_m_write(n, value, sync)
+        elif kind == "L":  # a compiled PLC's L-variable: through its definition, or plain
+            d = self.mvars.ldefs.get(n)
+            if d is None:
+                self.l[n] = float(_round_m(value))
+            else:
+                self.mvars.write(d, value)
         elif not locked(n, self.I(41)):
             if n in TIMER_NUMBERS and self.timers is not None:
                 value = self.timers.write(n, value)

@@ -31,6 +31,7 @@ from typing import TYPE_CHECKING, Any, Final
 from ...errors import Conflict, InvalidValue
 from ..card import (
     card_commands,
+    comp_tables,
     macro_station,
     memory_commands,
     mvar_defs,
@@ -160,10 +161,18 @@ def _cs(c: Call) -> Any:
 
 
 def clear(c: Call, stmt: plc_st.Clear) -> None:
-    """``CLEAR``: erase the open fixed buffer."""
-    if c.ctl.programs.editing(c.port) is None:
-        raise CommandError("ERR005")  # CLEAR needs an open buffer [INF]
-    c.ctl.programs.clear()
+    """``CLEAR``: erase the open fixed buffer or, with the rotary buffers open on this port,
+    the addressed CS's rotary lines not yet calculated (:meth:`RotaryBuffer.clear`)."""
+    ctl = c.ctl
+    if ctl.programs.editing(c.port) is not None:
+        ctl.programs.clear()
+        return
+    if c.port is not None and ctl.buffer_holder is c.port and ctl.rotary_open():
+        rot = _cs(c).rotary
+        if rot is not None:
+            rot.clear()
+        return
+    raise CommandError("ERR005")  # CLEAR needs an open buffer [INF]
 
 
 # -- reports --------------------------------------------------------------------------------
@@ -228,9 +237,11 @@ def indirect_query(c: Call, stmt: ranges.IndirectQuery) -> None:
 def m_definition_query(c: Call, stmt: st.MDefinitionQuery) -> None:
     """``M1->``: one definition per line; I9 bit 0 = 1: as a statement ``M1->Y:$78802,8``."""
     full = int(c.ctl.vars.I(9)) & 1
+    mvars = c.ctl.vars.mvars
     for n in stmt.numbers():
-        text = mvar_defs.report(c.ctl.vars.mvars.definition(n))
-        c.out.append(f"M{n}->{text}" if full else text)
+        d = mvars.definition(n) if stmt.kind == "M" else mvars.l_definition(n)
+        text = mvar_defs.report(d)
+        c.out.append(f"{stmt.kind}{n}->{text}" if full else text)
 
 
 # -- variables ------------------------------------------------------------------------------
@@ -306,12 +317,14 @@ TABLE: Final[tuple[Command, ...]] = (
     Command(st.AddressMotor, address_motor, report=True, with_plc_open=True),
     Command(motor_st.MotorGroup, motor_group),
     *(Command(t, motor_command) for t in motor_st.MOTOR_TYPES),
-    Command(motor_st.HomeList, home_list, program_form=True),
+    Command(motor_st.HomeList, home_list),
     Command(axdef.AxisDefinition, axis_definition, report=lambda s: s.definition is None),
     Command(st.DefineRotary, lambda c, s: c.ctl.define_rotary(c.state["cs"], s.words)),
     Command(st.DeleteRotary, _of("delete_rotary")),
     Command(st.DefineGather, lambda c, s: c.ctl.define_gather(s.words)),
     Command(st.DeleteGather, lambda c, s: c.ctl.delete_gather()),
+    Command(st.Gather, lambda c, s: c.ctl.start_gather()),
+    Command(st.EndGather, lambda c, s: c.ctl.end_gather()),
     Command(st.DefineLookahead,
             lambda c, s: c.ctl.define_lookahead(c.state["cs"], s.segments, s.outputs)),
     Command(st.DeleteLookahead, _of("delete_lookahead")),
@@ -326,6 +339,8 @@ TABLE: Final[tuple[Command, ...]] = (
     Command(st.Quit, _of("quit"), with_plc_open=True),
     Command(st.MFlush, _of("mflush"), with_plc_open=True),
     Command(st.Hold, lambda c, s: _cs(c).hold(), with_plc_open=True),
+    Command(st.StopAtEnd, lambda c, s: _cs(c).stop_at_end(), with_plc_open=True),
+    Command(st.QuickStop, lambda c, s: _cs(c).quick_stop(), with_plc_open=True),
     Command(st.Abort, _of("abort"), with_plc_open=True),
     Command(st.Query, query, report=True, with_plc_open=True),
     Command(st.FeedOverride, lambda c, s: _cs(c).set_feed_override(s.percent),
@@ -342,7 +357,7 @@ TABLE: Final[tuple[Command, ...]] = (
             lambda c, s: c.out.extend(list_commands.run(s, c.ctl, _need_port(c))),
             report=True, with_plc_open=True),
     Command(mvar_defs.MDefine,
-            lambda c, s: c.ctl.vars.mvars.define(s.first, s.last, s.definition)),
+            lambda c, s: c.ctl.vars.mvars.define(s.first, s.last, s.definition, s.kind)),
     Command(st.ProgramCounter,
             lambda c, s: c.out.append(program_counter.report(s, c.ctl, c.state["cs"])),
             report=True, with_plc_open=True),
@@ -360,6 +375,10 @@ TABLE: Final[tuple[Command, ...]] = (
     Command(plc_st.DeletePlcc, lambda c, s: c.ctl.plcs.delete_compiled(s.numbers)),
     Command(plc_st.Clear, clear),
     Command(card_words.DeleteTrace, nothing),
+    Command(comp_tables.DefineComp,
+            lambda c, s: comp_tables.define(c.ctl, s, c.state["motor"], c.state)),
+    Command(comp_tables.DeleteComp,
+            lambda c, s: comp_tables.delete(c.ctl, c.state["motor"], c.state)),
     Command(user_buffer.DefineUbuffer, lambda c, s: user_buffer.define(c.ctl, s)),
     Command(user_buffer.DeleteAll, lambda c, s: user_buffer.delete_all(c.ctl)),
     Command(card_words.OpenKinematic, lambda c, s: kin.open_kinematic(c.ctl, s, _need_port(c))),

@@ -16,8 +16,8 @@ Forms (spec pmac.md §11.8; the Turbo SRM LIST pages were not found, §11.12):
   last line of a non-empty one is ERR003 as below;
 * ``LIST PLCC n`` — ERR003: a compiled PLC is machine code on the card, with no text to list
   ``[INF]`` (the SRM has no LIST PLCC);
-* ``LIST GATHER`` — the gather buffer as 12-hex-digit words (DPC ``gather.py``); gathering
-  itself is not simulated, so a defined buffer lists no words.
+* ``LIST GATHER`` — the gather buffer as 12-hex-digit long words in memory order
+  (:meth:`motionsim.sim.pmac.tasks.gather.Gather.listing`; DPC ``gather.py``).
 
 An empty or missing buffer (other than a kinematic one), a start beyond the last line, a PLC
 number above 31: ERR003 ``[INF]`` (the end of dls-pmacanalyse's chunked read).
@@ -58,9 +58,7 @@ def run(cmd: ListBuffer, ctl: PmacController, port: Port) -> list[str]:
         entries = listing.entries((line.text for _, line in rot.pending), end=None)
         return listing.window(entries, cmd.start, cmd.length) or []
     if buffer == "GATHER":
-        if ctl.gather_words is None:
-            raise _err("no gather buffer is defined (DEFINE GATHER)")
-        return []  # data gathering is not simulated: the buffer holds no samples
+        return ctl.gather.listing()
     if buffer in ("FORWARD", "INVERSE"):
         cs = port.state["cs"]
         lines = ctl.programs.programs.get(buffer_key(cs, buffer == "INVERSE")) or ()

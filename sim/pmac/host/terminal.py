@@ -30,8 +30,10 @@ from typing import TYPE_CHECKING, Any
 from ...controller import Port
 from ...errors import MotionSimError, NotSimulated, ParseError
 from ..buffers.program import compile_statements
+from ..card import comp_tables
 from ..language import statements as st
 from ..language.parser import parse_line
+from ..language.plc_parser import parse_plc_line
 from . import commands, not_simulated
 from .commands import CommandError
 from .control_chars import ControlCharacters, split_controls
@@ -97,11 +99,20 @@ class Terminal:
                 return "\r".join(out), error
             return "\r".join(out), None
         ctl = self.ctl
+        if comp_tables.FILLING in port.state:  # DEFINE COMP: these are its entries
+            try:
+                comp_tables.fill(ctl, port.state, text)
+            except MotionSimError as e:
+                self.detail = (e.code, e.message)
+                return "", e.pmac_error or "ERR003"
+            return "", None
         if ctl.plcs.editing(port) is not None:
             # OPEN PLC: lines go into the PLC; what follows a CLOSE is on-line again.
             reply, error, rest = ctl.plcs.enter_line(text, port)
             if error == "ERR003" and self._online_only(text):
                 return self._run(text, port, open_=False)  # not PLC text: on-line commands
+            if error is not None and self.detail is None:
+                self.detail = self._plc_detail(text)
             if error is None and rest and rest.strip():
                 more, error = self.execute(rest, port)
                 reply = "\r".join(x for x in (reply, more) if x)
@@ -115,6 +126,19 @@ class Terminal:
             more, error = self.execute(text[m.end() :], port)
             return "\r".join(x for x in (reply, more) if x), error
         return self._run(text, port, open_=ctl.buffer_holder is port)
+
+    @staticmethod
+    def _plc_detail(text: str) -> tuple[str, str] | None:
+        """Why a PLC line was refused, for people (the PLC entry answers only the code)."""
+        try:
+            parse_plc_line(text)
+        except ParseError as e:
+            name = e.details.get("not_simulated") or not_simulated.which(
+                text, e.details.get("column", 1), getattr(e, "statement_start", None))
+            if name is not None:
+                return "not_simulated", not_simulated.message(name)
+            return "parse_error", _where(e)
+        return None
 
     @staticmethod
     def _online_only(text: str) -> bool:

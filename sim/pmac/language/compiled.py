@@ -22,6 +22,7 @@ OP_DELAY = 6  # (OP_DELAY, expr)
 OP_PSET = 7  # (OP_PSET, ((axis, expr), ...))
 OP_FRAX = 8  # (OP_FRAX, axes)
 OP_SEND = 9  # (OP_SEND, port letter, text)
+OP_HOME = 10  # (OP_HOME, motors, zero)
 
 
 @dataclass(eq=True, unsafe_hash=True, slots=True)
@@ -62,6 +63,6 @@ class ProgramLine:
 
 
 __all__ = [
-    "OP_ASSIGN", "OP_AXISMODE", "OP_DELAY", "OP_DWELL", "OP_FRAX", "OP_MODAL", "OP_MODE",
+    "OP_ASSIGN", "OP_AXISMODE", "OP_DELAY", "OP_DWELL", "OP_FRAX", "OP_HOME", "OP_MODAL", "OP_MODE",
     "OP_MOVE", "OP_PSET", "OP_SEND", "ProgramLine",
 ]  # fmt: skip

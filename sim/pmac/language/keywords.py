@@ -81,16 +81,16 @@ def _ns(name: str, *spellings: str, where: str = "online", example: str = "") ->
 TABLE: Final[tuple[Keyword, ...]] = (
     # buffer management (TSRM p260-420)
     _k("DEFINE", "DEF", builds=online_words.define, where="online", objects={
-        "ROTARY": True, "GATHER": True, "LOOKAHEAD": True, "CCBUF": False, "COMP": False,
+        "ROTARY": True, "GATHER": True, "LOOKAHEAD": True, "CCBUF": False, "COMP": True,
         "TCOMP": False, "BLCOMP": False, "UBUFFER": True}, example="DEFINE CCBUF 10"),
     _k("DELETE", "DEL", builds=online_words.delete, where="online", objects={
-        "ROTARY": True, "GATHER": True, "LOOKAHEAD": True, "CCBUF": False, "COMP": False,
+        "ROTARY": True, "GATHER": True, "LOOKAHEAD": True, "CCBUF": False, "COMP": True,
         "TCOMP": False, "BLCOMP": False, "PLCC": True, "TEMPS": False, "TRACE": True,
         "ALL": True},
        example="DELETE TEMPS"),
     _k("OPEN", builds=online_words.open_, where="online", objects={
         "ROTARY": True, "PROGRAM": True, "PLC": True, "PLCC": True, "FORWARD": True,
-        "INVERSE": True, "BINARY": False}, example="OPEN BINARY ROT"),
+        "INVERSE": True, "BINARY": False, "SERVO": False}, example="OPEN BINARY ROT"),
     _k("CLOSE", builds=online_words.close),
     _k("CLEAR", builds=online_words.clear),
     _k("LIST", builds=online_words.list_, where="online", objects={
@@ -98,6 +98,11 @@ TABLE: Final[tuple[Keyword, ...]] = (
         "GATHER": True, "LDS": False, "LINK": False, "TCOMP": False, "COMP": False,
         "BLCOMP": False, "CCBUF": False, "LOOKAHEAD": False}, example="LIST LDS"),
     _k("MFLUSH", builds=online_words.mflush, where="online"),
+    # data gathering (TSRM p170-171, p307, p315; sim.pmac.tasks.gather)
+    _k("GATHER", "GAT", builds=online_words.gather, where="online",
+       objects={"TRIGGER": False}, example="GATHER TRIGGER"),
+    _k("ENDGATHER", "ENDG", "END GATHER", "END GAT", "ENDGAT", builds=online_words.endgather,
+       where="online"),
     _k("SAVE", builds=online_words.save, where="online"),
     _k("ENABLE", "ENA", builds=online_words.enable, objects={"PLC": True, "PLCC": True}),
     _k("DISABLE", "DIS", builds=online_words.enable, objects={"PLC": True, "PLCC": True}),
@@ -166,9 +171,14 @@ TABLE: Final[tuple[Keyword, ...]] = (
     _ns("RESET"),
     _ns("MOVETIME", example="&1MOVETIME"),
     _ns("HOLD", example="#1HOLD"),
-    _ns("GATHER", "GAT"),
-    _ns("ENDGATHER", "ENDG", "END GATHER", "END GAT", "ENDGAT"),
     _ns("PRELUDE", where="program", example="PRELUDE1 CALL10"),
+    # cutter radius compensation (TSRM program commands CC0, CC1, CC2, CC3, CCR; TUM "Cutter
+    # Radius Compensation"): valid, not simulated
+    _ns("CC0", where="program", example="CC0"),
+    _ns("CC1", where="program", example="CC1"),
+    _ns("CC2", where="program", example="CC2"),
+    _ns("CC3", where="program", example="CC3"),
+    _ns("CCR", where="program", example="CCR0.25"),
     _ns("TSELECT", where="program", example="TSELECT1"),
     _ns("NORMAL", where="program", example="NORMAL K-1"),
     _ns("DISPLAY", where="program", example='DISPLAY "HELLO"'),

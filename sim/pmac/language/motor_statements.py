@@ -71,9 +71,13 @@ N_MOTORS_LIST = 32
 
 @dataclass(frozen=True, slots=True)
 class HomeList:
-    """``HOME{n}[,{n}...]`` / ``HOMEZ{n}..{m}`` (``HM``, ``HMZ``): the program form with a motor
-    list (TSRM ``HOME{list}`` program command ``[BK]``); each listed motor homes as ``#nHM``
-    would. Accepted on-line too ``[INF]``."""
+    """``HOME{n}[,{n}...]`` / ``HOMEZ{n}..{m}`` (``HM``, ``HMZ``): the program command with a
+    motor list (TSRM ``HOME{list}`` program command ``[BK]``); each listed motor homes as
+    ``#nHM`` would. In a motion program it is a lookahead break (spec §0 fact 10: DWELL,
+    RAPID, HOME, PSET stop lookahead): when motion has stopped the motors start their home
+    searches together and the program goes on once every one has ended
+    (:mod:`motionsim.sim.pmac.modes.home`). On-line and in PLCs it starts them at once
+    ``[INF]``."""
 
     motors: tuple[int, ...]
     zero: bool = False

@@ -15,7 +15,8 @@ SPELLINGS: Final[dict[str, tuple[str, ...]]] = {
     "ROTARY": ("ROT",), "GATHER": ("GAT",), "LOOKAHEAD": ("LOOK",), "PROGRAM": ("PROG",),
     "PLC": (), "PLCC": (), "FORWARD": ("FWD",), "INVERSE": ("INV",), "BINARY": (),
     "CCBUF": (), "COMP": (), "TCOMP": (), "BLCOMP": (), "UBUFFER": ("UBUF",), "TEMPS": (),
-    "LDS": (), "LINK": (), "ALL": (), "TRACE": (),
+    "LDS": (), "LINK": (), "ALL": (), "TRACE": (), "SERVO": (),
+    "TRIGGER": (),
 }  # fmt: skip
 
 #: Object spelling -> its long form.

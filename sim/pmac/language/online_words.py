@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..card import card_commands
+from ..card import card_commands, comp_tables
 from . import card_words, list_words
 from . import motor_statements as motor_st
 from . import plc_statements as plc_st
@@ -42,6 +42,8 @@ def define(p: Any, tok: Token) -> Any:
         return st.DefineRotary(p.integer())
     if name == "GATHER":
         return st.DefineGather(p.integer() if p.at("num") else None)
+    if name == "COMP":
+        return comp_tables.parse_define(p)
     segments = p.integer()
     if not p.at("op", ","):
         raise p.error("DEFINE LOOKAHEAD needs {segments},{outputs}")
@@ -57,6 +59,8 @@ def delete(p: Any, tok: Token) -> Any:
         return st.DeleteRotary()
     if name == "GATHER":
         return st.DeleteGather()
+    if name == "COMP":
+        return comp_tables.DeleteComp()
     if name == "TRACE":
         return card_words.delete_trace(p)
     if name == "PLCC":
@@ -97,6 +101,19 @@ def list_(p: Any, tok: Token) -> Any:
         if name is not None and row is not None and row.objects.get(name) is False:
             raise p.not_simulated(f"LIST {name}", tok)
     return list_words.parse(p)
+
+
+def gather(p: Any, tok: Token) -> Any:
+    """``GATHER``; ``GATHER TRIGGER`` is valid and answered ``not_simulated`` (its trigger
+    condition was not found in the Turbo SRM pages searched, docs/pmac.md)."""
+    nxt = p.peek()
+    if nxt is not None and nxt[0] == "word" and OBJECTS.get(nxt[1]) == "TRIGGER":
+        raise p.not_simulated("GATHER TRIGGER", tok)
+    return st.Gather()
+
+
+def endgather(p: Any, tok: Token) -> Any:
+    return st.EndGather()
 
 
 def mflush(p: Any, tok: Token) -> Any:
@@ -155,7 +172,7 @@ def pset(p: Any, tok: Token) -> Any:
 
 
 def axis_mode(p: Any, tok: Token) -> Any:
-    return st.AxisMode(tok[1] == "INC", p.axis_list())
+    return st.AxisMode(tok[1] == "INC", p.axis_list(radius=True))
 
 
 def modal(p: Any, tok: Token) -> Any:

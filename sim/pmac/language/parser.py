@@ -51,7 +51,7 @@ _TOKEN = re.compile(
     r"|(?P<comment>;.*)"
     r"|(?P<word>" + keywords.lexer_pattern(_WORDS) + r"|[A-Za-z])"
     r"|(?P<op>\?\?\?|\?\?|\?|->|\.\.|==|&=|\|=|\^=|##|\$\$\$(?:\*\*\*)?|\$\*|\$"
-    r"|![=<>~]|<>|>=|<=|[=&#|^+\-*/%(),:<>~])"
+    r"|![=<>~]|<>|>=|<=|[=&#|^+\-*/%(),:<>~\\])"
     r")",
     re.IGNORECASE | re.ASCII,
 )
@@ -60,7 +60,8 @@ _FUNCS = frozenset(ex.FUNCTIONS)
 _PC_PE = re.compile(r"([CE])(?![A-Za-z0-9(])", re.IGNORECASE)
 _CLEAR_ALL_PLCS = re.compile(r"\s*ALL\s*PLCS(?![A-Za-z])", re.IGNORECASE)
 _CLEAR_ALL = re.compile(r"\s*ALL(?![A-Za-z])", re.IGNORECASE)
-_VARS = frozenset("IPQM")
+#: Variable letters; ``L``: the L-variables of compiled PLCs (card/variables.py).
+_VARS = frozenset("IPQML")
 #: ``G{n}``, ``T{n}``, ``D{n}`` (and ``M{n}`` not followed by ``=`` / ``->`` / ``..``) in a
 #: buffer: calls of PROG 10n0, 10n2, 10n3, 10n1 (TSRM p425; TUM p328; flow_statements.Call).
 _CODE_CALLS = frozenset("GTD")
@@ -392,6 +393,10 @@ class _Parser:
             return card_commands.Reset(factory=word == "$$$***")
         if word in ("$", "$*"):
             return motor_st.Enable(absolute=word == "$*")
+        if word == "/":
+            return st.StopAtEnd()
+        if word == "\\":
+            return st.QuickStop()
         if word == "%":
             if self.at("num"):
                 return st.FeedOverride(_number(self.take()[1]))
@@ -486,15 +491,18 @@ class _Parser:
             out.append(self.plc_number())
         return tuple(out)
 
-    def axis_list(self) -> tuple[str, ...] | None:
+    def axis_list(self, radius: bool = False) -> tuple[str, ...] | None:
+        """``({axis}[,{axis}...])``; with ``radius`` ``R`` too (``INC(R)`` / ``ABS(R)``, the
+        circle centre vectors, TSRM p442)."""
         if not self.at("op", "("):
             return None
         self.take()
         axes: list[str] = []
         while True:
             tok = self.take()
-            if tok[0] != "word" or len(tok[1]) != 1 or tok[1] not in st.AXES:
-                raise self.error("expected an axis letter", tok)
+            if tok[0] != "word" or len(tok[1]) != 1 or not (
+                    tok[1] in st.AXES or (radius and tok[1] == "R")):
+                raise self.error("expected an axis letter" + (" or R" if radius else ""), tok)
             axes.append(tok[1])
             if self.at("op", ","):
                 self.take()
@@ -538,6 +546,8 @@ class _Parser:
             return st.ProgramPointer(self.value_const(tok))
         if word in st.AXES:
             value = self.value()
+            if self.at("op", "^"):  # TSRM "{axis}{data}^{data}": RAPID move until trigger
+                raise self.not_simulated("move until trigger ({axis}{data}^{data})", tok)
             if self.at("op", ":"):
                 if self.spline_line:
                     raise self.error("SPLINE: an axis word takes no velocity")
@@ -657,10 +667,10 @@ class _Parser:
             if op[1] != "=" and kind != "M":
                 raise self.error("synchronous assignment is for M-variables only", op)
             return st.Assign(st.VarRef(kind, index), op[1], self.expression())
-        if op is not None and op[0] == "op" and op[1] == "->" and kind == "M":
+        if op is not None and op[0] == "op" and op[1] == "->" and kind in "ML":
             self.i += 1
             n = self._const_index(index, op)
-            return self.m_definition(n, n, op)
+            return self.m_definition(n, n, op, kind)
         if index.const is None and not self.open:
             return ranges.IndirectQuery(kind, index)  # P(P1+10)
         first = self._const_index(index, op)
@@ -669,8 +679,8 @@ class _Parser:
             last = self.integer()
             if last < first or last > 8191:
                 raise self.error("bad variable range", self.toks[self.i - 1])
-            if kind == "M" and self.at("op", "->"):
-                return self.m_definition(first, last, self.take())
+            if kind in "ML" and self.at("op", "->"):
+                return self.m_definition(first, last, self.take(), kind)
             if self.at("op", "=") and (nxt := self.peek(1)) is not None and nxt[1] == "*":
                 if kind != "I":
                     raise self.error("=* is for I-variables only")
@@ -701,12 +711,12 @@ class _Parser:
             return st.VarQuery(kind, first, last=last)
         return st.VarQuery(kind, first, count=count, step=step)
 
-    def m_definition(self, first: int, last: int, arrow: Token) -> Any:
-        """After ``M{n}[..{m}]->``: a definition written right after the arrow
-        (:mod:`motionsim.sim.pmac.card.mvar_defs`), else the query ``M{n}->``."""
+    def m_definition(self, first: int, last: int, arrow: Token, kind: str = "M") -> Any:
+        """After ``M{n}[..{m}]->`` (or ``L{n}->``): a definition written right after the
+        arrow (:mod:`motionsim.sim.pmac.card.mvar_defs`), else the query ``M{n}->``."""
         m = mvar_defs.DEFINITION_TEXT.match(self.text, arrow[3])
         if m is None:
-            return st.MDefinitionQuery(first, None if last == first else last)
+            return st.MDefinitionQuery(first, None if last == first else last, kind)
         try:
             definition = mvar_defs.parse(m.group())
         except mvar_defs.DefinitionError as e:
@@ -716,7 +726,7 @@ class _Parser:
             ) from None
         while self.i < len(self.toks) and self.toks[self.i][2] < m.end():
             self.i += 1
-        return mvar_defs.MDefine(first, last, definition)
+        return mvar_defs.MDefine(first, last, definition, kind)
 
     def _const_index(self, index: ex.Expr, tok: Token | None) -> int:
         if index.const is None:

@@ -26,10 +26,13 @@ from ...errors import ParseError
 
 @dataclass(frozen=True, slots=True)
 class Address:
-    """``ADDRESS#{n}`` (``kind`` ``#``) or ``ADDRESS&{n}`` (``&``)."""
+    """``ADDRESS#{n}`` (``kind`` ``#``) or ``ADDRESS&{n}`` (``&``); ``by_p``: ``ADDRESS#P{n}``
+    / ``ADDRESS&P{n}``, the motor / CS number is the value of P-variable ``n`` when the
+    statement runs (Turbo PMAC "P-variable addressing" ``[BK]``)."""
 
     kind: str
     n: int
+    by_p: bool = False
 
 
 @dataclass(frozen=True, slots=True)
@@ -50,7 +53,7 @@ class SendText:
     port: str = ""
 
 
-_ARG_ADDRESS = re.compile(r"\s*([#&])\s*(\d+)")
+_ARG_ADDRESS = re.compile(r"\s*([#&])\s*(P?)\s*(\d+)", re.IGNORECASE)
 _ARG_STRING = re.compile(r'\s*"([^"]*)"')
 _ARG_CONTROL = re.compile(r"\s*\^\s*([A-Za-z])")
 
@@ -65,10 +68,14 @@ def _address(word: str, text: str, pos: int) -> tuple[object, int]:
     m = _ARG_ADDRESS.match(text, pos)
     if m is None:
         raise _error("ADDRESS needs #{motor} or &{coordinate system}", pos + 1, text)
-    n = int(m.group(2))
+    n = int(m.group(3))
+    if m.group(2):
+        if not 0 <= n <= 8191:
+            raise _error(f"ADDRESS{m.group(1)}P{n}: no P{n} (0..8191)", m.start(3) + 1, text)
+        return Address(m.group(1), n, by_p=True), m.end()
     limit = 32 if m.group(1) == "#" else 16
     if not 1 <= n <= limit:
-        raise _error(f"ADDRESS{m.group(1)}{n}: out of 1..{limit}", m.start(2) + 1, text)
+        raise _error(f"ADDRESS{m.group(1)}{n}: out of 1..{limit}", m.start(3) + 1, text)
     return Address(m.group(1), n), m.end()
 
 

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from .axis_definitions import AxisDefinition, Frax
 from .expressions import Expr
 from .flow_statements import FLOW_TYPES
+from .motor_statements import HomeList
 from .plc_idioms import Address
 from .ranges import RangeAssign
 
@@ -60,6 +61,17 @@ class DefineGather:
 @dataclass(frozen=True, slots=True)
 class DeleteGather:
     """``DELETE GATHER``."""
+
+
+@dataclass(frozen=True, slots=True)
+class Gather:
+    """``GATHER`` (``GAT``): start data gathering at the next servo cycle
+    (:mod:`motionsim.sim.pmac.tasks.gather`)."""
+
+
+@dataclass(frozen=True, slots=True)
+class EndGather:
+    """``ENDGATHER`` (``ENDG``, ``END GATHER``): stop data gathering."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -112,6 +124,18 @@ class Step:
 @dataclass(frozen=True, slots=True)
 class Quit:
     """``Q``: stop after the moves already calculated."""
+
+
+@dataclass(frozen=True, slots=True)
+class StopAtEnd:
+    """``/``: stop at the end of the move executing now (TUM p217 "end of currently
+    executing move, undoes blending"; with Isx13 = 0 it acts as ``Q``, TSRM p177)."""
+
+
+@dataclass(frozen=True, slots=True)
+class QuickStop:
+    """``\\``: quick stop in the special lookahead; outside lookahead (and with Isx13 = 0) it
+    acts as ``H`` (TUM p217; TSRM p177, p181: Isx21 = 4 is the same request)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -180,10 +204,12 @@ class VarDefault:
 
 @dataclass(frozen=True, slots=True)
 class MDefinitionQuery:
-    """``M1->`` / ``M1..10->``: report M-variable definitions (``last`` None: just ``n``)."""
+    """``M1->`` / ``M1..10->``: report M-variable definitions (``last`` None: just ``n``);
+    ``kind`` ``"L"`` for the L-variables of compiled PLCs."""
 
     n: int
     last: int | None = None
+    kind: str = "M"
 
     def numbers(self) -> range:
         return range(self.n, (self.n if self.last is None else self.last) + 1)
@@ -310,6 +336,8 @@ OnlineStatement = (
     | DeleteRotary
     | DefineGather
     | DeleteGather
+    | Gather
+    | EndGather
     | OpenRotary
     | Close
     | ProgramPointer
@@ -355,6 +383,7 @@ PROGRAM_TYPES = (
     Dwell,
     Delay,
     PSet,
+    HomeList,
     Label,
     Message,
     *FLOW_TYPES,

@@ -12,9 +12,10 @@ from __future__ import annotations
 
 from typing import Any
 
+from ...errors import NotSimulated
 from ...simpy_adapter import cancel
 from ..card.variables import isx
-from ..modes import DWELL
+from ..modes import DWELL, PROFILES
 from .execution import Execution
 from .planning import Planning
 from .states import IDLE, RUNNING, STOPPED, WAITING
@@ -54,6 +55,7 @@ class CoordSystem(Planning, Execution, TimeBase):
         self.single_step = single_step
         self.step_lines = 1 if single_step and self.vars.I(isx(self.cs, 53)) == 1 else None
         self.quitting = False
+        self._end_stop = False
         self.error = None
         # Isx92 (move blend disable) is read only at R / S (TSRM p190).
         self.no_blend = self.vars.I(isx(self.cs, 92)) == 1
@@ -75,6 +77,50 @@ class CoordSystem(Planning, Execution, TimeBase):
             self._set_state(STOPPED)
             return
         self.quitting = True  # (an I11-delayed start still runs the calculated moves)
+
+    def stop_at_end(self) -> None:
+        """``/``: with Isx13 > 0 stop at the end of the move executing now, undoing a blend
+        already decided into the next one (TUM p217, the table of stop commands: "end of
+        currently executing move", TA / TS deceleration, on the path, at a programmed
+        point); the moves already calculated stay and run on ``R`` / ``S``. With Isx13 = 0
+        it acts as ``Q`` (TSRM p177). A stop ramp that no longer fits before the move's end
+        is shortened to the time left ``[INF]``."""
+        if not self._segmented() or self.current is None or not self.running:
+            self.quit()
+            return
+        m = self.current
+        self.quitting = True
+        self._end_stop = True
+        if m.stopping:
+            return
+        if self.planned:
+            self.planned[0].ta_in = self.planned[0].ta  # a blend into it is undone
+        self._decided = m
+        m.stopping = True
+        now = self._env._now
+        if PROFILES[m.kind].stop_ramp:
+            ta = self._accel_s()
+            ta = max(ta, m.ta_stop * self._scale) if m.ta_stop else ta
+            ta = min(ta, max(0.0, 2 * (m.b_end - now)))
+        else:
+            ta = 0.0
+        m.ta_out = ta
+        self._after(self.sched.servo_at_or_after(m.b_end + ta / 2), self._stop_end)
+
+    def quick_stop(self) -> None:
+        """``\\``: outside the special lookahead (and always with Isx13 = 0) it acts as ``H``
+        (TUM p217; TSRM p177). The quick stop inside an active special lookahead (Isx13 > 0,
+        Isx20 > 0, ``DEFINE LOOKAHEAD``: stop along the path within the Ixx17 limits, resumed
+        by ``>`` / ``R``, TSRM p181 Isx21 = 4) is not simulated: it raises
+        :class:`~motionsim.sim.errors.NotSimulated` and changes nothing."""
+        if self._ver != self.vars.version:
+            self._refresh()
+        if self._la_s > 0 and self.current is not None:
+            raise NotSimulated(
+                "\\ (quick stop in the special lookahead, Isx20 > 0 with DEFINE LOOKAHEAD) is "
+                "valid Turbo PMAC but not simulated; outside the lookahead it acts as H",
+                pmac_error="ERR003")
+        self.hold()
 
     def mflush(self) -> None:
         """``MFLUSH``: empty the synchronous M-variable queue (TUM p250) — the writes left

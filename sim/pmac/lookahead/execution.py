@@ -43,11 +43,13 @@ Modelled (TUM p339-341, p250; PUM p213; spec §9.1-9.3):
 
 from __future__ import annotations
 
+import functools
 from typing import TYPE_CHECKING
 
 from ...simpy_adapter import cancel, supersede
 from ..card.variables import ixx
 from ..modes import BLENDS, DELAY, DWELL, LINEAR, PROFILES, SPLINE, Move
+from ..modes.home import HomeMove
 from ..modes.pset import PsetMove
 from ..tasks.scheduler import first_rti_after, servo_at_or_after, wake_at
 from . import abort_stop
@@ -88,9 +90,13 @@ class Execution(CoordState):
         point, or the stop. This is also the per-line hot path of a stream.
         """
         m = self.planned.popleft()
-        if m.kind == DWELL and type(m) is PsetMove:
-            self._pset(m)
-            return
+        if m.kind == DWELL and type(m) is not Move:
+            if type(m) is PsetMove:
+                self._pset(m)
+                return
+            if type(m) is HomeMove:
+                self._home(m)
+                return
         prev = self.current
         env = self._env
         t = env._now
@@ -163,6 +169,52 @@ class Execution(CoordState):
                     mo.profile = mo.profile.shifted(-d * scale)
         self.rest_pos = {**old, **m.values}
         self._emit("pset", cs=self.cs, n=m.n, positions=dict(m.values))
+        self.blocked = False
+        self._motion_stopped()
+
+    def _home(self, m: HomeMove) -> None:
+        """A ``HOME{list}``'s turn (motion is at rest): the listed motors start their home
+        searches; the program goes on when the last has ended (:mod:`..modes.home`)."""
+        ctl = self.ctl
+        waiting: list[int] = []
+        for n in m.motors:
+            mo = ctl.motor(n)
+            if m.zero:
+                mo.home_zero()
+            else:
+                mo.home()
+                waiting.append(n)
+        self._homing = waiting
+        if not waiting:
+            self._homed(m.motors)
+            return
+        for n in waiting:
+            ctl.motor(n).when_stopped.append(functools.partial(self._home_ended, n, m.motors))
+
+    def _home_ended(self, n: int, motors: tuple[int, ...]) -> None:
+        """Motor ``n``'s home search of a program ``HOME`` (of ``motors``) has ended."""
+        if n in self._homing:
+            self._homing.remove(n)
+            if not self._homing and self.running:
+                self._homed(motors)
+
+    def _homed(self, motors: tuple[int, ...]) -> None:
+        """Every motor of the program's ``HOME`` is home: the axes of this CS's homed motors
+        take their home displacement (the motors do not move), lookahead resumes."""
+        now = self._env._now
+        ctl = self.ctl
+        pos = dict(self.rest_pos)
+        for motor in motors:
+            have = ctl._motor_axis(motor)
+            if have is None or have[0] != self.cs or not have[2]:
+                continue
+            mo = ctl.motor(motor)
+            d = mo.profile.position(now)
+            if d:
+                mo.profile = mo.profile.shifted(-d)
+                pos[have[1]] = pos.get(have[1], 0.0) + d / have[2]
+        self.rest_pos = pos
+        self.calc_pos = dict(pos)
         self.blocked = False
         self._motion_stopped()
 
@@ -292,7 +344,10 @@ class Execution(CoordState):
         """Motion has come to rest: start what is calculated, or stop / wait."""
         rot = self.lines()
         if self.planned:
-            if self.feed_override > 0:
+            if self._end_stop:  # ``/``: the calculated moves wait for R / S (CoordSystem)
+                self._end_stop = self.quitting = False
+                self._set_state(STOPPED)
+            elif self.feed_override > 0:
                 self._start_next()
             return
         if (
@@ -308,7 +363,7 @@ class Execution(CoordState):
         if rot is not None and self.spline is None:  # (a waiting spline point keeps its words)
             rot.free_calculated()
         if self.quitting or self.single_step:
-            self.quitting = False
+            self.quitting = self._end_stop = False
             self.single_step = False
             self._set_state(STOPPED)  # leftover synchronous writes stay queued (TUM p250)
         elif self.state == RUNNING:
@@ -341,7 +396,8 @@ class Execution(CoordState):
         self._plan_due = None
         self._cancel()
         self._starting = False
-        self.quitting = False
+        self.quitting = self._end_stop = False
+        self._homing = []
         self.blocked = False
         self.single_step = False
         self.planned.clear()
@@ -404,6 +460,8 @@ class Execution(CoordState):
         cancel(self._i11_wake)
         self._i11_wake = self._go_t = None
         self._starting = self.quitting = self.blocked = self.single_step = False
+        self._end_stop = False
+        self._homing = []
         self.sync_pending.clear()
         self.sync_queue.discard()
         self.planned.clear()

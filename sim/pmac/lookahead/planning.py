@@ -51,6 +51,7 @@ from ..buffers.program import (
     OP_DELAY,
     OP_DWELL,
     OP_FRAX,
+    OP_HOME,
     OP_MODAL,
     OP_MODE,
     OP_MOVE,
@@ -71,6 +72,7 @@ from ..modes import (
     rapid,
     spline,
 )
+from ..modes.home import HomeMove
 from ..tasks.scheduler import Wake, wake_at
 from .state import SPLINES, CoordState
 from .states import RUNNING, STOPPED, WAITING
@@ -361,12 +363,19 @@ class Planning(CoordState):
                 elif name == "TS":
                     vars_.write("I", isx(cs, 88), value)
                 else:
+                    if name == "F":  # TSRM p193: a larger F runs at Isx98 (0: no limit)
+                        cap = vars_.I(isx(cs, 98))
+                        if 0 < cap < value:
+                            value = cap
                     vars_.write("I", isx(cs, 89), value)
                     self.time_mode = name == "TM"
             elif code == OP_MODE:
                 self.mode = op[1]
             elif code == OP_AXISMODE:
                 axes = op[2] or tuple("XYZABCUVW")
+                if "R" in axes:  # INC(R) / ABS(R): the circle centre vectors (TSRM p442)
+                    self.abs_radius = not op[1]
+                    axes = tuple(a for a in axes if a != "R")
                 if op[1]:
                     self.incremental.update(axes)
                 else:
@@ -394,6 +403,12 @@ class Planning(CoordState):
                 self.calc_pos = move.end.copy()
                 self.planned.append(move)  # no synchronous writes: they go with a move
                 self.blocked = True  # nothing after PSET is calculated until it has run
+            elif code == OP_HOME:  # a lookahead break (modes.home)
+                self._spline_close()
+                self.calc_vel = {}
+                self._lin_w = None
+                self.planned.append(HomeMove(n, self.calc_pos, op[1], op[2]))
+                self.blocked = True
             elif code == OP_DELAY:
                 self._spline_close()
                 self.calc_vel = {}

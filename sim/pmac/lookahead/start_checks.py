@@ -22,6 +22,9 @@ on and can be stopped (``J/``), since the CS never started.
 systems with no motors (their axes move with nothing attached, a virtual machine), so the
 check is the controller config key ``strict_cs_motors`` — true makes a motorless CS refuse to
 start as the card does. The default stays false so that existing scenarios keep their logs.
+The manual's order itself does not stand in the way of applying it always: a CS with no motors
+has no motor for ERR011-ERR013 to name, so ERR014 is the only refusal it can meet, as last in
+the table (issue 37 review); only the motorless scenarios, tests and golden logs do.
 """
 
 from __future__ import annotations

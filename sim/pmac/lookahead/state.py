@@ -105,6 +105,7 @@ class CoordState:
         self.mode = "LINEAR"  # LINEAR, RAPID, CIRCLE1/2, PVT, SPLINE1/2 (sets _depth_at)
         self.time_mode = False  # TM (True) or F (False) sets the move time
         self.incremental: set[str] = set()  # axes in INC mode
+        self.abs_radius = False  # ABS(R): circle centre vectors from the origin (INC(R) default)
         self.frax: tuple[str, ...] = ("X", "Y", "Z")  # FRAX (axis_definitions)
         #: Axis positions at the end of the last calculated move (program units).
         self.calc_pos: dict[str, float] = {}
@@ -132,6 +133,11 @@ class CoordState:
         #: end (``_stop_end``) or an ``A`` stop's end (``_abort_end``); one at a time.
         self._pending: Wake | None = None
         self._decided: Move | None = None  # segmented mode: the move whose blend is decided
+        #: ``/`` with Isx13 > 0: the executing move ends in a stop and the moves calculated
+        #: after it wait for the next ``R`` / ``S`` (:meth:`.CoordSystem.stop_at_end`).
+        self._end_stop = False
+        #: The motors whose home search a program ``HOME`` waits for (:mod:`..modes.home`).
+        self._homing: list[int] = []
         self._abort: AbortStop | None = None  # the A deceleration under way
         #: Commanded axis positions while no move executes.
         self.rest_pos: dict[str, float] = {}

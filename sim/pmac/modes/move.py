@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, ClassVar, Protocol
 
-from ..buffers.motion import DELAY, DWELL, LINEAR, PVT, RAPID, SPLINE
+from ..buffers.motion import DELAY, DWELL, LINEAR, PVT, RAPID, SPLINE, Arc
 
 if TYPE_CHECKING:
     from ..card.variables import Variables
@@ -39,6 +39,9 @@ class Move:
         "n", "kind", "tm", "ta", "start", "end", "sync", "prev", "_v",
         "b_start", "b_end", "ta_in", "ta_out", "stopping", "ta_stop", "prog",
     )  # fmt: skip
+
+    #: A segmented CIRCLE move's arc (:class:`.linear.ArcMove` has the slot); None here.
+    arc: Arc | None = None
 
     #: Set when the move starts executing (:meth:`.Execution._start_next`).
     b_start: float
@@ -101,6 +104,9 @@ class PlanContext(Protocol):
     mode: str
     #: The vector-feedrate axes (``FRAX``), default X, Y, Z.
     frax: tuple[str, ...]
+    #: ``ABS(R)``: circle centre vectors from the XYZ origin (``INC(R)``, default: from the
+    #: move's start point; TSRM p442).
+    abs_radius: bool
 
     @property
     def feedrate(self) -> float:

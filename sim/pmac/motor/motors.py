@@ -86,6 +86,8 @@ class Motor:
         self.limit_stop = False  # stopped on a position limit (stays set until the next move)
         self.pre_jog = 0.0
         self._wake: Wake | None = None
+        #: Called once when the jog / home move in progress ends (a program ``HOME`` waits).
+        self.when_stopped: list[Callable[[], None]] = []
 
     # -- positions ------------------------------------------------------------------------
 
@@ -283,6 +285,10 @@ class Motor:
         now = self._table.sched.env.now
         self.profile = Profile.rest(now, self.profile.position(now))
         self._emit("jog", state="end", command=command, position=self._pos_now())
+        if self.when_stopped:
+            calls, self.when_stopped = self.when_stopped, []
+            for call in calls:
+                call()
 
     def _trigger(self, _ev: Any) -> None:
         """The home flag is found: capture, re-zero at capture + Ixx26, move to the zero."""

@@ -58,7 +58,7 @@ P_SET = 20  # (P_SET, n, kind, index_expr, value_expr)
 P_CMD = 21  # (P_CMD, n, text)
 P_SEND = 22  # (P_SEND, n, text, port)
 P_ENABLE = 23  # (P_ENABLE, n, numbers, enable, compiled)
-P_ADDRESS = 24  # (P_ADDRESS, n, "#" or "&", number)
+P_ADDRESS = 24  # (P_ADDRESS, n, "#" or "&", number, by_p: the number is P-variable number's)
 P_RUN = 25  # (P_RUN, n, statement): a command-family statement, run by its on-line row
 
 
@@ -82,7 +82,7 @@ def plc_instruction(s: Any, n: int) -> list[Any]:
     if t is idioms.SendText or t is st.Message:
         return [P_SEND, n, s.text, s.port]
     if t is idioms.Address:
-        return [P_ADDRESS, n, s.kind, s.n]
+        return [P_ADDRESS, n, s.kind, s.n, s.by_p]
     if t is plc_st.EnablePlc:
         return [P_ENABLE, n, s.numbers, s.enable, s.compiled]
     assert isinstance(s, pp.FAMILY_STATEMENTS), t  # parse_plc_line returns only these
@@ -442,10 +442,12 @@ class PlcTable:
                 self._send(plc, op[2], op[3])
                 pc += 1
             elif code == P_ADDRESS:
+                # ADDRESS&P{n} / ADDRESS#P{n}: the CS / motor is P{n}'s value now [BK]
+                k = int(vars_.read("P", op[3])) if op[4] else op[3]
                 if op[2] == "&":
-                    plc.cs = op[3]
+                    plc.cs = k
                 else:
-                    plc.motor = op[3]
+                    plc.motor = k
                 pc += 1
             elif code == P_RUN:
                 self.ctl.run_statement(op[2], cs, plc.motor)

@@ -6,8 +6,10 @@ Config ``model`` of a Trio controller (default ``"mc2xx"``):
   32-bit float word ``[BK]``, 24-bit HEX, 14 processes (MC216);
 * ``mc2xx`` — MC202, Euro205, MC206, MC216, MC224 (TRM 6.x): 32-bit float ``[INF]``, 24-bit
   HEX, 7 processes (MC206);
-* ``mc4xx`` — MC4xx / MC6xx, firmware 2.x (Trajexia TJ2 is its twin ``[BK]``): 64-bit float,
-  53-bit HEX, 22 processes.
+* ``mc4xx`` — MC4xx (MC403, MC405, MC464), firmware 2.x (Trajexia TJ2 is its twin ``[BK]``):
+  64-bit float, 53-bit HEX, 22 processes, VR(0..63999), TABLE(0..499999);
+* ``mc6xx`` — MC6xx (MC664, MC6N), the same firmware 2.x language and buffers as ``mc4xx``,
+  22 processes, VR(0..65535), TABLE(0..511999).
 
 Sources (spec §10.9, §7): the 32-bit word — single precision, exact integers to 2^24, HEX in
 24-bit two's complement (``HEX(-10)`` -> ``FFFFF6``) — is TJ1P-27 (Trajexia TJ1, the MC2xx
@@ -17,8 +19,17 @@ bits (``1FFFFFFFFFFFF6``) — is TJ2P-19. MC2xx values cross the wire as 32-bit 
 
 The default is ``mc2xx``: the buffering modelled (one NTYPE, one process buffer, PMOVE) is
 the TRM 6.x MC2xx description (M206-320), the process count default 7 is the MC206's, and
-TN20's series-2 cards are its direct predecessors with the same buffers. Only number
-precision and HEX width depend on the model here; ``processes`` stays its own setting.
+TN20's series-2 cards are its direct predecessors with the same buffers.
+
+Sizes: the config's ``processes``, ``vr_count`` and ``table_size`` default to the model's and
+stay settable. MC2xx generation: VR(0..1023) (TJ1P-26, the TJ1 twin: 1024 VRs) and a TABLE of
+16 384 ``[INF]`` (the simulator's size before per-model sizes; the MC2xx TRM pages were not
+reached). MC4xx: VR(0..63999) and TABLE(0..499999) (TJ2P-16: "64 000" VRs, "500 000" TABLE
+entries on the TJ2, the MC4xx's OEM twin). MC6xx: the MC664 / MC6N manuals were not reached;
+VR 65 536 and TABLE 512 000 are the sizes Trio's own host library (TrioPC .NET) allocates for
+the controllers it serves (spec §2.2, TPCNET), taken as the largest model's ``[INF]``; 22
+processes as the MC4xx ``[BK]``. ``mc4`` marks the firmware 2.x family: the MC4 language
+(:mod:`motionsim.sim.trio.language`), 64 look-ahead buffers per axis, CAMBOX's offset start.
 """
 
 from __future__ import annotations
@@ -40,18 +51,22 @@ class Model:
     control: int  # CONTROL: the controller type number
     version: float  # VERSION: the system software version
     free: float  # FREE: program memory free, in the model's units
+    vr_count: int = 1024  # VR(0..vr_count - 1)
+    table_size: int = 16384  # TABLE(0..table_size - 1)
+    mc4: bool = False  # the firmware 2.x family (MC4xx / MC6xx): its language and buffers
 
 
 #: CONTROL / VERSION / FREE per model. VERSION: TN20-16 is for series-2 cards with system
 #: software >= 1.40; the TRM 6th edition (rev 6.4) covers MC206 / MC224 from 1.62; the MC4xx
 #: help pages copied on GitHub (spec §10.13 CAMBOX-MD) name firmware 2.0253. CONTROL: the board
-#: number (MC216 -> 216, MC206 -> 206, MC464 -> 464) ``[BK]``; FREE: ``>>PRINT FREE`` answers
-#: ``47104.0000`` on the MC224 of M224-291, used for every model and constant (storing programs
-#: does not lower it here, ``[INF]``).
+#: number (MC216 -> 216, MC206 -> 206, MC464 -> 464, MC664 -> 664) ``[BK]``; FREE: ``>>PRINT
+#: FREE`` answers ``47104.0000`` on the MC224 of M224-291, used for every model and constant
+#: (storing programs does not lower it here, ``[INF]``).
 MODELS: dict[str, Model] = {
     "series2": Model("series2", 32, 24, 14, 216, 1.40, 47104.0),
     "mc2xx": Model("mc2xx", 32, 24, 7, 206, 1.62, 47104.0),
-    "mc4xx": Model("mc4xx", 64, 53, 22, 464, 2.0253, 47104.0),
+    "mc4xx": Model("mc4xx", 64, 53, 22, 464, 2.0253, 47104.0, 64_000, 500_000, True),
+    "mc6xx": Model("mc6xx", 64, 53, 22, 664, 2.0253, 47104.0, 65_536, 512_000, True),
 }
 DEFAULT_MODEL = "mc2xx"
 

@@ -1,5 +1,6 @@
 """Set-up commands a start-up program issues: ADDAX, ENCODER_RATIO, STEP_RATIO, INVERT_IN,
-SETCOM, ETHERNET, ETHERCAT, UNIT_CLEAR, TRIGGER.
+SETCOM, UNIT_CLEAR, TRIGGER (ETHERNET and ETHERCAT, also values, are
+:mod:`motionsim.sim.trio.card.fieldbus`'s).
 
 A command is one row of :data:`COMMANDS` — its argument counts and the function that runs it
 — so the parser accepts exactly these forms and a new command is one row. Each logs a
@@ -17,14 +18,9 @@ A command is one row of :data:`COMMANDS` — its argument counts and the functio
   inverted value ``[BK]``);
 * ``SETCOM(baud, data, stop, parity, port[, mode])`` — RS-232 default 9600, 7, 2, even
   (M206-252, TRM p. 8-62); kept per port, no serial line is simulated;
-* ``ETHERNET(rw, slot, function[, value...])`` — ``rw`` 0 reads (printed, e.g.
-  ``ETHERNET(0,-1,0)`` → ``192.168.0.250``, M216-547), 1 writes; the values are kept per
-  function number (``ETHERNET(1,-1,10,502)`` Modbus port, ``…,14,…`` register maps: §3.3);
-* ``ETHERCAT(function, slot[, ...])`` — 0 starts the bus; ``$22`` writes the bus state to
-  ``VR(arg 3)``: 3 = operational ``[INF]`` (a start-up loop waiting for it then goes on); the
-  other functions are accepted with no effect ``[INF]`` (no EtherCAT network);
 * ``UNIT_CLEAR`` — clears unit (drive, bus) errors: there are none ``[BK]``;
-* ``TRIGGER`` — starts a SCOPE capture ``[BK]``: no scope, logged only.
+* ``TRIGGER[(mode)]`` — starts the capture SCOPE armed, one shot (0) or automatic (1)
+  (:mod:`motionsim.sim.trio.run.scope`); nothing while SCOPE is off.
 """
 
 from __future__ import annotations
@@ -34,6 +30,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from .basic_errors import BasicError
+from .fieldbus import ETHERNET_POWER_UP, EtherCat
 
 if TYPE_CHECKING:
     from ..run.context import Context
@@ -42,11 +39,6 @@ Run = Callable[["Context", tuple[float, ...], int], None]
 
 #: ENCODER_RATIO / STEP_RATIO: largest numerator and denominator (TJCJ-159).
 RATIO_MAX = 16_777_215
-#: ETHERNET read values at power-up: function -> value (0 IP address, 2 subnet mask, M216-547;
-#: 10 Modbus TCP port 502, M224-550).
-ETHERNET_POWER_UP: dict[int, Any] = {0: "192.168.0.250", 2: "255.255.255.0", 10: 502.0}
-#: ETHERCAT($22, slot, vr): the bus state written to the VR — 3 = operational ``[INF]``.
-ETHERCAT_OPERATIONAL = 3.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -112,30 +104,12 @@ def _setcom(ctx: Context, args: tuple[float, ...], _n: int) -> None:
     ctx.ctrl.system.comms.setcom[int(args[4])] = args
 
 
-def _ethernet(ctx: Context, args: tuple[float, ...], _n: int) -> None:
-    rw, fn = int(args[0]), int(args[2])
-    values = ctx.ctrl.system.comms.ethernet
-    if rw == 0:
-        v = values.get(fn, 0.0)
-        ctx.output(v if isinstance(v, str) else ctx.number(v), True, None)
-    elif rw == 1:
-        if len(args) < 4:
-            raise BasicError("ETHERNET(1, slot, function, value...) needs a value")
-        values[fn] = args[3] if len(args) == 4 else args[3:]
-    else:
-        raise BasicError(f"Parameter out of range: ETHERNET read/write {args[0]:g}")
-
-
-def _ethercat(ctx: Context, args: tuple[float, ...], _n: int) -> None:
-    fn = int(args[0])
-    if fn == 0x22:
-        if len(args) < 3:
-            raise BasicError("ETHERCAT($22, slot, vr) needs the VR to write the state to")
-        ctx.set_vr(args[2], ETHERCAT_OPERATIONAL)
-
-
 def _log_only(ctx: Context, args: tuple[float, ...], _n: int) -> None:
-    """UNIT_CLEAR, TRIGGER: nothing to clear, no scope to start (logged by the caller)."""
+    """UNIT_CLEAR: nothing to clear (logged by the caller)."""
+
+
+def _trigger(ctx: Context, args: tuple[float, ...], _n: int) -> None:
+    ctx.ctrl.scope.trigger(args[0] if args else 0.0)
 
 
 COMMANDS: dict[str, Command] = {c.name: c for c in (
@@ -144,19 +118,19 @@ COMMANDS: dict[str, Command] = {c.name: c for c in (
     Command("STEP_RATIO", 2, 2, _step_ratio, axis_command=True),
     Command("INVERT_IN", 2, 2, _invert_in),
     Command("SETCOM", 5, 6, _setcom),
-    Command("ETHERNET", 3, 12, _ethernet),
-    Command("ETHERCAT", 2, 8, _ethercat),
     Command("UNIT_CLEAR", 0, 0, _log_only),
-    Command("TRIGGER", 0, 0, _log_only),
+    Command("TRIGGER", 0, 1, _trigger),
 )}
 
 
 class Comms:
-    """What the communication set-up commands wrote (per controller, power-up values)."""
+    """What the communication set-up commands wrote (per controller, power-up values), and
+    the EtherCAT network of ``slaves`` slaves (:mod:`~.fieldbus`)."""
 
-    def __init__(self) -> None:
+    def __init__(self, slaves: int = 0) -> None:
         self.setcom: dict[int, tuple[float, ...]] = {}
         self.ethernet: dict[int, Any] = dict(ETHERNET_POWER_UP)
+        self.ethercat = EtherCat(slaves)
 
 
 def run_command(ctx: Context, name: str, args: tuple[float, ...], axis: float | None) -> None:

@@ -19,8 +19,9 @@ Names from spec §10.11 "system:" and §9.9 (M224-291, M216-274, MCTPL):
 * ``SERVO_PERIOD`` — in microseconds, from the config;
 * ``LIMIT_BUFFERED`` — how many moves the look-ahead of each axis holds, NTYPE included
   (TJ2H-57): a move waits in its process buffer while the look-ahead of one of its axes is
-  full (:mod:`motionsim.sim.trio.motion.buffers`). 64 on ``mc4xx`` (up to 64 buffers per axis,
-  TJ2P-20; power-up ``[BK]``), 1..64 writable there; 1 and fixed on the MC2xx generation.
+  full (:mod:`motionsim.sim.trio.motion.buffers`). 64 on ``mc4xx`` / ``mc6xx`` (up to 64
+  buffers per axis, TJ2P-20; power-up ``[BK]``), 1..64 writable there; 1 and fixed on the
+  MC2xx generation.
 """
 
 from __future__ import annotations
@@ -36,8 +37,7 @@ if TYPE_CHECKING:
 #: LIMIT_BUFFERED per model: (power-up, largest). MC4xx: up to 64 motion buffers per axis
 #: (TJ2P-20), the look-ahead size LIMIT_BUFFERED (TJ2H-57), power-up 64 ``[BK]``; the MC2xx
 #: generation has NTYPE only (TN20, M206-320): 1, not changeable ``[INF]``.
-LIMIT_BUFFERED: dict[str, tuple[int, int]] = {"series2": (1, 1), "mc2xx": (1, 1),
-                                              "mc4xx": (64, 64)}
+LIMIT_BUFFERED: dict[bool, tuple[int, int]] = {False: (1, 1), True: (64, 64)}  # by Model.mc4
 
 #: Values fixed by this model of the controller (see the module docstring).
 _FIXED = {"SERIAL_NUMBER": 0.0, "SYSTEM_ERROR": 0.0}
@@ -49,8 +49,8 @@ class SystemParams:
     def __init__(self, ctrl: TrioController) -> None:
         self.ctrl = ctrl
         self.wdog = 0
-        self.comms = Comms()  # what SETCOM / ETHERNET wrote
-        self.limit_buffered = LIMIT_BUFFERED[ctrl.model.name][0]
+        self.comms = Comms(ctrl.ethercat_slaves)  # what SETCOM / ETHERNET wrote, the EtherCAT bus
+        self.limit_buffered = LIMIT_BUFFERED[ctrl.model.mc4][0]
         ctrl.buffers.depth = self.limit_buffered
         self.motion_error = 0  # bit n: axis n has a motion error
         self.error_axis = -1
@@ -73,6 +73,8 @@ class SystemParams:
             return float(self.motion_error)
         if name == "ERROR_AXIS":
             return float(self.error_axis)
+        if name == "SCOPE_POS":  # the SCOPE's next TABLE entry (sim.trio.run.scope)
+            return float(self.ctrl.scope.pos)
         return _FIXED[name]
 
     def write(self, name: str, value: float) -> None:
@@ -80,7 +82,7 @@ class SystemParams:
         if name == "WDOG":
             self.set_wdog(value)
             return
-        top = LIMIT_BUFFERED[self.ctrl.model.name][1]
+        top = LIMIT_BUFFERED[self.ctrl.model.mc4][1]
         n = int(value)
         if n != value or not 1 <= n <= top:
             raise BasicError(f"Parameter out of range: LIMIT_BUFFERED={value:g} (1..{top})")

@@ -57,6 +57,8 @@ class Dialect:
     bit_access: bool = False
     #: ``name(i)``, an element of a DIM array (spec §11.2).
     arrays: bool = False
+    #: The shift operators ``<<`` and ``>>`` (issue 32).
+    shifts: bool = False
     parsers: dict[str, ParseFn] = field(init=False, repr=False, compare=False)
     compilers: dict[type[s.Stmt], CompileFn] = field(init=False, repr=False, compare=False)
 

@@ -24,7 +24,7 @@ the jumps structure adds (an ELSE reached at the end of the THEN branch).
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -34,7 +34,10 @@ from . import statements as s
 from .branches import GOSUB_LIMIT, Branches
 from .declarations import Declarations, Resolver
 from .expressions import compile_expr, kind_of
+from .functions import FunctionDef, Functions, Library
+from .names import LABEL_CHARS
 from .scope import Decl, ExprError, Scope
+from .structure import Structure
 
 Op = Callable[[Any], Any]
 
@@ -85,27 +88,37 @@ class Code:
     costs: list[int]
     texts: tuple[str, ...]
     labels: dict[str, int]
-    includes: tuple[str, ...] = ()  # programs INCLUDEd, in order
+    includes: tuple[str, ...] = ()  # programs INCLUDEd (and libraries called), in order
     shared_version: int = 0  # the controller's GLOBAL / CONSTANT table it was compiled with
+    library: Library | None = None  # a BASIC library's functions (then there are no ops)
 
     def text(self, pc: int) -> str:
         ln = self.lines[pc]
         return self.texts[ln - 1].strip() if 0 < ln <= len(self.texts) else ""
 
 
-class _Compiler(Declarations, Branches):
+class _Compiler(Declarations, Branches, Structure, Functions):
     def __init__(
         self,
         program: s.Program,
         name: str = "",
         resolve: Resolver | None = None,
-        shared: dict[str, Decl] | None = None,
+        shared: Mapping[str, Decl] | None = None,
+        functions: Mapping[str, FunctionDef] | None = None,
+        function: FunctionDef | None = None,
+        errors: list[ParseError] | None = None,
     ) -> None:
         self.program = program
+        #: Collect the errors and go on past them (the check tool) instead of raising the first.
+        self.errors = errors
         self.compilers = program.dialect.compilers
         self.name = name
         self.resolve = resolve
-        self.scope = Scope(shared)
+        self.shared = shared
+        self.function = function  # the FUNCTION whose body this compiles (a library's)
+        self.scope = Scope(shared, functions)
+        if function is not None:  # the parameters: the function's own typed locals
+            self.scope.names.update(function.params)
         self.ops: list[Op] = []
         self.lines: list[int] = []
         self.costs: list[int] = []
@@ -148,29 +161,55 @@ class _Compiler(Declarations, Branches):
 
     # -- driving ---------------------------------------------------------------------------
 
+    def report(self, err: ParseError) -> None:
+        """A compile error: raised, or (collecting) kept and the compile goes on."""
+        if self.errors is None:
+            raise err
+        self.errors.append(err)
+
     def run(self) -> Code:
-        for st in self.program.statements:
+        statements = self.program.statements
+        if self.function is None and any(isinstance(st, s.Function) for st in statements):
+            try:
+                library = self.compile_library()
+            except ParseError as err:  # a library's layout error: no further recovery
+                self.report(err)
+                library = None
+            return Code([], [], [], self.program.lines, {}, tuple(self.includes),
+                        library=library)
+        for st in statements:
             self.statement(st)
-        if self.blocks:
-            kind, st, _ = self.blocks[-1]
-            closer = {"FOR": "NEXT", "IF": "ENDIF", "WHILE": "WEND", "REPEAT": "UNTIL"}[kind]
-            raise self.error(st, f"{kind} without {closer}")
+        closers = {"FOR": "NEXT", "IF": "ENDIF", "WHILE": "WEND", "REPEAT": "UNTIL",
+                   "SELECT": "END_CASE"}
+        for kind, st, _ in reversed(self.blocks):  # the innermost first, as raised
+            self.report(self.error(st, f"{'SELECT_CASE' if kind == 'SELECT' else kind} "
+                                       f"without {closers[kind]}"))
         for pc, labels, st, build in self.patches:
-            for label in labels:
-                if label not in self.labels:
-                    raise self.error(st, f"label {label!r} is not defined")
+            missing = [label for label in labels if label not in self.labels]
+            if missing:
+                self.report(self.error(st, f"label {missing[0]!r} is not defined"))
+                continue
             self.set_op(pc, build([self.labels[label] for label in labels]))
+        self.includes.extend(sorted(self.scope.used - {self.name, *self.includes}))
         return Code(self.ops, self.lines, self.costs, self.program.lines, self.labels,
                     tuple(self.includes))
 
     def statement(self, st: s.Stmt) -> None:
         """Emit one statement's operations: the compile function its row in the program's
         statement table names (:mod:`motionsim.sim.trio.language.commands`)."""
-        compile_fn = self.compilers[type(st)]
         try:
-            compile_fn(self, st)
-        except ExprError as exc:
-            raise self.error(st, str(exc)) from None
+            compile_fn = self.compilers[type(st)]
+            blocks = self.blocks
+            if blocks and blocks[-1][0] == "SELECT":
+                self.before_in_select(st)
+            if self.function is not None:
+                self.refuse_in_library(st)
+            try:
+                compile_fn(self, st)
+            except ExprError as exc:
+                raise self.error(st, str(exc)) from None
+        except ParseError as err:
+            self.report(err)
 
     # -- simple statements -----------------------------------------------------------------
 
@@ -253,6 +292,28 @@ class _Compiler(Declarations, Branches):
         axis = compile_expr(st.axis) if st.axis is not None else None
         self.emit(lambda c: c.setup_command(
             name, tuple(a(c) for a in args), axis(c) if axis is not None else None), st)
+
+    def st_ScopeCmd(self, st: s.ScopeCmd) -> None:
+        """SCOPE: the parameters stay compiled readers, sampled by the scope
+        (:mod:`motionsim.sim.trio.run.scope`) with the context of the process that ran it."""
+        args = [self.num(a) for a in st.args]
+        readers, names = args[4:], tuple(_param_name(a, i) for i, a in enumerate(st.args[4:]))
+
+        def op(c: Any) -> None:
+            period = args[1](c) if len(args) > 1 else None
+            table = (args[2](c), args[3](c)) if len(args) > 2 else None
+            c.ctrl.scope.set(c, args[0](c), period, table, readers, names)
+
+        self.emit(op, st)
+
+    def st_BusCall(self, st: s.BusCall) -> None:
+        name = st.name
+        args = [self.num(a) for a in st.args]
+
+        def op(c: Any) -> None:
+            c.bus_call(name, tuple(a(c) for a in args), True)
+
+        self.emit(op, st)
 
     def st_OpWrite(self, st: s.OpWrite) -> None:
         args = [self.num(a) for a in st.args]
@@ -353,7 +414,9 @@ class _Compiler(Declarations, Branches):
 
     def st_Label(self, st: s.Label) -> None:
         if st.name in self.labels:
-            raise self.error(st, f"label {st.name!r} is defined twice")
+            why = (f" (only the first {LABEL_CHARS} characters of a label are significant)"
+                   if len(st.name) == LABEL_CHARS else "")
+            raise self.error(st, f"label {st.name!r} is defined twice{why}")
         self.labels[st.name] = len(self.ops)
 
     def st_Goto(self, st: s.Goto) -> None:
@@ -364,6 +427,9 @@ class _Compiler(Declarations, Branches):
         self.patches.append((pc, (st.label,), st, lambda t: _gosub(t[0], pc + 1)))
 
     def st_Return(self, st: s.Return) -> None:
+        if self.return_value(st):
+            return
+
         def op(c: Any) -> int:
             if not c.gosub_stack:
                 raise BasicError(RETURN_WITHOUT_GOSUB)
@@ -413,6 +479,7 @@ class _Compiler(Declarations, Branches):
 
         self.set_op(for_pc, op_for)
         self.emit(op_next, st)
+        self.close_exits(info, after)
 
     def st_If(self, st: s.If) -> None:
         cond = self.num(st.cond)
@@ -479,6 +546,7 @@ class _Compiler(Declarations, Branches):
         assert isinstance(wst, s.While)
         self.emit(_jump(info["pc"]), st)
         self.set_op(info["pc"], _branch(self.num(wst.cond), len(self.ops)))
+        self.close_exits(info, len(self.ops))
 
     def st_Repeat(self, st: s.Repeat) -> None:
         self.blocks.append(("REPEAT", st, {"pc": len(self.ops)}))
@@ -488,6 +556,7 @@ class _Compiler(Declarations, Branches):
             raise self.error(st, "UNTIL without REPEAT")
         _, _, info = self.blocks.pop()
         self.emit(_branch(self.num(st.cond), info["pc"]), st)
+        self.close_exits(info, len(self.ops))
 
 
 def _unpatched(c: Any) -> None:  # pragma: no cover - replaced before any program runs
@@ -517,16 +586,34 @@ def compile_program(
     program: s.Program,
     name: str = "",
     resolve: Resolver | None = None,
-    shared: dict[str, Decl] | None = None,
+    shared: Mapping[str, Decl] | None = None,
     shared_version: int = 0,
+    functions: Mapping[str, FunctionDef] | None = None,
+    errors: list[ParseError] | None = None,
 ) -> Code:
     """Compile a parsed program; structure errors raise :class:`ParseError` (with ``program``
     = ``name`` or the INCLUDEd program at fault). ``resolve`` finds the parsed program an
     ``INCLUDE`` names (None: INCLUDE is refused, as at the command line); ``shared`` holds the
-    controller's GLOBAL / CONSTANT names (:mod:`motionsim.sim.trio.language.scope`)."""
-    code = _Compiler(program, name, resolve, shared).run()
+    controller's GLOBAL / CONSTANT names (:mod:`motionsim.sim.trio.language.scope`),
+    ``functions`` the functions of its stored BASIC libraries (:mod:`.functions`); a program of
+    FUNCTION blocks compiles to a library (``Code.library``). With ``errors`` (a list) every
+    compile error it can go on past is appended there instead of raised: the code returned
+    is then only good for its messages (the check tool), never for running."""
+    code = _Compiler(program, name, resolve, shared, functions, errors=errors).run()
     code.shared_version = shared_version
     return code
 
 
 __all__ = ["HALT", "Block", "Code", "Poll", "Sleep", "WaitFor", "compile_program"]
+
+
+def _param_name(e: s.Expr, i: int) -> str:
+    """A SCOPE parameter's column name: ``MPOS AXIS(5)``, ``VR(3)``, else ``p{i}``."""
+    if isinstance(e, s.Param):
+        if e.axis is None:
+            return e.name
+        if isinstance(e.axis, s.Num):
+            return f"{e.name} AXIS({e.axis.value:g})"
+    if isinstance(e, s.VrRef) and isinstance(e.index, s.Num):
+        return f"VR({e.index.value:g})"
+    return f"p{i}"

@@ -20,7 +20,8 @@ from collections.abc import Callable
 from typing import Any
 
 from . import statements as s
-from .expressions import compile_expr, kind_of
+from .expressions import compile_expr, index_of, kind_of
+from .names import VARIABLE_CHARS
 from .scope import Decl, ExprError, coerce, rebinding
 from .strings import DEFAULT_LENGTH
 
@@ -29,7 +30,7 @@ Resolver = Callable[[str], "s.Program | None"]
 Writer = Callable[[Any, Any], None]
 
 #: Statements an INCLUDEd program may hold.
-INCLUDABLE = (s.Dim, s.Global, s.Constant)
+INCLUDABLE = (s.Dim, s.DimList, s.Global, s.Constant)
 
 
 class Declarations:
@@ -80,16 +81,35 @@ class Declarations:
     def st_Dim(self, st: s.Dim) -> None:
         old = self.scope.get(st.name)
         if old is not None and old.kind == "DIM":
-            raise self.error(st, f"DIM {st.name}: {st.name} is already declared (DIM twice)")
+            why = (f"; only the first {VARIABLE_CHARS} characters of a name are significant"
+                   if len(st.name) == VARIABLE_CHARS else "")
+            raise self.error(st, f"DIM {st.name}: {st.name} is already declared (DIM twice"
+                                 f"{why})")
         if old is not None:
             raise self.error(st, f"DIM {st.name}: {st.name} is already a {old.kind} name")
         if st.name in self.scope.untyped:
             raise self.error(st, f"DIM {st.name}: {st.name} is already used as a local above "
                                  "(DIM comes before the first use)")
-        decl = Decl("DIM", st.type, st.size, st.length or DEFAULT_LENGTH)
+        decl = Decl("DIM", st.type, st.size, st.length or DEFAULT_LENGTH, dims=st.dims)
+        init = None
+        if st.init is not None:  # DIM x AS INTEGER = 0: checked like x = 0
+            init = self.value_for(s.Local(st.name), st.init, decl)
         self.scope.names[st.name] = decl
         name = st.name
-        self.emit(lambda c: c.declare_local(name, decl), st)
+        if init is None:
+            self.emit(lambda c: c.declare_local(name, decl), st)
+        else:
+            value = init
+
+            def op(c: Any) -> None:
+                c.declare_local(name, decl)
+                c.set_local(name, coerce(decl, value(c)))
+
+            self.emit(op, st)
+
+    def st_DimList(self, st: s.DimList) -> None:
+        for dim in st.dims:
+            self.st_Dim(dim)
 
     def st_Global(self, st: s.Global) -> None:
         self._shared(st, st.name, Decl("GLOBAL", index=st.index))
@@ -109,9 +129,16 @@ class Declarations:
 
     # -- assignment targets ------------------------------------------------------------------
 
-    def value_for(self, target: Any, value: s.Expr) -> Callable[[Any], Any]:
-        """The assigned value compiled, checked against the target's kind."""
-        want = kind_of(target, self.scope) if isinstance(target, (s.Local, s.Element)) else "num"
+    def value_for(self, target: Any, value: s.Expr, decl: Decl | None = None
+                  ) -> Callable[[Any], Any]:
+        """The assigned value compiled, checked against the target's kind (``decl``: the
+        declaration the target is about to have, for a DIM's initial value)."""
+        if decl is not None:
+            want = "str" if decl.is_str else "num"
+        elif isinstance(target, (s.Local, s.Element)):
+            want = kind_of(target, self.scope)
+        else:
+            want = "num"
         got = kind_of(value, self.scope)
         if want != got:
             if got == "str" and isinstance(target, s.Local) and self.scope.get(target.name) is None:
@@ -141,7 +168,7 @@ class Declarations:
             if decl is None or decl.size is None:
                 raise ExprError(f"{target.name} is not an array (DIM {target.name}(n) AS ... "
                                 "declares one)")
-            idx = compile_expr(target.index, self.scope)
+            idx = index_of(target, decl, self.scope)
             name = target.name
             return lambda c, v: c.set_element(name, decl, idx(c), coerce(decl, v))
         if isinstance(target, s.Bit):

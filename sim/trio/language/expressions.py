@@ -16,8 +16,9 @@ from collections.abc import Callable
 from typing import Any
 
 from ..card.basic_errors import DIVIDE_BY_ZERO, BasicError
+from ..card.fieldbus import BUS_FUNCTIONS
 from . import statements as s
-from .scope import ExprError, Scope
+from .scope import Decl, ExprError, Scope
 from .strings import STRING_FUNCTIONS, arg_kinds
 
 Eval = Callable[[Any], float]
@@ -75,6 +76,16 @@ def _mod(a: float, b: float) -> float:
     return float(int(a) % ib)
 
 
+def _shift(a: float, b: float, left: bool) -> float:
+    """``a << b`` / ``a >> b``: the integer part of ``a`` shifted by the integer part of ``b``
+    bits (``>>`` keeps the sign, an arithmetic shift ``[INF]``); a count below 0 or above 63
+    (the MC4 integer is 64-bit) is a run-time error ``[INF]``."""
+    n = int(b)
+    if not 0 <= n <= 63:
+        raise BasicError(f"Parameter out of range: shift by {b:g} bits")
+    return float(int(a) << n) if left else float(int(a) >> n)
+
+
 def _pow(a: float, b: float) -> float:
     try:
         r = a**b
@@ -101,6 +112,8 @@ _BINARY: dict[str, Callable[[float, float], float]] = {
     "AND": lambda a, b: float(int(a) & int(b)),
     "OR": lambda a, b: float(int(a) | int(b)),
     "XOR": lambda a, b: float(int(a) ^ int(b)),
+    "<<": lambda a, b: _shift(a, b, True),
+    ">>": lambda a, b: _shift(a, b, False),
 }
 
 
@@ -117,7 +130,10 @@ def kind_of(node: s.Expr, scope: Scope | None = None) -> str:
         return "str"
     if isinstance(node, (s.Local, s.Element)) and scope is not None:
         decl = scope.get(node.name)
-        return "str" if decl is not None and decl.is_str else "num"
+        if decl is None:
+            fn = scope.function(node.name) if scope.functions else None
+            return "str" if fn is not None and fn.is_str else "num"
+        return "str" if decl.is_str else "num"
     if isinstance(node, s.Call) and node.name in STRING_FUNCTIONS:
         return STRING_FUNCTIONS[node.name][3]
     if isinstance(node, s.Binary) and node.op == "+":
@@ -135,8 +151,23 @@ def _num(node: s.Expr, scope: Scope | None, what: str) -> Eval:
     return compile_expr(node, scope)
 
 
+def _call(node: s.Local | s.Element, scope: Scope) -> Eval | None:
+    """A call of a library function (:mod:`.functions`) when the name is one, else None."""
+    fn = scope.function(node.name)
+    if fn is None:
+        return None
+    from .functions import call_of
+
+    scope.used.add(fn.library)
+    args = node.indices if isinstance(node, s.Element) else ()
+    return call_of(fn, args, scope, value=True)
+
+
 def _local(node: s.Local, scope: Scope | None) -> Eval:
     name = node.name
+    call = _call(node, scope) if scope is not None and scope.functions else None
+    if call is not None:
+        return call
     decl = scope.plain(name) if scope is not None else None
     if decl is None:
         return lambda c: c.locals.get(name, 0.0)
@@ -152,11 +183,30 @@ def _local(node: s.Local, scope: Scope | None) -> Eval:
     return lambda c: c.locals.get(name, initial)
 
 
+def index_of(node: s.Element, decl: Decl, scope: Scope | None) -> Eval:
+    """``name(i)`` / ``name(i, j)`` of a DIM array: its indexes compiled, one per dimension
+    (``i`` for a one-dimensional array, the tuple ``(i, j)`` for two; the context checks each
+    against its size at run time)."""
+    want = max(len(decl.dims), 1)
+    if len(node.indices) != want:
+        form = ", ".join("ijk"[:want])
+        raise ExprError(f"{node.name} has {want} dimension{'s' if want > 1 else ''}: it needs "
+                        f"{want} index{'es' if want > 1 else ''}, {node.name}({form})")
+    parts = [_num(i, scope, "an array index") for i in node.indices]
+    if len(parts) == 1:
+        return parts[0]
+    return lambda c: tuple(p(c) for p in parts)  # type: ignore[return-value]
+
+
 def _element(node: s.Element, scope: Scope | None) -> Eval:
+    call = _call(node, scope) if scope is not None else None
+    if call is not None:
+        return call
     decl = scope.get(node.name) if scope is not None else None
     if decl is None or decl.size is None:
-        raise ExprError(f"{node.name} is not an array (DIM {node.name}(n) AS ... declares one)")
-    idx = _num(node.index, scope, "an array index")
+        raise ExprError(f"{node.name} is not an array (DIM {node.name}(n) AS ... declares one) "
+                        f"nor a FUNCTION of a stored BASIC library")
+    idx = index_of(node, decl, scope)
     name = node.name
     return lambda c: c.element(name, decl, idx(c))
 
@@ -267,6 +317,10 @@ def _c_binary(node: s.Binary, scope: Scope | None) -> Eval:
 def _c_call(node: s.Call, scope: Scope | None) -> Eval:
     if node.name in STRING_FUNCTIONS:
         return _string_call(node, scope)
+    if node.name in BUS_FUNCTIONS:  # ETHERCAT(...), PEEK(...) as values (card/fieldbus.py)
+        name = node.name
+        bus_args = [_num(a, scope, name) for a in node.args]
+        return lambda c: c.bus_call(name, tuple(a(c) for a in bus_args), False)
     impl = FUNCTIONS[node.name][1]
     args = [_num(a, scope, node.name) for a in node.args]
     if len(args) == 1:
@@ -288,4 +342,4 @@ _COMPILE: dict[type, Callable[[Any, Scope | None], Eval]] = {
 }
 
 
-__all__ = ["FALSE", "FUNCTIONS", "FUZZ", "TRUE", "compile_expr", "kind_of", "truth"]
+__all__ = ["FALSE", "FUNCTIONS", "FUZZ", "TRUE", "compile_expr", "index_of", "kind_of", "truth"]

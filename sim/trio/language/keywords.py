@@ -12,6 +12,7 @@ HTTP 501 ``not_simulated``) — not as a syntax error. ``docs/trio.md`` prints t
 
 from __future__ import annotations
 
+from ..card.models import MODELS
 from ..card.parameters import STORED
 from ..card.setup_commands import COMMANDS
 
@@ -77,10 +78,12 @@ NOT_SIMULATED = frozenset({
 MC4_WORDS = frozenset({
     "INCLUDE", "DIM", "AS", "INTEGER", "FLOAT", "STRING", "BOOLEAN", "GLOBAL", "CONSTANT",
     "LEN", "LEFT", "RIGHT", "MID", "INSTR", "VAL", "UCASE", "LCASE", "STR",
+    "SELECT_CASE", "CASE", "END_CASE", "EXIT_LOOP", "FUNCTION", "ENDFUNC",
 })
 
-#: Models whose language has :data:`MC4_WORDS`, bit access (``v.n``) and string values.
-MC4_MODELS = frozenset({"mc4xx"})
+#: Models whose language has :data:`MC4_WORDS`, bit access (``v.n``) and string values: the
+#: firmware 2.x family (:mod:`motionsim.sim.trio.card.models`, ``mc4xx`` and ``mc6xx``).
+MC4_MODELS = frozenset(name for name, m in MODELS.items() if m.mc4)
 
 
 def index_rows() -> list[tuple[str, str, bool]]:

@@ -7,8 +7,9 @@ precedence follows the manual (spec §9.2), highest first: unary ``-`` and ``NOT
 ``*`` ``/``; ``MOD``; ``+`` ``-``; comparisons; ``AND`` ``OR`` ``XOR``; equal precedence
 left to right.
 
-The language is the model's (config ``model``, spec §11): on ``mc4xx`` also ``INCLUDE``,
-``DIM``, ``GLOBAL``, ``CONSTANT``, string values and functions and bit access ``v.n``; on
+The language is the model's (config ``model``, spec §11): on ``mc4xx`` / ``mc6xx`` also
+``INCLUDE``, ``DIM``, ``GLOBAL``, ``CONSTANT``, ``SELECT_CASE``, ``EXIT_LOOP``, ``FUNCTION``
+(BASIC libraries), string values and functions, bit access ``v.n`` and the shifts; on
 ``series2`` / ``mc2xx`` those words are the syntax error that generation answers and otherwise
 ordinary names. A Trio keyword (:data:`RESERVED`, plus the MC4 words on ``mc4xx``) is never a
 local variable. ``ON BASICERROR GOTO`` and ``ON e GOSUB/GOTO`` are every model's.
@@ -30,6 +31,7 @@ import math
 import re
 
 from ...errors import NotSimulated, ParseError
+from ..card.fieldbus import BUS_FUNCTIONS
 from ..card.models import DEFAULT_MODEL
 from ..card.parameters import ALL_PARAMS, WRITABLE
 from ..card.setup_commands import COMMANDS as SETUP_COMMANDS
@@ -42,7 +44,9 @@ from .expressions import FUNCTIONS
 from .keywords import INDEX, MC4_MODELS, MC4_WORDS, NOT_SIMULATED
 from .lexer import Token, tokenize
 from .move_words import MOVE_ARGS
+from .names import label, variable
 from .strings import STRING_FUNCTIONS
+from .structure_parser import StructureParser
 
 #: The deepest a line may nest ``[INF]`` (no figure in the manuals): sub-expressions (brackets,
 #: function arguments, indexes), unary operators, the binary operators of one expression and
@@ -78,6 +82,7 @@ PARAMS_WRITABLE = WRITABLE | frozenset(k for k, (_kind, w) in LANGUAGE_PARAMS.it
 RESERVED = (
     (_KEYWORDS - MC4_WORDS) | frozenset(FUNCTIONS) | frozenset(CONSTANTS) | PARAMS
     | NOT_SIMULATED | frozenset({"BASICERROR", "IDLE", "LOADED", "STEP", "PROC"})
+    | frozenset(BUS_FUNCTIONS)
     | frozenset(w for kws in INDEX.values() for k in kws
                 for w in re.findall(r"[A-Z_][A-Z0-9_]*", k))
 )
@@ -85,20 +90,25 @@ RESERVED = (
 _CMP = frozenset({"=", "<>", "<", "<=", ">", ">="})
 
 #: Binary operators and their precedence, highest last (spec §9.2); unary - and NOT bind
-#: tighter than all of them.
+#: tighter than all of them. The MC4 shifts ``<<`` ``>>`` (:data:`SHIFTS`) bind between the
+#: comparisons and ``+`` ``-`` (no manual figure reached: the place C and most BASICs with
+#: shifts give them, ``[INF]``), so ``a << 2 + 1`` is ``a << 3`` and ``x >> 4 = 1`` compares.
 _PRECEDENCE: dict[str, int] = {
     "AND": 1, "OR": 1, "XOR": 1,
     **dict.fromkeys(_CMP, 2),
-    "+": 3, "-": 3,
-    "MOD": 4,
-    "*": 5, "/": 5,
-    "^": 6,
+    "<<": 3, ">>": 3,
+    "+": 4, "-": 4,
+    "MOD": 5,
+    "*": 6, "/": 6,
+    "^": 7,
 }
+#: The shift operators: MC4xx / MC6xx language only ``[INF]`` (issue 32: in MC4xx programs).
+SHIFTS = frozenset({"<<", ">>"})
 _EOL = Token("eol", "", 0)
 _PAD = [_EOL] * 4
 
 
-class _Line(DeclarationParser):
+class _Line(DeclarationParser, StructureParser):
     """Recursive-descent parser over the tokens of one source line."""
 
     def __init__(self, text: str, line_no: int, model: str = DEFAULT_MODEL,
@@ -190,7 +200,11 @@ class _Line(DeclarationParser):
         word = self.name()
         if self.reserved(word):
             raise self.error(f"{word} is a Trio BASIC keyword: it cannot be a {what}", tok.col)
-        return word
+        return variable(word)
+
+    def label_name(self) -> str:
+        """A label a GOTO / GOSUB / ON names: its significant characters (:mod:`.names`)."""
+        return label(self.name())
 
     def bit_suffix(self, node: s.Expr) -> s.Expr:
         """``value.n`` (MC4): a ``.digits`` number written straight after a name, ``)`` or
@@ -222,7 +236,7 @@ class _Line(DeclarationParser):
             and second.text == ":"
             and first.text not in _KEYWORDS
         ):
-            out.append(s.Label(self.line_no, first.col, first.text))
+            out.append(s.Label(self.line_no, first.col, label(first.text)))
             self.i += 2
         out.extend(self.statements(stop=()))
         if self.peek().kind != "eol":
@@ -298,12 +312,13 @@ class _Line(DeclarationParser):
 
     def assignment(self, ln: int, col: int) -> s.Stmt:
         """``name = e``, ``name(i) = e`` (an array element, MC4), ``name.n = e`` (a bit, MC4)."""
-        word = self.take().text
+        word = variable(self.take().text)
         target: s.Local | s.Element | s.Bit = s.Local(word)
         if self.at("(") and self.dialect.arrays:
-            self.i += 1
-            target = s.Element(word, self.expr())
-            self.expect(")")
+            target = s.Element(word, self.call_args())
+            if ((self.end_of_statement() or self.at("ELSE"))
+                    and "FUNCTION" in self.dialect.parsers):
+                return s.CallStmt(ln, col, target)  # f(a, b): a library function's call
         bit = self.bit_suffix(target)
         if isinstance(bit, s.Bit):
             target = bit
@@ -340,6 +355,21 @@ class _Line(DeclarationParser):
     def st_setup(self, ln: int, col: int) -> s.Stmt:
         return self.setup_command(self.word, ln, col)
 
+    def st_bus(self, ln: int, col: int) -> s.Stmt:
+        return s.BusCall(ln, col, self.word, self.bus_args(self.word))
+
+    def bus_args(self, name: str) -> tuple[s.Expr, ...]:
+        """The arguments of a system / fieldbus function, counted against its row."""
+        fn = BUS_FUNCTIONS[name]
+        c = self.col()
+        if not self.at("("):
+            raise self.error(f"{name} needs its arguments in brackets, {name}(...)")
+        args = self.args()
+        if not fn.low <= len(args) <= fn.high:
+            want = str(fn.low) if fn.low == fn.high else f"{fn.low} to {fn.high}"
+            raise self.error(f"{name} takes {want} arguments, got {len(args)}", c)
+        return args
+
     def st_QUERY(self, ln: int, col: int) -> s.Stmt:
         """``? items``: PRINT's short form, to the process' OUTDEVICE (no ``#n``)."""
         return s.Print(ln, col, *self.print_items())
@@ -374,6 +404,14 @@ class _Line(DeclarationParser):
             channel = self.expr()
             self.expect(",")
         return s.Print(ln, col, *self.print_items(), channel=channel)
+
+    def st_SCOPE(self, ln: int, col: int) -> s.Stmt:
+        """``SCOPE(OFF)``, ``SCOPE(ON, period)``, ``SCOPE(ON, period, start, stop, p0..p7)``."""
+        c = self.col()
+        args = self.args()
+        if len(args) not in (1, 2) and not 5 <= len(args) <= 12:
+            raise self.error(f"SCOPE takes 1, 2 or 5 to 12 arguments, got {len(args)}", c)
+        return s.ScopeCmd(ln, col, args)
 
     def st_DEFPOS(self, ln: int, col: int) -> s.Stmt:
         values = self.args()
@@ -459,7 +497,7 @@ class _Line(DeclarationParser):
         return s.For(ln, col, var, start, end, step)
 
     def st_NEXT(self, ln: int, col: int) -> s.Stmt:
-        var = None if self.end_of_statement() else self.name()
+        var = None if self.end_of_statement() else variable(self.name())
         return s.Next(ln, col, var)
 
     def st_IF(self, ln: int, col: int) -> s.Stmt:
@@ -514,13 +552,17 @@ class _Line(DeclarationParser):
         return s.Wa(ln, col, ms)
 
     def st_GOTO(self, ln: int, col: int) -> s.Stmt:
-        return s.Goto(ln, col, self.name())
+        return s.Goto(ln, col, self.label_name())
 
     def st_GOSUB(self, ln: int, col: int) -> s.Stmt:
-        return s.Gosub(ln, col, self.name())
+        return s.Gosub(ln, col, self.label_name())
 
     def st_RETURN(self, ln: int, col: int) -> s.Stmt:
-        return s.Return(ln, col)
+        """``RETURN``; in the MC4 language also ``RETURN value`` (a FUNCTION's result)."""
+        if (self.end_of_statement() or self.at("ELSE")
+                or "FUNCTION" not in self.dialect.parsers):
+            return s.Return(ln, col)
+        return s.Return(ln, col, self.expr())
 
     def st_STOP(self, ln: int, col: int) -> s.Stmt:
         return s.Stop(ln, col, None if self.end_of_statement() else self.string())
@@ -587,6 +629,9 @@ class _Line(DeclarationParser):
             if prec is None or prec < min_prec:
                 self.depth = base - 1
                 return left
+            if op in SHIFTS and not self.dialect.shifts:
+                raise self.error(f"the shift operator {op} is not Trio BASIC on the {self.model} "
+                                 "model: it came with the MC4xx / MC6xx language (firmware 2.x)")
             self.i += 1
             self.nest()  # the tree of a run of operators is as deep as the run is long
             left = s.Binary(op, left, self.expr(prec + 1, sub=False))
@@ -648,6 +693,8 @@ class _Line(DeclarationParser):
         if word in FUNCTIONS:
             arity = FUNCTIONS[word][0]
             return s.Call(word, self.args_exact(arity, word))
+        if word in BUS_FUNCTIONS:
+            return s.Call(word, self.bus_args(word))
         if word in STRING_FUNCTIONS and self.dialect.strings:
             lo, hi = STRING_FUNCTIONS[word][:2]
             c = self.col()
@@ -669,11 +716,8 @@ class _Line(DeclarationParser):
         if self.reserved(word):
             raise self.error(f"{word} is a Trio BASIC keyword, not a value", tok.col)
         if self.dialect.arrays and self.at("("):
-            self.i += 1
-            index = self.expr()
-            self.expect(")")
-            return s.Element(word, index)
-        return s.Local(word)
+            return s.Element(variable(word), self.call_args())
+        return s.Local(variable(word))
 
     def param_ref(self, word: str, col: int) -> s.Param:
         axis = self.axis_modifier()
@@ -727,16 +771,26 @@ BASE = Dialect("series2 / mc2xx", (
     Row(("ON",), _P.st_ON, {s.OnError: _C.st_OnError, s.OnBranch: _C.st_OnBranch}),
     Row(tuple(MOVE_ARGS), _P.st_move, {s.MoveCmd: _C.st_MoveCmd}),
     Row(tuple(SETUP_COMMANDS), _P.st_setup, {s.SetupCmd: _C.st_SetupCmd}),
+    Row(("SCOPE",), _P.st_SCOPE, {s.ScopeCmd: _C.st_ScopeCmd}),  # TRIGGER: a set-up command
+    Row(tuple(BUS_FUNCTIONS), _P.st_bus, {s.BusCall: _C.st_BusCall}),
 ), later_words=MC4_WORDS)
 
 #: The MC4xx / MC6xx language (firmware 2.x, spec §11): the base table, its declarations,
 #: its words reserved, string values, bit access and arrays.
 MC4 = BASE.extend("mc4xx", (
     Row(("INCLUDE",), _P.st_INCLUDE, {s.Include: _C.st_Include}),
-    Row(("DIM",), _P.st_DIM, {s.Dim: _C.st_Dim}),
+    Row(("DIM",), _P.st_DIM, {s.Dim: _C.st_Dim, s.DimList: _C.st_DimList}),
     Row(("GLOBAL",), _P.st_GLOBAL, {s.Global: _C.st_Global}),
     Row(("CONSTANT",), _P.st_CONSTANT, {s.Constant: _C.st_Constant}),
-), keywords=MC4_WORDS, later_words=frozenset(), strings=True, bit_access=True, arrays=True)
+    Row(("SELECT_CASE",), _P.st_SELECT_CASE, {s.SelectCase: _C.st_SelectCase}),
+    Row(("CASE",), _P.st_CASE, {s.Case: _C.st_Case}),
+    Row(("END_CASE",), _P.st_END_CASE, {s.EndCase: _C.st_EndCase}),
+    Row(("EXIT_LOOP",), _P.st_EXIT_LOOP, {s.ExitLoop: _C.st_ExitLoop}),
+    Row(("FUNCTION",), _P.st_FUNCTION, {s.Function: _C.st_Function}),
+    Row(("ENDFUNC",), _P.st_ENDFUNC, {s.EndFunc: _C.st_EndFunc}),
+    Row((), None, {s.CallStmt: _C.st_CallStmt}),  # f(a, b): a library function called
+), keywords=MC4_WORDS, later_words=frozenset(), strings=True, bit_access=True, arrays=True,
+   shifts=True)
 
 
 def dialect_of(model: str) -> Dialect:
@@ -752,14 +806,21 @@ def parse_line(text: str, line_no: int = 1, model: str = DEFAULT_MODEL,
 
 
 def parse_program(text: str, model: str = DEFAULT_MODEL,
-                  dialect: Dialect | None = None) -> s.Program:
-    """Parse a whole program text in the language of ``model`` (series2 / mc2xx / mc4xx) or
-    of ``dialect``; raises :class:`ParseError` at the first bad line."""
+                  dialect: Dialect | None = None,
+                  errors: list[ParseError | NotSimulated] | None = None) -> s.Program:
+    """Parse a whole program text in the language of ``model`` (series2 / mc2xx / mc4xx /
+    mc6xx) or of ``dialect``; raises :class:`ParseError` at the first bad line — or, given
+    ``errors`` (a list), appends each bad line's error there and leaves that line out."""
     lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
     language = dialect or dialect_of(model)
     out: list[s.Stmt] = []
     for i, line in enumerate(lines, start=1):
-        out.extend(_Line(line, i, model, language).parse())
+        try:
+            out.extend(_Line(line, i, model, language).parse())
+        except (ParseError, NotSimulated) as err:
+            if errors is None:
+                raise
+            errors.append(err)
     return s.Program(tuple(out), tuple(lines), language)
 
 

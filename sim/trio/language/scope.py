@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 from .strings import DEFAULT_LENGTH
 
@@ -36,10 +37,11 @@ class Decl:
 
     kind: str
     type: str = "FLOAT"  # DIM: INTEGER, FLOAT, STRING, BOOLEAN
-    size: int | None = None  # DIM: array size
+    size: int | None = None  # DIM: array size (elements in all)
     length: int = DEFAULT_LENGTH  # DIM STRING: characters kept
     index: int = 0  # GLOBAL: the VR
     value: float = 0.0  # CONSTANT
+    dims: tuple[int, ...] = ()  # DIM: the array's shape, (n,) or (n, m)
 
     @property
     def is_str(self) -> bool:
@@ -53,9 +55,20 @@ class Decl:
 class Scope:
     """The names a program's expressions are compiled against."""
 
-    def __init__(self, shared: Mapping[str, Decl] | None = None) -> None:
+    def __init__(self, shared: Mapping[str, Decl] | None = None,
+                 functions: Mapping[str, Any] | None = None) -> None:
         self.names: dict[str, Decl] = dict(shared or {})
         self.untyped: set[str] = set()  # names used so far as plain locals (DIM must precede)
+        #: The library functions a program can call (:mod:`.functions`), by name.
+        self.functions: Mapping[str, Any] = functions or {}
+        #: The libraries whose functions the program calls.
+        self.used: set[str] = set()
+
+    def function(self, name: str) -> Any:
+        """The library function ``name`` stands for (None: a variable, declared or not)."""
+        if name in self.names:
+            return None
+        return self.functions.get(name)
 
     def get(self, name: str) -> Decl | None:
         return self.names.get(name)

@@ -93,10 +93,12 @@ class IoRead:
 
 @dataclass(frozen=True, slots=True)
 class Element:
-    """``name(i)``: element ``i`` (from 0) of a local array declared ``DIM name(n) AS ...``."""
+    """``name(i)`` / ``name(i, j)``: an element (from 0) of a local array declared ``DIM
+    name(n) AS ...`` / ``DIM name(n, m) AS ...`` — or, when ``name`` is a function of a BASIC
+    library, a call of it with ``indices`` as its arguments (MC4)."""
 
     name: str
-    index: Expr
+    indices: tuple[Expr, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -138,6 +140,14 @@ class TableWrite(Stmt):
 
 
 @dataclass(frozen=True, slots=True)
+class ScopeCmd(Stmt):
+    """``SCOPE(enable[, period[, table_start, table_stop, p0 ... p7]])``
+    (:mod:`motionsim.sim.trio.run.scope`)."""
+
+    args: tuple[Expr, ...]
+
+
+@dataclass(frozen=True, slots=True)
 class Base(Stmt):
     """``BASE(a, b, ...)``: the axis group the process' motion commands and parameters act on."""
 
@@ -162,6 +172,15 @@ class SetupCmd(Stmt):
     name: str
     args: tuple[Expr, ...]
     axis: Expr | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class BusCall(Stmt):
+    """A system / fieldbus function as a statement (``ETHERCAT(0, 0)``,
+    ``PROFINET(2, 0, ...)``): :mod:`motionsim.sim.trio.card.fieldbus`."""
+
+    name: str
+    args: tuple[Expr, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -293,7 +312,9 @@ class Gosub(Stmt):
 
 @dataclass(frozen=True, slots=True)
 class Return(Stmt):
-    pass
+    """``RETURN`` (from a GOSUB) or, in a FUNCTION, ``RETURN value`` (MC4)."""
+
+    value: Expr | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -358,13 +379,24 @@ class Include(Stmt):
 
 @dataclass(frozen=True, slots=True)
 class Dim(Stmt):
-    """``DIM name[(size)] AS INTEGER|FLOAT|STRING[(length)]|BOOLEAN``: a typed local, an
-    array when ``size`` is given (MC4)."""
+    """``DIM name[(n[, m])] AS INTEGER|FLOAT|STRING[(length)]|BOOLEAN [= value]``: a typed
+    local, an array when ``dims`` are given (``size`` elements in all), set to ``init`` when
+    declared (MC4)."""
 
     name: str
     type: str
     size: int | None = None
     length: int | None = None
+    dims: tuple[int, ...] = ()
+    init: Expr | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class DimList(Stmt):
+    """``DIM a, b(4) AS FLOAT``: several names of one type on one line, one :class:`Dim`
+    each (MC4)."""
+
+    dims: tuple[Dim, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -381,6 +413,59 @@ class Constant(Stmt):
 
     name: str
     value: float
+
+
+@dataclass(frozen=True, slots=True)
+class SelectCase(Stmt):
+    """``SELECT_CASE expr``: opens a block of CASE branches closed by ``END_CASE`` (MC4)."""
+
+    value: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class Case(Stmt):
+    """``CASE v1, v2, lo TO hi``: the branch taken when the SELECT_CASE value equals one of
+    the values or lies in one of the ranges (``hi`` None: a single value); ``CASE ELSE`` has
+    no choices and is taken when no CASE before it was (MC4)."""
+
+    choices: tuple[tuple[Expr, Expr | None], ...]
+
+    @property
+    def is_else(self) -> bool:
+        return not self.choices
+
+
+@dataclass(frozen=True, slots=True)
+class EndCase(Stmt):
+    """``END_CASE``: closes a SELECT_CASE block (MC4)."""
+
+
+@dataclass(frozen=True, slots=True)
+class ExitLoop(Stmt):
+    """``EXIT_LOOP``: leave the innermost FOR, WHILE or REPEAT loop (MC4)."""
+
+
+@dataclass(frozen=True, slots=True)
+class Function(Stmt):
+    """``FUNCTION name(p1 AS type, ...) [AS type]``: opens a function of a BASIC library,
+    closed by ``ENDFUNC`` (MC4). ``params`` are ``(name, type)`` pairs; ``type`` is the
+    return value's (None: the function returns no value)."""
+
+    name: str
+    params: tuple[tuple[str, str], ...]
+    type: str | None
+
+
+@dataclass(frozen=True, slots=True)
+class EndFunc(Stmt):
+    """``ENDFUNC``: closes a FUNCTION (MC4)."""
+
+
+@dataclass(frozen=True, slots=True)
+class CallStmt(Stmt):
+    """``name(args)`` as a statement: a call of a library function, its value unused (MC4)."""
+
+    call: Element
 
 
 @dataclass(frozen=True, slots=True)

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 from ...errors import InvalidValue
 from ..card import basic_errors as msg
+from ..card import fieldbus
 from ..card.axis_status import computed
 from ..card.basic_errors import BasicError
 from ..card.data_memory import DATA_BYTES, dim_bytes, out_of_memory
@@ -26,8 +27,9 @@ from ..card.parameters import (
     AXIS_STORED,
     SYSTEM_PARAMS,
 )
-from ..language.compiler import HALT, Block, WaitFor
-from ..language.scope import Decl
+from ..language.compiler import HALT, Block, Poll, Sleep, WaitFor
+from ..language.functions import CALL_DEPTH, CALL_STEPS, FnReturn, FunctionDef
+from ..language.scope import Decl, coerce
 from ..motion.issue import new_move
 from ..motion.linked import LINKED, LinkedMove, check_linked, link_axis_of
 from ..motion.moves import Move
@@ -60,6 +62,10 @@ class Context:
         self.command_line = command_line
         self.locals: dict[str, float] = _NoLocals() if command_line else {}
         self.loops: dict[int, tuple[float, float]] = {}
+        #: SELECT_CASE values being compared, by the SELECT_CASE's operation (structure.py).
+        self.selected: dict[int, Any] = {}
+        #: Library function calls in progress (functions.py): their depth.
+        self.calls = 0
         #: Bytes of program data memory each DIMmed name of this process holds.
         self.data_bytes: dict[str, int] = {}
         self.gosub_stack: list[int] = []
@@ -78,14 +84,14 @@ class Context:
     # -- variables -------------------------------------------------------------------------
 
     def set_local(self, name: str, value: float) -> None:
-        if self.command_line:
+        if self.command_line and not self.calls:
             raise BasicError(msg.LOCALS_AT_COMMAND_LINE + f": {name}")
         self.locals[name] = value
 
     def declare_local(self, name: str, decl: Decl) -> None:
         """DIM: the local (or array) at its initial value, its bytes reserved in the
         controller's program data memory first (sim.trio.data_memory)."""
-        if self.command_line:
+        if self.command_line and not self.calls:
             raise BasicError(msg.LOCALS_AT_COMMAND_LINE + f": {name}")
         self._reserve(name, decl)
         initial = decl.initial()
@@ -105,7 +111,18 @@ class Context:
             arr = self.locals[name] = [decl.initial()] * (decl.size or 0)
         return arr
 
-    def _element_index(self, name: str, decl: Decl, i: float) -> int:
+    def _element_index(self, name: str, decl: Decl, i: Any) -> int:
+        """The element ``i`` (``(i, j)`` of a two-dimensional array) names, each index from 0
+        and below its dimension's size; beyond, a run-time error naming the element."""
+        if decl.dims and len(decl.dims) > 1:
+            flat = 0
+            for k, size in zip(i, decl.dims, strict=True):
+                n = int(k)
+                if not 0 <= n < size:
+                    shown = ", ".join(f"{v:g}" for v in i)
+                    raise BasicError(msg.ARRAY_RANGE.format(name=name, index=shown))
+                flat = flat * size + n
+            return flat
         n = int(i)
         if not 0 <= n < (decl.size or 0):
             raise BasicError(msg.ARRAY_RANGE.format(name=name, index=f"{i:g}"))
@@ -177,6 +194,53 @@ class Context:
         n = self._table_index(i)
         self._check_word(f"TABLE({n})", value)
         self.ctrl.table[n] = value
+
+    def bus_call(self, name: str, args: tuple[float, ...], alone: bool) -> float:
+        """A system / fieldbus function (``alone``: as a statement; card/fieldbus.py)."""
+        return fieldbus.call(self, name, args, alone)
+
+    # -- library functions -------------------------------------------------------------------
+
+    def call_function(self, fn: FunctionDef, args: tuple[Any, ...]) -> Any:
+        """Run library function ``fn`` to its RETURN inside the calling statement
+        (:mod:`motionsim.sim.trio.language.functions`): its parameters and names are locals
+        of its own, the caller's are put back afterwards, whatever happens."""
+        if self.calls >= CALL_DEPTH:
+            raise BasicError(f"Stack overflow: FUNCTION calls nested deeper than {CALL_DEPTH} "
+                             f"({fn.name})")
+        code = fn.code
+        saved = (self.locals, self.loops, self.selected, dict(self.data_bytes))
+        own: dict[str, Any] = {name: coerce(decl, v)
+                               for (name, decl), v in zip(fn.params, args, strict=True)}
+        self.locals = own
+        self.loops, self.selected = {}, {}
+        self.calls += 1
+        ops, pc, steps = code.ops, 0, 0
+        try:
+            while pc < len(ops):
+                steps += 1
+                if steps > CALL_STEPS:
+                    raise BasicError(f"FUNCTION {fn.name} ran {CALL_STEPS} statements without "
+                                     "returning")
+                r = ops[pc](self)
+                if r is None:
+                    pc += 1
+                elif r.__class__ is int:
+                    pc = r
+                elif r.__class__ is FnReturn:
+                    return r.value
+                else:
+                    raise BasicError(f"{_waits(r)} inside a FUNCTION would wait: waiting in a "
+                                     "library function is not simulated")
+            return fn.default()
+        except BasicError as exc:
+            if " (in FUNCTION " in exc.message:
+                raise
+            line = code.lines[pc] if pc < len(code.lines) else fn.line
+            raise BasicError(f"{exc.message} (in {fn.where(line)})", exc.number) from None
+        finally:
+            self.calls -= 1
+            self.locals, self.loops, self.selected, self.data_bytes = saved
 
     # -- parameters ------------------------------------------------------------------------
 
@@ -367,7 +431,7 @@ class Context:
             step = 1 if hi >= lo else -1
             table = [self.table(i) for i in range(lo, hi + step, step)]
         move = LinkedMove(self.ctrl.buffers.new_id(), kind, (base,), args, self.process, text)
-        move.bind(link_axis, table, self.ctrl.table, self.ctrl.model.name == "mc4xx")
+        move.bind(link_axis, table, self.ctrl.table, self.ctrl.model.mc4)
         return move
 
     def defpos(self, values: list[float], axis: float | None = None) -> None:
@@ -444,6 +508,15 @@ class Context:
                     return HALT
                 proc.stop(trap=True)  # an armed ON BASICERROR handler sees RUN_ERROR 31
         return None
+
+
+def _waits(r: Any) -> str:
+    """The statement kind behind a wait an operation asked for."""
+    if r is HALT:
+        return "STOP"
+    kinds = {Sleep: "WA", WaitFor: "WAIT IDLE / WAIT LOADED", Poll: "WAIT UNTIL",
+             Block: "a move into a full process buffer"}
+    return kinds.get(type(r), "a waiting statement")
 
 
 __all__ = ["Context"]

@@ -141,3 +141,29 @@ def test_pymodbus_reads_inputs_and_outputs_and_switches_outputs() -> None:
     assert ops == {9: 0.0, 12: 1.0, 16: 1.0, 17: 0.0, 18: 1.0}
     assert low_is_error  # FC 5 starting address range 8..NIO-1 (M216-523)
     assert events == [(0, 9, 1), (0, 12, 1), (0, 16, 1), (0, 18, 1), (0, 9, 0)]
+
+
+def test_ethernet_2_9_1_maps_holding_registers_to_table_where_scope_samples_are() -> None:
+    """Spec trio.md §3.3 (M224-550): ``ETHERNET(2, slot, 9, 1)`` makes the holding registers
+    TABLE instead of VR; a SCOPE capture's samples (TABLE entries) are then read over Modbus
+    (issue 34)."""
+    from pymodbus.client import AsyncModbusTcpClient
+
+    async def scenario(handle, port):
+        ctl = handle.controller
+        for line in ("VR(3)=7", "TABLE(5)=99", "ETHERNET(2,-1,9,1)",
+                     "SCOPE(ON, 1, 10, 14, VR(3))", "TRIGGER"):
+            assert handle.apply(ctl.terminal, line).error is None
+        await handle.advance(0.01)
+        client = AsyncModbusTcpClient("127.0.0.1", port=port)
+        await client.connect()
+        table = await client.read_holding_registers(10, count=4)
+        five = await client.read_holding_registers(5, count=1)
+        await client.write_register(20, 42)
+        client.close()
+        return table.registers, five.registers, ctl.get_variable("TABLE(20)"), \
+            ctl.get_variable("VR(20)")
+
+    table, five, written, vr = run_served(serve_modbus, "trio", "trio", scenario)
+    assert table == [7, 7, 7, 7] and five == [99]
+    assert (written, vr) == (42.0, 0.0)

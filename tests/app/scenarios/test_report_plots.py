@@ -171,3 +171,33 @@ def test_scenario_comments_state_the_values_they_describe():
     for host in yaml.safe_load(text)["hosts"]:
         lat = host["latency"]
         assert f"{lat['ms']:g} ms ± {lat['jitter_ms']:g} ms" in header, host["name"]
+
+
+def test_a_scenario_that_sets_up_a_gather_gets_the_recording_plotted(tmp_path, figures):
+    """A scenario's ``setup`` commands can start the card's data gathering (docs/pmac.md):
+    the run's plots then include ``<controller>_recording.png``, one panel per source."""
+    import copy
+
+    from motionsim.app.scenarios.model import parse_scenario
+    from motionsim.app.scenarios.outputs import write_outputs
+    from motionsim.app.scenarios.report import report
+    from motionsim.app.scenarios.runner import run
+
+    from tests.app.scenarios.test_examples import load_scenario
+
+    scn = load_scenario(EXAMPLES / "breq_missed.yaml")
+    raw = copy.deepcopy(scn.raw)
+    raw["controllers"]["recheck"]["setup"] = [
+        "&1 #1->1000X #2->1000Y", "I5001=$800088 I5002=$800108 I5050=3 I5049=4",
+        "DEFINE GATHER 20000", "GATHER"]
+    scn = parse_scenario(raw, file=scn.file, base_dir=scn.base_dir)
+    result = run(scn)
+    rec = result.controllers["recheck"].recording()
+    assert rec.names == ("I5001", "I5002") and len(rec.cycles) > 100
+    assert all(b - a == 4 for a, b in zip(rec.cycles, rec.cycles[1:], strict=False))
+    paths = write_outputs(result, report(result), tmp_path)
+    assert "recheck_recording.png" in paths and "once_recording.png" not in paths
+    assert paths["recheck_recording.png"].stat().st_size > 0
+    fig = next(f for f in figures if f is not None and f.axes
+               and f.axes[0].get_title().startswith(f"{scn.name}: recheck gather"))
+    assert [ax.get_ylabel() for ax in fig.axes] == ["I5001", "I5002"]

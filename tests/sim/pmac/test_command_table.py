@@ -15,12 +15,15 @@ from motionsim.sim.pmac.language.parser import parse_line
 #: family use).
 ONLINE = [
     "&1", "&1E", "#1", "##0", "#1J+", "#1HM", "#1K", "#1O10", "#1$", "HOME1,2", "#1->X",
-    "DEFINE ROT 100", "DELETE ROT", "DEFINE GATHER", "DELETE GATHER", "DEFINE LOOKAHEAD 50,10",
+    "DEFINE ROT 100", "DELETE ROT", "DEFINE GATHER", "DELETE GATHER", "GATHER", "ENDGATHER",
+    "DEFINE LOOKAHEAD 50,10",
     "DELETE LOOKAHEAD", "OPEN ROT", "OPEN PROG 1", "CLOSE", "B1", "R", "S", "Q", "MFLUSH", "H",
-    "A", "?", "%50", "I10", "I10..11=*", "P1=2", "P1..3=0", "P(P1+1)", "SAVE", "$$$", "LIST PLC 1",
+    "A", "/", "\\", "?", "%50", "I10", "I10..11=*", "P1=2", "P1..3=0", "P(P1+1)", "SAVE",
+    "$$$", "LIST PLC 1",
     "M1->Y:$78802,8", "PC", "RX:$0", "WX:$0,1", "MS0,I910", "CLEAR ALL PLCS", "OPEN PLC 1",
     "ENABLE PLC 1", "DELETE PLCC 1", "CLEAR", "DELETE TRACE", "DEFINE UBUFFER 100",
-    "DELETE ALL", "OPEN FORWARD", "PMATCH", "UNDEFINE", "M1->",
+    "DELETE ALL", "OPEN FORWARD", "PMATCH", "UNDEFINE", "M1->", "DEFINE COMP 4,1000",
+    "DELETE COMP",
 ]  # fmt: skip
 
 

@@ -33,6 +33,8 @@ USES: dict[str, tuple[str, bool]] = {
     "BLOCKSTOP": ("{}", True), "PMATCH": ("&1 {}", False),
     # a PLC's continuation lines (PUM p162), rows since issue 31
     "AND": ("{} (P1=1)", True), "OR": ("{} (M11=0)", True),
+    # data gathering (issue 34)
+    "GATHER": ("{}", False), "ENDGATHER": ("{}", False),
 }
 CASES = [
     (k.name, spelling, *USES[k.name])

@@ -57,3 +57,31 @@ def test_velocity_limited_linear_at_the_factory_ixx17_makes_every_move_a_triangl
     d = ex.durations(ex.run(32, 0.015625)[0])
     assert d[2] == pytest.approx(math.sqrt(4000 / 0.015625) / 1000, abs=1e-3)
     assert all(d[n] > 0.4 for n in (2, 3, 4, 5))
+
+
+def test_gather_blended_corner_records_the_rounded_commanded_path(tmp_path):
+    """examples/pmac/gather_blended_corner.py: the card's data gathering (TSRM p170-171) of
+    motors 1 and 2's commanded positions every servo cycle, read back with LIST GATHER as a
+    host decodes it. X10 then Y10, TM200 TA100: the second move starts blending (its
+    ``move_start``) 100 ms before the first would stop, while X decelerates over the last
+    v·TA/2 = 0.05 units/ms · 100 ms / 2 = 2.5 units (TUM p217), so the path leaves the X
+    axis at X = 7.5 and never reaches the corner."""
+    ex = _load("gather_blended_corner")
+    c, path = ex.run()
+    rec = c.recording()
+    period = c.scheduler.period_s
+    started = next(e for e in c.log.events("gather") if e["state"] == "started")
+    assert rec.cycles == tuple(range(round(started.t / period) + 1,
+                                     round(started.t / period) + 1 + len(path)))
+    assert [(x, y) for x, y in path] == [
+        (x / (1000 * 96 * 32), y / (1000 * 96 * 32)) for x, y in zip(*rec.columns, strict=True)]
+    at = dict(zip(rec.cycles, path, strict=True))
+    blend = round(next(e for e in c.log.events("move_start") if e["n"] == 3).t / period)
+    end = round(next(e for e in c.log.events("move_end") if e["n"] == 3).t / period)
+    assert at[blend] == (pytest.approx(7.5, abs=0.01), 0.0)
+    assert all(y == 0.0 for k, (_, y) in at.items() if k <= blend)
+    assert at[end] == (10.0, 10.0)
+    assert ex.closest_to_corner(path) > 0.5
+    out = tmp_path / "corner.png"
+    ex.main(str(out))
+    assert out.stat().st_size > 0

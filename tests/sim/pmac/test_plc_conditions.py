@@ -7,7 +7,7 @@
 * no blanks between tokens (TSRM p23: blanks are not significant): ``IF(P174!=0ANDP176!=0)``
   and the card's own ``LIST PLC`` output, which runs the same when entered again;
 * blanks inside words where they do not matter: ``END GATHER``, ``END Gat`` are
-  ``ENDGATHER`` (valid, not simulated: answered by name).
+  ``ENDGATHER`` (tests/sim/pmac/test_data_gathering.py).
 """
 
 from __future__ import annotations
@@ -90,14 +90,3 @@ def test_a_continuation_line_must_start_its_line_and_follow_an_if_or_while():
     rig.ok("ENDIF")
     rig.ok("CLOSE")
     assert rig.ok("LIST PLC 6").split("\r")[:3] == ["IF(P1=1)", "AND(P2=1)", "ENDI"]
-
-
-@pytest.mark.parametrize("text", ["END GATHER", "END Gat", "end gather", "ENDGATHER", "ENDG"])
-def test_blanks_inside_endgather_do_not_matter(text):
-    """TSRM p23: ``END GATHER`` is ``ENDGATHER``: valid Turbo PMAC, not simulated, answered
-    by name (never "unrecognised E")."""
-    rig = Rig()
-    reply = rig.cmd(text)
-    assert reply.error == "ERR003"
-    assert rig.c._terminal.detail[0] == "not_simulated"
-    assert "ENDGATHER" in rig.c._terminal.detail[1]

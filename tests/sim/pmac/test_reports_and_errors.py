@@ -34,7 +34,7 @@ def test_address_type_i_variables_answer_in_hex_with_factory_i9(rig):
     assert rig.ok("I9") == "2"
     assert rig.ok("I20..23").split("\r") == ["$0", "$0", "$0", "$0"]
     assert rig.ok("I124 I125 I5193 I8000") == "$40001\r$3440\r$2000\r$2F8420"
-    assert rig.ok("I108 I116 I5049") == "96\r32\r0"  # not addresses: decimal
+    assert rig.ok("I108 I116 I5049") == "96\r32\r1"  # not addresses: decimal (I5049: p171)
 
 
 def test_i9_bit_1_clear_reports_addresses_in_decimal(rig):

@@ -146,7 +146,7 @@ BASE(spare_ax)
 SPEED = 10
 FORWARD
 WA(50)
-VR(5000) = 1
+VR(64000) = 1
 PRINT "not reached"
 STOP
 
@@ -170,7 +170,7 @@ def test_p11_3_error_handler_stops_the_motion_and_records_the_error():
     run_to(c, 1.0)
     (t_err, f), = fields(c, "basic_error")
     assert (f["process"], f["line"], f["run_error"]) == (4, 7, 1)
-    assert "VR index out of range: 5000" in f["error"]
+    assert "VR index out of range: 64000" in f["error"]  # VR(0..63999) on MC4xx (TJ2P-16)
     # INCLUDE costs nothing; lines 2-5 take 100 µs each, WA(50) 50 ms, then line 7 fails
     assert t_err == pytest.approx(4 * 100e-6 + 0.050 + 100e-6)
     (t_fault, out), = fields(c, "output")

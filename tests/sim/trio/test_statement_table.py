@@ -27,12 +27,15 @@ def test_every_statement_class_has_its_compile_function_in_the_mc4_table():
 
 
 def test_the_mc4_dialect_is_the_base_table_plus_its_declarations():
-    """Spec §11.1 / §11.4: INCLUDE, DIM, GLOBAL and CONSTANT came with the MC4 language."""
+    """Spec §11.1 / §11.4: INCLUDE, DIM, GLOBAL and CONSTANT came with the MC4 language; so
+    did its structured statements (issue 32: SELECT_CASE, EXIT_LOOP, library FUNCTIONs)."""
     assert MC4.rows[:len(BASE.rows)] == BASE.rows
-    assert set(MC4.parsers) - set(BASE.parsers) == {"INCLUDE", "DIM", "GLOBAL", "CONSTANT"}
+    assert set(MC4.parsers) - set(BASE.parsers) == {
+        "INCLUDE", "DIM", "GLOBAL", "CONSTANT", "SELECT_CASE", "CASE", "END_CASE", "EXIT_LOOP",
+        "FUNCTION", "ENDFUNC"}
     assert set(MC4.parsers) - set(BASE.parsers) <= MC4_WORDS
-    assert (BASE.strings, BASE.bit_access, BASE.arrays) == (False, False, False)
-    assert (MC4.strings, MC4.bit_access, MC4.arrays) == (True, True, True)
+    assert (BASE.strings, BASE.bit_access, BASE.arrays, BASE.shifts) == (False,) * 4
+    assert (MC4.strings, MC4.bit_access, MC4.arrays, MC4.shifts) == (True,) * 4
     assert BASE.later_words == MC4.keywords == MC4_WORDS
     assert dialect_of("mc4xx") is MC4
     assert dialect_of("mc2xx") is dialect_of("series2") is BASE

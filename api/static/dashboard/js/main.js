@@ -6,6 +6,7 @@ import { ClockPanel } from "./clock.js";
 import { fill, h } from "./dom.js";
 import { ControllerModel } from "./model.js";
 import { PmacView } from "./pmac_view.js";
+import { RecordingPanel } from "./recording.js";
 import { HISTORY_S, MAX_HELD, MAX_POINTS } from "./series.js";
 import { EventStream } from "./stream.js";
 import { Terminal } from "./terminal.js";
@@ -53,6 +54,10 @@ function add(info) {
   ctl.view = info.kind === "pmac" ? new PmacView(views, ctl)
            : info.kind === "trio" ? new TrioView(views, ctl)
            : { render() {} };
+  if (info.kind === "pmac" || info.kind === "trio") {   // gather / SCOPE, drawn on request
+    ctl.recording = new RecordingPanel(ctl, api);
+    views.append(ctl.recording.el);
+  }
   controllers.set(info.id, ctl);
   return ctl;
 }
