@@ -11,7 +11,7 @@ TEST_STAMP := $(VENV)/.installed-test
 # ("Editable installation ... be careful with folders named like your package"); not a problem.
 PIP_INSTALL := PYTHONWARNINGS="ignore:Editable installation" $(BIN)/python -m pip install -q
 
-.PHONY: run test lint bench profile cov mutate plots fuzz screenshot clean
+.PHONY: run test docker-test docker-image lint bench profile cov mutate plots fuzz screenshot clean
 
 $(VENV_STAMP):
 	$(PYTHON) -m venv $(VENV)
@@ -32,6 +32,19 @@ run: $(RUN_STAMP)
 test: $(TEST_STAMP)
 	$(BIN)/ruff check .
 	$(BIN)/pytest
+
+# The image and docker-compose.yml on a real Docker engine (tools/docker_test.py): the base image
+# made from Debian packages if missing, the build, the image's health check, then compose's
+# `up --build --exit-code-from client` (v2 `docker compose` or v1 `docker-compose`) checked
+# for the client's streamed lines, and `down -v`. Bounded: DOCKER_TEST_TIMEOUT_S in all.
+DOCKER_TEST_TIMEOUT_S ?= 1500
+# Needs only the venv's Python and pip (not motionsim's own install).
+docker-test: $(VENV_STAMP)
+	$(BIN)/python tools/docker_test.py --timeout-s $(DOCKER_TEST_TIMEOUT_S)
+
+# Its first steps only: the base image if missing, pip's settings for the build, docker build.
+docker-image: $(VENV_STAMP)
+	$(BIN)/python tools/docker_test.py --image-only --timeout-s $(DOCKER_TEST_TIMEOUT_S)
 
 lint: $(TEST_STAMP)
 	$(BIN)/ruff check .

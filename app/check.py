@@ -3,45 +3,70 @@
 Each file is loaded into a new simulated controller of the chosen kind, through the same
 public interfaces the service uses — nothing here parses a command:
 
-* **PMAC** (``.pmc``, ``.pmac``, ``.pma``, ``.plc`` ...): every line goes to the card's
-  terminal (:meth:`Controller.terminal`), as a host downloading the file would send it, and
-  is answered in the card's background cycle on a virtual clock. A line answered ``ERRnnn``
-  is an error (``FILE:LINE:COLUMN: ERRnnn meaning``); one the card would accept but
-  motionsim does not simulate (the reply's ``not_simulated`` detail) is a warning. A file that
-  uses ``#define`` / ``#include`` is expanded first by Diamond's preprocessor
-  (``dls_pmaclib.dls_pmcpreprocessor``), whose line markers map each expanded line back to
-  its file and line.
-* **Trio** (``.bas``, ``.bas``-like text): the program is stored (``store_program``), i.e.
-  parsed and compiled as ``PUT /programs/{name}`` does. A keyword motionsim does not simulate
-  is a warning (the line is then set aside and the program compiled again); the first
-  compile error is the error, as the controller's own compiler reports one.
+* **PMAC** (``.pmc``, ``.pmac``, ``.pma``, ``.plc`` ...): the file is read as a downloader
+  reads it (bytes; comments stripped, macros and includes expanded by the convention of
+  ``--dialect``: :mod:`motionsim.app.pmac_download`), and every line goes to the card's
+  terminal (:meth:`Controller.terminal`), as the downloader would send it, answered in the
+  card's background cycle on a virtual clock. A line answered ``ERRnnn`` is an error
+  (``FILE:LINE:COLUMN: ERRnnn meaning``); one the card would accept but motionsim does not
+  simulate (the reply's ``not_simulated`` detail) is a warning.
+* **Trio** (``.bas``): the program is stored (``store_program``), i.e. parsed and compiled as
+  ``PUT /programs/{name}`` does. A keyword motionsim does not simulate is a warning (the line
+  is then set aside and the program compiled again); the first compile error is the error,
+  as the controller's own compiler reports one.
+
+**Follow-on refusals are counted under their cause**, not listed: after a refused ``OPEN``
+every line meant for that buffer is answered ERR005 (no buffer open) until the next
+``CLOSE`` or a buffer opens; after a missing ``#include`` every refusal is suspect (its
+macros and ``OPEN`` lines are missing); every use of an undefined ``msi`` macro is one
+mistake. :func:`grouped` keeps the first such finding and counts the others
+(``… and 1 299 more lines refused because OPEN at line 3 failed``): their verdicts are not
+what the file would get once the cause is fixed.
 
 Findings are :class:`Finding` records, printed as ``FILE:LINE:COLUMN: severity: message`` or
-as JSON (``--format json``) for CI annotations.
+as JSON (``--format json``) for CI annotations. ``motionsim check DIR`` checks a whole tree in
+one process (:func:`tree_files`).
 """
 
 from __future__ import annotations
 
+import contextlib
+import functools
 import re
-from collections.abc import Iterator, Sequence
-from dataclasses import asdict, dataclass
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
 
 from ..sim.errors import MotionSimError, NotSimulated, ParseError
+from .pmac_download import (
+    NON_ASCII_CAUSE,
+    Problem,
+    SourceLine,
+    expand,
+    included_files,
+    read_lines,
+)
 
 #: File suffixes read as Trio BASIC; anything else is PMAC text unless ``--kind`` says.
 TRIO_SUFFIXES = (".bas", ".txt.bas")
-_PREPROCESSOR = re.compile(r"^#\s*(define|include)\b", re.I | re.M)
-_MARKER = re.compile(r"^;#\* (.+) (\d+)$")
+#: Suffixes of the PMAC program files a folder is searched for (``check DIR``); named files
+#: of any other suffix are PMAC text too.
+PMAC_SUFFIXES = (".pmc", ".pmac", ".pma", ".plc")
 _COLUMN = re.compile(r"\(column (\d+)\)")
 #: Simulated seconds a PMAC line may take to be answered (a background cycle is far shorter).
 REPLY_WAIT_S = 1.0
+#: The card's answer to a buffer command with no buffer open (TSRM I6 error table).
+NO_BUFFER_OPEN = "ERR005"
 
 
 @dataclass(frozen=True, slots=True)
 class Finding:
-    """One line the card refuses (``error``) or accepts without simulating it (``warning``)."""
+    """One line the card refuses (``error``) or accepts without simulating it (``warning``).
+
+    ``cause`` names the earlier failure a follow-on refusal comes from ("" for none);
+    ``more`` is how many further findings of the same cause :func:`grouped` counted here.
+    """
 
     file: str
     line: int
@@ -50,24 +75,19 @@ class Finding:
     code: str
     message: str
     text: str = ""
+    cause: str = ""
+    more: int = 0
 
     def __str__(self) -> str:
-        return f"{self.file}:{self.line}:{self.column}: {self.severity}: {self.code} {self.message}"
+        out = f"{self.file}:{self.line}:{self.column}: {self.severity}: {self.code} {self.message}"
+        if self.more:
+            count = f"{self.more:,}".replace(",", " ")
+            out += (f"\n  … and {count} more line{'s' if self.more > 1 else ''} refused "
+                    f"because {self.cause}")
+        return out
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
-
-
-@dataclass(frozen=True, slots=True)
-class SourceLine:
-    """A line as the card receives it, and where it came from."""
-
-    file: str
-    line: int
-    text: str
-    #: added to a column the card reports, to point into the file (leading blanks stripped)
-    shift: int = 0
-    expanded: bool = False
 
 
 def kind_of(path: Path) -> str:
@@ -75,115 +95,66 @@ def kind_of(path: Path) -> str:
     return "trio" if path.name.lower().endswith(TRIO_SUFFIXES) else "pmac"
 
 
-def _new_controller(kind: str, model: str | None) -> Any:
+@functools.cache
+def _controller_class(kind: str) -> Any:
+    """The kind's class, looked up once per run (the entry-point scan reads every installed
+    distribution's metadata: ~80 ms, more than checking a file)."""
     from .kinds import kind_class
 
+    return kind_class(kind)
+
+
+def _new_controller(kind: str, model: str | None) -> Any:
     config: dict[str, Any] = {}
     if model is not None:
         if kind != "trio":
             raise ValueError(f"--model applies to trio controllers; {kind} has one model")
         config["model"] = model
-    return kind_class(kind)("check", config)
+    return _controller_class(kind)("check", config)
 
 
 # -- PMAC ------------------------------------------------------------------------------------
 
 
-def pmac_source(path: Path, include: Sequence[Path] = ()) -> list[SourceLine]:
-    """The lines a host would send for ``path``: as written, or expanded by the ``.pmc``
-    preprocessor when the file uses ``#define`` / ``#include``."""
-    text = path.read_text(encoding="utf-8", errors="replace")
-    if not _PREPROCESSOR.search(text):
-        return [SourceLine(str(path), n, line) for n, line in enumerate(text.splitlines(), 1)]
+def _has_word(text: str, name: str) -> bool:
+    """Whether ``text`` holds the command word ``name`` (``OPEN``, ``CLOSE``), read by the
+    card's own lexer and keyword table, so every spelling the card accepts counts."""
+    from ..sim.pmac.language import keywords
+    from ..sim.pmac.language.parser import tokenize
+
+    if name not in text.upper():
+        return False
     try:
-        from dls_pmaclib.dls_pmcpreprocessor import ClsPmacParser
-    except ImportError:
-        raise ValueError(f"{path} uses #define/#include: the .pmc preprocessor is needed "
-                         "(pip install dls-pmaclib)") from None
-    import logging
-
-    quiet = logging.getLogger("dls_pmaclib")  # a missing include is our finding, not its log
-    level, quiet.level = quiet.level, logging.ERROR
-    try:
-        expanded = ClsPmacParser([str(p) for p in include]).parse(str(path), debug=True) or []
-    finally:
-        quiet.setLevel(level)
-    return list(_mapped(expanded, path))
+        tokens = tokenize(text.upper())
+    except MotionSimError:
+        return False
+    for kind, word, _start, _end in tokens:
+        if kind == "word":
+            row = keywords.lookup(word)
+            if row is not None and row.name == name:
+                return True
+    return False
 
 
-_INCLUDE = re.compile(r"^#(?:include|INCLUDE)\b\s*(.*?)\s*$")
+def _where(file: str, line: int, of: str) -> str:
+    """``line 3`` in the same file as ``of``, else ``FILE:3``."""
+    return f"line {line}" if file == of else f"{file}:{line}"
 
 
-def missing_includes(path: Path, include: Sequence[Path] = (),
-                     seen: set[Path] | None = None) -> list[Finding]:
-    """``#include`` lines whose file is in none of the folders the preprocessor searches
-    (the including file's folder, then ``include``): it leaves them out without a word, so
-    they are errors here, at their line."""
-    seen = seen if seen is not None else set()
-    if path.resolve() in seen:
-        return []
-    seen.add(path.resolve())
-    found: list[Finding] = []
-    lines = path.read_text(encoding="utf-8", errors="replace").splitlines()
-    for n, line in enumerate(lines, 1):
-        m = _INCLUDE.match(line.split(";")[0])
-        if not m:
-            continue
-        name = m[1].strip(' "\r')
-        folders = [path.parent, *include]
-        target = next((f / name for f in folders if (f / name).exists()), None)
-        if target is None:
-            found.append(Finding(str(path), n, line.find(name) + 1, "error", "include",
-                                 f"cannot find {name!r} (searched "
-                                 f"{', '.join(str(f) for f in folders)}; -I DIR adds a folder)",
-                                 line))
-        else:
-            found += missing_includes(target, include, seen)
-    return found
-
-
-def _mapped(expanded: list[str], top: Path) -> Iterator[SourceLine]:
-    """Expanded lines, each with the file and line its ``;#* FILE LINE`` marker names."""
-    originals: dict[str, list[str]] = {}
-    where: tuple[str, int] = (str(top), 0)
-    for out in expanded:
-        marker = _MARKER.match(out)
-        if marker:
-            where = (marker[1], int(marker[2]))
-            continue
-        file, n = where
-        if file not in originals:
-            originals[file] = Path(file).read_text(errors="replace").splitlines()
-        lines = originals[file]
-        original = lines[n - 1].split(";")[0] if 0 < n <= len(lines) else out
-        shown = _display_name(file, top)
-        stripped = original.strip("\r\n\t")
-        if out == stripped:
-            yield SourceLine(shown, n, out, shift=len(original) - len(original.lstrip("\r\n\t")))
-        else:
-            yield SourceLine(shown, n, out, expanded=True)
-
-
-def _display_name(file: str, top: Path) -> str:
-    """An included file's path as the user would write it (relative to the top file's folder
-    when it lies below it)."""
-    path = Path(file)
-    if path.resolve() == top.resolve():
-        return str(top)
-    try:
-        return str(top.parent / path.resolve().relative_to(top.parent.resolve()))
-    except ValueError:
-        return file
-
-
-def check_pmac(lines: Sequence[SourceLine], ctl: Any) -> list[Finding]:
-    """Send each line to ``ctl``'s terminal and collect what it refuses."""
+def check_pmac(items: Iterable[SourceLine | Problem], ctl: Any) -> list[Finding]:
+    """Send each line to ``ctl``'s terminal and collect what it refuses, with the
+    downloader's own problems where they occur; follow-on refusals carry their ``cause``."""
     from ..sim.pmac.card.error_codes import meaning
     from .clock import VirtualClock
 
     clock = VirtualClock(ctl.env)
     found: list[Finding] = []
-    for src in lines:
+    failed_open: tuple[str, int] | None = None  # the refused OPEN ERR005s follow from
+    for src in items:
+        if isinstance(src, Problem):
+            found.append(Finding(src.file, src.line, src.column, "error", src.code,
+                                 src.message, src.text, src.cause))
+            continue
         if not src.text.strip():
             continue
         try:
@@ -194,6 +165,8 @@ def check_pmac(lines: Sequence[SourceLine], ctl: Any) -> list[Finding]:
                                  src.text))
             break
         if reply.error is None:
+            if failed_open and (_has_word(src.text, "OPEN") or _has_word(src.text, "CLOSE")):
+                failed_open = None  # a buffer opened, or the failed one's CLOSE came
             continue
         kind, detail = reply.detail or ("", "")
         m = _COLUMN.search(detail)
@@ -206,21 +179,88 @@ def check_pmac(lines: Sequence[SourceLine], ctl: Any) -> list[Finding]:
         text = meaning(reply.error) or reply.error
         if detail:
             text += f": {_COLUMN.sub('', detail).strip()}"
+        cause = src.cause
+        if failed_open and reply.error == NO_BUFFER_OPEN:
+            cause = f"OPEN at {_where(*failed_open, src.file)} failed"
         found.append(Finding(src.file, src.line, column, "error", reply.error, text + note,
-                             src.text))
+                             src.text, cause))
+        if _has_word(src.text, "OPEN"):
+            failed_open = (src.file, src.line)
     return found
 
 
 # -- Trio ------------------------------------------------------------------------------------
 
 
+def _trio_code_end(line: str) -> int:
+    """Where a Trio BASIC line's comment starts (``'`` outside a string, or a ``REM``
+    line), or its length."""
+    if line.lstrip().upper().startswith("REM"):
+        return len(line) - len(line.lstrip())
+    quoted = False
+    for i, ch in enumerate(line):
+        if ch == '"':
+            quoted = not quoted
+        elif ch == "'" and not quoted:
+            return i
+    return len(line)
+
+
+def _trio_lines(path: Path) -> tuple[list[str], list[Finding]]:
+    """The program's lines as bytes read one by one (comment bytes above 0x7F made ``?``),
+    and an ``encoding`` finding for each line with such a byte in its program text."""
+    lines = read_lines(path)
+    found: list[Finding] = []
+    for n, line in enumerate(lines, 1):
+        end = _trio_code_end(line)
+        bad = re.search(r"[^\x00-\x7f]", line[:end])
+        if bad:
+            found.append(Finding(str(path), n, bad.start() + 1, "error", "encoding",
+                                 f"byte 0x{ord(bad[0]):02X} is not ASCII: Trio BASIC program "
+                                 "text is ASCII (only a comment may hold other bytes)", line,
+                                 NON_ASCII_CAUSE))
+        else:
+            lines[n - 1] = line[:end] + re.sub(r"[^\x00-\x7f]", "?", line[end:])
+    return lines, found
+
+
+_TRIO_INCLUDE = re.compile(r'^\s*INCLUDE\s*"([^"]+)"', re.I)
+
+
+def _store_included(path: Path, lines: Sequence[str], ctl: Any, seen: set[Path]) -> None:
+    """Store first the programs of ``path``'s folder that it ``INCLUDE``s (by program name,
+    the file's stem), theirs before them: a Trio project is a folder of programs downloaded
+    to one controller together (``[BK]`` Motion Perfect's project download). One that does
+    not compile is left out: it is reported when it is checked itself."""
+    wanted = [m[1] for line in lines if (m := _TRIO_INCLUDE.match(line))]
+    if not wanted:
+        return
+    siblings = {p.stem.upper(): p for p in path.parent.iterdir()
+                if p.is_file() and kind_of(p) == "trio"}
+    for name in wanted:
+        target = siblings.get(name.upper())
+        if target is None or target.resolve() in seen:
+            continue
+        seen.add(target.resolve())
+        text, problems = _trio_lines(target)
+        _store_included(target, text, ctl, seen)
+        if not problems:
+            with contextlib.suppress(MotionSimError):
+                ctl.store_program(name, "\n".join(text) or "'")
+
+
 def check_trio(path: Path, ctl: Any) -> list[Finding]:
     """Store the program as ``PUT /programs/{name}`` does; not-simulated keywords are
     warnings (their line is set aside and the program compiled again), the first compile
-    error is the error."""
-    lines = path.read_text(encoding="utf-8", errors="replace").splitlines()
+    error is the error. The programs it ``INCLUDE``s from its folder are stored first. The
+    file is read as bytes: a byte above 0x7F in a comment is harmless, one in the program
+    text an ``encoding`` error at its line and column (``[INF]`` the controller's program
+    text is ASCII); a file with one is not compiled."""
+    lines, found = _trio_lines(path)
+    if found:
+        return found
+    _store_included(path, lines, ctl, {path.resolve()})
     name = re.sub(r"[^A-Za-z0-9_]", "_", path.stem)[:14] or "CHECK"
-    found: list[Finding] = []
     for _ in range(len(lines) + 1):
         try:
             ctl.store_program(name, "\n".join(lines) or "'")
@@ -245,19 +285,65 @@ def _trio_finding(path: Path, exc: MotionSimError, severity: str,
                    exc.message, text)
 
 
-# -- files -----------------------------------------------------------------------------------
+# -- files and trees -------------------------------------------------------------------------
 
 
 def check_file(path: Path, kind: str | None = None, model: str | None = None,
-               include: Sequence[Path] = ()) -> list[Finding]:
-    """Everything a fresh card of ``kind`` (default: from the suffix) finds in ``path``."""
+               include: Sequence[Path] = (), dialect: str = "auto",
+               defines: Mapping[str, str] | None = None) -> list[Finding]:
+    """Everything a fresh card of ``kind`` (default: from the suffix) finds in ``path``
+    (ungrouped: :func:`grouped` folds the follow-ons)."""
     kind = kind or kind_of(path)
     ctl = _new_controller(kind, model)
     if kind == "trio":
         return check_trio(path, ctl)
-    missing = missing_includes(path, include)
-    return missing + check_pmac(pmac_source(path, include), ctl)
+    return check_pmac(expand(path, dialect, include, defines), ctl)
 
 
-__all__ = ["Finding", "SourceLine", "check_file", "check_pmac", "check_trio", "kind_of",
-           "pmac_source"]
+def _program_file(path: Path) -> bool:
+    name = path.name.lower()
+    return name.endswith(TRIO_SUFFIXES) or name.endswith(PMAC_SUFFIXES)
+
+
+def tree_files(paths: Sequence[Path], include: Sequence[Path] = (), dialect: str = "auto",
+               defines: Mapping[str, str] | None = None) -> list[Path]:
+    """The files ``check`` loads for ``paths``: a named file as it is; a folder's PMAC and
+    Trio program files (:data:`PMAC_SUFFIXES`, :data:`TRIO_SUFFIXES`; folders whose name
+    starts with ``.`` skipped), in name order, except those another file of the folder
+    ``#include``s — they are checked where they are included, as they are downloaded."""
+    out: list[Path] = []
+    for path in paths:
+        if not path.is_dir():
+            out.append(path)
+            continue
+        found = sorted(p for p in path.rglob("*") if p.is_file() and _program_file(p)
+                       and not any(part.startswith(".") for part in
+                                   p.relative_to(path).parts[:-1]))
+        included: set[Path] = set()
+        for p in found:
+            if kind_of(p) == "pmac":
+                with contextlib.suppress(OSError):  # reported when the file is checked
+                    included |= included_files(p, dialect, include, defines)
+        out += [p for p in found if p.resolve() not in included]
+    return out
+
+
+def grouped(findings: Sequence[Finding]) -> list[Finding]:
+    """``findings`` with each cause's follow-ons folded into its first one (``more``)."""
+    first: dict[tuple[str, str], int] = {}
+    out: list[Finding] = []
+    for f in findings:
+        if not f.cause:
+            out.append(f)
+            continue
+        key = (f.file, f.cause)
+        if key in first:
+            out[first[key]] = replace(out[first[key]], more=out[first[key]].more + 1)
+        else:
+            first[key] = len(out)
+            out.append(f)
+    return out
+
+
+__all__ = ["PMAC_SUFFIXES", "TRIO_SUFFIXES", "Finding", "SourceLine", "check_file",
+           "check_pmac", "check_trio", "grouped", "kind_of", "tree_files"]

@@ -264,9 +264,10 @@ def replay(
 @cli.command()
 def check(
     files: Annotated[list[Path], typer.Argument(
-        metavar="FILE...", exists=True, dir_okay=False, readable=True,
-        help="PMAC files (.pmc, .pmac, .plc ...; #define/#include expanded by the .pmc "
-             "preprocessor) or Trio BASIC programs (.bas).")],
+        metavar="FILE|DIR...", exists=True, readable=True,
+        help="PMAC files (.pmc, .pmac, .pma, .plc ...) or Trio BASIC programs (.bas), or "
+             "folders: every such file below them, in one run (files another one "
+             "#includes are checked where they are included).")],
     kind: Annotated[str | None, typer.Option(
         metavar="pmac|trio", help="Controller kind [default: trio for .bas, else pmac].")
     ] = None,
@@ -276,33 +277,65 @@ def check(
     include: Annotated[list[Path] | None, typer.Option(
         "--include", "-I", metavar="DIR", help="Search DIR for #include files. Repeatable.")
     ] = None,
+    dialect: Annotated[str, typer.Option(
+        metavar="auto|pewin|diamond|msi",
+        help="The PMAC downloader's preprocessing: pewin (PEWIN32 / PComm32: ; // /* */ "
+             "comments, #define in any case, #include \"f\" or <f>), diamond (Diamond's "
+             ".pmc preprocessor), msi (EPICS $(NAME) / ${NAME} from -D, then diamond's); "
+             "auto picks per file.")] = "auto",
+    define: Annotated[list[str] | None, typer.Option(
+        "--define", "-D", metavar="NAME=VALUE",
+        help="A macro value (msi) or a predefined #define (pewin, diamond). Repeatable.")
+    ] = None,
     format_: Annotated[str, typer.Option(
         "--format", metavar="text|json", help="text: FILE:LINE:COLUMN: ...; json: a list of "
-        "findings (file, line, column, severity, code, message, text).")] = "text",
+        "findings (file, line, column, severity, code, message, text, cause, more).")
+    ] = "text",
 ) -> None:
     """Load each file into a fresh simulated card and print every line it would refuse
     (FILE:LINE:COLUMN: error: ERRnnn meaning) and every valid line motionsim does not simulate
-    (warning). Exit status 1 when there is an error, 2 when a file cannot be checked."""
+    (warning); refusals that follow from an earlier one (a failed OPEN, a missing include, an
+    undefined macro) are counted under it. Exit status 1 when there is an error, 2 when a
+    file cannot be checked."""
     import json
 
     from ..sim.errors import MotionSimError
-    from .check import check_file
+    from .check import check_file, grouped, tree_files
+    from .pmac_download import DIALECT_NAMES
 
     if kind is not None and kind not in ("pmac", "trio"):
         raise typer.BadParameter("must be 'pmac' or 'trio'", param_hint="--kind")
     if format_ not in ("text", "json"):
         raise typer.BadParameter("must be 'text' or 'json'", param_hint="--format")
+    if dialect not in DIALECT_NAMES:
+        raise typer.BadParameter(f"must be one of {', '.join(DIALECT_NAMES)}",
+                                 param_hint="--dialect")
+    defines: dict[str, str] = {}
+    for item in define or ():
+        name, eq, value = item.partition("=")
+        if not eq or not name.strip():
+            raise typer.BadParameter(f"{item!r}: expected NAME=VALUE", param_hint="-D")
+        defines[name.strip()] = value
     findings = []
-    for path in files:
+    failed = []
+    for path in tree_files(files, include or (), dialect, defines):
         try:
-            findings += check_file(path, kind, model, include or ())
+            findings += grouped(check_file(path, kind, model, include or (), dialect,
+                                           defines))
         except (OSError, ValueError, MotionSimError) as exc:
-            raise _fail(f"{path}: {exc}", 2) from None
+            failed.append(f"{path}: {exc}")
+        except Exception as exc:  # noqa: BLE001 - one file's failure must not end the tree's report
+            failed.append(f"{path}: cannot be checked: {type(exc).__name__}: {exc} "
+                          "(a motionsim bug: please report it with the file)")
     if format_ == "json":
         typer.echo(json.dumps([f.to_dict() for f in findings], indent=1))
     else:
         for finding in findings:
             typer.echo(str(finding))
+    for message in failed:
+        typer.echo(f"motionsim: {message}", err=True)
+    if failed:
+        raise typer.Exit(2)
     if any(f.severity == "error" for f in findings):
         raise typer.Exit(1)
 

@@ -32,6 +32,9 @@ TARGETS: tuple[Target, ...] = (
     Target("trio_include", "compile_ms",
            "Trio 1 000-line program with 20 INCLUDEs stored and compiled (ms, absolute)", "<=",
            50.0),
+    Target("check", "ms_per_file",
+           "motionsim check DIR, 200 mixed PMAC / Trio files in one process (ms per file, "
+           "absolute)", "<=", 500.0),
     Target("websocket", "p99_100x250", "WS p99, 100 subscribers x 250 ev/s / bare broadcaster",
            "<=", 2.0),
     Target("websocket", "p99_10x1000", "WS p99, 10 subscribers x 1000 ev/s / bare broadcaster",

@@ -8,6 +8,7 @@ program into the PMAC's rotary buffer over REST, obeying BREQ.
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -16,8 +17,10 @@ import httpx
 import yaml
 
 from tests.app.test_cli import ENV, ROOT, _serve, _stop
+from tests.app.test_image_entrypoint import image_healthcheck
 
 COMPOSE = yaml.safe_load((ROOT / "docker-compose.yml").read_text())
+README = (ROOT / "README.md").read_text()
 
 
 def test_compose_declares_the_service_and_the_example_client():
@@ -42,20 +45,33 @@ def test_compose_documents_exit_code_from_client():
         assert "docker compose up --build --exit-code-from client" in text
 
 
+def test_the_readme_says_what_to_type_with_either_compose():
+    """Compose v2 is the ``docker compose`` plugin, v1 Debian's ``docker-compose`` (bookworm has
+    no v2 package): the Docker section's first block gives the command for each."""
+    section = README.split("\n## Docker\n", 1)[1].split("\n## ", 1)[0]
+    block = re.search(r"```sh\n(.*?)```", section, re.S)[1]
+    assert [line.split("#")[0].strip() for line in block.splitlines()] == [
+        "docker compose up --build --exit-code-from client",
+        "docker-compose up --build --exit-code-from client"]
+    assert "make docker-test" in section
+
+
 def test_the_health_checks_follow_the_configured_port():
-    """Image and compose run the health check module, which reads ``MOTIONSIM_PORT`` — the
-    variable the image's ``motionsim serve`` takes its port from."""
+    """Image and compose run the same health check module, which reads ``MOTIONSIM_PORT`` —
+    the variable the image's ``motionsim serve`` takes its port from (that they import the
+    installed package where Docker runs them: tests/app/test_image_entrypoint.py)."""
     text = (ROOT / "Dockerfile").read_text()
-    assert 'CMD ["python", "-m", "motionsim.app.healthcheck"]' in text
+    assert COMPOSE["services"]["motionsim"]["healthcheck"]["test"] == ["CMD", *image_healthcheck()]
+    assert image_healthcheck()[-2:] == ["-m", "motionsim.app.healthcheck"]
     assert "MOTIONSIM_PORT=8000" in text
-    assert COMPOSE["services"]["motionsim"]["healthcheck"]["test"] == [
-        "CMD", "python", "-m", "motionsim.app.healthcheck"]
     assert COMPOSE["services"]["motionsim"]["environment"]["MOTIONSIM_PORT"] == "8000"
 
 
 def test_dockerfile_is_slim_non_root_with_a_health_check():
+    """Built on Debian's slim image (a registry's, or the one tools/docker_base_image.sh makes
+    from Debian packages under the same tag), run as its own user."""
     text = (ROOT / "Dockerfile").read_text()
-    assert "FROM python:3.11-slim" in text
+    assert re.search(r"^FROM debian:[a-z]+-slim\b", text, re.M)
     assert "\nUSER motionsim" in text
     assert "HEALTHCHECK" in text
 

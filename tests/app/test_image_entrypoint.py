@@ -10,8 +10,10 @@ writing still needs what the image gives it."""
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
+import posixpath
 import re
 import shlex
 import shutil
@@ -25,6 +27,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+import yaml
 
 from tests.processes import stop
 
@@ -52,6 +55,59 @@ def image_env() -> dict[str, str]:
 def image_cmd() -> list[str]:
     (cmd,) = _instructions("CMD")
     return json.loads(cmd)
+
+
+def image_healthcheck() -> list[str]:
+    """The ``HEALTHCHECK ... CMD [...]`` command (exec form)."""
+    (args,) = _instructions("HEALTHCHECK")
+    return json.loads(args.split(" CMD ", 1)[1])
+
+
+def _final_stage() -> str:
+    text = re.sub(r"\\\n\s*", " ", DOCKERFILE)
+    return text[[m.start() for m in re.finditer(r"^FROM\s", text, re.M)][-1]:]
+
+
+def workdir_copies() -> list[tuple[Path, str]]:
+    """(checkout path, path under the WORKDIR) of every ``COPY`` of the final stage from the
+    build context that lands in the image's working directory (``COPY --from`` copies out of
+    another stage, not the checkout)."""
+    final = _instructions("WORKDIR")[-1]
+    workdir = "/"
+    copies: list[tuple[Path, str]] = []
+    for m in re.finditer(r"^(WORKDIR|COPY)\s+(.*)$", _final_stage(), re.M):
+        if m[1] == "WORKDIR":
+            workdir = posixpath.join(workdir, m[2].strip())
+            continue
+        args = m[2].split()
+        if args[0].startswith("--"):
+            continue
+        *sources, dest = args
+        into = posixpath.normpath(posixpath.join(workdir, dest))
+        if into != final and not into.startswith(final + "/"):
+            continue
+        rel = posixpath.relpath(into, final)
+        for source in sources:
+            where = rel if len(sources) == 1 and not dest.endswith("/") else \
+                posixpath.join(rel, posixpath.basename(source.rstrip("/")))
+            copies.append((ROOT / source, posixpath.normpath(where)))
+    return copies
+
+
+def installed_package(site: Path) -> dict[str, str]:
+    """``motionsim`` as the image's ``pip install`` leaves it — a regular package in
+    ``site`` (folders linked from the checkout, mapped as pyproject's package-dir says) — and
+    the environment whose ``python -S`` imports it from there and the dependencies from this
+    venv. Not the checkout's editable install: its import hook finds ``motionsim.app`` even
+    when a ``motionsim/`` folder in the working directory shadows the package, which the
+    image's plain install does not."""
+    package = site / "motionsim"
+    package.mkdir(parents=True)
+    shutil.copy(ROOT / "motionsim" / "__init__.py", package / "__init__.py")
+    for layer in ("sim", "app", "api", "examples"):
+        (package / layer).symlink_to(ROOT / layer, target_is_directory=True)
+    deps = next(Path(p) for p in sys.path if p.endswith("site-packages"))
+    return {"PYTHONPATH": f"{site}{os.pathsep}{deps}"}
 
 
 def _as_user() -> list[str]:
@@ -103,12 +159,14 @@ def _pmac_command(port: int, line: str) -> bytes:
     return got
 
 
-def test_the_image_command_serves_as_an_unprivileged_user_and_can_record(workdir):
+@contextlib.contextmanager
+def _image_serving(workdir: Path, *extra: str) -> Iterator[dict[str, int]]:
+    """The image's command as its user in ``workdir``, on free ports: scheme -> port."""
     cmd = image_cmd()
     assert cmd[:2] == ["motionsim", "serve"]
     env = _env(workdir, MOTIONSIM_HOST="127.0.0.1", MOTIONSIM_PORT="0",
                MOTIONSIM_PMAC_PORT="auto", MOTIONSIM_TRIO_PORT="auto")
-    argv = [*_as_user(), str(BIN / cmd[0]), *cmd[1:], "--record", "sessions.jsonl"]
+    argv = [*_as_user(), str(BIN / cmd[0]), *cmd[1:], *extra]
     proc = subprocess.Popen(argv, cwd=workdir, env=env, stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, text=True)
     ports: dict[str, int] = {}
@@ -121,6 +179,13 @@ def test_the_image_command_serves_as_an_unprivileged_user_and_can_record(workdir
             if m := re.search(r"listening (\w+)://127\.0\.0\.1:(\d+)", line):
                 ports[m.group(1)] = int(m.group(2))
         assert "http" in ports and "pmac" in ports, ports
+        yield ports
+    finally:
+        stop(proc, 15)
+
+
+def test_the_image_command_serves_as_an_unprivileged_user_and_can_record(workdir):
+    with _image_serving(workdir, "--record", "sessions.jsonl") as ports:
         health = [*_as_user(), str(BIN / "python"), "-m", "motionsim.app.healthcheck"]
         ok = subprocess.run(health, env=_env(workdir, MOTIONSIM_PORT=str(ports["http"])),
                             cwd=workdir, capture_output=True, timeout=30)
@@ -132,12 +197,44 @@ def test_the_image_command_serves_as_an_unprivileged_user_and_can_record(workdir
         free.close()
         assert wrong.returncode == 1  # the check follows MOTIONSIM_PORT, not a fixed 8000
         assert _pmac_command(ports["pmac"], "I10").endswith(b"\x06")
-    finally:
-        stop(proc, 15)
     record = workdir / "sessions.jsonl"
     assert record.is_file() and record.stat().st_size > 0
     if os.geteuid() == 0:
         assert record.stat().st_uid == UID
+
+
+def test_the_health_checks_import_the_installed_package_from_the_working_directory(
+        workdir, tmp_path):
+    """Docker runs ``HEALTHCHECK`` (and compose's ``healthcheck``) in the image's WORKDIR. A
+    ``motionsim/`` source folder there — once the Dockerfile's own ``COPY motionsim
+    ./motionsim`` — is first on ``sys.path`` for ``python -m`` and hides the installed
+    package (``No module named 'motionsim.app'``): the service never turned healthy and
+    compose never started its client (issue 36). Run here the way the image runs them: its
+    WORKDIR's files copied from the checkout as its ``COPY``s say, motionsim installed as a
+    plain package; then again with a checkout's ``motionsim/`` in that folder, as a user who
+    mounts one there would have it."""
+    for source, where in workdir_copies():
+        target = workdir / where
+        target.parent.mkdir(parents=True, exist_ok=True)
+        if source.is_dir():
+            shutil.copytree(source, target)
+        else:
+            shutil.copy(source, target)
+    installed = installed_package(tmp_path / "site-packages")
+    compose = yaml.safe_load((ROOT / "docker-compose.yml").read_text())
+    checks = {"Dockerfile HEALTHCHECK": image_healthcheck(),
+              "compose healthcheck": compose["services"]["motionsim"]["healthcheck"]["test"][1:]}
+    with _image_serving(workdir) as ports:
+        for mounted in (False, True):
+            if mounted:
+                shutil.copytree(ROOT / "motionsim", workdir / "motionsim", dirs_exist_ok=True)
+            for name, check in checks.items():
+                assert check[0] == "python", check
+                argv = [*_as_user(), str(BIN / "python"), "-S", *check[1:]]
+                env = _env(workdir, MOTIONSIM_PORT=str(ports["http"]), **installed)
+                ran = subprocess.run(argv, env=env, cwd=workdir, capture_output=True,
+                                     text=True, timeout=30)
+                assert ran.returncode == 0, (name, mounted, ran.stderr)
 
 
 def test_motionsim_run_writes_its_outputs_in_the_working_directory(workdir):
