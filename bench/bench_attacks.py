@@ -303,6 +303,10 @@ def kinematic_loop(url: str, ports: dict[str, int]) -> dict[str, Any]:
             pmac_ask(sock, line)
         for _ in range(50):
             pmac_ask(sock, "&1 PMATCH")
+        # leave the served card as it was: with I5150=1 its runaway forward program ran its
+        # 5 000-statement guard on every later position read, the next attacks' too
+        for line in ("I5150=0", "&1 OPEN FORWARD CLEAR", "CLOSE"):
+            pmac_ask(sock, line)
     return {"pmatch": 50}
 
 

@@ -66,6 +66,10 @@ TARGETS: tuple[Target, ...] = (
            "<=", 31.0),
     Target("dashboard", "delivered_1000", "dashboard events applied / logged at 1000 events/s",
            ">=", 1.0),
+    Target("idle_memory", "mb_per_idle_pmac",
+           "memory per idle PMAC controller, 500 on one service (MB, absolute)", "<=", 0.25),
+    Target("idle_memory", "mb_per_idle_trio",
+           "memory per idle Trio controller, 500 on one service (MB, absolute)", "<=", 0.25),
     Target("attacks", "health_p99_ms_worst_attack",
            "/health p99 during the worst of issue 23's attacks (ms, absolute)", "<=", 50.0),
 )

@@ -184,3 +184,19 @@ def test_jsonl_lines_are_the_wire_form_in_its_key_order() -> None:
     line = '{"seq":1,"t":0,"type":"mvar","controller":"c","value":1,"name":"M1"}\n'
     assert log.to_jsonl() == line
     assert '"controller":"x"' in log.to_jsonl("x")
+
+
+def test_the_ring_grows_with_the_events_and_then_wraps():
+    """An idle log holds nothing (issue 35: 100 000 empty slots per controller were most of an
+    idle controller's memory); once full it keeps the newest ``capacity`` events."""
+    import sys
+
+    env = simpy.Environment()
+    log = EventLog(env, capacity=3)
+    assert sys.getsizeof(log._ring) < 100 and log.read().events == []
+    for k in range(1, 6):
+        log.emit("x", k=k)
+        held = [e.fields["k"] for e in log.read().events]
+        assert held == list(range(max(1, k - 2), k + 1))
+    result = log.read(since=0)
+    assert result.gap is not None and (result.gap.from_seq, result.gap.to_seq) == (1, 2)
