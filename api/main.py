@@ -69,6 +69,8 @@ OPENAPI_TAGS = [
     {"name": "variables", "description": "I/P/Q/M variables (PMAC), VR/TABLE (Trio)."},
     {"name": "coord", "description": "PMAC coordinate systems: rotary buffers, run, stop."},
     {"name": "plcs", "description": "PMAC PLC programs."},
+    {"name": "recordings", "description": "What the card recorded: PMAC data gathering, "
+                                          "Trio SCOPE (JSON columns or CSV)."},
     {"name": "faults", "description": "Injected faults for testing a host's retry logic."},
     {"name": "trio programs", "description": "Trio BASIC programs: store, list, run."},
     {"name": "trio processes", "description": "Trio processes and their state."},

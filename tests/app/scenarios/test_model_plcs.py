@@ -76,7 +76,7 @@ def test_an_unclosed_if_is_a_structure_error_at_the_last_line():
             P2=1
     """)
     assert e.field == "controllers.p.plcs[0].text" and e.line == 11
-    assert "IF without ENDIF" in e.message
+    assert "IF of line 1 (column 1) is not closed" in e.message  # ERR009, buffers/flow.py
 
 
 def test_a_plc_file_error_names_the_plc_file_and_its_line(tmp_path):
