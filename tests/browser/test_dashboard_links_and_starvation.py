@@ -49,6 +49,20 @@ def test_the_hash_switches_tabs_in_a_page_already_open(served, streamed):
         b.page.wait_for_selector('main [data-controller="trio"]')
 
 
+def test_a_deep_link_to_a_missing_controller_says_so_and_shows_no_other(served, streamed):
+    """Issue 36 item 5: an unknown deep link silently showed another controller."""
+    with dashboard(served, "/dashboard#nosuch", route_sockets=False) as b:
+        b.page.wait_for_selector('[data-tab="pmac"]')
+        note = b.page.wait_for_selector("main [data-role=missing]")
+        assert 'No controller "nosuch"' in note.inner_text()
+        assert b.page.locator("main [data-controller]").count() == 0
+        assert b.page.locator("[data-tab].on").count() == 0
+        assert b.page.evaluate("location.hash") == "#nosuch"
+        b.page.click('[data-tab="trio"] button.pick')  # the user's click wins
+        b.page.wait_for_selector('main [data-controller="trio"]')
+        assert b.errors == []
+
+
 def test_one_labelled_simulated_time(browser, streamed):
     b = browser
     select(b, PMAC)
@@ -154,16 +168,3 @@ def test_a_trio_axis_counts_and_times_its_stalls(browser, ms):
     axis1 = b.page.text_content('[data-controller="tn"] [data-axis="1"] [data-role=stalled]')
     assert axis1 == "stalled 0× 0.000 s"
 
-
-def test_a_deep_link_to_a_missing_controller_says_so_and_shows_no_other(served, streamed):
-    """Issue 36 item 5: an unknown deep link silently showed another controller."""
-    with dashboard(served, "/dashboard#nosuch", route_sockets=False) as b:
-        b.page.wait_for_selector('[data-tab="pmac"]')
-        note = b.page.wait_for_selector("main [data-role=missing]")
-        assert 'No controller "nosuch"' in note.inner_text()
-        assert b.page.locator("main [data-controller]").count() == 0
-        assert b.page.locator("[data-tab].on").count() == 0
-        assert b.page.evaluate("location.hash") == "#nosuch"
-        b.page.click('[data-tab="trio"] button.pick')  # the user's click wins
-        b.page.wait_for_selector('main [data-controller="trio"]')
-        assert b.errors == []

@@ -29,6 +29,9 @@ SIMULATED: list[tuple[str, bool, str]] = [
     ("CLOSE", False, "Close"),
     ("DEFINE GATHER", False, "DefineGather"), ("DEF GAT", False, "DefineGather"),
     ("DELETE GATHER", False, "DeleteGather"), ("DEL GAT", False, "DeleteGather"),
+    ("GATHER", False, "Gather"), ("GAT", False, "Gather"),
+    ("ENDGATHER", False, "EndGather"), ("ENDG", False, "EndGather"),
+    ("END GATHER", False, "EndGather"),
     ("ENABLE PLC 3", False, "EnablePlc"), ("ENA PLC 3", False, "EnablePlc"),
     ("ENAPLC3", False, "EnablePlc"), ("ENABLE PLCC 3", False, "EnablePlc"),
     ("ENAPLCC3", False, "EnablePlc"),
@@ -57,8 +60,6 @@ SIMULATED: list[tuple[str, bool, str]] = [
 #: Valid Turbo PMAC words motionsim does not simulate: answered ``not_simulated`` naming the
 #: command, never a syntax error.
 NOT_SIMULATED: list[tuple[str, str]] = [
-    ("GATHER", "GATHER"), ("GAT", "GATHER"),
-    ("ENDGATHER", "ENDGATHER"), ("ENDG", "ENDGATHER"), ("END GATHER", "ENDGATHER"),
     ("PASSWORD=SECRET", "PASSWORD"), ("CHECKSUM", "CHECKSUM"),
 ]
 
