@@ -26,6 +26,18 @@ def streamed(served, ms):
     return ms
 
 
+def _computed(b, selector: str, *props: str) -> list[str]:
+    """Computed style ``props`` of the first element matching ``selector``, read in one
+    synchronous step on an element in the document: the charts are redrawn every frame, and
+    an element replaced between finding it and reading it has no computed style ("")."""
+    return b.page.wait_for_function(
+        """([sel, props]) => { const el = document.querySelector(sel);
+            if (!el || !el.isConnected) return null;
+            const st = getComputedStyle(el), out = props.map((p) => st[p]);
+            return out.some((v) => v === "") ? null : out; }""",
+        arg=[selector, list(props)], timeout=30_000).json_value()
+
+
 def _numbers(texts: list[str]) -> list[float]:
     return [float(t) for t in texts]
 
@@ -107,9 +119,10 @@ def test_host_writes_are_marked_on_the_chart(browser, streamed):
 def test_starved_shading_reads_at_100_percent(browser, streamed):
     """The shading's opacity against white must give a visible colour: at least 0.2."""
     b = browser
-    opacity = b.page.eval_on_selector(f"{CHART} rect.starved",
-                                      "el => Number(getComputedStyle(el).opacity)")
-    assert opacity >= 0.2
+    # one synchronous read of an element in the document: the chart is redrawn every frame,
+    # and a rect replaced between finding it and reading it has no computed style ("")
+    (opacity,) = _computed(b, f"{CHART} rect.starved", "opacity")
+    assert float(opacity) >= 0.2
 
 
 def test_labels_are_drawn_above_the_traces_with_a_halo(browser, streamed):
@@ -123,9 +136,8 @@ def test_labels_are_drawn_above_the_traces_with_a_halo(browser, streamed):
     trace = order.index("trace ahead")
     labels = [i for i, cls in enumerate(order) if cls.startswith("level-text")]
     assert labels and min(labels) > trace
-    halo = b.page.eval_on_selector(
-        f'[data-controller="{PMAC}"] #cs-1 svg text.level-text',
-        "el => [getComputedStyle(el).paintOrder, getComputedStyle(el).stroke]")
+    halo = _computed(b, f'[data-controller="{PMAC}"] #cs-1 svg text.level-text',
+                     "paintOrder", "stroke")
     assert halo[0].startswith("stroke") and halo[1] in ("rgb(255, 255, 255)", "#fff")
 
 
