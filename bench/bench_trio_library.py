@@ -27,6 +27,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "bench"))
 
+from bench_trio_include import _loop_ms  # noqa: E402  (the same bare-loop reference)
 from motionsim.sim.trio import TrioController  # noqa: E402
 from results import write  # noqa: E402
 
@@ -93,14 +94,6 @@ def main_program() -> str:
         k += 1
     tail = ["state = next_state", "STOP"]
     return "\n".join(head + body + tail) + "\n"
-
-
-def _loop_ms() -> float:
-    t0 = time.perf_counter()
-    total = 0
-    for i in range(1_000_000):
-        total += i
-    return (time.perf_counter() - t0) * 1000.0
 
 
 def main() -> None:
