@@ -46,7 +46,7 @@ import simpy
 
 from ..sim.controller import Reply
 from ..sim.errors import Conflict, InvalidValue
-from ..sim.events import Event, EventLog
+from ..sim.events import Event, EventLog, wire_time
 
 log = logging.getLogger("motionsim.clock")
 
@@ -222,7 +222,8 @@ class Clock:
 
     def to_dict(self) -> dict[str, Any]:
         """The API's ``Clock``: ``{"mode", "factor", "paused", "t"}`` (+ the mode's own)."""
-        return {"mode": self.mode, "factor": self.factor, "paused": self.paused, "t": self.t}
+        return {"mode": self.mode, "factor": self.factor, "paused": self.paused,
+                "t": wire_time(self.t)}
 
 
 class DrivenClock(Clock):

@@ -31,6 +31,20 @@ from typing import Any
 
 import simpy
 
+#: Decimal places of a simulated instant in the wire form (JSON, JSON Lines, CSV): 1 ns. The
+#: core keeps ``t`` as the float SimPy schedules (a sum of servo periods, RTIs and host
+#: delays), which carries binary noise such as ``0.0012000000000000001``; the wire form rounds
+#: it to the nanosecond, far below a servo cycle (PMAC I10 = 3 713 707: 442.7 us; a Trio's
+#: SERVO_PERIOD is whole microseconds), so a reader dividing by the servo period still gets
+#: the cycle number, and two instants a cycle apart never meet.
+WIRE_TIME_DIGITS = 9
+
+
+def wire_time(t: float) -> float:
+    """A simulated instant as the API writes it: ``t`` rounded to :data:`WIRE_TIME_DIGITS`."""
+    return round(t, WIRE_TIME_DIGITS)
+
+
 #: The event types of API.md and the fields each carries (beyond seq, t, type, controller).
 #: Controller kinds may emit further types; they document them here.
 EVENT_FIELDS: dict[str, tuple[str, ...]] = {
@@ -110,7 +124,7 @@ class Event:
 
     def to_dict(self, controller: str | None = None) -> dict[str, Any]:
         """The wire form: ``{"seq", "t", "type", "controller"?, ...fields}``."""
-        out: dict[str, Any] = {"seq": self.seq, "t": self.t, "type": self.type}
+        out: dict[str, Any] = {"seq": self.seq, "t": wire_time(self.t), "type": self.type}
         if controller is not None:
             out["controller"] = controller
         out.update(self.fields)
@@ -305,4 +319,5 @@ class EventLog:
         )
 
 
-__all__ = ["EVENT_FIELDS", "Event", "EventLog", "Gap", "ReadResult", "Reset"]
+__all__ = ["EVENT_FIELDS", "WIRE_TIME_DIGITS", "Event", "EventLog", "Gap", "ReadResult",
+           "Reset", "wire_time"]

@@ -13,6 +13,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from .events import wire_time
+
 
 @dataclass(frozen=True, slots=True)
 class Recording:
@@ -30,9 +32,10 @@ class Recording:
     capacity: int
 
     def times(self) -> list[float]:
-        """Each sample's simulated instant (cycle × servo period, as the core schedules it)."""
+        """Each sample's simulated instant (cycle × servo period, as the core schedules it),
+        in the wire form of every API time (:func:`~.events.wire_time`)."""
         p = self.servo_period_s
-        return [k * p for k in self.cycles]
+        return [wire_time(k * p) for k in self.cycles]
 
 
 __all__ = ["Recording"]

@@ -24,6 +24,24 @@ def test_seq_starts_at_one_and_events_carry_simulated_time() -> None:
     }
 
 
+def test_the_wire_form_writes_simulated_time_to_the_nanosecond() -> None:
+    """Issue 36 item 5 / API.md "Events": float noise of summed servo periods never reaches the
+    JSON; the core's own ``t`` stays the instant SimPy scheduled."""
+    env, log = make_log()
+    for _ in range(12):  # twelve 100-us servo periods: 0.0012000000000000001 as a float sum
+        env.run(until=env.now + 0.0001)
+    assert env.now != 0.0012
+    log.emit("breq", cs=1, level=True)
+    env.run(until=env.now + 3.5e-10)  # half a nanosecond later rounds down ...
+    log.emit("breq", cs=1, level=False)
+    env.run(until=env.now + 3e-10)  # ... and this one up to the next nanosecond
+    log.emit("breq", cs=1, level=True)
+    first, second, third = log.events()
+    assert first.t != 0.0012  # the core keeps the scheduled float
+    assert [e.to_dict()["t"] for e in (first, second, third)] == [0.0012, 0.0012, 0.001200001]
+    assert log.to_jsonl().splitlines()[0].startswith('{"seq":1,"t":0.0012,"type":"breq"')
+
+
 def test_read_since_filters_types_and_reports_next() -> None:
     _, log = make_log()
     for i in range(5):
