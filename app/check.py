@@ -105,10 +105,10 @@ def _controller_class(kind: str) -> Any:
 
 
 def _new_controller(kind: str, model: str | None) -> Any:
+    """A fresh card of ``kind``; ``model`` is the Trio model, so a tree mixing PMAC and Trio
+    files checks its PMAC files on the one Turbo PMAC whatever ``--model`` says."""
     config: dict[str, Any] = {}
-    if model is not None:
-        if kind != "trio":
-            raise ValueError(f"--model applies to trio controllers; {kind} has one model")
+    if model is not None and kind == "trio":
         config["model"] = model
     return _controller_class(kind)("check", config)
 
@@ -340,14 +340,16 @@ def tree_files(paths: Sequence[Path], include: Sequence[Path] = (), dialect: str
                defines: Mapping[str, str] | None = None) -> list[Path]:
     """The files ``check`` loads for ``paths``: a named file as it is; a folder's PMAC and
     Trio program files (:data:`PMAC_SUFFIXES`, :data:`TRIO_SUFFIXES`; folders whose name
-    starts with ``.`` skipped), in name order, except those another file of the folder
-    ``#include``s — they are checked where they are included, as they are downloaded."""
+    starts with ``.`` skipped; a broken link is listed, to be reported), in name order,
+    except those another file of the folder ``#include``s — they are checked where they are
+    included, as they are downloaded."""
     out: list[Path] = []
     for path in paths:
         if not path.is_dir():
             out.append(path)
             continue
-        found = sorted(p for p in path.rglob("*") if p.is_file() and _program_file(p)
+        found = sorted(p for p in path.rglob("*") if (p.is_file() or p.is_symlink())
+                       and _program_file(p)
                        and not any(part.startswith(".") for part in
                                    p.relative_to(path).parts[:-1]))
         included: set[Path] = set()

@@ -308,6 +308,9 @@ def check(
 
     if kind is not None and kind not in ("pmac", "trio"):
         raise typer.BadParameter("must be 'pmac' or 'trio'", param_hint="--kind")
+    if kind == "pmac" and model is not None:
+        raise typer.BadParameter("the PMAC is a Turbo PMAC: --model names a Trio model",
+                                 param_hint="--model")
     if format_ not in ("text", "json"):
         raise typer.BadParameter("must be 'text' or 'json'", param_hint="--format")
     if dialect not in DIALECT_NAMES:

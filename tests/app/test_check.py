@@ -409,14 +409,25 @@ def test_dash_d_predefines_a_pewin_or_diamond_macro(tmp_path):
 
 
 def test_a_tree_reports_every_file_it_can_and_exits_2_for_one_it_cannot(tmp_path):
-    """Exit status as for files: 2 when a file cannot be checked (here ``--model``, which
-    only a Trio has), after the findings of those that could."""
-    (tmp_path / "a.pmc").write_text("P1=1\n")
+    """Exit status as for files: 2 when a file cannot be checked (here a link to nothing,
+    which a folder walk lists rather than skipping), after the findings of those that could.
+    ``--model`` names the Trio model: the tree's PMAC file is still checked, on the Turbo PMAC."""
+    (tmp_path / "a.pmc").write_text("P1=1\nOPEN PROG 1\nX10 FOO\nCLOSE\n")
     (tmp_path / "b.bas").write_text("MOVE(1\n")
+    (tmp_path / "c.pmc").symlink_to(tmp_path / "missing.pmc")
     result = _run("--model", "mc4xx", str(tmp_path))
     assert result.exit_code == 2
+    assert f"{tmp_path / 'a.pmc'}:3:6: error: ERR003" in result.output
     assert f"{tmp_path / 'b.bas'}:1:7: error: parse_error" in result.output
-    assert f"{tmp_path / 'a.pmc'}: --model applies to trio controllers" in result.output
+    assert f"{tmp_path / 'c.pmc'}: [Errno 2] No such file or directory" in result.output
+    assert "--model" not in result.output
+
+
+def test_model_names_a_trio_model_so_kind_pmac_with_a_model_is_refused(tmp_path):
+    path = tmp_path / "a.pmc"
+    path.write_text("P1=1\n")
+    result = _run("--kind", "pmac", "--model", "mc4xx", str(path))
+    assert result.exit_code == 2 and "--model names a Trio model" in result.output
 
 
 def test_the_pre_commit_hook_matches_the_suffixes_check_dir_reads():
