@@ -108,18 +108,43 @@ _EOL = Token("eol", "", 0)
 _PAD = [_EOL] * 4
 
 
+_SPECIAL: dict[int, tuple[Dialect, tuple[frozenset[str], frozenset[str]]]] = {}
+
+
+def special_words(dialect: Dialect) -> tuple[frozenset[str], frozenset[str]]:
+    """The names a rule of ``dialect`` treats specially, at the start of a statement and in an
+    expression: every set :meth:`_Line.one_statement` / :meth:`_Line.named_special` test a
+    name against, so a name in neither is an assignment / a variable without those tests
+    (pinned by tests/sim/trio/test_parser_fast_paths.py)."""
+    got = _SPECIAL.get(id(dialect))
+    if got is None or got[0] is not dialect:
+        common = RESERVED | dialect.keywords | dialect.later_words
+        statement = common | PARAMS | NOT_SIMULATED | frozenset(dialect.parsers) | frozenset(
+            ALIASES)
+        value = (common | frozenset(CONSTANTS) | frozenset(FUNCTIONS) | frozenset(BUS_FUNCTIONS)
+                 | frozenset(STRING_FUNCTIONS) | PARAMS | frozenset(IO_ARGS) | NOT_SIMULATED
+                 | {"VR", "TABLE", "HEX"})
+        got = _SPECIAL[id(dialect)] = (dialect, (statement, value))
+    return got[1]
+
+
 class _Line(DeclarationParser, StructureParser):
     """Recursive-descent parser over the tokens of one source line."""
 
     def __init__(self, text: str, line_no: int, model: str = DEFAULT_MODEL,
                  dialect: Dialect | None = None) -> None:
+        self.model = model
+        self.dialect = dialect or dialect_of(model)
+        self.special = special_words(self.dialect)
+        self.start(text, line_no)
+
+    def start(self, text: str, line_no: int) -> None:
+        """Parse ``text`` (line ``line_no``) next: a program's lines share one parser."""
         self.text = text
         self.line_no = line_no
         self.toks = tokenize(text, line_no)
         self.toks += _PAD  # end-of-line tokens: peek() past the end needs no bounds check
         self.i = 0
-        self.model = model
-        self.dialect = dialect or dialect_of(model)
         self.word = ""  # the keyword of the statement being parsed (aliases resolved)
         self.in_print = False
         #: Nesting level (:data:`MAX_NESTING` at most): the line's first statement and its
@@ -135,7 +160,7 @@ class _Line(DeclarationParser, StructureParser):
             return _EOL
 
     def take(self) -> Token:
-        tok = self.peek()
+        tok = self.toks[self.i]  # never past the end-of-line padding (_PAD)
         self.i += 1
         return tok
 
@@ -229,7 +254,8 @@ class _Line(DeclarationParser, StructureParser):
 
     def parse(self) -> list[s.Stmt]:
         out: list[s.Stmt] = []
-        first, second = self.peek(), self.peek(1)
+        toks = self.toks
+        first, second = toks[0], toks[1]  # the padding makes both exist
         if (
             first.kind == "name"
             and second.kind == "op"
@@ -239,41 +265,55 @@ class _Line(DeclarationParser, StructureParser):
             out.append(s.Label(self.line_no, first.col, label(first.text)))
             self.i += 2
         out.extend(self.statements(stop=()))
-        if self.peek().kind != "eol":
-            raise self.error(f"unexpected {self.peek().text!r}")
+        if toks[self.i].kind != "eol":
+            raise self.error(f"unexpected {toks[self.i].text!r}")
         return out
 
     def statements(self, stop: tuple[str, ...]) -> list[s.Stmt]:
         """``:``-separated statements up to end of line or a word in ``stop``."""
         out: list[s.Stmt] = []
+        toks = self.toks
         while True:
             while self.accept(":"):
                 pass
-            if self.peek().text in stop or self.peek().kind == "eol":
+            tok = toks[self.i]
+            if tok.kind == "eol" or tok.text in stop:
                 return out
             out.append(self.statement())
-            if self.peek().text in stop or self.peek().kind == "eol":
+            tok = toks[self.i]
+            if tok.kind == "eol" or tok.text in stop:
                 return out
-            if not self.at(":"):
-                raise self.error(f"unexpected {self.peek().text!r} after the statement")
+            if tok.text != ":":
+                raise self.error(f"unexpected {tok.text!r} after the statement")
 
     def nest(self, levels: int = 1) -> None:
         """``levels`` more levels of nesting; a syntax error past :data:`MAX_NESTING`."""
         self.depth += levels
         if self.depth > MAX_NESTING:
-            raise self.error(f"expression or statement nested deeper than {MAX_NESTING} "
-                             "levels (the limit)")
+            raise self.too_deep()
+
+    def too_deep(self) -> ParseError:
+        return self.error(f"expression or statement nested deeper than {MAX_NESTING} "
+                          "levels (the limit)")
 
     def statement(self) -> s.Stmt:
         """One statement (nesting counted: :data:`MAX_NESTING`): a parameter assignment, a
         row of the dialect's statement table (:mod:`motionsim.sim.trio.language.commands`),
         or an assignment to a variable."""
-        self.nest()
-        stmt = self.one_statement()
+        self.depth += 1
+        if self.depth > MAX_NESTING:
+            raise self.too_deep()
+        tok = self.toks[self.i]
+        if tok.kind == "name" and tok.text not in self.special[0]:
+            stmt = self.assignment(self.line_no, tok.col)  # a name no row or rule claims
+        else:
+            stmt = self.one_statement()
         self.depth -= 1
         return stmt
 
     def one_statement(self) -> s.Stmt:
+        """A statement starting with ``?`` or a name (:meth:`statement` has sent a name no
+        set below holds straight to :meth:`assignment`, as this would)."""
         tok = self.peek()
         ln, col = self.line_no, tok.col
         if tok.kind == "op" and tok.text == "?":
@@ -620,11 +660,14 @@ class _Line(DeclarationParser, StructureParser):
         precedence left to right). ``sub``: a sub-expression, one level deeper (not the right
         operand of an operator, whose level that operator counts)."""
         if sub:
-            self.nest()
+            self.depth += 1
+            if self.depth > MAX_NESTING:
+                raise self.too_deep()
         base = self.depth if sub else self.depth + 1
         left = self.unary()
+        toks = self.toks
         while True:
-            op = self.peek().text
+            op = toks[self.i].text
             prec = _PRECEDENCE.get(op)
             if prec is None or prec < min_prec:
                 self.depth = base - 1
@@ -637,6 +680,9 @@ class _Line(DeclarationParser, StructureParser):
             left = s.Binary(op, left, self.expr(prec + 1, sub=False))
 
     def unary(self) -> s.Expr:
+        text = self.toks[self.i].text
+        if text != "-" and text != "+" and text != "NOT":
+            return self.primary()
         if self.accept("-"):
             self.nest()
             operand = self.unary()
@@ -657,31 +703,44 @@ class _Line(DeclarationParser, StructureParser):
         return self.primary()
 
     def primary(self) -> s.Expr:
-        tok = self.peek()
-        if tok.kind == "number":
+        tok = self.toks[self.i]
+        kind = tok.kind
+        if kind == "name":
+            node = self.named_value(tok)
+            nxt = self.toks[self.i]
+            if nxt.kind == "number" and nxt.text[0] == ".":
+                return self.bit_suffix(node)
+            return node
+        if kind == "number":
             self.i += 1
             text = tok.text
             value = float(int(text[1:], 16)) if text[0] == "$" else float(text)
             if not math.isfinite(value):
                 raise self.error(f"number {text} is out of range", tok.col)
             return s.Num(value)
-        if tok.kind == "string":
+        if kind == "string":
             if not (self.dialect.strings or self.in_print):
                 raise self.error("a string is only allowed in PRINT")
             self.i += 1
             return s.Str(tok.text[1:-1])
-        if tok.kind == "op" and tok.text == "(":
+        if kind == "op" and tok.text == "(":
             self.i += 1
             e = self.expr()
             self.expect(")")
             return self.bit_suffix(e)
-        if tok.kind != "name":
-            raise self.error(f"expected a value, found {tok.text or 'end of line'!r}")
-        return self.bit_suffix(self.named_value(tok))
+        raise self.error(f"expected a value, found {tok.text or 'end of line'!r}")
 
     def named_value(self, tok: Token) -> s.Expr:
         word = tok.text
         self.i += 1
+        if word not in self.special[1]:  # no rule below claims it: a variable (or element)
+            if self.dialect.arrays and self.toks[self.i].text == "(":
+                return s.Element(variable(word), self.call_args())
+            return s.Local(variable(word))
+        return self.named_special(word, tok)
+
+    def named_special(self, word: str, tok: Token) -> s.Expr:
+        """A name in an expression that one of the language's sets holds (the word taken)."""
         if word == "VR":
             (index,) = self.args_exact(1, "VR")
             return s.VrRef(index)
@@ -814,9 +873,11 @@ def parse_program(text: str, model: str = DEFAULT_MODEL,
     lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
     language = dialect or dialect_of(model)
     out: list[s.Stmt] = []
+    p = _Line("", 0, model, language)
     for i, line in enumerate(lines, start=1):
         try:
-            out.extend(_Line(line, i, model, language).parse())
+            p.start(line, i)
+            out.extend(p.parse())
         except (ParseError, NotSimulated) as err:
             if errors is None:
                 raise
