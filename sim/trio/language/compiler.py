@@ -33,7 +33,7 @@ from ..card.basic_errors import GOSUB_DEPTH, RETURN_WITHOUT_GOSUB, BasicError
 from . import statements as s
 from .branches import GOSUB_LIMIT, Branches
 from .declarations import Declarations, Resolver
-from .expressions import compile_expr, kind_of
+from .expressions import ALWAYS_NUM, compile_expr, kind_of
 from .functions import FunctionDef, Functions, Library, call_site
 from .names import LABEL_CHARS
 from .scope import Decl, ExprError, Scope
@@ -157,7 +157,7 @@ class _Compiler(Declarations, Branches, Structure, Functions):
 
     def num(self, e: s.Expr) -> Callable[[Any], Any]:
         """A numeric expression compiled against this program's names (a string: an error)."""
-        if kind_of(e, self.scope) == "str":
+        if e.__class__ not in ALWAYS_NUM and kind_of(e, self.scope) == "str":
             raise ExprError("type mismatch: a number is needed here, not a string")
         return compile_expr(e, self.scope)
 

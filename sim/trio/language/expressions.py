@@ -117,14 +117,14 @@ _BINARY: dict[str, Callable[[float, float], float]] = {
 }
 
 
-#: Expressions that are numbers whatever their operands.
-_ALWAYS_NUM = frozenset({s.Num, s.VrRef, s.TableRef, s.Param, s.Unary, s.Bit, s.IoRead})
+#: Expressions that are numbers whatever their operands (a caller may skip kind_of for them).
+ALWAYS_NUM = frozenset({s.Num, s.VrRef, s.TableRef, s.Param, s.Unary, s.Bit, s.IoRead})
 
 
 def kind_of(node: s.Expr, scope: Scope | None = None) -> str:
     """``"str"`` for an expression whose value is text (MC4 strings), else ``"num"``."""
     cls = node.__class__
-    if cls in _ALWAYS_NUM:
+    if cls in ALWAYS_NUM:
         return "num"
     if cls is s.Str:
         return "str"
@@ -146,9 +146,10 @@ def _mismatch(what: str) -> ExprError:
 
 
 def _num(node: s.Expr, scope: Scope | None, what: str) -> Eval:
-    if kind_of(node, scope) == "str":
+    cls = node.__class__
+    if cls not in ALWAYS_NUM and kind_of(node, scope) == "str":
         raise _mismatch(f"{what} needs a number, not a string")
-    return compile_expr(node, scope)
+    return _COMPILE[cls](node, scope)
 
 
 def _call(node: s.Local | s.Element, scope: Scope) -> Eval | None:
@@ -300,9 +301,12 @@ def _c_unary(node: s.Unary, scope: Scope | None) -> Eval:
 
 
 def _c_binary(node: s.Binary, scope: Scope | None) -> Eval:
-    if kind_of(node.left, scope) == "str" or kind_of(node.right, scope) == "str":
+    lhs, rhs = node.left, node.right
+    lc, rc = lhs.__class__, rhs.__class__
+    if ((lc not in ALWAYS_NUM and kind_of(lhs, scope) == "str")
+            or (rc not in ALWAYS_NUM and kind_of(rhs, scope) == "str")):
         return _string_binary(node, scope)
-    left, right = compile_expr(node.left, scope), compile_expr(node.right, scope)
+    left, right = _COMPILE[lc](lhs, scope), _COMPILE[rc](rhs, scope)
     op = node.op
     if op == "+":
         return lambda c: left(c) + right(c)
@@ -342,4 +346,5 @@ _COMPILE: dict[type, Callable[[Any, Scope | None], Eval]] = {
 }
 
 
-__all__ = ["FALSE", "FUNCTIONS", "FUZZ", "TRUE", "compile_expr", "index_of", "kind_of", "truth"]
+__all__ = ["ALWAYS_NUM", "FALSE", "FUNCTIONS", "FUZZ", "TRUE", "compile_expr", "index_of",
+           "kind_of", "truth"]

@@ -16,7 +16,6 @@ error on is handed to :func:`tokenize_reference`, which words it.
 from __future__ import annotations
 
 import re
-from typing import NamedTuple
 
 from ...errors import ParseError
 
@@ -32,7 +31,7 @@ _ALTERNATIVES = (
 )
 #: One token after optional blanks; the group that matched is its kind (:data:`_KINDS`).
 _TOKEN = re.compile(r"[ \t\r]*(?:" + "|".join(f"({a})" for a in _ALTERNATIVES) + ")")
-_KINDS = (None, "name", "op", "number", "string", "comment", "bad")
+_KINDS = ("", "name", "op", "number", "string", "comment", "bad")
 #: ``(blanks, token)``: the same grammar, no group per kind.
 _PAIRS = re.compile(r"([ \t\r]*)(" + "|".join(_ALTERNATIVES) + ")")
 #: A token's kind by its first character; a character missing here starts no token but the
@@ -46,15 +45,11 @@ _FIRST: dict[str, str] = {
 }
 
 
-class Token(NamedTuple):
-    """``kind`` is ``number``, ``string``, ``name`` (upper-cased) or ``op``; ``col`` 1-based."""
-
-    kind: str
-    text: str
-    col: int
-
-
-_new = tuple.__new__
+#: A token: ``(kind, text, col)`` — ``kind`` is ``number``, ``string``, ``name`` (``text``
+#: upper-cased) or ``op``; ``col`` 1-based. A plain tuple, as the PMAC parser's tokens are: a
+#: NamedTuple costs three times as much to build and twice as much to read, and a 1 000-line
+#: program has ten thousand tokens (issue 32's compile time).
+Token = tuple[str, str, int]
 
 
 def tokenize(line: str, line_no: int) -> list[Token]:
@@ -75,7 +70,7 @@ def tokenize(line: str, line_no: int) -> list[Token]:
             break
         elif kind is None or (len(text) == 1 and (text == "." or text == "$" or text == '"')):
             return tokenize_reference(line, line_no)  # it raises the error, worded
-        append(_new(Token, (kind, text, col)))  # Token(...) without __new__
+        append((kind, text, col))
     return out
 
 
@@ -89,7 +84,7 @@ def tokenize_reference(line: str, line_no: int) -> list[Token]:
             text = m.group(1).upper()
             if text == "REM":
                 break
-            append(_new(Token, ("name", text, m.start(1) + 1)))
+            append(("name", text, m.start(1) + 1))
         elif k == 5:
             break  # a comment runs to the end of the line
         elif k == 6:
@@ -97,7 +92,7 @@ def tokenize_reference(line: str, line_no: int) -> list[Token]:
             msg = "unterminated string" if text == '"' else f"unexpected character {text!r}"
             raise ParseError(msg, line=line_no, column=m.start(6) + 1, text=line)
         elif k is not None:
-            append(_new(Token, (_KINDS[k], m.group(k), m.start(k) + 1)))
+            append((_KINDS[k], m.group(k), m.start(k) + 1))
     return out
 
 

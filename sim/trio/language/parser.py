@@ -104,7 +104,7 @@ _PRECEDENCE: dict[str, int] = {
 }
 #: The shift operators: MC4xx / MC6xx language only ``[INF]`` (issue 32: in MC4xx programs).
 SHIFTS = frozenset({"<<", ">>"})
-_EOL = Token("eol", "", 0)
+_EOL: Token = ("eol", "", 0)
 _PAD = [_EOL] * 4
 
 
@@ -166,17 +166,17 @@ class _Line(DeclarationParser, StructureParser):
 
     def at(self, text: str) -> bool:
         # a string's text keeps its quotes and a number's is digits: only op / name match
-        return self.toks[self.i].text == text
+        return self.toks[self.i][1] == text
 
     def accept(self, text: str) -> bool:
-        if self.toks[self.i].text == text:
+        if self.toks[self.i][1] == text:
             self.i += 1
             return True
         return False
 
     def col(self) -> int:
         tok = self.peek()
-        return tok.col if tok.kind != "eol" else len(self.text.rstrip()) + 1
+        return tok[2] if tok[0] != "eol" else len(self.text.rstrip()) + 1
 
     def error(self, message: str, col: int | None = None) -> ParseError:
         return ParseError(
@@ -184,31 +184,33 @@ class _Line(DeclarationParser, StructureParser):
         )
 
     def expect(self, text: str) -> Token:
-        if not self.at(text):
-            got = self.peek().text or "end of line"
+        tok = self.toks[self.i]
+        if tok[1] != text:
+            got = tok[1] or "end of line"
             raise self.error(f"expected {text!r}, found {got!r}")
-        return self.take()
+        self.i += 1
+        return tok
 
     def end_of_statement(self) -> bool:
-        return self.peek().kind == "eol" or self.at(":")
+        return self.peek()[0] == "eol" or self.at(":")
 
     def name(self) -> str:
         tok = self.peek()
-        if tok.kind != "name":
-            raise self.error(f"expected a name, found {tok.text or 'end of line'!r}")
+        if tok[0] != "name":
+            raise self.error(f"expected a name, found {tok[1] or 'end of line'!r}")
         self.i += 1
-        return tok.text
+        return tok[1]
 
     def string(self, what: str = "program name") -> str:
         """A quoted name, also in brackets (``RUN("X")``, ``STOP("X")``, MC4 form ``[INF]``)."""
         bracket = self.accept("(")
         tok = self.peek()
-        if tok.kind != "string":
+        if tok[0] != "string":
             raise self.error(f"expected a quoted {what}")
         self.i += 1
         if bracket and not self.at(","):
             self.expect(")")
-        return tok.text[1:-1].upper()
+        return tok[1][1:-1].upper()
 
     def reserved(self, word: str) -> bool:
         """A Trio keyword of this model: never a local variable."""
@@ -224,7 +226,7 @@ class _Line(DeclarationParser, StructureParser):
         tok = self.peek()
         word = self.name()
         if self.reserved(word):
-            raise self.error(f"{word} is a Trio BASIC keyword: it cannot be a {what}", tok.col)
+            raise self.error(f"{word} is a Trio BASIC keyword: it cannot be a {what}", tok[2])
         return variable(word)
 
     def label_name(self) -> str:
@@ -235,18 +237,18 @@ class _Line(DeclarationParser, StructureParser):
         """``value.n`` (MC4): a ``.digits`` number written straight after a name, ``)`` or
         ``]`` is bit ``n`` of that value (spec §11.8; ``a .4`` with a space stays a number)."""
         tok = self.peek()
-        if tok.kind != "number" or tok.text[0] != "." or not tok.text[1:].isdigit():
+        if tok[0] != "number" or tok[1][0] != "." or not tok[1][1:].isdigit():
             return node
         prev = self.toks[self.i - 1] if self.i else None
-        if prev is None or prev.col + len(prev.text) != tok.col:
+        if prev is None or prev[2] + len(prev[1]) != tok[2]:
             return node
         if not self.dialect.bit_access:
             raise self.error(
-                f"bit access '{prev.text}{tok.text}' is not Trio BASIC on the {self.model} "
-                "model: it came with the MC4xx / MC6xx language (firmware 2.x)", tok.col)
-        bit = int(tok.text[1:])
+                f"bit access '{prev[1]}{tok[1]}' is not Trio BASIC on the {self.model} "
+                "model: it came with the MC4xx / MC6xx language (firmware 2.x)", tok[2])
+        bit = int(tok[1][1:])
         if bit > 63:
-            raise self.error(f"bit {bit} is out of range 0..63", tok.col)
+            raise self.error(f"bit {bit} is out of range 0..63", tok[2])
         self.i += 1
         return s.Bit(node, bit)
 
@@ -257,16 +259,16 @@ class _Line(DeclarationParser, StructureParser):
         toks = self.toks
         first, second = toks[0], toks[1]  # the padding makes both exist
         if (
-            first.kind == "name"
-            and second.kind == "op"
-            and second.text == ":"
-            and first.text not in _KEYWORDS
+            first[0] == "name"
+            and second[0] == "op"
+            and second[1] == ":"
+            and first[1] not in _KEYWORDS
         ):
-            out.append(s.Label(self.line_no, first.col, label(first.text)))
+            out.append(s.Label(self.line_no, first[2], label(first[1])))
             self.i += 2
         out.extend(self.statements(stop=()))
-        if toks[self.i].kind != "eol":
-            raise self.error(f"unexpected {toks[self.i].text!r}")
+        if toks[self.i][0] != "eol":
+            raise self.error(f"unexpected {toks[self.i][1]!r}")
         return out
 
     def statements(self, stop: tuple[str, ...]) -> list[s.Stmt]:
@@ -277,14 +279,14 @@ class _Line(DeclarationParser, StructureParser):
             while self.accept(":"):
                 pass
             tok = toks[self.i]
-            if tok.kind == "eol" or tok.text in stop:
+            if tok[0] == "eol" or tok[1] in stop:
                 return out
             out.append(self.statement())
             tok = toks[self.i]
-            if tok.kind == "eol" or tok.text in stop:
+            if tok[0] == "eol" or tok[1] in stop:
                 return out
-            if tok.text != ":":
-                raise self.error(f"unexpected {tok.text!r} after the statement")
+            if tok[1] != ":":
+                raise self.error(f"unexpected {tok[1]!r} after the statement")
 
     def nest(self, levels: int = 1) -> None:
         """``levels`` more levels of nesting; a syntax error past :data:`MAX_NESTING`."""
@@ -304,8 +306,8 @@ class _Line(DeclarationParser, StructureParser):
         if self.depth > MAX_NESTING:
             raise self.too_deep()
         tok = self.toks[self.i]
-        if tok.kind == "name" and tok.text not in self.special[0]:
-            stmt = self.assignment(self.line_no, tok.col)  # a name no row or rule claims
+        if tok[0] == "name" and tok[1] not in self.special[0]:
+            stmt = self.assignment(self.line_no, tok[2])  # a name no row or rule claims
         else:
             stmt = self.one_statement()
         self.depth -= 1
@@ -315,20 +317,20 @@ class _Line(DeclarationParser, StructureParser):
         """A statement starting with ``?`` or a name (:meth:`statement` has sent a name no
         set below holds straight to :meth:`assignment`, as this would)."""
         tok = self.peek()
-        ln, col = self.line_no, tok.col
-        if tok.kind == "op" and tok.text == "?":
+        ln, col = self.line_no, tok[2]
+        if tok[0] == "op" and tok[1] == "?":
             word = "?"
-        elif tok.kind != "name":
-            raise self.error(f"a statement cannot start with {tok.text!r}")
+        elif tok[0] != "name":
+            raise self.error(f"a statement cannot start with {tok[1]!r}")
         else:
-            word = ALIASES.get(tok.text, tok.text)
+            word = ALIASES.get(tok[1], tok[1])
         if word in self.dialect.later_words:
             nxt = self.peek(1)
-            if not (nxt.kind == "op" and nxt.text in ("=", "(")):
+            if not (nxt[0] == "op" and nxt[1] in ("=", "(")):
                 raise self.later_only(word, col)
             return self.assignment(ln, col)  # an ordinary name on this model
         nxt = self.peek(1)
-        if nxt.kind == "op" and nxt.text == "=" and word not in PARAMS and self.reserved(word):
+        if nxt[0] == "op" and nxt[1] == "=" and word not in PARAMS and self.reserved(word):
             if word in CONSTANTS:
                 raise self.error(f"{word} is a constant: it cannot be written", col)
             raise self.error(f"{word} is a Trio BASIC keyword: it cannot be a variable", col)
@@ -352,7 +354,7 @@ class _Line(DeclarationParser, StructureParser):
 
     def assignment(self, ln: int, col: int) -> s.Stmt:
         """``name = e``, ``name(i) = e`` (an array element, MC4), ``name.n = e`` (a bit, MC4)."""
-        word = variable(self.take().text)
+        word = variable(self.take()[1])
         target: s.Local | s.Element | s.Bit = s.Local(word)
         if self.at("(") and self.dialect.arrays:
             target = s.Element(word, self.call_args())
@@ -490,9 +492,9 @@ class _Line(DeclarationParser, StructureParser):
         nums = []
         while True:
             tok = self.peek()
-            if tok.kind != "number" or not tok.text.isdigit():
+            if tok[0] != "number" or not tok[1].isdigit():
                 raise self.error("expected a whole number in a PRINT format [w,d]")
-            nums.append(int(self.take().text))
+            nums.append(int(self.take()[1]))
             if not self.accept(","):
                 break
         self.expect("]")
@@ -507,8 +509,8 @@ class _Line(DeclarationParser, StructureParser):
         formats: list[tuple[int, int] | None] = []
         while not self.end_of_statement() and not self.at("ELSE"):
             e: s.Expr | s.Hex
-            if self.peek().kind == "string" and not self.dialect.strings:
-                e = s.Str(self.take().text[1:-1])
+            if self.peek()[0] == "string" and not self.dialect.strings:
+                e = s.Str(self.take()[1][1:-1])
             elif self.accept("HEX"):
                 (value,) = self.args_exact(1, "HEX")
                 e = s.Hex(value)
@@ -521,7 +523,7 @@ class _Line(DeclarationParser, StructureParser):
             formats.append(self.print_format() if not isinstance(e, (s.Str, s.Hex)) else None)
             sep = ""
             if self.at(";") or self.at(","):
-                sep = self.take().text
+                sep = self.take()[1]
             items.append((e, sep))
             if not sep:
                 break
@@ -543,7 +545,7 @@ class _Line(DeclarationParser, StructureParser):
     def st_IF(self, ln: int, col: int) -> s.Stmt:
         cond = self.expr()
         self.expect("THEN")
-        if self.peek().kind == "eol":
+        if self.peek()[0] == "eol":
             return s.IfBlock(ln, col, cond)
         then = self.statements(stop=("ELSE",))
         orelse: list[s.Stmt] = []
@@ -664,10 +666,12 @@ class _Line(DeclarationParser, StructureParser):
             if self.depth > MAX_NESTING:
                 raise self.too_deep()
         base = self.depth if sub else self.depth + 1
-        left = self.unary()
         toks = self.toks
+        text = toks[self.i][1]
+        left = (self.unary() if text == "-" or text == "+" or text == "NOT"
+                else self.primary())  # (unary's own test, saving a call)
         while True:
-            op = toks[self.i].text
+            op = toks[self.i][1]
             prec = _PRECEDENCE.get(op)
             if prec is None or prec < min_prec:
                 self.depth = base - 1
@@ -680,7 +684,7 @@ class _Line(DeclarationParser, StructureParser):
             left = s.Binary(op, left, self.expr(prec + 1, sub=False))
 
     def unary(self) -> s.Expr:
-        text = self.toks[self.i].text
+        text = self.toks[self.i][1]
         if text != "-" and text != "+" and text != "NOT":
             return self.primary()
         if self.accept("-"):
@@ -704,37 +708,45 @@ class _Line(DeclarationParser, StructureParser):
 
     def primary(self) -> s.Expr:
         tok = self.toks[self.i]
-        kind = tok.kind
+        kind = tok[0]
         if kind == "name":
-            node = self.named_value(tok)
+            word = tok[1]
+            if word in self.special[1]:
+                node = self.named_value(tok)
+            else:  # named_value's first case, saving a call
+                self.i += 1
+                if self.dialect.arrays and self.toks[self.i][1] == "(":
+                    node = s.Element(variable(word), self.call_args())
+                else:
+                    node = s.Local(variable(word))
             nxt = self.toks[self.i]
-            if nxt.kind == "number" and nxt.text[0] == ".":
+            if nxt[0] == "number" and nxt[1][0] == ".":
                 return self.bit_suffix(node)
             return node
         if kind == "number":
             self.i += 1
-            text = tok.text
+            text = tok[1]
             value = float(int(text[1:], 16)) if text[0] == "$" else float(text)
             if not math.isfinite(value):
-                raise self.error(f"number {text} is out of range", tok.col)
+                raise self.error(f"number {text} is out of range", tok[2])
             return s.Num(value)
         if kind == "string":
             if not (self.dialect.strings or self.in_print):
                 raise self.error("a string is only allowed in PRINT")
             self.i += 1
-            return s.Str(tok.text[1:-1])
-        if kind == "op" and tok.text == "(":
+            return s.Str(tok[1][1:-1])
+        if kind == "op" and tok[1] == "(":
             self.i += 1
             e = self.expr()
             self.expect(")")
             return self.bit_suffix(e)
-        raise self.error(f"expected a value, found {tok.text or 'end of line'!r}")
+        raise self.error(f"expected a value, found {tok[1] or 'end of line'!r}")
 
     def named_value(self, tok: Token) -> s.Expr:
-        word = tok.text
+        word = tok[1]
         self.i += 1
         if word not in self.special[1]:  # no rule below claims it: a variable (or element)
-            if self.dialect.arrays and self.toks[self.i].text == "(":
+            if self.dialect.arrays and self.toks[self.i][1] == "(":
                 return s.Element(variable(word), self.call_args())
             return s.Local(variable(word))
         return self.named_special(word, tok)
@@ -763,17 +775,17 @@ class _Line(DeclarationParser, StructureParser):
                 raise self.error(f"{word} takes {want} arguments, got {len(args)}", c)
             return s.Call(word, args)
         if word in PARAMS:
-            return self.param_ref(word, tok.col)
+            return self.param_ref(word, tok[2])
         if word in IO_ARGS:
-            return self.io_read(word, tok.col)
+            return self.io_read(word, tok[2])
         if word in NOT_SIMULATED:
-            raise self.not_simulated(word, tok.col)
+            raise self.not_simulated(word, tok[2])
         if word == "HEX":
-            raise self.error("HEX() is only allowed as a PRINT item", tok.col)
+            raise self.error("HEX() is only allowed as a PRINT item", tok[2])
         if word in self.dialect.later_words and self.at("("):
-            raise self.later_only(word, tok.col)
+            raise self.later_only(word, tok[2])
         if self.reserved(word):
-            raise self.error(f"{word} is a Trio BASIC keyword, not a value", tok.col)
+            raise self.error(f"{word} is a Trio BASIC keyword, not a value", tok[2])
         if self.dialect.arrays and self.at("("):
             return s.Element(variable(word), self.call_args())
         return s.Local(variable(word))
