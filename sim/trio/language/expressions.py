@@ -171,7 +171,9 @@ def _local(node: s.Local, scope: Scope | None) -> Eval:
         return call
     decl = scope.plain(name) if scope is not None else None
     if decl is None:
-        return lambda c: c.locals.get(name, 0.0)
+        reader = _SHARED.get(name)  # a str key: a local's reader (a constant's is a tuple)
+        return reader if reader is not None else _remember(
+            name, lambda c: c.locals.get(name, 0.0))
     if decl.kind == "GLOBAL":
         index = float(decl.index)
         return lambda c: c.vr(index)
@@ -256,48 +258,85 @@ def compile_expr(node: s.Expr, scope: Scope | None = None) -> Eval:
     return build(node, scope)
 
 
+#: Readers shared between the expressions that read the same thing: a constant, an untyped
+#: local, a string, ``VR(i)`` / ``TABLE(i)`` / a bit / a parameter / an operator of readers
+#: shared themselves. A reader holds nothing but what it reads (no state of its own), so one
+#: serves every use, and a program of 1 000 lines need not make (nor the cyclic collector scan)
+#: thousands of equal closures (issue 32's compile time). The key names the kind and what the
+#: reader holds: its value, a local's name (a str key, every other is a tuple) or the readers
+#: it applies, by identity. Bounded: emptied when it reaches :data:`_SHARED_MAX` entries.
+_SHARED: dict[object, Eval] = {}
+_SHARED_MAX = 4096
+
+
+def _remember(key: object, reader: Eval) -> Eval:
+    if len(_SHARED) >= _SHARED_MAX:
+        _SHARED.clear()
+    _SHARED[key] = reader
+    return reader
+
+
 def _c_num(node: s.Num, scope: Scope | None) -> Eval:
     v = node.value
-    return lambda c: v
+    key = (v, math.copysign(1.0, v))  # -0.0 == 0.0 as a key: the sign is part of it
+    reader = _SHARED.get(key)
+    return reader if reader is not None else _remember(key, lambda c: v)
 
 
 def _c_str(node: s.Str, scope: Scope | None) -> Eval:
     text = node.value
-    return lambda c: text
+    key = ("str", text)
+    reader = _SHARED.get(key)
+    return reader if reader is not None else _remember(key, lambda c: text)
 
 
 def _c_bit(node: s.Bit, scope: Scope | None) -> Eval:
     inner = _num(node.operand, scope, "bit access")
     bit = node.bit
-    return lambda c: float((int(inner(c)) >> bit) & 1)
+    key = ("bit", inner, bit)
+    reader = _SHARED.get(key)
+    return reader if reader is not None else _remember(
+        key, lambda c: float((int(inner(c)) >> bit) & 1))
 
 
 def _c_vr(node: s.VrRef, scope: Scope | None) -> Eval:
     idx = _num(node.index, scope, "VR()")
-    return lambda c: c.vr(idx(c))
+    key = ("VR", idx)
+    reader = _SHARED.get(key)
+    return reader if reader is not None else _remember(key, lambda c: c.vr(idx(c)))
 
 
 def _c_table(node: s.TableRef, scope: Scope | None) -> Eval:
     idx = _num(node.index, scope, "TABLE()")
-    return lambda c: c.table(idx(c))
+    key = ("TABLE", idx)
+    reader = _SHARED.get(key)
+    return reader if reader is not None else _remember(key, lambda c: c.table(idx(c)))
 
 
 def _c_param(node: s.Param, scope: Scope | None) -> Eval:
     name = node.name
     axis = _num(node.axis, scope, "AXIS()") if node.axis is not None else None
     proc = _num(node.proc, scope, "PROC()") if node.proc is not None else None
+    key = ("param", name, axis, proc)
+    reader = _SHARED.get(key)
+    if reader is not None:
+        return reader
     if axis is None and proc is None:
-        return lambda c: c.param(name, None, None)
+        return _remember(key, lambda c: c.param(name, None, None))
     if proc is None:
-        return lambda c: c.param(name, axis(c), None)
-    return lambda c: c.param(name, axis(c) if axis else None, proc(c))
+        return _remember(key, lambda c: c.param(name, axis(c), None))
+    return _remember(key, lambda c: c.param(name, axis(c) if axis else None, proc(c)))
 
 
 def _c_unary(node: s.Unary, scope: Scope | None) -> Eval:
     inner = _num(node.operand, scope, f"unary {node.op}")
+    key = (node.op, inner)
+    reader = _SHARED.get(key)
+    if reader is not None:
+        return reader
     if node.op == "-":
-        return lambda c: -inner(c)
-    return lambda c: float(~int(inner(c)))
+        return _remember(key, lambda c: -inner(c))
+    return _remember(key, lambda c: float(~int(inner(c))))
 
 
 def _c_binary(node: s.Binary, scope: Scope | None) -> Eval:
@@ -308,14 +347,18 @@ def _c_binary(node: s.Binary, scope: Scope | None) -> Eval:
         return _string_binary(node, scope)
     left, right = _COMPILE[lc](lhs, scope), _COMPILE[rc](rhs, scope)
     op = node.op
+    key = (op, left, right)
+    reader = _SHARED.get(key)
+    if reader is not None:
+        return reader
     if op == "+":
-        return lambda c: left(c) + right(c)
+        return _remember(key, lambda c: left(c) + right(c))
     if op == "-":
-        return lambda c: left(c) - right(c)
+        return _remember(key, lambda c: left(c) - right(c))
     if op == "*":
-        return lambda c: left(c) * right(c)
+        return _remember(key, lambda c: left(c) * right(c))
     fn = _BINARY[op]
-    return lambda c: fn(left(c), right(c))
+    return _remember(key, lambda c: fn(left(c), right(c)))
 
 
 def _c_call(node: s.Call, scope: Scope | None) -> Eval:
