@@ -130,10 +130,11 @@ class Frame:
         self.state: tuple[Any, ...] | None = None
 
 
-class Suspend(Exception):  # noqa: N818 - a signal to the process, not an error
+class Suspend(BaseException):  # noqa: N818 - a signal to the process, not an error
     """A statement inside a library function waits (``wait``: the compiler's Block / Sleep /
     WaitFor / Poll / HALT): unwinds the calling statement to the process, which waits and then
-    runs that statement again (:class:`Frame`). ``text``: the library line that waits;
+    runs that statement again (:class:`Frame`). A BaseException, as GeneratorExit is: no
+    ``except Exception`` on the way may take it for an error. ``text``: the library line that waits;
     ``state``: the context while waiting (the innermost call's locals, loops, SELECT values,
     data bytes, call depth and frame)."""
 
