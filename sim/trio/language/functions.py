@@ -56,6 +56,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from ..card.basic_errors import BasicError
 from . import statements as s
 from .scope import Decl, ExprError
 
@@ -146,6 +147,14 @@ class Suspend(BaseException):  # noqa: N818 - a signal to the process, not an er
         self.where = ""  # "FUNCTION F, LIB line n" of the statement that waits
 
 
+def in_function(exc: BasicError, where: str) -> BasicError:
+    """A run-time error met in a library function, its message naming the function and the
+    library line (``where``: :meth:`FunctionDef.where`) once — the innermost call's."""
+    if " (in FUNCTION " in exc.message:
+        return exc
+    return BasicError(f"{exc.message} (in {where})", exc.number)
+
+
 def call_site(op: Callable[[Any], Any]) -> Callable[[Any], Any]:
     """The operation of a statement that calls library functions: its calls numbered afresh
     (or, when it runs again after a wait, answered from the values already returned)."""
@@ -219,7 +228,8 @@ def visible(stored: Mapping[str, Library], replacing: str | None = None,
 
 
 __all__ = ["CALL_DEPTH", "CALL_STEPS", "REFUSED_IN_LIBRARY", "FnReturn", "Frame",
-           "FunctionDef", "Library", "Suspend", "call_of", "call_site", "signature", "visible"]
+           "FunctionDef", "Library", "Suspend", "call_of", "call_site", "in_function",
+           "signature", "visible"]
 
 
 class Functions:

@@ -175,7 +175,7 @@ class _Line(DeclarationParser, StructureParser):
         return False
 
     def col(self) -> int:
-        tok = self.peek()
+        tok = self.toks[self.i]
         return tok[2] if tok[0] != "eol" else len(self.text.rstrip()) + 1
 
     def error(self, message: str, col: int | None = None) -> ParseError:
@@ -192,10 +192,11 @@ class _Line(DeclarationParser, StructureParser):
         return tok
 
     def end_of_statement(self) -> bool:
-        return self.peek()[0] == "eol" or self.at(":")
+        tok = self.toks[self.i]
+        return tok[0] == "eol" or tok[1] == ":"
 
     def name(self) -> str:
-        tok = self.peek()
+        tok = self.toks[self.i]
         if tok[0] != "name":
             raise self.error(f"expected a name, found {tok[1] or 'end of line'!r}")
         self.i += 1
@@ -276,8 +277,8 @@ class _Line(DeclarationParser, StructureParser):
         out: list[s.Stmt] = []
         toks = self.toks
         while True:
-            while self.accept(":"):
-                pass
+            while toks[self.i][1] == ":":
+                self.i += 1
             tok = toks[self.i]
             if tok[0] == "eol" or tok[1] in stop:
                 return out
@@ -316,7 +317,7 @@ class _Line(DeclarationParser, StructureParser):
     def one_statement(self) -> s.Stmt:
         """A statement starting with ``?`` or a name (:meth:`statement` has sent a name no
         set below holds straight to :meth:`assignment`, as this would)."""
-        tok = self.peek()
+        tok = self.toks[self.i]
         ln, col = self.line_no, tok[2]
         if tok[0] == "op" and tok[1] == "?":
             word = "?"
@@ -386,7 +387,9 @@ class _Line(DeclarationParser, StructureParser):
     def args(self) -> tuple[s.Expr, ...]:
         self.expect("(")
         out = [self.expr()]
-        while self.accept(","):
+        toks = self.toks
+        while toks[self.i][1] == ",":
+            self.i += 1
             out.append(self.expr())
         self.expect(")")
         return tuple(out)

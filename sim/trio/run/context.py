@@ -28,7 +28,15 @@ from ..card.parameters import (
     SYSTEM_PARAMS,
 )
 from ..language.compiler import HALT, Block, Poll, Sleep, WaitFor
-from ..language.functions import CALL_DEPTH, CALL_STEPS, FnReturn, Frame, FunctionDef, Suspend
+from ..language.functions import (
+    CALL_DEPTH,
+    CALL_STEPS,
+    FnReturn,
+    Frame,
+    FunctionDef,
+    Suspend,
+    in_function,
+)
 from ..language.scope import Decl, coerce
 from ..motion.issue import new_move
 from ..motion.linked import LINKED, LinkedMove, check_linked, link_axis_of
@@ -277,10 +285,11 @@ class Context:
             fr.resume = callee
             raise
         except BasicError as exc:
-            if " (in FUNCTION " in exc.message:
-                raise
             line = code.lines[pc] if pc < len(code.lines) else fn.line
-            raise BasicError(f"{exc.message} (in {fn.where(line)})", exc.number) from None
+            err = in_function(exc, fn.where(line))
+            if err is exc:
+                raise
+            raise err from None
         finally:
             self.calls -= 1
             self.frame = fr

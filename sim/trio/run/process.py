@@ -40,7 +40,7 @@ import simpy
 
 from ..card.basic_errors import RUN_ERROR_STOPPED, BasicError, error_line
 from ..language.compiler import HALT, Block, Code, Poll, Sleep, WaitFor
-from ..language.functions import Suspend
+from ..language.functions import Suspend, in_function
 from ..motion.buffers import Waiter, schedule_at
 from .context import Context
 
@@ -163,9 +163,10 @@ class BasicProcess:
             elif r.__class__ is Poll:
                 yield from self._poll(r)
         except BasicError as exc:  # a condition tested while waiting failed
-            if " (in FUNCTION " in exc.message:
+            err = in_function(exc, sus.where)
+            if err is exc:
                 raise
-            raise BasicError(f"{exc.message} (in {sus.where})", exc.number) from None
+            raise err from None
         finally:
             (ctx.locals, ctx.loops, ctx.selected, ctx.data_bytes, ctx.calls,
              ctx.frame) = own
