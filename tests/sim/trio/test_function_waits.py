@@ -194,3 +194,18 @@ def test_only_the_statements_holding_calls_are_call_sites():
     wrapped = {code.lines[pc] for pc, op in enumerate(code.ops)
                if op.__qualname__ == call_site(lambda c: None).__qualname__}
     assert wrapped == {2, 4, 7, 9}
+
+
+def test_a_function_waits_in_select_case_a_case_value_an_until_and_a_moves_argument():
+    c = controller()
+    last = run(c, "SELECT_CASE pause_ms(10)\n  CASE pause_ms(5)\n    OP(10, ON)\n"
+                  "  CASE 20\n    OP(11, ON)\nEND_CASE\n"
+                  "REPEAT\n  n = n + 1\nUNTIL pause_ms(1) > 0 AND n = 2\n"
+                  "MOVE(pause_ms(3) / 60) AXIS(0)\nOP(12, ON)\n")
+    assert "error" not in last
+    # SELECT_CASE at 0 waits 10 ms; CASE (5 -> 10, no match) at 10.1 waits 5; CASE 20 matches
+    # at 15.2; OP(11) 15.3; REPEAT body 15.4, UNTIL 15.5 + 1 ms, body 16.6, UNTIL 16.7 + 1 ms;
+    # the MOVE at 17.8 waits 3 ms, is issued at 20.8; OP(12) at 20.9
+    assert outputs(c) == [(15_300, 11), (20_900, 12)]
+    assert c.vr[50] == 5.0
+    assert [f["mtype"] for _, f in fields(c, "move_start", axis=0)] == [1]
