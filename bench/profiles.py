@@ -1,6 +1,6 @@
 """cProfile of the in-process paths behind the bench targets: where each one's time goes.
 
-    .venv/bin/python bench/profiles.py [core|pvt|trio|parse|wire|fanout ...]
+    .venv/bin/python bench/profiles.py [core|pvt|trio|trio_compile|parse|wire|fanout ...]
 
 For each workload (all by default) prints the share of profiled time by module (self time,
 summed per file) and the functions with the most self time. The shape of a profile holds on a
@@ -42,6 +42,23 @@ def _trio() -> None:
     from bench.bench_trio import trio_rate
 
     trio_rate(20_000)
+
+
+def _trio_compile() -> None:
+    """Issue 32's compile benches: the 1 000-line program with 20 INCLUDEs and the one calling
+    a 20-function library, each stored once into a fresh controller."""
+    from motionsim.sim.trio import TrioController
+
+    from bench import bench_trio_include as inc
+    from bench import bench_trio_library as lib
+
+    c = TrioController("bench", {"model": "mc4xx"})
+    for k in range(inc.N_INCLUDES):
+        c.store_program(f"INIT{k:02d}", inc.included(k))
+    c.store_program("MAIN", inc.main_program())
+    c = TrioController("bench", {"model": "mc6xx"})
+    c.store_program("MACHINE", lib.library())
+    c.store_program("MAIN", lib.main_program())
 
 
 @functools.cache
@@ -117,7 +134,8 @@ def _fanout(profile: cProfile.Profile) -> None:
 
 
 WORKLOADS: dict[str, Callable[..., None]] = {
-    "core": _core, "pvt": _pvt, "trio": _trio, "parse": _parse, "wire": _wire, "fanout": _fanout}
+    "core": _core, "pvt": _pvt, "trio": _trio, "trio_compile": _trio_compile, "parse": _parse,
+    "wire": _wire, "fanout": _fanout}
 
 
 def _short(path: str) -> str:

@@ -33,8 +33,8 @@ from ..card.basic_errors import GOSUB_DEPTH, RETURN_WITHOUT_GOSUB, BasicError
 from . import statements as s
 from .branches import GOSUB_LIMIT, Branches
 from .declarations import Declarations, Resolver
-from .expressions import compile_expr, kind_of
-from .functions import FunctionDef, Functions, Library
+from .expressions import ALWAYS_NUM, compile_expr, kind_of
+from .functions import FunctionDef, Functions, Library, call_site
 from .names import LABEL_CHARS
 from .scope import Decl, ExprError, Scope
 from .structure import Structure
@@ -130,6 +130,11 @@ class _Compiler(Declarations, Branches, Structure, Functions):
         self.source: tuple[str, tuple[str, ...]] = (name, program.lines)  # INCLUDE switches it
         self.line_override: int | None = None  # the INCLUDE line, while its program compiles
         self.context = ""  # 'in "X" (INCLUDEd at line n): ' while an INCLUDEd program compiles
+        #: The operations holding library function calls: an op is built (emitted or set)
+        #: right after the expressions it evaluates are compiled, so the op built first after
+        #: a call was compiled holds it; each is wrapped by ``call_site`` (functions.py).
+        self.call_sites: set[int] = set()
+        self._calls_seen = 0
 
     def error(self, st: s.Stmt, message: str) -> ParseError:
         name, lines = self.source
@@ -138,6 +143,9 @@ class _Compiler(Declarations, Branches, Structure, Functions):
                           program=name or None)
 
     def emit(self, op: Op, st: s.Stmt, cost: int = 1) -> int:
+        if self.scope.calls != self._calls_seen:  # op holds the library calls just compiled
+            self._calls_seen = self.scope.calls
+            self.call_sites.add(len(self.ops))
         self.ops.append(op)
         if self.line_override is None:
             self.lines.append(st.line)
@@ -149,7 +157,7 @@ class _Compiler(Declarations, Branches, Structure, Functions):
 
     def num(self, e: s.Expr) -> Callable[[Any], Any]:
         """A numeric expression compiled against this program's names (a string: an error)."""
-        if kind_of(e, self.scope) == "str":
+        if e.__class__ not in ALWAYS_NUM and kind_of(e, self.scope) == "str":
             raise ExprError("type mismatch: a number is needed here, not a string")
         return compile_expr(e, self.scope)
 
@@ -157,6 +165,9 @@ class _Compiler(Declarations, Branches, Structure, Functions):
         return self.emit(_unpatched, st, cost)
 
     def set_op(self, pc: int, op: Op) -> None:
+        if self.scope.calls != self._calls_seen:
+            self._calls_seen = self.scope.calls
+            self.call_sites.add(pc)
         self.ops[pc] = op
 
     # -- driving ---------------------------------------------------------------------------
@@ -190,6 +201,8 @@ class _Compiler(Declarations, Branches, Structure, Functions):
                 self.report(self.error(st, f"label {missing[0]!r} is not defined"))
                 continue
             self.set_op(pc, build([self.labels[label] for label in labels]))
+        for pc in self.call_sites:
+            self.ops[pc] = call_site(self.ops[pc])
         self.includes.extend(sorted(self.scope.used - {self.name, *self.includes}))
         return Code(self.ops, self.lines, self.costs, self.program.lines, self.labels,
                     tuple(self.includes))

@@ -49,7 +49,7 @@ class DeclarationParser:
         if self.accept("BASICERROR"):
             if not self.accept("GOTO"):
                 raise self.error("ON BASICERROR needs GOTO and a label")
-            if self.peek().kind != "name":
+            if self.peek()[0] != "name":
                 raise self.error("ON BASICERROR GOTO needs the label of the error handler")
             return s.OnError(ln, col, label(self.name()))
         value = self.expr()
@@ -81,9 +81,9 @@ class DeclarationParser:
                 break
         self.expect("AS")
         tok = self.peek()
-        kind = self.name() if tok.kind == "name" else ""
+        kind = self.name() if tok[0] == "name" else ""
         if kind not in TYPES:
-            raise self.error(f"DIM needs a type ({', '.join(TYPES)})", tok.col)
+            raise self.error(f"DIM needs a type ({', '.join(TYPES)})", tok[2])
         length: int | None = None
         shape: tuple[int, ...] = ()
         if self.at("("):
@@ -128,20 +128,20 @@ class DeclarationParser:
 
     def whole_number(self, what: str) -> int:
         tok = self.peek()
-        if tok.kind != "number" or not tok.text.isdigit() or int(tok.text) < 1:
+        if tok[0] != "number" or not tok[1].isdigit() or int(tok[1]) < 1:
             raise self.error(f"expected a whole number >= 1 for the {what}")
         self.i += 1
-        return int(tok.text)
+        return int(tok[1])
 
     def st_GLOBAL(self, ln: int, col: int) -> s.Stmt:
         """``GLOBAL "name", vr``: the name of a VR for every program (spec §11.4)."""
         name, _c = self.declared_name()
         self.expect(",")
         tok = self.peek()
-        if tok.kind != "number" or not tok.text.isdigit():
+        if tok[0] != "number" or not tok[1].isdigit():
             raise self.error("GLOBAL needs the VR number (a whole number)")
         self.i += 1
-        return s.Global(ln, col, name, int(tok.text))
+        return s.Global(ln, col, name, int(tok[1]))
 
     def st_CONSTANT(self, ln: int, col: int) -> s.Stmt:
         """``CONSTANT "name", value``: a named number for every program (spec §11.4); also
@@ -160,16 +160,16 @@ class DeclarationParser:
     def declared_name(self) -> tuple[str, int]:
         """The quoted name of GLOBAL / CONSTANT: an identifier that is not a keyword."""
         tok = self.peek()
-        if tok.kind == "name":  # the bare form, CONSTANT name, value [INF]
+        if tok[0] == "name":  # the bare form, CONSTANT name, value [INF]
             self.i += 1
-            name = tok.text
+            name = tok[1]
         else:
             name = self.string("name")
         if not re.fullmatch(r"[A-Z_][A-Z0-9_]*", name):
-            raise self.error(f"{name!r} is not a valid variable name", tok.col)
+            raise self.error(f"{name!r} is not a valid variable name", tok[2])
         if self.reserved(name):
-            raise self.error(f"{name} is a Trio BASIC keyword: it cannot be declared", tok.col)
-        return variable(name), tok.col
+            raise self.error(f"{name} is a Trio BASIC keyword: it cannot be declared", tok[2])
+        return variable(name), tok[2]
 
 
 def constant_value(node: s.Expr) -> float | None:

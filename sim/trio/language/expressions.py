@@ -117,14 +117,14 @@ _BINARY: dict[str, Callable[[float, float], float]] = {
 }
 
 
-#: Expressions that are numbers whatever their operands.
-_ALWAYS_NUM = frozenset({s.Num, s.VrRef, s.TableRef, s.Param, s.Unary, s.Bit, s.IoRead})
+#: Expressions that are numbers whatever their operands (a caller may skip kind_of for them).
+ALWAYS_NUM = frozenset({s.Num, s.VrRef, s.TableRef, s.Param, s.Unary, s.Bit, s.IoRead})
 
 
 def kind_of(node: s.Expr, scope: Scope | None = None) -> str:
     """``"str"`` for an expression whose value is text (MC4 strings), else ``"num"``."""
     cls = node.__class__
-    if cls in _ALWAYS_NUM:
+    if cls in ALWAYS_NUM:
         return "num"
     if cls is s.Str:
         return "str"
@@ -146,9 +146,10 @@ def _mismatch(what: str) -> ExprError:
 
 
 def _num(node: s.Expr, scope: Scope | None, what: str) -> Eval:
-    if kind_of(node, scope) == "str":
+    cls = node.__class__
+    if cls not in ALWAYS_NUM and kind_of(node, scope) == "str":
         raise _mismatch(f"{what} needs a number, not a string")
-    return compile_expr(node, scope)
+    return _COMPILE[cls](node, scope)
 
 
 def _call(node: s.Local | s.Element, scope: Scope) -> Eval | None:
@@ -170,7 +171,9 @@ def _local(node: s.Local, scope: Scope | None) -> Eval:
         return call
     decl = scope.plain(name) if scope is not None else None
     if decl is None:
-        return lambda c: c.locals.get(name, 0.0)
+        reader = _SHARED.get(name)  # a str key: a local's reader (a constant's is a tuple)
+        return reader if reader is not None else _remember(
+            name, lambda c: c.locals.get(name, 0.0))
     if decl.kind == "GLOBAL":
         index = float(decl.index)
         return lambda c: c.vr(index)
@@ -255,63 +258,107 @@ def compile_expr(node: s.Expr, scope: Scope | None = None) -> Eval:
     return build(node, scope)
 
 
+#: Readers shared between the expressions that read the same thing: a constant, an untyped
+#: local, a string, ``VR(i)`` / ``TABLE(i)`` / a bit / a parameter / an operator of readers
+#: shared themselves. A reader holds nothing but what it reads (no state of its own), so one
+#: serves every use, and a program of 1 000 lines need not make (nor the cyclic collector scan)
+#: thousands of equal closures (issue 32's compile time). The key names the kind and what the
+#: reader holds: its value, a local's name (a str key, every other is a tuple) or the readers
+#: it applies, by identity. Bounded: emptied when it reaches :data:`_SHARED_MAX` entries.
+_SHARED: dict[object, Eval] = {}
+_SHARED_MAX = 4096
+
+
+def _remember(key: object, reader: Eval) -> Eval:
+    if len(_SHARED) >= _SHARED_MAX:
+        _SHARED.clear()
+    _SHARED[key] = reader
+    return reader
+
+
 def _c_num(node: s.Num, scope: Scope | None) -> Eval:
     v = node.value
-    return lambda c: v
+    key = (v, math.copysign(1.0, v))  # -0.0 == 0.0 as a key: the sign is part of it
+    reader = _SHARED.get(key)
+    return reader if reader is not None else _remember(key, lambda c: v)
 
 
 def _c_str(node: s.Str, scope: Scope | None) -> Eval:
     text = node.value
-    return lambda c: text
+    key = ("str", text)
+    reader = _SHARED.get(key)
+    return reader if reader is not None else _remember(key, lambda c: text)
 
 
 def _c_bit(node: s.Bit, scope: Scope | None) -> Eval:
     inner = _num(node.operand, scope, "bit access")
     bit = node.bit
-    return lambda c: float((int(inner(c)) >> bit) & 1)
+    key = ("bit", inner, bit)
+    reader = _SHARED.get(key)
+    return reader if reader is not None else _remember(
+        key, lambda c: float((int(inner(c)) >> bit) & 1))
 
 
 def _c_vr(node: s.VrRef, scope: Scope | None) -> Eval:
     idx = _num(node.index, scope, "VR()")
-    return lambda c: c.vr(idx(c))
+    key = ("VR", idx)
+    reader = _SHARED.get(key)
+    return reader if reader is not None else _remember(key, lambda c: c.vr(idx(c)))
 
 
 def _c_table(node: s.TableRef, scope: Scope | None) -> Eval:
     idx = _num(node.index, scope, "TABLE()")
-    return lambda c: c.table(idx(c))
+    key = ("TABLE", idx)
+    reader = _SHARED.get(key)
+    return reader if reader is not None else _remember(key, lambda c: c.table(idx(c)))
 
 
 def _c_param(node: s.Param, scope: Scope | None) -> Eval:
     name = node.name
     axis = _num(node.axis, scope, "AXIS()") if node.axis is not None else None
     proc = _num(node.proc, scope, "PROC()") if node.proc is not None else None
+    key = ("param", name, axis, proc)
+    reader = _SHARED.get(key)
+    if reader is not None:
+        return reader
     if axis is None and proc is None:
-        return lambda c: c.param(name, None, None)
+        return _remember(key, lambda c: c.param(name, None, None))
     if proc is None:
-        return lambda c: c.param(name, axis(c), None)
-    return lambda c: c.param(name, axis(c) if axis else None, proc(c))
+        return _remember(key, lambda c: c.param(name, axis(c), None))
+    return _remember(key, lambda c: c.param(name, axis(c) if axis else None, proc(c)))
 
 
 def _c_unary(node: s.Unary, scope: Scope | None) -> Eval:
     inner = _num(node.operand, scope, f"unary {node.op}")
+    key = (node.op, inner)
+    reader = _SHARED.get(key)
+    if reader is not None:
+        return reader
     if node.op == "-":
-        return lambda c: -inner(c)
-    return lambda c: float(~int(inner(c)))
+        return _remember(key, lambda c: -inner(c))
+    return _remember(key, lambda c: float(~int(inner(c))))
 
 
 def _c_binary(node: s.Binary, scope: Scope | None) -> Eval:
-    if kind_of(node.left, scope) == "str" or kind_of(node.right, scope) == "str":
+    lhs, rhs = node.left, node.right
+    lc, rc = lhs.__class__, rhs.__class__
+    if ((lc not in ALWAYS_NUM and kind_of(lhs, scope) == "str")
+            or (rc not in ALWAYS_NUM and kind_of(rhs, scope) == "str")):
         return _string_binary(node, scope)
-    left, right = compile_expr(node.left, scope), compile_expr(node.right, scope)
+    left, right = _COMPILE[lc](lhs, scope), _COMPILE[rc](rhs, scope)
     op = node.op
+    key = (op, left, right)
+    reader = _SHARED.get(key)
+    if reader is not None:
+        return reader
     if op == "+":
-        return lambda c: left(c) + right(c)
+        return _remember(key, lambda c: left(c) + right(c))
     if op == "-":
-        return lambda c: left(c) - right(c)
+        return _remember(key, lambda c: left(c) - right(c))
     if op == "*":
-        return lambda c: left(c) * right(c)
+        return _remember(key, lambda c: left(c) * right(c))
     fn = _BINARY[op]
-    return lambda c: fn(left(c), right(c))
+    return _remember(key, lambda c: fn(left(c), right(c)))
 
 
 def _c_call(node: s.Call, scope: Scope | None) -> Eval:
@@ -342,4 +389,5 @@ _COMPILE: dict[type, Callable[[Any, Scope | None], Eval]] = {
 }
 
 
-__all__ = ["FALSE", "FUNCTIONS", "FUZZ", "TRUE", "compile_expr", "index_of", "kind_of", "truth"]
+__all__ = ["ALWAYS_NUM", "FALSE", "FUNCTIONS", "FUZZ", "TRUE", "compile_expr", "index_of",
+           "kind_of", "truth"]

@@ -23,15 +23,31 @@ What the simulator does with it:
   arguments. Argument counts and types are checked when the caller is compiled; a caller stored
   before its library is refused (the name is not known yet, as for INCLUDE). Storing the library
   again compiles its callers again; a function name defined in two libraries is refused.
-* **A call runs the function to its RETURN inside the calling statement** ``[INF]``: its
-  parameters (by value, converted to their types as DIM does) and the names it uses are its own
-  locals — the caller's are untouched — and it returns its value converted to its return type
-  (no RETURN value: 0 or ""). It takes no simulated time of its own; a statement in it that
-  would wait (WA, WAIT, a move into a full process buffer, STOP) is a run-time error naming the
-  function: waiting inside a function is not simulated. A run-time error in a function stops the
-  caller at its line, the message naming the function and the library line. Calls nest (also
-  recursively) :data:`CALL_DEPTH` deep and a call runs at most :data:`CALL_STEPS` statements
-  ``[INF]``, so a function that never returns is an error, not a hung simulator.
+* **A call runs the function to its RETURN inside the calling statement, in the calling
+  process** ``[INF]`` (the help: a function "can take any BASIC commands provided that they
+  work in the context of the required function operation"): its parameters (by value,
+  converted to their types as DIM does) and the names it uses are its own locals — the
+  caller's are untouched — and it returns its value converted to its return type (no RETURN
+  value: 0 or ""). Its statements take no simulated time of their own; a statement in it that
+  waits (WA, WAIT IDLE / LOADED / UNTIL, a move into a full process buffer) makes the calling
+  process wait there as the same statement inline would, and STOP in it stops the process. At
+  the command line (which cannot wait inside an expression) and in a condition re-tested while
+  waiting (WAIT UNTIL's, WAIT IDLE's), a function that waits is a run-time error naming the
+  function. A run-time error in a function stops the caller at its line, the message naming the
+  function and the library line. Calls nest (also recursively) :data:`CALL_DEPTH` deep and a
+  call runs at most :data:`CALL_STEPS` statements ``[INF]``, so a function that never returns is
+  an error, not a hung simulator.
+
+How a wait inside a function is simulated (:class:`Frame`, :class:`Suspend`, :func:`call_site`):
+the expressions of a statement are Python closures that cannot pause half-way, so a waiting
+function *unwinds* the calling statement: each call in progress keeps its frame (where it is,
+its locals), the process waits, then runs the calling statement again. On that second run the
+calls the statement had already completed answer the values they returned (each in evaluation
+order, not run twice), the call that waited goes on from the statement after its wait, and the
+rest of the statement runs as usual. The only difference from a controller that pauses
+mid-expression ``[INF]``: the parts of the statement that are not calls (a parameter such as
+MPOS, a VR) are read again after the wait, as they would be if the program had written the
+call on a line of its own first.
 """
 
 from __future__ import annotations
@@ -40,6 +56,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from ..card.basic_errors import BasicError
 from . import statements as s
 from .scope import Decl, ExprError
 
@@ -88,6 +105,77 @@ class FnReturn:
         self.value = value
 
 
+class Frame:
+    """One level of a process' calls: the process' own statements (``fn`` None) or one call of
+    a library function in progress. A statement holding calls (:func:`call_site`) numbers them
+    in evaluation order; ``memo`` holds the values of the calls of the current statement that
+    have returned, so that running the statement again after a wait does not run them twice."""
+
+    __slots__ = ("fn", "can_wait", "active", "replaying", "memo", "next_call", "resume",
+                 "pc", "steps", "waited", "state")
+
+    def __init__(self, fn: FunctionDef | None = None, can_wait: bool = False) -> None:
+        self.fn = fn
+        #: A statement of this level may wait (a process running it; the command line not).
+        self.can_wait = can_wait
+        self.active = False  # one of this level's call-site statements is running
+        self.replaying = False  # the next call-site statement is the one a wait interrupted
+        self.memo: list[Any] = []
+        self.next_call = 0
+        self.resume: Frame | None = None  # the call to go on with when the statement reruns
+        # a suspended call: its pc, statements run, whether its own statement waited (else a
+        # call inside that statement did), its locals / loops / SELECT values / data bytes
+        self.pc = 0
+        self.steps = 0
+        self.waited = False
+        self.state: tuple[Any, ...] | None = None
+
+
+class Suspend(BaseException):  # noqa: N818 - a signal to the process, not an error
+    """A statement inside a library function waits (``wait``: the compiler's Block / Sleep /
+    WaitFor / Poll / HALT): unwinds the calling statement to the process, which waits and then
+    runs that statement again (:class:`Frame`). A BaseException, as GeneratorExit is: no
+    ``except Exception`` on the way may take it for an error. ``text``: the library line that waits;
+    ``state``: the context while waiting (the innermost call's locals, loops, SELECT values,
+    data bytes, call depth and frame)."""
+
+    def __init__(self, wait: Any, text: str) -> None:
+        super().__init__(text)
+        self.wait = wait
+        self.text = text
+        self.state: tuple[Any, ...] | None = None
+        self.where = ""  # "FUNCTION F, LIB line n" of the statement that waits
+
+
+def in_function(exc: BasicError, where: str) -> BasicError:
+    """A run-time error met in a library function, its message naming the function and the
+    library line (``where``: :meth:`FunctionDef.where`) once — the innermost call's."""
+    if " (in FUNCTION " in exc.message:
+        return exc
+    return BasicError(f"{exc.message} (in {where})", exc.number)
+
+
+def call_site(op: Callable[[Any], Any]) -> Callable[[Any], Any]:
+    """The operation of a statement that calls library functions: its calls numbered afresh
+    (or, when it runs again after a wait, answered from the values already returned)."""
+
+    def site(c: Any) -> Any:
+        fr = c.frame
+        if fr.replaying:
+            fr.replaying = False
+        else:
+            fr.memo.clear()
+            fr.resume = None
+        fr.next_call = 0
+        fr.active = True
+        try:
+            return op(c)
+        finally:
+            fr.active = False
+
+    return site
+
+
 @dataclass(slots=True)
 class Library:
     """The functions a library program defines, by name."""
@@ -113,6 +201,7 @@ def call_of(fn: FunctionDef, args: tuple[s.Expr, ...], scope: Any, *, value: boo
                         f"{'' if len(fn.params) == 1 else 's'}, got {len(args)}")
     if value and fn.type is None:
         raise ExprError(f"{fn.name} returns no value (FUNCTION {fn.name} has no AS type)")
+    scope.calls += 1  # the compiler wraps the statement holding it (call_site)
     compiled = []
     for (pname, decl), arg in zip(fn.params, args, strict=True):
         if (kind_of(arg, scope) == "str") != decl.is_str:
@@ -138,8 +227,9 @@ def visible(stored: Mapping[str, Library], replacing: str | None = None,
     return out
 
 
-__all__ = ["CALL_DEPTH", "CALL_STEPS", "REFUSED_IN_LIBRARY", "FnReturn", "FunctionDef",
-           "Library", "call_of", "signature", "visible"]
+__all__ = ["CALL_DEPTH", "CALL_STEPS", "REFUSED_IN_LIBRARY", "FnReturn", "Frame",
+           "FunctionDef", "Library", "Suspend", "call_of", "call_site", "in_function",
+           "signature", "visible"]
 
 
 class Functions:

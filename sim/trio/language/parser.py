@@ -104,8 +104,28 @@ _PRECEDENCE: dict[str, int] = {
 }
 #: The shift operators: MC4xx / MC6xx language only ``[INF]`` (issue 32: in MC4xx programs).
 SHIFTS = frozenset({"<<", ">>"})
-_EOL = Token("eol", "", 0)
+_EOL: Token = ("eol", "", 0)
 _PAD = [_EOL] * 4
+
+
+_SPECIAL: dict[int, tuple[Dialect, tuple[frozenset[str], frozenset[str]]]] = {}
+
+
+def special_words(dialect: Dialect) -> tuple[frozenset[str], frozenset[str]]:
+    """The names a rule of ``dialect`` treats specially, at the start of a statement and in an
+    expression: every set :meth:`_Line.one_statement` / :meth:`_Line.named_special` test a
+    name against, so a name in neither is an assignment / a variable without those tests
+    (pinned by tests/sim/trio/test_parser_fast_paths.py)."""
+    got = _SPECIAL.get(id(dialect))
+    if got is None or got[0] is not dialect:
+        common = RESERVED | dialect.keywords | dialect.later_words
+        statement = common | PARAMS | NOT_SIMULATED | frozenset(dialect.parsers) | frozenset(
+            ALIASES)
+        value = (common | frozenset(CONSTANTS) | frozenset(FUNCTIONS) | frozenset(BUS_FUNCTIONS)
+                 | frozenset(STRING_FUNCTIONS) | PARAMS | frozenset(IO_ARGS) | NOT_SIMULATED
+                 | {"VR", "TABLE", "HEX"})
+        got = _SPECIAL[id(dialect)] = (dialect, (statement, value))
+    return got[1]
 
 
 class _Line(DeclarationParser, StructureParser):
@@ -113,13 +133,18 @@ class _Line(DeclarationParser, StructureParser):
 
     def __init__(self, text: str, line_no: int, model: str = DEFAULT_MODEL,
                  dialect: Dialect | None = None) -> None:
+        self.model = model
+        self.dialect = dialect or dialect_of(model)
+        self.special = special_words(self.dialect)
+        self.start(text, line_no)
+
+    def start(self, text: str, line_no: int) -> None:
+        """Parse ``text`` (line ``line_no``) next: a program's lines share one parser."""
         self.text = text
         self.line_no = line_no
         self.toks = tokenize(text, line_no)
         self.toks += _PAD  # end-of-line tokens: peek() past the end needs no bounds check
         self.i = 0
-        self.model = model
-        self.dialect = dialect or dialect_of(model)
         self.word = ""  # the keyword of the statement being parsed (aliases resolved)
         self.in_print = False
         #: Nesting level (:data:`MAX_NESTING` at most): the line's first statement and its
@@ -135,23 +160,23 @@ class _Line(DeclarationParser, StructureParser):
             return _EOL
 
     def take(self) -> Token:
-        tok = self.peek()
+        tok = self.toks[self.i]  # never past the end-of-line padding (_PAD)
         self.i += 1
         return tok
 
     def at(self, text: str) -> bool:
         # a string's text keeps its quotes and a number's is digits: only op / name match
-        return self.toks[self.i].text == text
+        return self.toks[self.i][1] == text
 
     def accept(self, text: str) -> bool:
-        if self.toks[self.i].text == text:
+        if self.toks[self.i][1] == text:
             self.i += 1
             return True
         return False
 
     def col(self) -> int:
-        tok = self.peek()
-        return tok.col if tok.kind != "eol" else len(self.text.rstrip()) + 1
+        tok = self.toks[self.i]
+        return tok[2] if tok[0] != "eol" else len(self.text.rstrip()) + 1
 
     def error(self, message: str, col: int | None = None) -> ParseError:
         return ParseError(
@@ -159,31 +184,34 @@ class _Line(DeclarationParser, StructureParser):
         )
 
     def expect(self, text: str) -> Token:
-        if not self.at(text):
-            got = self.peek().text or "end of line"
+        tok = self.toks[self.i]
+        if tok[1] != text:
+            got = tok[1] or "end of line"
             raise self.error(f"expected {text!r}, found {got!r}")
-        return self.take()
+        self.i += 1
+        return tok
 
     def end_of_statement(self) -> bool:
-        return self.peek().kind == "eol" or self.at(":")
+        tok = self.toks[self.i]
+        return tok[0] == "eol" or tok[1] == ":"
 
     def name(self) -> str:
-        tok = self.peek()
-        if tok.kind != "name":
-            raise self.error(f"expected a name, found {tok.text or 'end of line'!r}")
+        tok = self.toks[self.i]
+        if tok[0] != "name":
+            raise self.error(f"expected a name, found {tok[1] or 'end of line'!r}")
         self.i += 1
-        return tok.text
+        return tok[1]
 
     def string(self, what: str = "program name") -> str:
         """A quoted name, also in brackets (``RUN("X")``, ``STOP("X")``, MC4 form ``[INF]``)."""
         bracket = self.accept("(")
         tok = self.peek()
-        if tok.kind != "string":
+        if tok[0] != "string":
             raise self.error(f"expected a quoted {what}")
         self.i += 1
         if bracket and not self.at(","):
             self.expect(")")
-        return tok.text[1:-1].upper()
+        return tok[1][1:-1].upper()
 
     def reserved(self, word: str) -> bool:
         """A Trio keyword of this model: never a local variable."""
@@ -199,7 +227,7 @@ class _Line(DeclarationParser, StructureParser):
         tok = self.peek()
         word = self.name()
         if self.reserved(word):
-            raise self.error(f"{word} is a Trio BASIC keyword: it cannot be a {what}", tok.col)
+            raise self.error(f"{word} is a Trio BASIC keyword: it cannot be a {what}", tok[2])
         return variable(word)
 
     def label_name(self) -> str:
@@ -210,18 +238,18 @@ class _Line(DeclarationParser, StructureParser):
         """``value.n`` (MC4): a ``.digits`` number written straight after a name, ``)`` or
         ``]`` is bit ``n`` of that value (spec §11.8; ``a .4`` with a space stays a number)."""
         tok = self.peek()
-        if tok.kind != "number" or tok.text[0] != "." or not tok.text[1:].isdigit():
+        if tok[0] != "number" or tok[1][0] != "." or not tok[1][1:].isdigit():
             return node
         prev = self.toks[self.i - 1] if self.i else None
-        if prev is None or prev.col + len(prev.text) != tok.col:
+        if prev is None or prev[2] + len(prev[1]) != tok[2]:
             return node
         if not self.dialect.bit_access:
             raise self.error(
-                f"bit access '{prev.text}{tok.text}' is not Trio BASIC on the {self.model} "
-                "model: it came with the MC4xx / MC6xx language (firmware 2.x)", tok.col)
-        bit = int(tok.text[1:])
+                f"bit access '{prev[1]}{tok[1]}' is not Trio BASIC on the {self.model} "
+                "model: it came with the MC4xx / MC6xx language (firmware 2.x)", tok[2])
+        bit = int(tok[1][1:])
         if bit > 63:
-            raise self.error(f"bit {bit} is out of range 0..63", tok.col)
+            raise self.error(f"bit {bit} is out of range 0..63", tok[2])
         self.i += 1
         return s.Bit(node, bit)
 
@@ -229,66 +257,81 @@ class _Line(DeclarationParser, StructureParser):
 
     def parse(self) -> list[s.Stmt]:
         out: list[s.Stmt] = []
-        first, second = self.peek(), self.peek(1)
+        toks = self.toks
+        first, second = toks[0], toks[1]  # the padding makes both exist
         if (
-            first.kind == "name"
-            and second.kind == "op"
-            and second.text == ":"
-            and first.text not in _KEYWORDS
+            first[0] == "name"
+            and second[0] == "op"
+            and second[1] == ":"
+            and first[1] not in _KEYWORDS
         ):
-            out.append(s.Label(self.line_no, first.col, label(first.text)))
+            out.append(s.Label(self.line_no, first[2], label(first[1])))
             self.i += 2
         out.extend(self.statements(stop=()))
-        if self.peek().kind != "eol":
-            raise self.error(f"unexpected {self.peek().text!r}")
+        if toks[self.i][0] != "eol":
+            raise self.error(f"unexpected {toks[self.i][1]!r}")
         return out
 
     def statements(self, stop: tuple[str, ...]) -> list[s.Stmt]:
         """``:``-separated statements up to end of line or a word in ``stop``."""
         out: list[s.Stmt] = []
+        toks = self.toks
         while True:
-            while self.accept(":"):
-                pass
-            if self.peek().text in stop or self.peek().kind == "eol":
+            while toks[self.i][1] == ":":
+                self.i += 1
+            tok = toks[self.i]
+            if tok[0] == "eol" or tok[1] in stop:
                 return out
             out.append(self.statement())
-            if self.peek().text in stop or self.peek().kind == "eol":
+            tok = toks[self.i]
+            if tok[0] == "eol" or tok[1] in stop:
                 return out
-            if not self.at(":"):
-                raise self.error(f"unexpected {self.peek().text!r} after the statement")
+            if tok[1] != ":":
+                raise self.error(f"unexpected {tok[1]!r} after the statement")
 
     def nest(self, levels: int = 1) -> None:
         """``levels`` more levels of nesting; a syntax error past :data:`MAX_NESTING`."""
         self.depth += levels
         if self.depth > MAX_NESTING:
-            raise self.error(f"expression or statement nested deeper than {MAX_NESTING} "
-                             "levels (the limit)")
+            raise self.too_deep()
+
+    def too_deep(self) -> ParseError:
+        return self.error(f"expression or statement nested deeper than {MAX_NESTING} "
+                          "levels (the limit)")
 
     def statement(self) -> s.Stmt:
         """One statement (nesting counted: :data:`MAX_NESTING`): a parameter assignment, a
         row of the dialect's statement table (:mod:`motionsim.sim.trio.language.commands`),
         or an assignment to a variable."""
-        self.nest()
-        stmt = self.one_statement()
+        self.depth += 1
+        if self.depth > MAX_NESTING:
+            raise self.too_deep()
+        tok = self.toks[self.i]
+        if tok[0] == "name" and tok[1] not in self.special[0]:
+            stmt = self.assignment(self.line_no, tok[2])  # a name no row or rule claims
+        else:
+            stmt = self.one_statement()
         self.depth -= 1
         return stmt
 
     def one_statement(self) -> s.Stmt:
-        tok = self.peek()
-        ln, col = self.line_no, tok.col
-        if tok.kind == "op" and tok.text == "?":
+        """A statement starting with ``?`` or a name (:meth:`statement` has sent a name no
+        set below holds straight to :meth:`assignment`, as this would)."""
+        tok = self.toks[self.i]
+        ln, col = self.line_no, tok[2]
+        if tok[0] == "op" and tok[1] == "?":
             word = "?"
-        elif tok.kind != "name":
-            raise self.error(f"a statement cannot start with {tok.text!r}")
+        elif tok[0] != "name":
+            raise self.error(f"a statement cannot start with {tok[1]!r}")
         else:
-            word = ALIASES.get(tok.text, tok.text)
+            word = ALIASES.get(tok[1], tok[1])
         if word in self.dialect.later_words:
             nxt = self.peek(1)
-            if not (nxt.kind == "op" and nxt.text in ("=", "(")):
+            if not (nxt[0] == "op" and nxt[1] in ("=", "(")):
                 raise self.later_only(word, col)
             return self.assignment(ln, col)  # an ordinary name on this model
         nxt = self.peek(1)
-        if nxt.kind == "op" and nxt.text == "=" and word not in PARAMS and self.reserved(word):
+        if nxt[0] == "op" and nxt[1] == "=" and word not in PARAMS and self.reserved(word):
             if word in CONSTANTS:
                 raise self.error(f"{word} is a constant: it cannot be written", col)
             raise self.error(f"{word} is a Trio BASIC keyword: it cannot be a variable", col)
@@ -312,7 +355,7 @@ class _Line(DeclarationParser, StructureParser):
 
     def assignment(self, ln: int, col: int) -> s.Stmt:
         """``name = e``, ``name(i) = e`` (an array element, MC4), ``name.n = e`` (a bit, MC4)."""
-        word = variable(self.take().text)
+        word = variable(self.take()[1])
         target: s.Local | s.Element | s.Bit = s.Local(word)
         if self.at("(") and self.dialect.arrays:
             target = s.Element(word, self.call_args())
@@ -344,7 +387,9 @@ class _Line(DeclarationParser, StructureParser):
     def args(self) -> tuple[s.Expr, ...]:
         self.expect("(")
         out = [self.expr()]
-        while self.accept(","):
+        toks = self.toks
+        while toks[self.i][1] == ",":
+            self.i += 1
             out.append(self.expr())
         self.expect(")")
         return tuple(out)
@@ -450,9 +495,9 @@ class _Line(DeclarationParser, StructureParser):
         nums = []
         while True:
             tok = self.peek()
-            if tok.kind != "number" or not tok.text.isdigit():
+            if tok[0] != "number" or not tok[1].isdigit():
                 raise self.error("expected a whole number in a PRINT format [w,d]")
-            nums.append(int(self.take().text))
+            nums.append(int(self.take()[1]))
             if not self.accept(","):
                 break
         self.expect("]")
@@ -467,8 +512,8 @@ class _Line(DeclarationParser, StructureParser):
         formats: list[tuple[int, int] | None] = []
         while not self.end_of_statement() and not self.at("ELSE"):
             e: s.Expr | s.Hex
-            if self.peek().kind == "string" and not self.dialect.strings:
-                e = s.Str(self.take().text[1:-1])
+            if self.peek()[0] == "string" and not self.dialect.strings:
+                e = s.Str(self.take()[1][1:-1])
             elif self.accept("HEX"):
                 (value,) = self.args_exact(1, "HEX")
                 e = s.Hex(value)
@@ -481,7 +526,7 @@ class _Line(DeclarationParser, StructureParser):
             formats.append(self.print_format() if not isinstance(e, (s.Str, s.Hex)) else None)
             sep = ""
             if self.at(";") or self.at(","):
-                sep = self.take().text
+                sep = self.take()[1]
             items.append((e, sep))
             if not sep:
                 break
@@ -503,7 +548,7 @@ class _Line(DeclarationParser, StructureParser):
     def st_IF(self, ln: int, col: int) -> s.Stmt:
         cond = self.expr()
         self.expect("THEN")
-        if self.peek().kind == "eol":
+        if self.peek()[0] == "eol":
             return s.IfBlock(ln, col, cond)
         then = self.statements(stop=("ELSE",))
         orelse: list[s.Stmt] = []
@@ -620,11 +665,16 @@ class _Line(DeclarationParser, StructureParser):
         precedence left to right). ``sub``: a sub-expression, one level deeper (not the right
         operand of an operator, whose level that operator counts)."""
         if sub:
-            self.nest()
+            self.depth += 1
+            if self.depth > MAX_NESTING:
+                raise self.too_deep()
         base = self.depth if sub else self.depth + 1
-        left = self.unary()
+        toks = self.toks
+        text = toks[self.i][1]
+        left = (self.unary() if text == "-" or text == "+" or text == "NOT"
+                else self.primary())  # (unary's own test, saving a call)
         while True:
-            op = self.peek().text
+            op = toks[self.i][1]
             prec = _PRECEDENCE.get(op)
             if prec is None or prec < min_prec:
                 self.depth = base - 1
@@ -637,6 +687,9 @@ class _Line(DeclarationParser, StructureParser):
             left = s.Binary(op, left, self.expr(prec + 1, sub=False))
 
     def unary(self) -> s.Expr:
+        text = self.toks[self.i][1]
+        if text != "-" and text != "+" and text != "NOT":
+            return self.primary()
         if self.accept("-"):
             self.nest()
             operand = self.unary()
@@ -657,31 +710,52 @@ class _Line(DeclarationParser, StructureParser):
         return self.primary()
 
     def primary(self) -> s.Expr:
-        tok = self.peek()
-        if tok.kind == "number":
+        tok = self.toks[self.i]
+        kind = tok[0]
+        if kind == "name":
+            word = tok[1]
+            if word in self.special[1]:
+                node = self.named_value(tok)
+            else:  # named_value's first case, saving a call
+                self.i += 1
+                if self.dialect.arrays and self.toks[self.i][1] == "(":
+                    node = s.Element(variable(word), self.call_args())
+                else:
+                    node = s.Local(variable(word))
+            nxt = self.toks[self.i]
+            if nxt[0] == "number" and nxt[1][0] == ".":
+                return self.bit_suffix(node)
+            return node
+        if kind == "number":
             self.i += 1
-            text = tok.text
+            text = tok[1]
             value = float(int(text[1:], 16)) if text[0] == "$" else float(text)
             if not math.isfinite(value):
-                raise self.error(f"number {text} is out of range", tok.col)
+                raise self.error(f"number {text} is out of range", tok[2])
             return s.Num(value)
-        if tok.kind == "string":
+        if kind == "string":
             if not (self.dialect.strings or self.in_print):
                 raise self.error("a string is only allowed in PRINT")
             self.i += 1
-            return s.Str(tok.text[1:-1])
-        if tok.kind == "op" and tok.text == "(":
+            return s.Str(tok[1][1:-1])
+        if kind == "op" and tok[1] == "(":
             self.i += 1
             e = self.expr()
             self.expect(")")
             return self.bit_suffix(e)
-        if tok.kind != "name":
-            raise self.error(f"expected a value, found {tok.text or 'end of line'!r}")
-        return self.bit_suffix(self.named_value(tok))
+        raise self.error(f"expected a value, found {tok[1] or 'end of line'!r}")
 
     def named_value(self, tok: Token) -> s.Expr:
-        word = tok.text
+        word = tok[1]
         self.i += 1
+        if word not in self.special[1]:  # no rule below claims it: a variable (or element)
+            if self.dialect.arrays and self.toks[self.i][1] == "(":
+                return s.Element(variable(word), self.call_args())
+            return s.Local(variable(word))
+        return self.named_special(word, tok)
+
+    def named_special(self, word: str, tok: Token) -> s.Expr:
+        """A name in an expression that one of the language's sets holds (the word taken)."""
         if word == "VR":
             (index,) = self.args_exact(1, "VR")
             return s.VrRef(index)
@@ -704,17 +778,17 @@ class _Line(DeclarationParser, StructureParser):
                 raise self.error(f"{word} takes {want} arguments, got {len(args)}", c)
             return s.Call(word, args)
         if word in PARAMS:
-            return self.param_ref(word, tok.col)
+            return self.param_ref(word, tok[2])
         if word in IO_ARGS:
-            return self.io_read(word, tok.col)
+            return self.io_read(word, tok[2])
         if word in NOT_SIMULATED:
-            raise self.not_simulated(word, tok.col)
+            raise self.not_simulated(word, tok[2])
         if word == "HEX":
-            raise self.error("HEX() is only allowed as a PRINT item", tok.col)
+            raise self.error("HEX() is only allowed as a PRINT item", tok[2])
         if word in self.dialect.later_words and self.at("("):
-            raise self.later_only(word, tok.col)
+            raise self.later_only(word, tok[2])
         if self.reserved(word):
-            raise self.error(f"{word} is a Trio BASIC keyword, not a value", tok.col)
+            raise self.error(f"{word} is a Trio BASIC keyword, not a value", tok[2])
         if self.dialect.arrays and self.at("("):
             return s.Element(variable(word), self.call_args())
         return s.Local(variable(word))
@@ -814,9 +888,11 @@ def parse_program(text: str, model: str = DEFAULT_MODEL,
     lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
     language = dialect or dialect_of(model)
     out: list[s.Stmt] = []
+    p = _Line("", 0, model, language)
     for i, line in enumerate(lines, start=1):
         try:
-            out.extend(_Line(line, i, model, language).parse())
+            p.start(line, i)
+            out.extend(p.parse())
         except (ParseError, NotSimulated) as err:
             if errors is None:
                 raise

@@ -63,6 +63,8 @@ class Scope:
         self.functions: Mapping[str, Any] = functions or {}
         #: The libraries whose functions the program calls.
         self.used: set[str] = set()
+        #: Library function calls compiled so far (the compiler marks their statements).
+        self.calls = 0
 
     def function(self, name: str) -> Any:
         """The library function ``name`` stands for (None: a variable, declared or not)."""

@@ -1,6 +1,10 @@
 """Trio BASIC as typed values: the parser's output, the compiler's input.
 
-Expressions and statements are frozen, slotted dataclasses. Every statement carries the
+Statements are frozen, slotted dataclasses; expressions are slotted dataclasses, hashable and
+compared by value as those are, and never changed once built either (not ``frozen=True``: a
+frozen dataclass sets each field through ``object.__setattr__``, three times the cost of
+building a plain one, and a 1 000-line program builds thousands of expression nodes — issue
+32's compile time). Every statement carries the
 1-based ``line`` and ``column`` where it starts in the program text, so a compile error or a
 runtime error can name its place the way the controller's ``%[Process n:Line m]`` does.
 """
@@ -13,42 +17,42 @@ from typing import Any
 # -- expressions -------------------------------------------------------------------------
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Num:
     """A numeric literal (decimal or ``$`` hex)."""
 
     value: float
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Str:
     """A string literal; only PRINT accepts one."""
 
     value: str
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Local:
     """A named local variable of the process (reads 0 until written; cleared at RUN)."""
 
     name: str
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class VrRef:
     """``VR(n)``: a global variable shared by all processes."""
 
     index: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class TableRef:
     """``TABLE(n)``: the large global array."""
 
     index: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Param:
     """An axis, process or system parameter: ``NTYPE AXIS(0)``, ``SPEED``, ``PMOVE PROC(2)``.
 
@@ -61,20 +65,20 @@ class Param:
     proc: Expr | None = None
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Unary:
     op: str  # "-" or "NOT"
     operand: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Binary:
     op: str  # + - * / ^ MOD = <> < <= > >= AND OR XOR
     left: Expr
     right: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Call:
     """A built-in function: ``ABS(x)``, ``SQR(x)``, ``INT(x)`` ..."""
 
@@ -82,7 +86,7 @@ class Call:
     args: tuple[Expr, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class IoRead:
     """``IN``, ``IN(n)``, ``IN(a, b)``, ``READ_OP(n)``, ``OP(n)``, ``AIN(n)``: the I/O image
     (:mod:`motionsim.sim.trio.card.io`)."""
@@ -91,7 +95,7 @@ class IoRead:
     args: tuple[Expr, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Element:
     """``name(i)`` / ``name(i, j)``: an element (from 0) of a local array declared ``DIM
     name(n) AS ...`` / ``DIM name(n, m) AS ...`` — or, when ``name`` is a function of a BASIC
@@ -101,7 +105,7 @@ class Element:
     indices: tuple[Expr, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Bit:
     """``value.n``: bit ``n`` of the integer part of a value, 0 or 1 (``VR(5).2``,
     ``AXISSTATUS.4``); as an assignment target it sets or clears that bit (MC4)."""

@@ -94,9 +94,9 @@ class StructureParser:
 
     def type_name(self) -> str:
         tok = self.peek()
-        kind = self.name() if tok.kind == "name" else ""
+        kind = self.name() if tok[0] == "name" else ""
         if kind not in TYPES:
-            raise self.error(f"expected a type ({', '.join(TYPES)})", tok.col)
+            raise self.error(f"expected a type ({', '.join(TYPES)})", tok[2])
         return kind
 
     def st_ENDFUNC(self, ln: int, col: int) -> s.Stmt:

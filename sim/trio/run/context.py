@@ -28,7 +28,15 @@ from ..card.parameters import (
     SYSTEM_PARAMS,
 )
 from ..language.compiler import HALT, Block, Poll, Sleep, WaitFor
-from ..language.functions import CALL_DEPTH, CALL_STEPS, FnReturn, FunctionDef
+from ..language.functions import (
+    CALL_DEPTH,
+    CALL_STEPS,
+    FnReturn,
+    Frame,
+    FunctionDef,
+    Suspend,
+    in_function,
+)
 from ..language.scope import Decl, coerce
 from ..motion.issue import new_move
 from ..motion.linked import LINKED, LinkedMove, check_linked, link_axis_of
@@ -64,8 +72,11 @@ class Context:
         self.loops: dict[int, tuple[float, float]] = {}
         #: SELECT_CASE values being compared, by the SELECT_CASE's operation (structure.py).
         self.selected: dict[int, Any] = {}
-        #: Library function calls in progress (functions.py): their depth.
+        #: Library function calls in progress (functions.py): their depth, and the frame of
+        #: the innermost (this process' own statements' at depth 0; a process sets
+        #: ``frame.can_wait``: the command line cannot wait inside a statement).
         self.calls = 0
+        self.frame = Frame()
         #: Bytes of program data memory each DIMmed name of this process holds.
         self.data_bytes: dict[str, int] = {}
         self.gosub_stack: list[int] = []
@@ -204,20 +215,47 @@ class Context:
     def call_function(self, fn: FunctionDef, args: tuple[Any, ...]) -> Any:
         """Run library function ``fn`` to its RETURN inside the calling statement
         (:mod:`motionsim.sim.trio.language.functions`): its parameters and names are locals
-        of its own, the caller's are put back afterwards, whatever happens."""
+        of its own, the caller's are put back afterwards, whatever happens. A statement of it
+        that waits raises :class:`~.functions.Suspend` when the calling process can wait
+        there (its frame kept for the statement's second run, which goes on with it), else
+        it is a run-time error."""
+        fr = self.frame
+        resume = None
+        if fr.active:  # a call of a call-site statement: numbered, perhaps already returned
+            k = fr.next_call
+            fr.next_call = k + 1
+            if k < len(fr.memo):
+                return fr.memo[k]
+            resume, fr.resume = fr.resume, None
         if self.calls >= CALL_DEPTH:
             raise BasicError(f"Stack overflow: FUNCTION calls nested deeper than {CALL_DEPTH} "
                              f"({fn.name})")
         code = fn.code
         saved = (self.locals, self.loops, self.selected, dict(self.data_bytes))
-        own: dict[str, Any] = {name: coerce(decl, v)
-                               for (name, decl), v in zip(fn.params, args, strict=True)}
-        self.locals = own
-        self.loops, self.selected = {}, {}
+        if resume is not None and resume.fn is fn and resume.state is not None:
+            callee = resume  # the call that waited: on from where it was
+            self.locals, self.loops, self.selected, self.data_bytes = resume.state
+            resume.state = None
+            pc, steps = resume.pc, resume.steps
+            if resume.waited:
+                pc += 1  # its own statement waited: the wait is over
+            else:
+                resume.replaying = True  # a call inside that statement waited: run it again
+        else:
+            callee = Frame(fn, fr.active and fr.can_wait)
+            own: dict[str, Any] = {name: coerce(decl, v)
+                                   for (name, decl), v in zip(fn.params, args, strict=True)}
+            self.locals = own
+            self.loops, self.selected = {}, {}
+            pc, steps = 0, 0
+        self.frame = callee
         self.calls += 1
-        ops, pc, steps = code.ops, 0, 0
+        ops = code.ops
         try:
-            while pc < len(ops):
+            while True:
+                if pc >= len(ops):
+                    value = fn.default()
+                    break
                 steps += 1
                 if steps > CALL_STEPS:
                     raise BasicError(f"FUNCTION {fn.name} ran {CALL_STEPS} statements without "
@@ -228,19 +266,37 @@ class Context:
                 elif r.__class__ is int:
                     pc = r
                 elif r.__class__ is FnReturn:
-                    return r.value
+                    value = r.value
+                    break
+                elif callee.can_wait:
+                    raise Suspend(r, code.text(pc))
                 else:
                     raise BasicError(f"{_waits(r)} inside a FUNCTION would wait: waiting in a "
-                                     "library function is not simulated")
-            return fn.default()
+                                     "library function is not simulated here (at the command "
+                                     "line, or in a condition tested while waiting)")
+        except Suspend as sus:
+            callee.pc, callee.steps = pc, steps
+            callee.waited = sus.state is None  # the first level it reaches: its own wait
+            callee.state = (self.locals, self.loops, self.selected, self.data_bytes)
+            if sus.state is None:
+                line = code.lines[pc] if pc < len(code.lines) else fn.line
+                sus.state = (*callee.state, self.calls, callee)
+                sus.where = fn.where(line)
+            fr.resume = callee
+            raise
         except BasicError as exc:
-            if " (in FUNCTION " in exc.message:
-                raise
             line = code.lines[pc] if pc < len(code.lines) else fn.line
-            raise BasicError(f"{exc.message} (in {fn.where(line)})", exc.number) from None
+            err = in_function(exc, fn.where(line))
+            if err is exc:
+                raise
+            raise err from None
         finally:
             self.calls -= 1
+            self.frame = fr
             self.locals, self.loops, self.selected, self.data_bytes = saved
+        if fr.active:
+            fr.memo.append(value)
+        return value
 
     # -- parameters ------------------------------------------------------------------------
 

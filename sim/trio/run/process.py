@@ -14,7 +14,10 @@ Waiting, without a SimPy event per servo period:
   :mod:`motionsim.sim.trio.motion.buffers` has placed its move, then emits ``running`` and goes on;
 * ``WAIT IDLE`` / ``WAIT LOADED``: woken by the buffer change that satisfies it;
 * ``WAIT UNTIL c``: ``c`` is re-tested once per servo period (spec §1.6 ``[BK]``);
-* ``WA(ms)``: a timeout.
+* ``WA(ms)``: a timeout;
+* any of these inside a library FUNCTION the statement calls: the same wait, seeing the
+  function's names, then the statement runs again and the call goes on after its wait
+  (:class:`~motionsim.sim.trio.language.functions.Suspend`).
 
 ``PRINT`` in a program writes to the process' OUTDEVICE (channel 0, the command line, unless
 changed) or to the channel of ``PRINT #n``: see :mod:`motionsim.sim.trio.card.output`.
@@ -30,12 +33,14 @@ event; an error inside the handler stops the process unless it ran ON BASICERROR
 
 from __future__ import annotations
 
+from collections.abc import Generator
 from typing import TYPE_CHECKING, Any
 
 import simpy
 
 from ..card.basic_errors import RUN_ERROR_STOPPED, BasicError, error_line
 from ..language.compiler import HALT, Block, Code, Poll, Sleep, WaitFor
+from ..language.functions import Suspend, in_function
 from ..motion.buffers import Waiter, schedule_at
 from .context import Context
 
@@ -80,9 +85,14 @@ class BasicProcess:
         number = self.number
         n = len(ops)
         pc = 0
+        suspended: Suspend | None = None
+        ctx.frame.can_wait = True  # a statement's library calls may wait (functions.py)
         log.emit("process", process=number, state="running", line=self.line)
         while True:  # once more for each error / STOP an ON BASICERROR handler takes
             try:
+                if suspended is not None:  # a function waits: then its statement runs again
+                    sus, suspended = suspended, None
+                    yield from self._wait_in_function(sus, pc)
                 while pc < n:
                     self.pc = pc
                     cost = costs[pc]
@@ -101,10 +111,7 @@ class BasicProcess:
                         yield env.timeout(r.seconds)
                         pc += 1
                     elif r.__class__ is WaitFor:
-                        ev = env.event()
-                        self._withdraw = self.ctrl.buffers.when(r.predicate, ev.succeed)
-                        yield ev
-                        self._withdraw = None
+                        yield from self._wait_for(r)
                         pc += 1
                     elif r.__class__ is Poll:
                         yield from self._poll(r)
@@ -116,6 +123,12 @@ class BasicProcess:
                 self.line = lines[min(pc, n - 1)] if n else 0
                 self._finish(None)
                 return
+            except Suspend as sus:
+                if sus.wait is HALT:  # STOP inside a function: the program ends there
+                    self.line = lines[pc]
+                    self._finish(None)
+                    return
+                suspended = sus
             except BasicError as exc:
                 self.line = lines[pc] if pc < n else self.line
                 target = self._trapped(exc.number, exc.message, self.line)
@@ -127,6 +140,43 @@ class BasicProcess:
                 if not (isinstance(intr.cause, tuple) and intr.cause[0] == "trap"):
                     return  # stop() has already withdrawn the wait and reported the stop
                 pc = intr.cause[1]  # STOP "prog" with a handler armed: go on there
+
+    def _wait_in_function(self, sus: Suspend, pc: int) -> Generator[Any, Any, None]:
+        """A library function called by the statement at ``pc`` waits (functions.py): the
+        process waits as for the same statement inline, seeing the function's names (a WAIT
+        UNTIL condition reads its locals), then the statement runs again and the call goes on
+        after its wait. A move into a full buffer reports the library line it waits at."""
+        ctx, env = self.ctx, self.ctrl.env
+        own = (ctx.locals, ctx.loops, ctx.selected, ctx.data_bytes, ctx.calls, ctx.frame)
+        assert sus.state is not None
+        (ctx.locals, ctx.loops, ctx.selected, ctx.data_bytes, ctx.calls,
+         ctx.frame) = sus.state
+        r = sus.wait
+        try:
+            if r.__class__ is Block:
+                self.line = self.code.lines[pc]
+                yield from self._blocked(r.move, sus.text)
+            elif r.__class__ is Sleep:
+                yield env.timeout(r.seconds)
+            elif r.__class__ is WaitFor:
+                yield from self._wait_for(r)
+            elif r.__class__ is Poll:
+                yield from self._poll(r)
+        except BasicError as exc:  # a condition tested while waiting failed
+            err = in_function(exc, sus.where)
+            if err is exc:
+                raise
+            raise err from None
+        finally:
+            (ctx.locals, ctx.loops, ctx.selected, ctx.data_bytes, ctx.calls,
+             ctx.frame) = own
+        own[5].replaying = True
+
+    def _wait_for(self, r: WaitFor) -> Generator[Any, Any, None]:
+        ev = self.ctrl.env.event()
+        self._withdraw = self.ctrl.buffers.when(r.predicate, ev.succeed)
+        yield ev
+        self._withdraw = None
 
     def _trapped(self, number: int, message: str, line: int) -> int | None:
         """ON BASICERROR: the handler's pc after an error (or a STOP, RUN_ERROR 31) at

@@ -340,13 +340,13 @@ def test_a_run_time_error_in_a_function_stops_the_caller_naming_the_function_and
     assert c.vr[:3] == [1.0, 0.0, 0.0]
 
 
-def test_waiting_inside_a_function_is_a_run_time_error_saying_it_is_not_simulated():
+def test_waiting_inside_a_function_at_the_command_line_is_an_error_saying_it_is_not_simulated():
     c = mc4()
     c.store_program("LIB", "FUNCTION pause_ms(t AS INTEGER)\n  WA(t)\nENDFUNC\n")
-    last = run(c, "pause_ms(10)\n")
+    reply = c.terminal("pause_ms(10)")
     assert "WA inside a FUNCTION would wait: waiting in a library function is not simulated" \
-        in last["error"]
-    assert "FUNCTION PAUSE_MS, LIB line 2" in last["error"]
+        in reply.error
+    assert "FUNCTION PAUSE_MS, LIB line 2" in reply.error
 
 
 def test_a_function_recursing_without_end_is_a_run_time_error_not_a_hang():
