@@ -52,6 +52,8 @@ Each start and stop is a ``gather`` event.
 
 from __future__ import annotations
 
+import math
+from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Final
@@ -60,10 +62,20 @@ import simpy
 
 from ...errors import Conflict
 from ...recording import Recording as SharedRecording
-from ...simpy_adapter import Wake, cancel, wake_at
+from ...simpy_adapter import (
+    NORMAL,
+    Wake,
+    cancel,
+    clear_pre_step,
+    next_eid,
+    pre_step,
+    set_now,
+    wake_at,
+)
 from ...timing import ServoClock
 from ..card import pmac_float
 from ..card.mvars import MVariables
+from .gather_readers import Key, Plan
 
 #: First hex digit of I50nn -> (memory space read, bits). ``L`` reads the 48 bits as ``D``
 #: does; the host interprets them as a float (module docstring).
@@ -73,6 +85,19 @@ N_SOURCES: Final = 48
 WORDS_PER_LINE: Final = 8
 _WORD: Final = 0xFFFFFF
 _LONG: Final = (1 << 48) - 1
+
+
+def _count_before(clock: ServoClock, k: int, period: int, t_e: float) -> int:
+    """How many of cycles ``k``, ``k + period``, .. come before ``t_e``: the first always
+    (the caller checked it), the others at an instant strictly before ``t_e``."""
+    if t_e == math.inf:
+        raise ValueError("no end instant")
+    j = max(0, int((t_e / clock.period_s - k) / period))
+    while clock.t(k + (j + 1) * period) < t_e:
+        j += 1
+    while j > 0 and clock.t(k + j * period) >= t_e:
+        j -= 1
+    return j + 1
 
 
 def _err(message: str) -> Conflict:
@@ -165,17 +190,25 @@ class Gather:
         emit: the event log's ``emit``.
         at_one_instant: runs a sample's reads as one instant's (the controller computes
             each CS's positions once for all of them); plain call if None.
+        plan: makes the batch plan of a ``GATHER``'s sources (:mod:`.gather_readers`);
+            None: every source is read through card memory at each sample.
     """
+
+    #: True: one wake-up per sample, reads through card memory (the reference the batched
+    #: samples are pinned to, ``tests/sim/pmac/test_gather_batches.py``).
+    per_cycle = False
 
     def __init__(self, env: simpy.Environment, clock: ServoClock, ivar: Callable[[int], float],
                  memory: MVariables, emit: Callable[..., Any],
-                 at_one_instant: Callable[[Callable[[], Any]], Any] | None = None) -> None:
+                 at_one_instant: Callable[[Callable[[], Any]], Any] | None = None,
+                 plan: Callable[[tuple[Source, ...]], Plan] | None = None) -> None:
         self._env = env
         self._at_one_instant = at_one_instant or (lambda read: read())
         self._clock = clock
         self._ivar = ivar
         self._memory = memory
         self._emit = emit
+        self._make_plan = plan
         #: Long words reserved by DEFINE GATHER; None: no buffer.
         self.words: int | None = None
         self.running = False
@@ -188,6 +221,11 @@ class Gather:
         self._stored = 0  # samples stored since GATHER (beyond capacity when wrapped)
         self._next_k = 0
         self._wake: Wake | None = None
+        #: Samples recorded but not yet computed, oldest first: (first sample number, first
+        #: cycle, count, the plan's key, or the rows read through card memory).
+        self._batches: deque[tuple[int, int, int, Key | None, list[tuple[int, ...]]]] = deque()
+        self._plan: Plan | None = None
+        self._eid = 0  # queue tie-break of the next (virtual) sample
 
     # -- buffer -----------------------------------------------------------------------------
 
@@ -195,21 +233,24 @@ class Gather:
         """``DEFINE GATHER`` of ``words`` long words (the caller checks memory)."""
         self._refuse_while_running("DEFINE GATHER")
         self.words = words
-        self._slots = []
-        self._stored = 0
-        self._sources = ()
+        self._clear()
 
     def delete(self) -> None:
         """``DELETE GATHER``."""
         self._refuse_while_running("DELETE GATHER")
         self.words = None
+        self._clear()
+
+    def _clear(self) -> None:
         self._slots = []
+        self._batches.clear()
         self._stored = 0
         self._sources = ()
 
     def detach(self) -> None:
         """Power-down: a pending sample does nothing."""
         cancel(self._wake)
+        clear_pre_step(self._env)
         self.running = False
 
     def _refuse_while_running(self, what: str) -> None:
@@ -252,6 +293,7 @@ class Gather:
         self._period = int(self._ivar(5049))
         self._wrap = int(self._ivar(5000)) in (1, 3)
         self._slots = []
+        self._batches.clear()
         self._stored = 0
         self.running = True
         self._next_k = self._clock.after(self._env.now)
@@ -260,7 +302,13 @@ class Gather:
         if self._capacity == 0:
             self._stop("full")
             return
-        self._wake = wake_at(self._env, self._clock.t(self._next_k), self._sample, self._wake)
+        if self.per_cycle:
+            self._wake = wake_at(self._env, self._clock.t(self._next_k), self._sample,
+                                 self._wake)
+            return
+        self._plan = self._make_plan(sources) if self._make_plan is not None else None
+        self._eid = next_eid(self._env)  # where the first sample's wake-up would queue
+        pre_step(self._env, self._before_event)
 
     def end(self) -> None:
         """``ENDGATHER``: stop; what was gathered stays for ``LIST GATHER``."""
@@ -270,18 +318,25 @@ class Gather:
 
     def _stop(self, reason: str) -> None:
         self.running = False
+        clear_pre_step(self._env)
         self._emit("gather", state="stopped", reason=reason, samples=min(self._stored,
                                                                          self._capacity))
 
-    def _sample(self, _event: Any) -> None:
-        if not self.running:
-            return
+    def _read(self) -> tuple[int, ...]:
+        """The selected sources now, through card memory (the per-cycle reads)."""
         memory = self._memory
         sources = self._sources
         values: tuple[int, ...] = self._at_one_instant(lambda: tuple(
             memory.long(s.address) if s.bits == 48 else memory.word(s.space, s.address)
             for s in sources
         ))
+        return values
+
+    def _sample(self, _event: Any) -> None:
+        """The per-cycle reference: one wake-up per sample (:attr:`per_cycle`)."""
+        if not self.running:
+            return
+        values = self._read()
         k = self._next_k
         slot = self._stored % self._capacity
         if slot < len(self._slots):
@@ -298,10 +353,99 @@ class Gather:
         self._next_k = k + self._period
         self._wake = wake_at(self._env, self._clock.t(self._next_k), self._sample, self._wake)
 
+    def _before_event(self, t_e: float, priority: int, eid: int) -> None:
+        """Record the samples whose wake-ups a per-cycle sampler would process before the
+        event at queue key ``(t_e, priority, eid)``: the pending one if it orders first,
+        then every later one strictly before ``t_e`` (their wake-ups would be queued after
+        the event was). Nothing but time changes in between, so one capture per source
+        serves the whole batch (:mod:`.gather_readers`)."""
+        clock = self._clock
+        k = self._next_k
+        t = clock.t(k)
+        if t > t_e or (t == t_e and (priority < NORMAL or (priority == NORMAL
+                                                           and eid < self._eid))):
+            return
+        period = self._period
+        n = 1
+        if period > 0:
+            n = _count_before(clock, k, period, t_e)
+        if not self._wrap:
+            n = min(n, self._capacity - self._stored)
+        self._record(k, n)
+        if period == 0:
+            self._stop("single")
+            return
+        if self._stored >= self._capacity and not self._wrap:
+            self._stop("full")
+            return
+        self._next_k = k + n * period
+        self._eid = next_eid(self._env)
+
+    def _record(self, k: int, n: int) -> None:
+        """Samples ``k``, ``k + period`` .. (``n`` of them) as one batch: the plan's key (merged
+        into the last batch when that ends just before with the same key), or, when some
+        source has no batch form now, every sample read through card memory at its instant
+        (those of the batch a wrapped buffer keeps)."""
+        env, clock, period = self._env, self._clock, self._period
+        first = self._stored
+        self._stored = first + n
+        set_now(env, clock.t(k))
+        plan = self._plan
+        batches = self._batches
+        key = plan.key() if plan is not None else None
+        if plan is not None and key is not None and not plan.per_sample(key):
+            if batches:
+                b_first, b_k, b_n, b_key, _ = batches[-1]
+                if b_first + b_n == first and b_k + b_n * period == k and b_key == key:
+                    batches[-1] = (b_first, b_k, b_n + n, b_key, [])
+                    self._prune()
+                    return
+            batches.append((first, k, n, key, []))
+        else:
+            skip = max(0, n - self._capacity) if self._wrap else 0
+            rows: list[tuple[int, ...]] = [()] * skip
+            for j in range(skip, n):
+                set_now(env, clock.t(k + j * period))
+                rows.append(self._read())
+            batches.append((first, k, n, None, rows))
+        self._prune()
+
+    def _prune(self) -> None:
+        """Forget batches a wrapped buffer has overwritten entirely."""
+        if self._wrap:
+            oldest = self._stored - self._capacity
+            batches = self._batches
+            while batches and batches[0][0] + batches[0][2] <= oldest:
+                batches.popleft()
+
+    def _materialize(self) -> None:
+        """Compute the recorded batches into their slots (those a wrapped buffer still
+        holds)."""
+        batches = self._batches
+        if not batches:
+            return
+        capacity, period, clock, plan = self._capacity, self._period, self._clock, self._plan
+        slots = self._slots
+        oldest = self._stored - capacity if self._wrap else 0
+        if self._stored > capacity and len(slots) < capacity:
+            slots.extend([(0, ())] * (capacity - len(slots)))
+        while batches:
+            first, k, n, key, rows = batches.popleft()
+            row = plan.rows(key) if key is not None and plan is not None else None
+            for j in range(max(0, oldest - first), n):
+                kj = k + j * period
+                values: tuple[Any, ...] = rows[j] if row is None else row(kj, clock.t(kj))
+                slot = (first + j) % capacity
+                if slot < len(slots):
+                    slots[slot] = (kj, values)
+                else:
+                    slots.append((kj, values))
+
     # -- reading ----------------------------------------------------------------------------
 
     def recording(self) -> Recording:
         """The samples in time order (wrapped: the newest ``capacity`` of them)."""
+        self._materialize()
         slots = self._slots
         if self._stored > self._capacity:
             head = self._stored % self._capacity
@@ -332,6 +476,7 @@ class Gather:
         """
         if self.words is None:
             raise _err("no gather buffer is defined (DEFINE GATHER)")
+        self._materialize()
         tokens: list[str] = []
         for _, values in self._slots:  # memory order (wrapped: slot 0 on, not time order)
             w = self.words24(values)

@@ -1,0 +1,179 @@
+"""Batched data gathering is the per-cycle gathering, sample for sample (issue 34 speed).
+
+:mod:`motionsim.sim.pmac.tasks.gather` records samples in batches, just before each event,
+computing motor registers from the trajectory (:mod:`motionsim.sim.pmac.tasks.gather_readers`);
+the reference is the per-cycle sampler (``Gather.per_cycle``: one wake-up per sample, every
+source read through card memory, :mod:`motionsim.sim.pmac.card.registers`). Each scenario
+runs on two cards, one of each, and asserts the same samples (servo cycles and raw words),
+the same ``LIST GATHER`` answer and the same event log. The rules sampled are those of
+TSRM p170-171 (I5000-I5051) and p307 / p315 (DEFINE / DELETE GATHER).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import pytest
+
+from .conftest import Rig
+
+MOTOR = 0x80  # motor register step (registers.py)
+
+
+def pos(motor: int, actual: bool = False) -> str:
+    return f"${0x800088 + MOTOR * (motor - 1) + (3 if actual else 0):06X}"
+
+
+def fe(motor: int) -> str:
+    return f"${0x800091 + MOTOR * (motor - 1):06X}"
+
+
+def vel(motor: int) -> str:
+    return f"${0x40009D + MOTOR * (motor - 1):06X}"
+
+
+SERVO_COUNTER = "$400000"
+MOTOR_STATUS_1 = "$4000B0"  # X:$0000B0, motor 1 status word 1 (per-sample reads)
+CS_STATUS_1 = "$402040"  # X:$002040, CS 1 status word 1
+PLAIN_Y = "$001000"  # Y:$001000, plain memory (an M-variable's target below)
+
+
+def both(scenario: Callable[[Rig], None]) -> tuple[Rig, Rig]:
+    """``scenario`` on a per-cycle card and on a batched one; asserts they recorded the
+    same and logged the same."""
+    rigs = []
+    for per_cycle in (True, False):
+        rig = Rig()
+        rig.c.gather.per_cycle = per_cycle
+        scenario(rig)
+        rigs.append(rig)
+    ref, fast = rigs
+    r, f = ref.c.gather.recording(), fast.c.gather.recording()
+    assert len(r.cycles) > 0
+    assert f.cycles == r.cycles
+    assert f.values == r.values
+    assert (f.running, f.wrapped, f.capacity) == (r.running, r.wrapped, r.capacity)
+    assert fast.ok("LIST GATHER") == ref.ok("LIST GATHER")
+    log = [(e.t, e.type, dict(e.fields)) for e in ref.c.log.read(0, None).events]
+    assert [(e.t, e.type, dict(e.fields)) for e in fast.c.log.read(0, None).events] == log
+    return ref, fast
+
+
+def setup(rig: Rig, sources: list[str], period: int = 1, wrap: int = 0,
+          words: int | None = None) -> None:
+    for n, spec in enumerate(sources, 1):
+        rig.ok(f"I{5000 + n}={spec}")
+    mask = (1 << len(sources)) - 1
+    rig.ok(f"I5050=${mask:X} I5051=0 I5049={period} I5000={wrap}")
+    rig.ok("DEFINE GATHER" if words is None else f"DEFINE GATHER {words}")
+
+
+def axes(rig: Rig) -> None:
+    """Motors 1-4 on X, Y, Z, A of CS 1 and its rotary buffer (before the gather buffer:
+    DEFINE ROT needs none, TUM p337)."""
+    rig.ok("&1 #1->X #2->Y #3->Z #4->A")
+    rig.c.define_rotary(1, 600)
+
+
+def stream(rig: Rig, lines: list[str]) -> None:
+    rig.c.load_lines(1, lines)
+    rig.c.run(1)
+
+
+POSITIONS = [pos(m, a) for m in range(1, 5) for a in (False, True)]
+
+
+def test_a_blended_stream_wrapping_the_buffer():
+    """The bench's case: 8 position registers every cycle of a blended LINEAR stream,
+    I5000 = 1 wrapping a small buffer (TSRM p170)."""
+    def scenario(rig: Rig) -> None:
+        axes(rig)
+        setup(rig, POSITIONS, wrap=1, words=1000)
+        rig.ok("GATHER")
+        stream(rig, ["TA1 TS0 TM5"] + [f"X{i} Y{i / 2} Z{-i} A{i % 7}" for i in range(60)]
+               + ["TA20 TS5 TM40 X3.3 Y-7.1", "DWELL 30", "X0 Y0 Z0 A0"])
+        rig.run_for(1.2)
+    ref, _ = both(scenario)
+    assert ref.c.gather.recording().wrapped
+
+
+def test_velocity_following_error_and_servo_counter_through_moves_and_jogs():
+    """Velocity (X:$9D), following error (D:$91) and the servo counter (X:$000000) with a
+    program of LINEAR, RAPID and CIRCLE-free moves, a jog of a motor outside the CS and a
+    time-base change mid-move (I5049 = 2)."""
+    def scenario(rig: Rig) -> None:
+        axes(rig)
+        setup(rig, [vel(1), fe(1), SERVO_COUNTER, pos(1), pos(5), vel(5), pos(2, True)],
+              period=2)
+        rig.ok("GATHER")
+        stream(rig, ["TA30 TS10 F100", "X10 Y5", "RAPID X-3", "LINEAR X7 Y-2", "X0 Y0"])
+        rig.ok("#5J=2500")
+        rig.run_for(0.15)
+        rig.ok("&1%40")
+        rig.run_for(0.3)
+        rig.ok("&1%100")
+        rig.run_for(0.6)
+        rig.ok("ENDGATHER")
+    both(scenario)
+
+
+def test_words_a_plc_and_the_host_change_mid_gather():
+    """A plain-memory word an M-variable points at, incremented by a background PLC on every
+    scan and written by the host with ``W`` and through the M-variable, mid gather; with
+    the motor and CS status words (read at every sample) and I5000 = 0 stopping when full."""
+    def scenario(rig: Rig) -> None:
+        axes(rig)
+        setup(rig, [PLAIN_Y, MOTOR_STATUS_1, CS_STATUS_1, pos(1)], words=300)
+        rig.ok("M1->Y:$1000,0,24")
+        rig.ok("OPEN PLC 1 CLEAR")
+        rig.ok("M1=M1+1")
+        rig.ok("CLOSE")
+        rig.ok("I5=3")
+        rig.ok("GATHER")
+        rig.ok("ENABLE PLC 1")
+        stream(rig, ["TA10 TS0 TM20", "X2 Y1", "X-1 Y3", "X0 Y0"])
+        rig.run_for(0.05)
+        rig.ok("WY:$1000,$123456")
+        rig.run_for(0.05)
+        rig.ok("M1=7")
+        rig.run_for(0.4)
+    ref, _ = both(scenario)
+    assert not ref.c.gather.running  # filled up
+
+
+def test_host_calls_between_runs_and_a_single_shot():
+    """Writes from outside the simulation between two runs (an I-variable the position
+    register is scaled by, a motor position set through Mxx62) are seen from the next
+    sample on; then I5049 = 0 takes one sample per GATHER (TSRM p171)."""
+    def scenario(rig: Rig) -> None:
+        rig.ok("WY:$1000,1")
+        setup(rig, [pos(1), pos(1, True), PLAIN_Y])
+        rig.ok("GATHER")
+        rig.run_for(0.01)
+        rig.c.set_variable("I108", 48)
+        rig.c.vars.mvars.store_word("Y", 0x1000, 99)
+        rig.run_for(7.3 * rig.period)
+        rig.c.set_motor_position(1, 1234.5)
+        rig.run_for(0.01)
+        rig.ok("ENDGATHER")
+        rig.ok("I5049=0")
+        rig.ok("GATHER")
+        rig.run_for(0.01)
+    both(scenario)
+
+
+@pytest.mark.parametrize("period", [1, 3])
+def test_a_run_that_stops_exactly_on_a_sample_instant(period):
+    """``env.run(until=t)`` with ``t`` a sample's own servo instant leaves that sample for
+    the next run in both (the run stops before the events of its last instant); a host
+    write in between is in it."""
+    def scenario(rig: Rig) -> None:
+        rig.ok("WY:$1000,1")
+        setup(rig, [PLAIN_Y], period=period)
+        rig.ok("GATHER")
+        clock = rig.c.scheduler.clock
+        k = clock.after(rig.c.env.now) + 6
+        rig.c.env.run(until=clock.t(k))
+        rig.c.vars.mvars.store_word("Y", 0x1000, 5)
+        rig.run_for(0.005)
+    both(scenario)
