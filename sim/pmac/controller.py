@@ -199,8 +199,8 @@ class PmacController(Controller):
         #: The gather buffer and data gathering (sim.pmac.tasks.gather).
         self.gather = Gather(self.env, self.scheduler.clock, self.vars.I, self.vars.mvars,
                              self.log.emit, self._at_one_instant,
-                             lambda sources: Plan(self, [(s.space, s.address, s.bits)
-                                                         for s in sources]))
+                             lambda sources, period: Plan(
+                                 self, [(s.space, s.address, s.bits) for s in sources], period))
         #: ``DEFINE COMP`` tables by owning motor (:mod:`.card.comp_tables`).
         self.comp_tables: dict[int, comp_tables.CompTable] = {}
         self.programs = MotionPrograms()

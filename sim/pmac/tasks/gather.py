@@ -201,7 +201,7 @@ class Gather:
     def __init__(self, env: simpy.Environment, clock: ServoClock, ivar: Callable[[int], float],
                  memory: MVariables, emit: Callable[..., Any],
                  at_one_instant: Callable[[Callable[[], Any]], Any] | None = None,
-                 plan: Callable[[tuple[Source, ...]], Plan] | None = None) -> None:
+                 plan: Callable[[tuple[Source, ...], int], Plan] | None = None) -> None:
         self._env = env
         self._at_one_instant = at_one_instant or (lambda read: read())
         self._clock = clock
@@ -306,7 +306,8 @@ class Gather:
             self._wake = wake_at(self._env, self._clock.t(self._next_k), self._sample,
                                  self._wake)
             return
-        self._plan = self._make_plan(sources) if self._make_plan is not None else None
+        make_plan = self._make_plan
+        self._plan = make_plan(sources, self._period) if make_plan is not None else None
         self._eid = next_eid(self._env)  # where the first sample's wake-up would queue
         pre_step(self._env, self._before_event)
 
@@ -424,22 +425,24 @@ class Gather:
         batches = self._batches
         if not batches:
             return
-        capacity, period, clock, plan = self._capacity, self._period, self._clock, self._plan
+        capacity, period, plan = self._capacity, self._period, self._plan
         slots = self._slots
         oldest = self._stored - capacity if self._wrap else 0
         if self._stored > capacity and len(slots) < capacity:
             slots.extend([(0, ())] * (capacity - len(slots)))
-        while batches:
-            first, k, n, key, rows = batches.popleft()
-            row = plan.rows(key) if key is not None and plan is not None else None
-            for j in range(max(0, oldest - first), n):
-                kj = k + j * period
-                values: tuple[Any, ...] = rows[j] if row is None else row(kj, clock.t(kj))
+        kept = [(first, k, max(0, oldest - first), n, key, rows)
+                for first, k, n, key, rows in batches]
+        batches.clear()
+        keyed = [(key, k, j0, n) for _, k, j0, n, key, _ in kept if key is not None]
+        computed = iter(plan.evaluate(keyed) if plan is not None and keyed else [])
+        for first, k, j0, n, key, rows in kept:
+            values = next(computed) if key is not None else rows[j0:]
+            for j, row in zip(range(j0, n), values, strict=True):
                 slot = (first + j) % capacity
                 if slot < len(slots):
-                    slots[slot] = (kj, values)
+                    slots[slot] = (k + j * period, row)
                 else:
-                    slots.append((kj, values))
+                    slots.append((k + j * period, row))
 
     # -- reading ----------------------------------------------------------------------------
 

@@ -47,8 +47,10 @@ class Plan:
     """How the sources ``(space, address, bits)`` of one ``GATHER`` are read in batches
     (``space`` ``D`` / ``L`` for a 48-bit source)."""
 
-    def __init__(self, ctl: PmacController, sources: list[tuple[str, int, int]]) -> None:
+    def __init__(self, ctl: PmacController, sources: list[tuple[str, int, int]],
+                 period: int = 1) -> None:
         self._ctl = ctl
+        self._period = period
         memory = ctl.vars.mvars
         regs = memory.registers
         motors: list[int] = []
@@ -90,6 +92,9 @@ class Plan:
         #: Some source is read through card memory at every sample.
         self.always_per_sample = None in self.kinds
         self._marks: tuple[Any, ...] | None = None
+        self._haves: list[Any] | None = None
+        self._cs_list: list[Any] = []
+        self._motor_objects = [ctl.motor(m) for m in self._motors]
         self._specs: tuple[Any, ...] = ()
 
     def key(self) -> Key:
@@ -97,17 +102,22 @@ class Plan:
         kept from the last call while what they are made of is unchanged (each motor's jog
         profile and axis definition, its CS's :meth:`Execution.axis_spec_key`)."""
         ctl = self._ctl
-        ivar = ctl.vars.I
-        motors = ctl.motor_table
-        haves = tuple(ctl.motors.get(m) for m in self._motors)
-        marks = (haves, tuple(motors[m].profile for m in self._motors),
-                 tuple(ctl.coord_systems[h[0]].axis_spec_key() for h in haves if h))
+        get = ctl.motors.get
+        haves = [get(m) for m in self._motors]
+        if haves != self._haves:
+            self._haves = haves
+            self._marks = None
+            css = ctl.coord_systems
+            self._cs_list = [css[c] for c in dict.fromkeys(h[0] for h in haves if h)]
+        marks = ([m.profile for m in self._motor_objects],
+                 [c.axis_spec_key() for c in self._cs_list])
         if marks != self._marks:
             spec = ctl.motor_position_spec
-            self._specs = tuple(spec(m) for m in self._motors)
+            self._specs = tuple([spec(m) for m in self._motors])
             self._marks = marks
-        return (self._specs, tuple(ivar(n) for n in self._ivars),
-                tuple(read() for read in self._consts))
+        ivar = ctl.vars.I
+        return (self._specs, tuple([ivar(n) for n in self._ivars]),
+                tuple([read() for read in self._consts]))
 
     def per_sample(self, key: Key) -> bool:
         """Does some source need reading through card memory at each sample of a batch
@@ -153,6 +163,150 @@ class Plan:
             return shared(t)
 
         return row
+
+
+    def evaluate(self, items: list[tuple[Key, int, int, int]]) -> list[list[Row]]:
+        """The rows of batches ``(key, first cycle, first sample kept, count)`` (cycles
+        ``first + j·period`` for ``j`` from the sample kept on), computed together: batches
+        whose sources are plain memory and motor position registers of motors on a blended
+        LINEAR trajectory (or at rest), with their jog profiles at rest, are computed as
+        arrays (:func:`_linear_positions`: the scalar functions' operations, element by
+        element); the others sample by sample through :meth:`rows`."""
+        out: list[list[Row] | None] = [None] * len(items)
+        vector: list[int] = []
+        for b, item in enumerate(items):
+            if self._vectorizable(item):
+                vector.append(b)
+            else:
+                key, k, j0, n = item
+                row = self.rows(key)
+                t_of = self._ctl.scheduler.clock.t
+                p = self._period
+                out[b] = [row(k + j * p, t_of(k + j * p)) for j in range(j0, n)]
+        if vector:
+            rows = self._vector([items[b] for b in vector])
+            for b, r in zip(vector, rows, strict=True):
+                out[b] = r
+        return [r if r is not None else [] for r in out]
+
+    def _vectorizable(self, item: tuple[Key, int, int, int]) -> bool:
+        key, k, _, _ = item
+        t0 = self._ctl.scheduler.clock.t(k)
+        specs = key[0]
+        for kind in self.kinds:
+            if kind is None or kind[0] == "servo":
+                return False
+            if kind[0] == "motor":
+                spec = specs[kind[1]]
+                if kind[2] != "P" or spec is None:
+                    return False
+                terms, _, profile = spec
+                if terms is not None and len(terms) != 1:
+                    return False
+                if profile.t_end is None or t0 < profile.t_end:
+                    return False
+        return True
+
+    def _vector(self, items: list[tuple[Key, int, int, int]]) -> list[list[Row]]:
+        """:meth:`evaluate` of batches :meth:`_vectorizable` says are."""
+        import numpy as np
+
+        period, period_s = self._period, self._ctl.scheduler.period_s
+        counts = [n - j0 for _, _, j0, n in items]
+        ks = np.concatenate([np.arange(k + j0 * period, k + n * period, period, dtype=np.int64)
+                             if period else np.full(n - j0, k, dtype=np.int64)
+                             for _, k, j0, n in items])
+        t = ks * period_s
+        columns: list[list[int]] = []
+        done: dict[tuple[Any, ...], list[int]] = {}
+        for kind in self.kinds:
+            assert kind is not None
+            if kind[0] == "const":
+                col: list[int] = []
+                for (key, _, _, _), c in zip(items, counts, strict=True):
+                    col += [key[2][kind[1]]] * c
+                columns.append(col)
+                continue
+            _, i, _, j, mask = kind
+            if (i, j, mask) in done:
+                columns.append(done[(i, j, mask)])
+                continue
+            per_item = []
+            for key, _, _, _ in items:
+                terms, offset, profile = key[0][i]
+                c_prof = profile.position(profile.t_end)
+                if terms is None:
+                    per_item.append((0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+                                     0.0, 0.0, c_prof, key[1][j]))
+                    continue
+                (a, scale), = terms
+                if isinstance(a, float):
+                    per_item.append((0.0, a, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+                                     scale, offset, c_prof, key[1][j]))
+                else:
+                    p0, v, b0, ta_in, v_prev, b_end, ta_out = a
+                    per_item.append((1.0, p0, v, b0, ta_in, v_prev,
+                                     0.0 if b_end is None else 1.0,
+                                     0.0 if b_end is None else b_end, ta_out, 0.0,
+                                     scale, offset, c_prof, key[1][j]))
+            cols = np.repeat(np.array(per_item, dtype=np.float64), counts, axis=0)
+            moving, p0, v, b0, ta_in, v_prev, has_end, b_end, ta_out, _, scale, offset, \
+                c_prof, ixx08 = cols.T
+            a = np.where(moving > 0, _linear_positions(t, p0, v, b0, ta_in, v_prev,
+                                                       has_end > 0, b_end, ta_out), p0)
+            # no axis definition: scale = offset = 0 and a = 0.0, so this is 0.0 + c_prof
+            position = (a * scale + offset) + c_prof
+            report = _round1(position)
+            raw = np.rint((report * ixx08) * 32).astype(np.int64) & mask
+            col = raw.tolist()
+            done[(i, j, mask)] = col
+            columns.append(col)
+        rows = list(zip(*columns, strict=True))
+        out, at = [], 0
+        for c in counts:
+            out.append(rows[at:at + c])
+            at += c
+        return out
+
+
+def _ramp(x_s: Any, v0: Any, v1: Any, tau: Any, length: Any) -> Any:
+    """:func:`motionsim.sim.pmac.buffers.motion.ramp_position` on arrays, same operations."""
+    import numpy as np
+
+    clamped = np.minimum(np.maximum(tau, 0.0), length)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ramp = x_s + v0 * clamped + (v1 - v0) * clamped * clamped / (2 * length)
+    return np.where(length > 0, ramp, x_s + v1 * tau)
+
+
+def _linear_positions(t: Any, p_start: Any, v: Any, b_start: Any, ta_in: Any, v_prev: Any,
+                      has_end: Any, b_end: Any, ta_out: Any) -> Any:
+    """:func:`motionsim.sim.pmac.buffers.motion.position_at` on arrays (``has_end`` False
+    where ``b_end`` is None), the same operations in the same order in each branch."""
+    import numpy as np
+
+    h_in = ta_in / 2
+    ramp_in = _ramp(p_start - v_prev * h_in, v_prev, v, t - (b_start - h_in), ta_in)
+    h = ta_out / 2
+    ramp_out = _ramp(p_start + v * (b_end - h - b_start), v, 0.0, t - (b_end - h), ta_out)
+    steady = p_start + v * (t - b_start)
+    out_ramp = has_end & (t > b_end - ta_out / 2)
+    return np.where(t < b_start + h_in, ramp_in, np.where(out_ramp, ramp_out, steady))
+
+
+def _round1(x: Any) -> Any:
+    """``round(x, 1)`` element by element, as Python rounds (the exact decimal value, half to
+    even): ``rint(10x) / 10`` is the same double wherever ``10x`` is not within a few ulps of
+    a half; those (and huge or non-finite values) are rounded by Python."""
+    import numpy as np
+
+    y = x * 10.0
+    out = np.rint(y) / 10.0
+    frac = y - np.floor(y)
+    doubtful = ~(np.abs(frac - 0.5) > np.abs(y) * 1e-15 + 1e-300) | (np.abs(x) >= 1e14)
+    for i in np.flatnonzero(doubtful):
+        out[i] = round(float(x[i]), 1)
+    return out
 
 
 def _shared(parts: list[Callable[[float], int | None]],
