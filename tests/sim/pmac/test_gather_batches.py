@@ -72,7 +72,7 @@ def axes(rig: Rig) -> None:
     """Motors 1-4 on X, Y, Z, A of CS 1 and its rotary buffer (before the gather buffer:
     DEFINE ROT needs none, TUM p337)."""
     rig.ok("&1 #1->X #2->Y #3->Z #4->A")
-    rig.c.define_rotary(1, 600)
+    rig.c.define_rotary(1, 3000)
 
 
 def stream(rig: Rig, lines: list[str]) -> None:
@@ -88,9 +88,9 @@ def test_a_blended_stream_wrapping_the_buffer():
     I5000 = 1 wrapping a small buffer (TSRM p170)."""
     def scenario(rig: Rig) -> None:
         axes(rig)
-        setup(rig, POSITIONS, wrap=1, words=1000)
+        setup(rig, POSITIONS, wrap=1, words=6000)
         rig.ok("GATHER")
-        stream(rig, ["TA1 TS0 TM5"] + [f"X{i} Y{i / 2} Z{-i} A{i % 7}" for i in range(60)]
+        stream(rig, ["TA1 TS0 TM5"] + [f"X{i} Y{i / 2} Z{-i} A{i % 7}" for i in range(250)]
                + ["TA20 TS5 TM40 X3.3 Y-7.1", "DWELL 30", "X0 Y0 Z0 A0"])
         rig.run_for(1.2)
     ref, _ = both(scenario)
@@ -177,3 +177,63 @@ def test_a_run_that_stops_exactly_on_a_sample_instant(period):
         rig.c.vars.mvars.store_word("Y", 0x1000, 5)
         rig.run_for(0.005)
     both(scenario)
+
+
+def test_the_stream_takes_the_array_path(monkeypatch):
+    """The blended stream's batches are computed as arrays (so the scenario above pins that
+    path, not only the sample-by-sample one)."""
+    from motionsim.sim.pmac.tasks import gather_readers
+
+    calls = []
+    real = gather_readers.Plan._vector
+
+    def spy(self, items):
+        calls.append(len(items))
+        return real(self, items)
+
+    monkeypatch.setattr(gather_readers.Plan, "_vector", spy)
+    test_a_blended_stream_wrapping_the_buffer()
+    assert calls and sum(calls) > 10
+
+
+def test_round_to_a_tenth_on_arrays_is_pythons_round():
+    """``_round1`` against ``round(x, 1)`` on halves that binary cannot hold exactly, their
+    neighbours, negative values and large counts."""
+    import numpy as np
+    from motionsim.sim.pmac.tasks.gather_readers import _round1
+
+    rng = np.random.default_rng(34)
+    base = [0.05, 0.15, 0.25, 0.35, 2.675, -0.05, -0.15, -2.25, 1e13 + 0.05, 0.0, -0.0,
+            123456.75, 7.949999999999999, 7.95, 1e15]
+    xs = base + [np.nextafter(x, np.inf) for x in base] + [np.nextafter(x, -np.inf)
+                                                            for x in base]
+    xs += list(rng.uniform(-1e7, 1e7, 2000)) + list(np.round(rng.uniform(-1e4, 1e4, 2000), 2))
+    arr = np.array(xs, dtype=np.float64)
+    assert _round1(arr).tolist() == [round(float(x), 1) for x in arr]
+
+
+def test_linear_positions_on_arrays_are_position_at():
+    """``_linear_positions`` against :func:`position_at` in the ramp in, the steady part and
+    the ramp out, with and without an end, and zero-length ramps."""
+    import numpy as np
+    from motionsim.sim.pmac.buffers.motion import position_at
+    from motionsim.sim.pmac.tasks.gather_readers import _linear_positions
+
+    rng = np.random.default_rng(7)
+    rows = []
+    for _ in range(3000):
+        b0 = float(rng.uniform(0, 1))
+        ta_in = float(rng.choice([0.0, rng.uniform(0, 0.05)]))
+        ta_out = float(rng.choice([0.0, rng.uniform(0, 0.05)]))
+        b_end = None if rng.random() < 0.3 else b0 + float(rng.uniform(0, 0.1))
+        args = (float(rng.uniform(-1e4, 1e4)), float(rng.uniform(-1e5, 1e5)), b0, ta_in,
+                float(rng.uniform(-1e5, 1e5)), b_end, ta_out)
+        t = b0 + float(rng.uniform(-0.06, 0.2))
+        rows.append((t, args))
+    t = np.array([r[0] for r in rows])
+    cols = [np.array([r[1][i] if r[1][i] is not None else 0.0 for r in rows])
+            for i in range(7)]
+    has_end = np.array([r[1][5] is not None for r in rows])
+    got = _linear_positions(t, cols[0], cols[1], cols[2], cols[3], cols[4], has_end,
+                            cols[5], cols[6])
+    assert got.tolist() == [position_at(tt, *a) for tt, a in rows]
