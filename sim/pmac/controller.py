@@ -412,10 +412,11 @@ class PmacController(Controller):
                              pmac_error="ERR006")
         self.gather.define(free if words is None else words)
 
-    def start_gather(self) -> None:
-        """``GATHER``: data gathering from the next servo cycle (sim.pmac.tasks.gather)."""
+    def start_gather(self, trigger: bool = False) -> None:
+        """``GATHER``: data gathering from the next servo cycle; ``GATHER TRIGGER``: from the
+        servo cycle that finds the trigger input risen (sim.pmac.tasks.gather)."""
         self._alive()
-        self.gather.start()
+        self.gather.start(trigger)
 
     def end_gather(self) -> None:
         """``ENDGATHER``."""

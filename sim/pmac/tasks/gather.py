@@ -87,6 +87,13 @@ _WORD: Final = 0xFFFFFF
 _LONG: Final = (1 << 48) - 1
 
 
+#: ``GATHER TRIGGER``'s trigger input ``(space, address, bit)``: the Geo Brick's first
+#: general-purpose input (``IN1``, Y:$078800 bit 0; plain memory here, set with ``W`` or an
+#: M-variable) ``[INF]`` — the Turbo SRM's ``GATHER`` page was not in the corpora searched.
+TRIGGER_INPUT: Final = ("Y", 0x078800, 0)
+TRIGGER_INPUT_NAME: Final = "Y:$078800,0"
+
+
 def _count_before(clock: ServoClock, k: int, period: int, t_e: float) -> int:
     """How many of cycles ``k``, ``k + period``, .. come before ``t_e``: the first always
     (the caller checked it), the others at an instant strictly before ``t_e``."""
@@ -225,7 +232,9 @@ class Gather:
         #: cycle, count, the plan's key, or the rows read through card memory).
         self._batches: deque[tuple[int, int, int, Key | None, list[tuple[int, ...]]]] = deque()
         self._plan: Plan | None = None
-        self._eid = 0  # queue tie-break of the next (virtual) sample
+        self._eid = 0  # queue tie-break of the next (virtual) sample or trigger poll
+        self._armed = False  # GATHER TRIGGER waiting for its trigger
+        self._level = 0  # the trigger input at the last poll
 
     # -- buffer -----------------------------------------------------------------------------
 
@@ -268,8 +277,11 @@ class Gather:
                 out.append(decode_source(n, self._ivar(5000 + n)))
         return tuple(out)
 
-    def start(self) -> None:
-        """``GATHER``: latch the set-up and take the first sample at the next servo cycle.
+    def start(self, trigger: bool = False) -> None:
+        """``GATHER``: latch the set-up and take the first sample at the next servo cycle;
+        with ``trigger`` (``GATHER TRIGGER``) at the first servo cycle from the next on that
+        finds the trigger input (:data:`TRIGGER_INPUT`) high after one that found it low
+        (or after the command found it low) ``[INF]``.
 
         Raises:
             Conflict: ERR003 — no buffer, already gathering, nothing selected, a source
@@ -297,19 +309,32 @@ class Gather:
         self._stored = 0
         self.running = True
         self._next_k = self._clock.after(self._env.now)
-        self._emit("gather", state="started", sources=[s.name for s in sources],
-                   period=self._period, capacity=self._capacity)
+        self._armed = trigger and self._capacity > 0
+        if self._armed:
+            self._level = self._trigger_input()
+            self._emit("gather", state="armed", input=TRIGGER_INPUT_NAME)
+        else:
+            self._started()
         if self._capacity == 0:
             self._stop("full")
             return
         if self.per_cycle:
-            self._wake = wake_at(self._env, self._clock.t(self._next_k), self._sample,
-                                 self._wake)
+            self._wake = wake_at(self._env, self._clock.t(self._next_k),
+                                 self._poll if self._armed else self._sample, self._wake)
             return
         make_plan = self._make_plan
         self._plan = make_plan(sources, self._period) if make_plan is not None else None
         self._eid = next_eid(self._env)  # where the first sample's wake-up would queue
         pre_step(self._env, self._before_event)
+
+    def _started(self) -> None:
+        self._armed = False
+        self._emit("gather", state="started", sources=[s.name for s in self._sources],
+                   period=self._period, capacity=self._capacity)
+
+    def _trigger_input(self) -> int:
+        space, address, bit = TRIGGER_INPUT
+        return self._memory.word(space, address) >> bit & 1
 
     def end(self) -> None:
         """``ENDGATHER``: stop; what was gathered stays for ``LIST GATHER``."""
@@ -319,6 +344,7 @@ class Gather:
 
     def _stop(self, reason: str) -> None:
         self.running = False
+        self._armed = False
         clear_pre_step(self._env)
         self._emit("gather", state="stopped", reason=reason, samples=min(self._stored,
                                                                          self._capacity))
@@ -332,6 +358,20 @@ class Gather:
             for s in sources
         ))
         return values
+
+    def _poll(self, _event: Any) -> None:
+        """The per-cycle reference of an armed ``GATHER TRIGGER``: the trigger input read at
+        every servo cycle; the cycle that finds it risen takes the first sample."""
+        if not self.running:
+            return
+        level = self._trigger_input()
+        if level and not self._level:
+            self._started()
+            self._sample(_event)
+            return
+        self._level = level
+        self._next_k += 1
+        self._wake = wake_at(self._env, self._clock.t(self._next_k), self._poll, self._wake)
 
     def _sample(self, _event: Any) -> None:
         """The per-cycle reference: one wake-up per sample (:attr:`per_cycle`)."""
@@ -366,6 +406,16 @@ class Gather:
         if t > t_e or (t == t_e and (priority < NORMAL or (priority == NORMAL
                                                            and eid < self._eid))):
             return
+        if self._armed:
+            # The polls of the trigger input before the event all read what it holds now.
+            level = self._trigger_input()
+            if not (level and not self._level):
+                self._level = level
+                self._next_k = k + _count_before(clock, k, 1, t_e)
+                self._eid = next_eid(self._env)
+                return
+            set_now(self._env, t)
+            self._started()  # the first poll finds it risen: that cycle's sample is next
         period = self._period
         n = 1
         if period > 0:

@@ -237,3 +237,24 @@ def test_linear_positions_on_arrays_are_position_at():
     got = _linear_positions(t, cols[0], cols[1], cols[2], cols[3], cols[4], has_end,
                             cols[5], cols[6])
     assert got.tolist() == [position_at(tt, *a) for tt, a in rows]
+
+
+def test_gather_trigger_set_by_a_plc_mid_stream():
+    """``GATHER TRIGGER`` armed before a stream; a PLC raises the trigger input when X has
+    passed 20 (the trigger input and the poll of it ``[INF]``, docs/pmac.md): the first
+    sample is the same servo cycle on both cards."""
+    def scenario(rig: Rig) -> None:
+        axes(rig)
+        setup(rig, POSITIONS[:4] + [vel(1)], words=4000)
+        rig.ok("M10->Y:$078800,0,1")
+        rig.ok("M161->D:$000088")
+        rig.ok("OPEN PLC 2 CLEAR")
+        rig.ok("IF (M161 > 20 * I108 * 32) M10=1 ENDIF")
+        rig.ok("CLOSE")
+        rig.ok("I5=3")
+        rig.ok("ENABLE PLC 2")
+        rig.ok("GATHER TRIGGER")
+        stream(rig, ["TA1 TS0 TM5"] + [f"X{i} Y{i / 2} Z{-i} A{i % 7}" for i in range(60)])
+        rig.run_for(0.6)
+    ref, _ = both(scenario)
+    assert [f["state"] for _, _, f in ref.events("gather")][:2] == ["armed", "started"]
