@@ -31,8 +31,12 @@ the corpora searched, so this part is ``[BK]``/``[INF]`` and says so in docs/pma
   I5049 = 0, after the one sample. Each ``GATHER`` records from the start of the buffer
   ``[INF]``. A selected source the simulator does not model (:meth:`MVariables.holds`) is
   refused at ``GATHER`` naming it (ERR003), never gathered as zeros; so are no selected
-  source, no gather buffer, and ``GATHER`` while one runs ``[INF]``. ``GATHER TRIGGER`` is
-  answered ``not_simulated``.
+  source, no gather buffer, and ``GATHER`` while one runs ``[INF]``.
+* ``GATHER TRIGGER`` ``[INF]`` (its text was not found either): latched and rewound as
+  ``GATHER``, but armed: the trigger input (:data:`TRIGGER_INPUT`, the Geo Brick's first
+  general-purpose input) is polled at every servo cycle from the next one on, and the first
+  cycle that finds it high after a poll (or the command) found it low takes the first sample;
+  then as ``GATHER``. Armed counts as gathering in progress; ``ENDGATHER`` disarms.
 * A sample is the selected sources in order I5001..I5048: a 24-bit source one 24-bit word, a
   48-bit source two (low half first); the buffer holds them two to a long word, and a sample
   with an odd number of 24-bit words is padded with one word (0 here) so each sample starts
@@ -44,10 +48,23 @@ the corpora searched, so this part is ``[BK]``/``[INF]`` and says so in docs/pma
   48-bit source on its own long word reads as its own 12 digits. Eight words to a line,
   separated by blanks ``[INF]``. A wrapped buffer lists all its slots in memory order.
 
-Cost: nothing while no gather runs (no SimPy event); while one runs, one wake-up per sample
-(:func:`motionsim.sim.simpy_adapter.wake_at`, re-used), reading the registers through card
-memory (:mod:`motionsim.sim.pmac.card.registers`, the one home of what an address shows).
-Each start and stop is a ``gather`` event.
+Cost: nothing while no gather runs (no SimPy event, no hook). While one runs there is no
+wake-up per sample either: :func:`motionsim.sim.simpy_adapter.pre_step` calls
+:meth:`Gather._before_event` before each event the simulation processes, and it records the
+samples whose wake-ups a per-cycle sampler would have processed first — the pending one if its
+queue key (its instant, normal priority, the tie-break number its wake-up would have drawn)
+orders before the event's, then every later one strictly before the event's instant — as one
+batch. Nothing but time changes between two events, so a batch keeps only what its sources
+depend on (:class:`.gather_readers.Plan`'s key), and is merged into the previous one when the
+key is unchanged; values are computed when the buffer is read (``LIST GATHER``,
+:meth:`recording`), only for the samples a wrapped buffer still holds. Sources without a
+batch form (status words, the timing registers, motors under kinematics or in other move
+modes) are read through card memory (:mod:`motionsim.sim.pmac.card.registers`, the one home
+of what an address shows) at each sample's instant inside the batch, the clock set to it.
+:attr:`Gather.per_cycle` keeps the per-cycle sampler (a wake-up per sample, every read
+through card memory) as the reference ``tests/sim/pmac/test_gather_batches.py`` pins the
+batches to. Each start and stop is a ``gather`` event (and an ``armed`` one for
+``GATHER TRIGGER``).
 """
 
 from __future__ import annotations
