@@ -241,7 +241,8 @@ class Gather:
         self._wrap = False
         self._capacity = 0
         self._longs = 1
-        self._slots: list[tuple[int, tuple[int, ...]]] = []  # (cycle, values) by memory slot
+        #: (cycle, values) by memory slot
+        self._slots: list[tuple[int, tuple[Any, ...]]] = []
         self._stored = 0  # samples stored since GATHER (beyond capacity when wrapped)
         self._next_k = 0
         self._wake: Wake | None = None

@@ -26,6 +26,7 @@ memory (:mod:`.registers`, the one home of what an address shows).
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
@@ -82,9 +83,9 @@ class Plan:
                 if ("X", address) in regs or ("Y", address) in regs:
                     self.kinds.append(None)
                     continue
-                consts.append(lambda a=address: memory.long(a))
+                consts.append(functools.partial(memory.long, address))
             else:
-                consts.append(lambda s=space, a=address: memory.word(s, a))
+                consts.append(functools.partial(memory.word, space, address))
             self.kinds.append(("const", len(consts) - 1))
         self._motors = tuple(motors)
         self._ivars = tuple(ivars)
@@ -134,29 +135,26 @@ class Plan:
         ctl = self._ctl
         period_s = ctl.scheduler.period_s
         clock = ctl.scheduler.clock
-        report_at = registers.report_at
         specs, ivals, consts = key
-        positions = [None if s is None else (lambda t, s=s: motor_position_at(s, t))
+        positions = [None if s is None else functools.partial(_position, motor_position_at, s)
                      for s in specs]
         parts: list[Callable[[float], int | None]] = []
         for kind in self.kinds:
             if kind is None:
-                parts.append(lambda t: None)
+                parts.append(_nothing)
             elif kind[0] == "const":
-                value = consts[kind[1]]
-                parts.append(lambda t, v=value: v)
+                parts.append(functools.partial(_constant, consts[kind[1]]))
             elif kind[0] == "servo":
-                parts.append(lambda t, m=kind[1]: (int(clock.index(t)) & 0xFFFFFF) & m)
+                parts.append(functools.partial(_servo_count, clock, kind[1]))
             else:
                 _, i, what, j, mask = kind
                 position = positions[i]
                 if position is None:
-                    parts.append(lambda t: None)
+                    parts.append(_nothing)
                     continue
                 raw = registers.velocity_raw if what == "V" else registers.position_raw
-                scale = ivals[j]
-                parts.append(lambda t, p=position, w=what, r=raw, s=scale, m=mask:
-                             r(report_at(p, w, t, period_s), s) & m)
+                parts.append(functools.partial(_motor_register, position, what, raw, ivals[j],
+                                               mask, period_s))
         shared = _shared(parts, self.kinds)
 
         def row(_k: int, t: float) -> Row:
@@ -267,6 +265,31 @@ class Plan:
             out.append(rows[at:at + c])
             at += c
         return out
+
+
+def _nothing(t: float) -> None:
+    return None
+
+
+def _constant(value: int, t: float) -> int:
+    return value
+
+
+def _servo_count(clock: Any, mask: int, t: float) -> int:
+    """The servo counter register (:mod:`.registers`) at ``t``."""
+    return (int(clock.index(t)) & 0xFFFFFF) & mask
+
+
+def _position(at: Callable[[Any, float], float], spec: Any, t: float) -> float:
+    return at(spec, t)
+
+
+def _motor_register(position: Callable[[float], float], what: str,
+                    raw: Callable[[float, float], int], scale: float, mask: int,
+                    period_s: float, t: float) -> int:
+    """A motor register at ``t``: the report through :func:`.registers.report_at`, the raw
+    word as the register table converts it."""
+    return raw(registers.report_at(position, what, t, period_s), scale) & mask
 
 
 def _ramp(x_s: Any, v0: Any, v1: Any, tau: Any, length: Any) -> Any:
