@@ -69,7 +69,6 @@ batches to. Each start and stop is a ``gather`` event (and an ``armed`` one for
 
 from __future__ import annotations
 
-import math
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -92,7 +91,7 @@ from ...simpy_adapter import (
 from ...timing import ServoClock
 from ..card import pmac_float
 from ..card.mvars import MVariables
-from .gather_readers import Key, Plan
+from .gather_readers import Plan
 
 #: First hex digit of I50nn -> (memory space read, bits). ``L`` reads the 48 bits as ``D``
 #: does; the host interprets them as a float (module docstring).
@@ -113,13 +112,13 @@ TRIGGER_INPUT_NAME: Final = "Y:$078800,0"
 
 def _count_before(clock: ServoClock, k: int, period: int, t_e: float) -> int:
     """How many of cycles ``k``, ``k + period``, .. come before ``t_e``: the first always
-    (the caller checked it), the others at an instant strictly before ``t_e``."""
-    if t_e == math.inf:
-        raise ValueError("no end instant")
-    j = max(0, int((t_e / clock.period_s - k) / period))
-    while clock.t(k + (j + 1) * period) < t_e:
+    (the caller checked it), the others at an instant (``clock.t``) strictly before
+    ``t_e``."""
+    p_s = clock.period_s
+    j = max(0, int((t_e / p_s - k) / period))
+    while (k + (j + 1) * period) * p_s < t_e:
         j += 1
-    while j > 0 and clock.t(k + j * period) >= t_e:
+    while j > 0 and (k + j * period) * p_s >= t_e:
         j -= 1
     return j + 1
 
@@ -229,6 +228,7 @@ class Gather:
         self._env = env
         self._at_one_instant = at_one_instant or (lambda read: read())
         self._clock = clock
+        self._period_s = clock.period_s
         self._ivar = ivar
         self._memory = memory
         self._emit = emit
@@ -248,7 +248,7 @@ class Gather:
         self._wake: Wake | None = None
         #: Samples recorded but not yet computed, oldest first: (first sample number, first
         #: cycle, count, the plan's key, or the rows read through card memory).
-        self._batches: deque[tuple[int, int, int, Key | None, list[tuple[int, ...]]]] = deque()
+        self._batches: deque[list[Any]] = deque()
         self._plan: Plan | None = None
         self._eid = 0  # queue tie-break of the next (virtual) sample or trigger poll
         self._armed = False  # GATHER TRIGGER waiting for its trigger
@@ -418,12 +418,12 @@ class Gather:
         then every later one strictly before ``t_e`` (their wake-ups would be queued after
         the event was). Nothing but time changes in between, so one capture per source
         serves the whole batch (:mod:`.gather_readers`)."""
-        clock = self._clock
         k = self._next_k
-        t = clock.t(k)
+        t = k * self._period_s  # clock.t(k)
         if t > t_e or (t == t_e and (priority < NORMAL or (priority == NORMAL
                                                            and eid < self._eid))):
             return
+        clock = self._clock
         if self._armed:
             # The polls of the trigger input before the event all read what it holds now.
             level = self._trigger_input()
@@ -464,20 +464,23 @@ class Gather:
         key = plan.key() if plan is not None else None
         if plan is not None and key is not None and not plan.per_sample(key):
             if batches:
-                b_first, b_k, b_n, b_key, _ = batches[-1]
-                if b_first + b_n == first and b_k + b_n * period == k and b_key == key:
-                    batches[-1] = (b_first, b_k, b_n + n, b_key, [])
-                    self._prune()
+                last = batches[-1]
+                if last[0] + last[2] == first and last[1] + last[2] * period == k \
+                        and last[3] == key:
+                    last[2] += n
+                    if self._wrap:
+                        self._prune()
                     return
-            batches.append((first, k, n, key, []))
+            batches.append([first, k, n, key, []])
         else:
             skip = max(0, n - self._capacity) if self._wrap else 0
             rows: list[tuple[int, ...]] = [()] * skip
             for j in range(skip, n):
                 set_now(env, clock.t(k + j * period))
                 rows.append(self._read())
-            batches.append((first, k, n, None, rows))
-        self._prune()
+            batches.append([first, k, n, None, rows])
+        if self._wrap:
+            self._prune()
 
     def _prune(self) -> None:
         """Forget batches a wrapped buffer has overwritten entirely."""

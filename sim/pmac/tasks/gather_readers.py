@@ -96,29 +96,32 @@ class Plan:
         self._haves: list[Any] | None = None
         self._cs_list: list[Any] = []
         self._motor_objects = [ctl.motor(m) for m in self._motors]
+        #: The controller's axis definitions and I-variable reads (a reset, which makes
+        #: new ones, ends the gathering this plan serves).
+        self._axis_definitions = ctl.motors
+        self._ivar = ctl.vars.I
         self._specs: tuple[Any, ...] = ()
 
     def key(self) -> Key:
         """Everything the batch form of the sources depends on, now. The motor specs are
         kept from the last call while what they are made of is unchanged (each motor's jog
         profile and axis definition, its CS's :meth:`Execution.axis_spec_key`)."""
-        ctl = self._ctl
-        get = ctl.motors.get
+        get = self._axis_definitions.get
         haves = [get(m) for m in self._motors]
         if haves != self._haves:
             self._haves = haves
             self._marks = None
-            css = ctl.coord_systems
+            css = self._ctl.coord_systems
             self._cs_list = [css[c] for c in dict.fromkeys(h[0] for h in haves if h)]
         marks = ([m.profile for m in self._motor_objects],
                  [c.axis_spec_key() for c in self._cs_list])
         if marks != self._marks:
-            spec = ctl.motor_position_spec
+            spec = self._ctl.motor_position_spec
             self._specs = tuple([spec(m) for m in self._motors])
             self._marks = marks
-        ivar = ctl.vars.I
+        ivar = self._ivar
         return (self._specs, tuple([ivar(n) for n in self._ivars]),
-                tuple([read() for read in self._consts]))
+                tuple([read() for read in self._consts]) if self._consts else ())
 
     def per_sample(self, key: Key) -> bool:
         """Does some source need reading through card memory at each sample of a batch
