@@ -5,8 +5,9 @@ Four motors (``#1->X`` .. ``#4->A``) follow a stream of 5-ms blended 4-axis move
 ``simulated_seconds`` (default 10); the gathered run sets I5001-I5008 to the commanded and
 actual positions of the four motors (48-bit registers), I5050 = $FF, I5049 = 1, I5000 = 1
 (wrap: the buffer of all free memory holds ~8 000 of the ~22 600 samples) and issues GATHER
-before the stream starts, then reads the recording (inside the timed span: the samples may
-be computed when read); the plain run sends the same set-up with ENDGATHER in GATHER's
+before the stream starts, then reads the gather buffer (inside the timed span: the samples
+are computed when read; the REST / CSV formatting of a recording is left out, as before);
+the plain run sends the same set-up with ENDGATHER in GATHER's
 place. The two runs alternate, best of ``repeat`` each.
 
 Prints wall seconds of each and their ratio, writes ``bench/results/pmac_gather.json``
@@ -70,7 +71,8 @@ def run(sim_s: float, gather: bool) -> dict:
     c.env.process(host())
     t0 = time.perf_counter()
     c.env.run(until=c.env.now + sim_s)
-    rec = c.recording() if gather else None  # timed: samples may be computed when read
+    # timed: the gatherer computes its samples when the buffer is read
+    rec = c.gather.recording() if gather else None
     wall = time.perf_counter() - t0
     return {"wall_s": wall, "lines": lines[0], "events": c.log.last_seq,
             "samples_held": len(rec.cycles) if rec else 0,

@@ -110,15 +110,16 @@ TRIGGER_INPUT: Final = ("Y", 0x078800, 0)
 TRIGGER_INPUT_NAME: Final = "Y:$078800,0"
 
 
-def _count_before(clock: ServoClock, k: int, period: int, t_e: float) -> int:
+def _count_before(period_s: float, k: int, period: int, t_e: float) -> int:
     """How many of cycles ``k``, ``k + period``, .. come before ``t_e``: the first always
-    (the caller checked it), the others at an instant (``clock.t``) strictly before
-    ``t_e``."""
-    p_s = clock.period_s
-    j = max(0, int((t_e / p_s - k) / period))
-    while (k + (j + 1) * period) * p_s < t_e:
+    (the caller checked it), the others at an instant (``ServoClock.t``: the cycle times
+    ``period_s``) strictly before ``t_e``."""
+    j = int((t_e / period_s - k) / period)
+    if j < 0:
+        j = 0
+    while (k + (j + 1) * period) * period_s < t_e:
         j += 1
-    while j > 0 and (k + j * period) * p_s >= t_e:
+    while j > 0 and (k + j * period) * period_s >= t_e:
         j -= 1
     return j + 1
 
@@ -423,13 +424,12 @@ class Gather:
         if t > t_e or (t == t_e and (priority < NORMAL or (priority == NORMAL
                                                            and eid < self._eid))):
             return
-        clock = self._clock
         if self._armed:
             # The polls of the trigger input before the event all read what it holds now.
             level = self._trigger_input()
             if not (level and not self._level):
                 self._level = level
-                self._next_k = k + _count_before(clock, k, 1, t_e)
+                self._next_k = k + _count_before(self._period_s, k, 1, t_e)
                 self._eid = next_eid(self._env)
                 return
             set_now(self._env, t)
@@ -437,7 +437,7 @@ class Gather:
         period = self._period
         n = 1
         if period > 0:
-            n = _count_before(clock, k, period, t_e)
+            n = _count_before(self._period_s, k, period, t_e)
         if not self._wrap:
             n = min(n, self._capacity - self._stored)
         self._record(k, n)

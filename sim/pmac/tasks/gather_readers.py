@@ -93,7 +93,7 @@ class Plan:
         #: Some source is read through card memory at every sample.
         self.always_per_sample = None in self.kinds
         self._marks: tuple[Any, ...] | None = None
-        self._haves: list[Any] | None = None
+        self._definitions: dict[int, Any] | None = None
         self._cs_list: list[Any] = []
         self._motor_objects = [ctl.motor(m) for m in self._motors]
         #: The controller's axis definitions and I-variable reads (a reset, which makes
@@ -104,23 +104,27 @@ class Plan:
 
     def key(self) -> Key:
         """Everything the batch form of the sources depends on, now. The motor specs are
-        kept from the last call while what they are made of is unchanged (each motor's jog
-        profile and axis definition, its CS's :meth:`Execution.axis_spec_key`)."""
-        get = self._axis_definitions.get
-        haves = [get(m) for m in self._motors]
-        if haves != self._haves:
-            self._haves = haves
+        kept from the last call while what they are made of is unchanged (the axis
+        definitions, each motor's jog profile, its CS's :meth:`Execution.axis_spec_key`)."""
+        definitions = self._axis_definitions
+        if definitions != self._definitions:
+            self._definitions = dict(definitions)
             self._marks = None
             css = self._ctl.coord_systems
+            haves = [definitions.get(m) for m in self._motors]
             self._cs_list = [css[c] for c in dict.fromkeys(h[0] for h in haves if h)]
+        cs_list = self._cs_list
         marks = ([m.profile for m in self._motor_objects],
-                 [c.axis_spec_key() for c in self._cs_list])
+                 cs_list[0].axis_spec_key() if len(cs_list) == 1
+                 else [c.axis_spec_key() for c in cs_list])
         if marks != self._marks:
             spec = self._ctl.motor_position_spec
             self._specs = tuple([spec(m) for m in self._motors])
             self._marks = marks
-        ivar = self._ivar
-        return (self._specs, tuple([ivar(n) for n in self._ivars]),
+        ivars = self._ivars
+        ivals = (self._ivar(ivars[0]),) if len(ivars) == 1 else tuple(
+            [self._ivar(n) for n in ivars])
+        return (self._specs, ivals,
                 tuple([read() for read in self._consts]) if self._consts else ())
 
     def per_sample(self, key: Key) -> bool:
