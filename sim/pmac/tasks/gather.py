@@ -441,11 +441,9 @@ class Gather:
         if not self._wrap:
             n = min(n, self._capacity - self._stored)
         self._record(k, n)
-        if period == 0:
-            self._stop("single")
-            return
-        if self._stored >= self._capacity and not self._wrap:
-            self._stop("full")
+        if period == 0 or (self._stored >= self._capacity and not self._wrap):
+            set_now(self._env, (k + (n - 1) * period) * self._period_s)  # the last sample's
+            self._stop("single" if period == 0 else "full")
             return
         self._next_k = k + n * period
         self._eid = next_eid(self._env)
@@ -458,19 +456,18 @@ class Gather:
         env, clock, period = self._env, self._clock, self._period
         first = self._stored
         self._stored = first + n
-        set_now(env, clock.t(k))
         plan = self._plan
         batches = self._batches
         key = plan.key() if plan is not None else None
+        if batches:
+            last = batches[-1]
+            if last[3] is key and key is not None and last[0] + last[2] == first \
+                    and last[1] + last[2] * period == k:
+                last[2] += n  # same key object: nothing changed since that batch
+                if self._wrap:
+                    self._prune()
+                return
         if plan is not None and key is not None and not plan.per_sample(key):
-            if batches:
-                last = batches[-1]
-                if last[0] + last[2] == first and last[1] + last[2] * period == k \
-                        and last[3] == key:
-                    last[2] += n
-                    if self._wrap:
-                        self._prune()
-                    return
             batches.append([first, k, n, key, []])
         else:
             skip = max(0, n - self._capacity) if self._wrap else 0

@@ -94,6 +94,7 @@ class Plan:
         self.always_per_sample = None in self.kinds
         self._marks: tuple[Any, ...] | None = None
         self._definitions: dict[int, Any] | None = None
+        self._key: Key = ((), (), ())
         self._cs_list: list[Any] = []
         self._motor_objects = [ctl.motor(m) for m in self._motors]
         #: The controller's axis definitions and I-variable reads (a reset, which makes
@@ -117,15 +118,18 @@ class Plan:
         marks = ([m.profile for m in self._motor_objects],
                  cs_list[0].axis_spec_key() if len(cs_list) == 1
                  else [c.axis_spec_key() for c in cs_list])
+        ivars = self._ivars
+        ivals = (self._ivar(ivars[0]),) if len(ivars) == 1 else tuple(
+            [self._ivar(n) for n in ivars])
+        consts = tuple([read() for read in self._consts]) if self._consts else ()
         if marks != self._marks:
             spec = self._ctl.motor_position_spec
             self._specs = tuple([spec(m) for m in self._motors])
             self._marks = marks
-        ivars = self._ivars
-        ivals = (self._ivar(ivars[0]),) if len(ivars) == 1 else tuple(
-            [self._ivar(n) for n in ivars])
-        return (self._specs, ivals,
-                tuple([read() for read in self._consts]) if self._consts else ())
+        elif ivals == self._key[1] and consts == self._key[2]:
+            return self._key  # the same object: callers may compare keys with ``is``
+        self._key = (self._specs, ivals, consts)
+        return self._key
 
     def per_sample(self, key: Key) -> bool:
         """Does some source need reading through card memory at each sample of a batch

@@ -258,3 +258,19 @@ def test_gather_trigger_set_by_a_plc_mid_stream():
         rig.run_for(0.6)
     ref, _ = both(scenario)
     assert [f["state"] for _, _, f in ref.events("gather")][:2] == ["armed", "started"]
+
+
+@pytest.mark.parametrize("words", [37, 200, 1001])
+def test_a_buffer_filling_up_between_two_events(words):
+    """I5000 = 0 (TSRM p170: stop when full) with only batch-form sources: the sample that
+    fills the buffer and the ``stopped`` event are at that sample's servo cycle, wherever
+    it falls between two events."""
+    def scenario(rig: Rig) -> None:
+        axes(rig)
+        setup(rig, POSITIONS[:3], words=words)
+        rig.ok("GATHER")
+        stream(rig, ["TA1 TS0 TM13"] + [f"X{i} Y{-i}" for i in range(40)])
+        rig.run_for(0.6)
+    ref, _ = both(scenario)
+    (k, _, stopped), = ref.events("gather")[-1:]
+    assert stopped["reason"] == "full" and k == ref.c.gather.recording().cycles[-1]
