@@ -505,12 +505,18 @@ class Gather:
         computed = iter(plan.evaluate(keyed) if plan is not None and keyed else [])
         for first, k, j0, n, key, rows in kept:
             values = next(computed) if key is not None else rows[j0:]
-            for j, row in zip(range(j0, n), values, strict=True):
-                slot = (first + j) % capacity
-                if slot < len(slots):
-                    slots[slot] = (k + j * period, row)
+            cycles = range(k + j0 * period, k + n * period, period) if period else [k] * (n - j0)
+            pairs = list(zip(cycles, values, strict=True))
+            at = (first + j0) % capacity  # the slots they go to: at.., wrapping at capacity
+            while pairs:
+                room = capacity - at
+                part, pairs = pairs[:room], pairs[room:]
+                end = at + len(part)
+                if at == len(slots):
+                    slots.extend(part)
                 else:
-                    slots.append((k + j * period, row))
+                    slots[at:end] = part
+                at = 0
 
     # -- reading ----------------------------------------------------------------------------
 
