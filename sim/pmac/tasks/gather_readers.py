@@ -226,21 +226,12 @@ class Plan:
                              if period else np.full(n - j0, k, dtype=np.int64)
                              for _, k, j0, n in items])
         t = ks * period_s
-        columns: list[list[int]] = []
-        done: dict[tuple[Any, ...], list[int]] = {}
-        for kind in self.kinds:
-            assert kind is not None
-            if kind[0] == "const":
-                col: list[int] = []
-                for (key, _, _, _), c in zip(items, counts, strict=True):
-                    col += [key[2][kind[1]]] * c
-                columns.append(col)
-                continue
-            _, i, _, j, mask = kind
-            if (i, j, mask) in done:
-                columns.append(done[(i, j, mask)])
-                continue
-            per_item = []
+        # the distinct motor registers (a commanded and an actual position are one), all
+        # computed in one pass: their rows of parameters one after the other
+        motor_kinds = list(dict.fromkeys((k[1], k[3], k[4]) for k in self.kinds
+                                         if k is not None and k[0] == "motor"))
+        per_item = []
+        for i, j, _ in motor_kinds:
             for key, _, _, _ in items:
                 terms, offset, profile = key[0][i]
                 c_prof = profile.position(profile.t_end)
@@ -258,18 +249,32 @@ class Plan:
                                      0.0 if b_end is None else 1.0,
                                      0.0 if b_end is None else b_end, ta_out, 0.0,
                                      scale, offset, c_prof, key[1][j]))
-            cols = np.repeat(np.array(per_item, dtype=np.float64), counts, axis=0)
+        values: dict[tuple[int, int, int], list[int]] = {}
+        if motor_kinds:
+            m = len(motor_kinds)
+            cols = np.repeat(np.array(per_item, dtype=np.float64), counts * m, axis=0)
             moving, p0, v, b0, ta_in, v_prev, has_end, b_end, ta_out, _, scale, offset, \
                 c_prof, ixx08 = cols.T
-            a = np.where(moving > 0, _linear_positions(t, p0, v, b0, ta_in, v_prev,
+            tt = np.tile(t, m)
+            a = np.where(moving > 0, _linear_positions(tt, p0, v, b0, ta_in, v_prev,
                                                        has_end > 0, b_end, ta_out), p0)
             # no axis definition: scale = offset = 0 and a = 0.0, so this is 0.0 + c_prof
             position = (a * scale + offset) + c_prof
             report = _round1(position)
-            raw = np.rint((report * ixx08) * 32).astype(np.int64) & mask
-            col = raw.tolist()
-            done[(i, j, mask)] = col
-            columns.append(col)
+            raw = np.rint((report * ixx08) * 32).astype(np.int64)
+            size = len(t)
+            for r, kind in enumerate(motor_kinds):
+                values[kind] = (raw[r * size:(r + 1) * size] & kind[2]).tolist()
+        columns: list[list[int]] = []
+        for kind in self.kinds:
+            assert kind is not None
+            if kind[0] == "const":
+                col: list[int] = []
+                for (key, _, _, _), c in zip(items, counts, strict=True):
+                    col += [key[2][kind[1]]] * c
+                columns.append(col)
+            else:
+                columns.append(values[(kind[1], kind[3], kind[4])])
         rows = list(zip(*columns, strict=True))
         out, at = [], 0
         for c in counts:
