@@ -263,18 +263,18 @@ class Plan:
             report = _round1(position)
             raw = np.rint((report * ixx08) * 32).astype(np.int64)
             size = len(t)
-            for r, kind in enumerate(motor_kinds):
-                values[kind] = (raw[r * size:(r + 1) * size] & kind[2]).tolist()
+            for r, register in enumerate(motor_kinds):
+                values[register] = (raw[r * size:(r + 1) * size] & register[2]).tolist()
         columns: list[list[int]] = []
-        for kind in self.kinds:
-            assert kind is not None
-            if kind[0] == "const":
+        for source in self.kinds:
+            assert source is not None
+            if source[0] == "const":
                 col: list[int] = []
                 for (key, _, _, _), c in zip(items, counts, strict=True):
-                    col += [key[2][kind[1]]] * c
+                    col += [key[2][source[1]]] * c
                 columns.append(col)
             else:
-                columns.append(values[(kind[1], kind[3], kind[4])])
+                columns.append(values[(source[1], source[3], source[4])])
         rows = list(zip(*columns, strict=True))
         out, at = [], 0
         for c in counts:
