@@ -18,8 +18,8 @@ import simpy
 from simpy.events import NORMAL, URGENT, EventPriority
 
 __all__ = [
-    "NORMAL", "URGENT", "Wake", "cancel", "pending", "push_at", "supersede", "triggered_at",
-    "wake_at",
+    "NORMAL", "URGENT", "Wake", "cancel", "clear_pre_step", "next_eid", "pending", "pre_step",
+    "push_at", "set_now", "supersede", "triggered_at", "wake_at",
 ]  # fmt: skip
 
 Callback = Callable[[Any], None]
@@ -103,3 +103,48 @@ def triggered_at(env: simpy.Environment, t: float, fn: Callback,
     ev.callbacks.append(fn)
     push_at(env, t, ev, priority)
     return ev
+
+
+#: ``fn(t, priority, eid)`` of :func:`pre_step`: the queue key of the event about to be processed.
+PreStep = Callable[[float, int, int], None]
+
+
+def next_eid(env: simpy.Environment) -> int:
+    """Take the next tie-break number of ``env``'s queue, as scheduling an event would: a
+    virtual event "pushed now" orders after everything already queued and before everything
+    pushed later, at the same instant and priority."""
+    return next(env._eid)
+
+
+def pre_step(env: simpy.Environment, fn: PreStep) -> None:
+    """Call ``fn(t, priority, eid)`` with the queue key of the next event before each event
+    ``env`` processes (nothing when the queue is empty), until :func:`clear_pre_step`.
+
+    This lets a task that would otherwise wake on every servo cycle keep its wake-ups virtual:
+    before anything else happens it does the work of the wake-ups that would have come first
+    (their keys compare with the event's the way the queue orders them). ``env.step`` is
+    replaced on the instance (``Environment.run`` and every driver call it), so nothing is
+    paid while no hook is installed; one hook per environment.
+    """
+    original = type(env).step
+    queue = env._queue
+
+    def step() -> None:
+        if queue:
+            t, priority, eid, _ = queue[0]
+            fn(t, priority, eid)
+        original(env)
+
+    env.step = step  # type: ignore[method-assign]
+
+
+def set_now(env: simpy.Environment, t: float) -> None:
+    """Move ``env``'s clock to ``t`` inside a :func:`pre_step` hook, for the work of a virtual
+    wake-up at ``t`` (at or after the last event's instant, at or before the next one's,
+    which the step then sets anyway)."""
+    env._now = t
+
+
+def clear_pre_step(env: simpy.Environment) -> None:
+    """Remove the :func:`pre_step` hook (none installed: nothing to do)."""
+    env.__dict__.pop("step", None)

@@ -46,18 +46,38 @@ from .kinematics.engine import Kinematics
 from .language import axis_definitions
 from .language import motor_statements as motor_st
 from .lookahead import CoordSystem
+from .lookahead.execution import AxisSpec, axis_position_at
 from .lookahead.start_checks import check_start
+from .motor.jog import Profile as JogProfile
 from .motor.motor_status import motor_status_words
 from .motor.motors import Motor, MotorTable
 from .tasks.command_queue import CommandQueue
 from .tasks.cpu import CONFIG_KEYS as CPU_CONFIG_KEYS
 from .tasks.cpu import Processor
 from .tasks.gather import Gather
+from .tasks.gather_readers import Plan
 from .tasks.plc import PlcTable
 from .tasks.scheduler import Scheduler
 
 MEMORY_WORDS = 65_536
 _T = TypeVar("_T")
+
+#: :meth:`PmacController.motor_position_spec`: the axis terms (None: no axis definition), the
+#: definition's constant offset, the motor's jog profile.
+MotorSpec = tuple[tuple[tuple[AxisSpec, float], ...] | None, float, JogProfile]
+
+
+def motor_position_at(spec: MotorSpec, t: float) -> float:
+    """Motor position (counts) at ``t`` from a :meth:`PmacController.motor_position_spec`:
+    the same sums, in the same order, as :meth:`PmacController._motor_base` plus
+    :meth:`Motor.position`'s jog profile."""
+    terms, offset, profile = spec
+    if terms is None:
+        return 0.0 + profile.position(t)
+    if len(terms) == 1:
+        a, s = terms[0]
+        return (axis_position_at(a, t) * s + offset) + profile.position(t)
+    return (sum(axis_position_at(a, t) * s for a, s in terms) + offset) + profile.position(t)
 
 #: Parsed lines by text: streams repeat line texts, and a parse is the costliest per-line step.
 _LINE_CACHE: dict[str, ProgramLine] = {}
@@ -178,7 +198,9 @@ class PmacController(Controller):
             old_gather.detach()
         #: The gather buffer and data gathering (sim.pmac.tasks.gather).
         self.gather = Gather(self.env, self.scheduler.clock, self.vars.I, self.vars.mvars,
-                             self.log.emit, self._at_one_instant)
+                             self.log.emit, self._at_one_instant,
+                             lambda sources, period: Plan(
+                                 self, [(s.space, s.address, s.bits) for s in sources], period))
         #: ``DEFINE COMP`` tables by owning motor (:mod:`.card.comp_tables`).
         self.comp_tables: dict[int, comp_tables.CompTable] = {}
         self.programs = MotionPrograms()
@@ -390,10 +412,11 @@ class PmacController(Controller):
                              pmac_error="ERR006")
         self.gather.define(free if words is None else words)
 
-    def start_gather(self) -> None:
-        """``GATHER``: data gathering from the next servo cycle (sim.pmac.tasks.gather)."""
+    def start_gather(self, trigger: bool = False) -> None:
+        """``GATHER``: data gathering from the next servo cycle; ``GATHER TRIGGER``: from the
+        servo cycle that finds the trigger input risen (sim.pmac.tasks.gather)."""
         self._alive()
-        self.gather.start()
+        self.gather.start(trigger)
 
     def end_gather(self) -> None:
         """``ENDGATHER``."""
@@ -728,9 +751,10 @@ class PmacController(Controller):
         memo = self._positions_memo
         if memo is None:
             return self.coord_systems[cs].positions(t)
-        pos = memo.get(cs)
+        key = (cs, t)  # a velocity report asks for two instants
+        pos = memo.get(key)
         if pos is None:
-            pos = memo[cs] = self.coord_systems[cs].positions(t)
+            pos = memo[key] = self.coord_systems[cs].positions(t)
         return pos
 
     def _motor_base(self, motor: int, t: float) -> float:
@@ -827,12 +851,31 @@ class PmacController(Controller):
         return float(value)
 
     def _report(self, motor: int, what: str) -> float:
-        now = self.env.now
-        p1 = self.motor_position(motor, now)
-        if what == "P":
-            return round(p1, 1)
-        p0 = self.motor_position(motor, max(0.0, now - self.scheduler.period_s))
-        return round(p1 - p0, 3) if now > 0 else 0.0
+        m = self.motor(motor)
+        return registers.report_at(m.position, what, self.env.now, self.scheduler.period_s)
+
+    def motor_position_spec(self, motor: int) -> MotorSpec | None:
+        """What :meth:`motor_position` of ``motor`` is as a function of ``t`` alone while
+        nothing about its motion changes, as numbers and objects copied out of the present
+        state (:func:`motor_position_at` evaluates it: the sums of :meth:`_motor_base` over
+        :meth:`Execution.axis_position_spec`, plus the jog profile): data gathering reads the
+        servo cycles between two events with it (:mod:`.tasks.gather_readers`). None where
+        the axis positions have no such form (``#n->I``, move modes other than LINEAR)."""
+        profile = self.motor(motor).profile
+        have = self.motors.get(motor)
+        if have is None:
+            return None, 0.0, profile
+        d = axis_definitions.lookup(have[1])
+        if d.inverse:
+            return None
+        c = self.coord_systems[have[0]]
+        terms = []
+        for axis, scale in d.terms:
+            spec = c.axis_position_spec(axis)
+            if spec is None:
+                return None
+            terms.append((spec, scale))
+        return tuple(terms), d.offset, profile
 
     def set_motor_position(self, motor: int, counts: float) -> None:
         """Make motor ``motor``'s present position ``counts`` without motion: a write of its

@@ -5,7 +5,17 @@ run before NORMAL ones (the Trio servo pre-empts BASIC), each priority in the or
 """
 
 import simpy
-from motionsim.sim.simpy_adapter import URGENT, push_at, triggered_at, wake_at
+from motionsim.sim.simpy_adapter import (
+    NORMAL,
+    URGENT,
+    clear_pre_step,
+    next_eid,
+    pre_step,
+    push_at,
+    set_now,
+    triggered_at,
+    wake_at,
+)
 
 
 def test_events_run_at_the_exact_instant_urgent_first_then_in_push_order():
@@ -45,3 +55,32 @@ def test_push_at_places_a_triggered_event_on_the_queue():
     push_at(env, 0.25, ev)
     env.run()
     assert got == [(0.25, "x")]
+
+
+def test_pre_step_sees_each_events_queue_key_before_it_runs_until_cleared():
+    """What data gathering relies on: the hook gets the key of the event about to run
+    (``env.run`` and ``env.step`` both), may move the clock forward to an instant before it,
+    and a tie-break number taken in between orders after the events already queued."""
+    env = simpy.Environment()
+    seen: list[tuple[str, object]] = []
+    wake_at(env, 1.0, lambda ev: seen.append(("a", env.now)))
+    triggered_at(env, 1.0, lambda ev: seen.append(("u", env.now)))
+    virtual: list[int] = []
+
+    def hook(t: float, priority: int, eid: int) -> None:
+        seen.append(("hook", (t, priority)))
+        if not virtual:
+            virtual.append(next_eid(env))
+            assert virtual[0] > eid  # after everything queued so far
+            set_now(env, 0.5)
+            seen.append(("moved", env.now))
+
+    pre_step(env, hook)
+    env.step()
+    env.run(until=2.0)
+    clear_pre_step(env)
+    wake_at(env, 3.0, lambda ev: seen.append(("b", env.now)))
+    env.run()
+    assert seen == [("hook", (1.0, URGENT)), ("moved", 0.5), ("u", 1.0),
+                    ("hook", (1.0, NORMAL)), ("a", 1.0), ("hook", (2.0, URGENT)),
+                    ("b", 3.0)]

@@ -84,6 +84,59 @@ MOTOR_STEP = 0x80
 CS_STEP = 0x100
 
 
+#: Offsets of the motor registers from the motor's base ``$80·(xx−1)`` (table above).
+COMMANDED_POSITION = 0x88
+ACTUAL_POSITION = 0x8B
+FOLLOWING_ERROR = 0x91
+ACTUAL_VELOCITY = 0x9D
+#: ``X:$000000``, the servo cycle counter.
+SERVO_COUNTER = 0x000000
+
+#: ``(space, offset)`` -> what :func:`motor_register` names it.
+_MOTOR_REGISTERS = {("D", COMMANDED_POSITION): "P", ("D", ACTUAL_POSITION): "P",
+                    ("D", FOLLOWING_ERROR): "F", ("X", ACTUAL_VELOCITY): "V"}
+
+
+def motor_register(space: str, address: int) -> tuple[int, str] | None:
+    """``(motor, what)`` when ``space:address`` is a motor's position (``P``, commanded or
+    actual: the same value, following error 0), following-error (``F``) or velocity (``V``)
+    register of the table, in the units :func:`position_raw` / :func:`velocity_raw` give;
+    None otherwise. Data gathering (:mod:`motionsim.sim.pmac.tasks.gather_readers`) reads
+    these from the trajectory at each sample's instant instead of through the table."""
+    for (sp, offset), what in _MOTOR_REGISTERS.items():
+        motor, rest = divmod(address - offset, MOTOR_STEP)
+        if sp == space and rest == 0 and 0 <= motor < N_MOTORS:
+            return motor + 1, what
+    return None
+
+
+def report_at(position: Callable[[float], float], what: str, t: float, period_s: float) -> float:
+    """A motor's ``P`` / ``V`` / ``F`` report at ``t`` from its position function (counts):
+    ``P`` the position to 1/10 count, ``V`` counts per servo cycle averaged over the last
+    cycle (0 at t = 0), ``F`` the following error, 0 (the loop tracks perfectly ``[INF]``).
+    The controller's reports (:meth:`PmacController.motor_report`) and data gathering's
+    batch reads (:mod:`motionsim.sim.pmac.tasks.gather_readers`) both call this."""
+    if what == "F":
+        return 0.0
+    p1 = position(t)
+    if what == "P":
+        return round(p1, 1)
+    p0 = position(max(0.0, t - period_s))
+    return round(p1 - p0, 3) if t > 0 else 0.0
+
+
+def position_raw(counts_report: float, ixx08: float) -> int:
+    """A position register's raw value: the ``P`` report (counts to 1/10) in 1/(Ixx08·32)
+    counts."""
+    return round(counts_report * ixx08 * 32)
+
+
+def velocity_raw(velocity_report: float, ixx09: float) -> int:
+    """The velocity register's raw value: the ``V`` report (counts per servo cycle) in
+    1/(Ixx09·32) counts per cycle."""
+    return round(velocity_report * ixx09 * 32)
+
+
 def variable_jog_address(motor: int) -> int:
     """Where motor ``motor``'s variable jog register (Mxx72, a 48-bit float) sits."""
     return 0xD7 + MOTOR_STEP * (motor - 1)
@@ -100,22 +153,22 @@ def table(card: Card, set_position: Callable[[int, float], None] | None) -> dict
         out[("Y", 0xC0 + base)] = Register(lambda xx=xx: card.motor_status(xx)[1])
 
         def position(xx: int = xx) -> int:
-            return round(card.motor_report(xx, "P") * card.ivar(100 * xx + 8) * 32)
+            return position_raw(card.motor_report(xx, "P"), card.ivar(100 * xx + 8))
 
         def set_actual(raw: int, xx: int = xx) -> None:
             if set_position is not None:
                 set_position(xx, raw / (card.ivar(100 * xx + 8) * 32))
 
         def velocity(xx: int = xx) -> int:
-            return round(card.motor_report(xx, "V") * card.ivar(100 * xx + 9) * 32)
+            return velocity_raw(card.motor_report(xx, "V"), card.ivar(100 * xx + 9))
 
         def following_error(xx: int = xx) -> int:
-            return round(card.motor_report(xx, "F") * card.ivar(100 * xx + 8) * 32)
+            return position_raw(card.motor_report(xx, "F"), card.ivar(100 * xx + 8))
 
-        out[("D", 0x88 + base)] = Register(position)
-        out[("D", 0x8B + base)] = Register(position, set_actual)
-        out[("D", 0x91 + base)] = Register(following_error)
-        out[("X", 0x9D + base)] = Register(velocity)
+        out[("D", COMMANDED_POSITION + base)] = Register(position)
+        out[("D", ACTUAL_POSITION + base)] = Register(position, set_actual)
+        out[("D", FOLLOWING_ERROR + base)] = Register(following_error)
+        out[("X", ACTUAL_VELOCITY + base)] = Register(velocity)
     _timing(card, out)
     for x in range(1, N_CS + 1):
         base = CS_STEP * (x - 1)
@@ -134,7 +187,7 @@ def _timing(card: Card, out: dict[tuple[str, int], Register]) -> None:
     def phase_period() -> float:
         return card.task_shares()[2] / (card.ivar(7002) + 1)
 
-    out[("X", 0x000000)] = Register(lambda: card.servo_count() & 0xFFFFFF)
+    out[("X", SERVO_COUNTER)] = Register(lambda: card.servo_count() & 0xFFFFFF)
     out[("X", 0xFFFF8C)] = Register(lambda: half_cycles(phase_period()))
     out[("X", 0x000037)] = Register(lambda: 0)
     out[("Y", 0x000037)] = Register(
@@ -172,4 +225,7 @@ def for_controller(ctl: PmacController) -> dict[tuple[str, int], Register]:
     return table(_ControllerCard(ctl), getattr(ctl, "set_motor_position", None))
 
 
-__all__ = ["Card", "Register", "for_controller", "table"]
+__all__ = [
+    "Card", "Register", "for_controller", "motor_register", "position_raw", "report_at",
+    "table", "velocity_raw",
+]  # fmt: skip

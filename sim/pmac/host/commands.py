@@ -323,7 +323,7 @@ TABLE: Final[tuple[Command, ...]] = (
     Command(st.DeleteRotary, _of("delete_rotary")),
     Command(st.DefineGather, lambda c, s: c.ctl.define_gather(s.words)),
     Command(st.DeleteGather, lambda c, s: c.ctl.delete_gather()),
-    Command(st.Gather, lambda c, s: c.ctl.start_gather()),
+    Command(st.Gather, lambda c, s: c.ctl.start_gather(s.trigger)),
     Command(st.EndGather, lambda c, s: c.ctl.end_gather()),
     Command(st.DefineLookahead,
             lambda c, s: c.ctl.define_lookahead(c.state["cs"], s.segments, s.outputs)),

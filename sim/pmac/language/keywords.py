@@ -100,7 +100,7 @@ TABLE: Final[tuple[Keyword, ...]] = (
     _k("MFLUSH", builds=online_words.mflush, where="online"),
     # data gathering (TSRM p170-171, p307, p315; sim.pmac.tasks.gather)
     _k("GATHER", "GAT", builds=online_words.gather, where="online",
-       objects={"TRIGGER": False}, example="GATHER TRIGGER"),
+       objects={"TRIGGER": True}, example="GATHER TRIGGER"),
     _k("ENDGATHER", "ENDG", "END GATHER", "END GAT", "ENDGAT", builds=online_words.endgather,
        where="online"),
     _k("SAVE", builds=online_words.save, where="online"),

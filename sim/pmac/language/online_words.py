@@ -104,11 +104,11 @@ def list_(p: Any, tok: Token) -> Any:
 
 
 def gather(p: Any, tok: Token) -> Any:
-    """``GATHER``; ``GATHER TRIGGER`` is valid and answered ``not_simulated`` (its trigger
-    condition was not found in the Turbo SRM pages searched, docs/pmac.md)."""
+    """``GATHER`` / ``GATHER TRIGGER`` (:mod:`motionsim.sim.pmac.tasks.gather`)."""
     nxt = p.peek()
     if nxt is not None and nxt[0] == "word" and OBJECTS.get(nxt[1]) == "TRIGGER":
-        raise p.not_simulated("GATHER TRIGGER", tok)
+        p.take()
+        return st.Gather(trigger=True)
     return st.Gather()
 
 

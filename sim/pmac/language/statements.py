@@ -65,8 +65,11 @@ class DeleteGather:
 
 @dataclass(frozen=True, slots=True)
 class Gather:
-    """``GATHER`` (``GAT``): start data gathering at the next servo cycle
+    """``GATHER`` (``GAT``): start data gathering at the next servo cycle; ``GATHER
+    TRIGGER``: at the servo cycle that finds the gathering trigger input risen
     (:mod:`motionsim.sim.pmac.tasks.gather`)."""
+
+    trigger: bool = False
 
 
 @dataclass(frozen=True, slots=True)

@@ -47,8 +47,10 @@ import functools
 from typing import TYPE_CHECKING
 
 from ...simpy_adapter import cancel, supersede
+from ..buffers.motion import position_at
 from ..card.variables import ixx
 from ..modes import BLENDS, DELAY, DWELL, LINEAR, PROFILES, SPLINE, Move
+from ..modes import linear as linear_mode
 from ..modes.home import HomeMove
 from ..modes.pset import PsetMove
 from ..tasks.scheduler import first_rti_after, servo_at_or_after, wake_at
@@ -497,5 +499,55 @@ class Execution(CoordState):
             return self._abort.positions(t)
         return PROFILES[m.kind].positions(m, t)
 
+    def axis_position_spec(self, axis: str) -> AxisSpec | None:
+        """What ``positions(t).get(axis, 0.0)`` is as a function of ``t`` alone while nothing
+        about the motion changes, as numbers copied out of the present state
+        (:func:`axis_position_at` evaluates it): data gathering
+        (:mod:`motionsim.sim.pmac.tasks.gather_readers`) uses it for the servo cycles between
+        two events. A float for a CS at rest (or an axis the move does not name); the
+        arguments of the :func:`~motionsim.sim.pmac.buffers.motion.position_at` call
+        :class:`~motionsim.sim.pmac.modes.linear.BlendedProfile` makes for a blended LINEAR
+        move without arc offsets; None for anything else (other modes, an ``A`` stop, a
+        frozen time base), which the caller reads through :meth:`positions` instead."""
+        if self.feed_override == 0:
+            return None
+        m = self.current
+        if m is None:
+            return self.rest_pos.get(axis, 0.0)
+        if self._abort is not None or PROFILES[m.kind] is not linear_mode.PROFILE:
+            return None
+        prev = m.prev
+        if m.arc is not None or (prev is not None and prev.arc is not None):
+            return None
+        if axis not in m.end:
+            return 0.0
+        return (m.start.get(axis, 0.0), m.v.get(axis, 0.0), m.b_start, m.ta_in,
+                m.v_prev.get(axis, 0.0), m.b_end if m.stopping else None, m.ta_out)
 
-__all__ = ["Execution"]
+
+    def axis_spec_key(self) -> tuple[object, ...]:
+        """Everything :meth:`axis_position_spec` reads that may change while this CS runs,
+        compared by value or identity: equal keys give equal specs, so a caller may keep the
+        specs it has (data gathering does at every event). A move's start / end points,
+        kind and arc never change once it is calculated."""
+        m = self.current
+        if m is None:
+            return (self.feed_override, None, self.rest_pos)
+        prev = m.prev
+        return (self.feed_override, m, self._abort, m.b_start, m.b_end, m.ta_in, m.ta_out,
+                m.stopping, m.tm, m._v, prev, None if prev is None else prev._v,
+                None if prev is None else prev.tm)
+
+
+#: :meth:`Execution.axis_position_spec`: a constant position, or ``position_at``'s arguments.
+AxisSpec = float | tuple[float, float, float, float, float, float | None, float]
+
+
+def axis_position_at(spec: AxisSpec, t: float) -> float:
+    """The axis position at ``t`` an :meth:`Execution.axis_position_spec` describes."""
+    if isinstance(spec, float):
+        return spec
+    return position_at(t, *spec)
+
+
+__all__ = ["AxisSpec", "Execution", "axis_position_at"]

@@ -31,8 +31,12 @@ the corpora searched, so this part is ``[BK]``/``[INF]`` and says so in docs/pma
   I5049 = 0, after the one sample. Each ``GATHER`` records from the start of the buffer
   ``[INF]``. A selected source the simulator does not model (:meth:`MVariables.holds`) is
   refused at ``GATHER`` naming it (ERR003), never gathered as zeros; so are no selected
-  source, no gather buffer, and ``GATHER`` while one runs ``[INF]``. ``GATHER TRIGGER`` is
-  answered ``not_simulated``.
+  source, no gather buffer, and ``GATHER`` while one runs ``[INF]``.
+* ``GATHER TRIGGER`` ``[INF]`` (its text was not found either): latched and rewound as
+  ``GATHER``, but armed: the trigger input (:data:`TRIGGER_INPUT`, the Geo Brick's first
+  general-purpose input) is polled at every servo cycle from the next one on, and the first
+  cycle that finds it high after a poll (or the command) found it low takes the first sample;
+  then as ``GATHER``. Armed counts as gathering in progress; ``ENDGATHER`` disarms.
 * A sample is the selected sources in order I5001..I5048: a 24-bit source one 24-bit word, a
   48-bit source two (low half first); the buffer holds them two to a long word, and a sample
   with an odd number of 24-bit words is padded with one word (0 here) so each sample starts
@@ -44,14 +48,28 @@ the corpora searched, so this part is ``[BK]``/``[INF]`` and says so in docs/pma
   48-bit source on its own long word reads as its own 12 digits. Eight words to a line,
   separated by blanks ``[INF]``. A wrapped buffer lists all its slots in memory order.
 
-Cost: nothing while no gather runs (no SimPy event); while one runs, one wake-up per sample
-(:func:`motionsim.sim.simpy_adapter.wake_at`, re-used), reading the registers through card
-memory (:mod:`motionsim.sim.pmac.card.registers`, the one home of what an address shows).
-Each start and stop is a ``gather`` event.
+Cost: nothing while no gather runs (no SimPy event, no hook). While one runs there is no
+wake-up per sample either: :func:`motionsim.sim.simpy_adapter.pre_step` calls
+:meth:`Gather._before_event` before each event the simulation processes, and it records the
+samples whose wake-ups a per-cycle sampler would have processed first — the pending one if its
+queue key (its instant, normal priority, the tie-break number its wake-up would have drawn)
+orders before the event's, then every later one strictly before the event's instant — as one
+batch. Nothing but time changes between two events, so a batch keeps only what its sources
+depend on (:class:`.gather_readers.Plan`'s key), and is merged into the previous one when the
+key is unchanged; values are computed when the buffer is read (``LIST GATHER``,
+:meth:`recording`), only for the samples a wrapped buffer still holds. Sources without a
+batch form (status words, the timing registers, motors under kinematics or in other move
+modes) are read through card memory (:mod:`motionsim.sim.pmac.card.registers`, the one home
+of what an address shows) at each sample's instant inside the batch, the clock set to it.
+:attr:`Gather.per_cycle` keeps the per-cycle sampler (a wake-up per sample, every read
+through card memory) as the reference ``tests/sim/pmac/test_gather_batches.py`` pins the
+batches to. Each start and stop is a ``gather`` event (and an ``armed`` one for
+``GATHER TRIGGER``).
 """
 
 from __future__ import annotations
 
+from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Final
@@ -60,10 +78,20 @@ import simpy
 
 from ...errors import Conflict
 from ...recording import Recording as SharedRecording
-from ...simpy_adapter import Wake, cancel, wake_at
+from ...simpy_adapter import (
+    NORMAL,
+    Wake,
+    cancel,
+    clear_pre_step,
+    next_eid,
+    pre_step,
+    set_now,
+    wake_at,
+)
 from ...timing import ServoClock
 from ..card import pmac_float
 from ..card.mvars import MVariables
+from .gather_readers import Plan
 
 #: First hex digit of I50nn -> (memory space read, bits). ``L`` reads the 48 bits as ``D``
 #: does; the host interprets them as a float (module docstring).
@@ -73,6 +101,27 @@ N_SOURCES: Final = 48
 WORDS_PER_LINE: Final = 8
 _WORD: Final = 0xFFFFFF
 _LONG: Final = (1 << 48) - 1
+
+
+#: ``GATHER TRIGGER``'s trigger input ``(space, address, bit)``: the Geo Brick's first
+#: general-purpose input (``IN1``, Y:$078800 bit 0; plain memory here, set with ``W`` or an
+#: M-variable) ``[INF]`` — the Turbo SRM's ``GATHER`` page was not in the corpora searched.
+TRIGGER_INPUT: Final = ("Y", 0x078800, 0)
+TRIGGER_INPUT_NAME: Final = "Y:$078800,0"
+
+
+def _count_before(period_s: float, k: int, period: int, t_e: float) -> int:
+    """How many of cycles ``k``, ``k + period``, .. come before ``t_e``: the first always
+    (the caller checked it), the others at an instant (``ServoClock.t``: the cycle times
+    ``period_s``) strictly before ``t_e``."""
+    j = int((t_e / period_s - k) / period)
+    if j < 0:
+        j = 0
+    while (k + (j + 1) * period) * period_s < t_e:
+        j += 1
+    while j > 0 and (k + j * period) * period_s >= t_e:
+        j -= 1
+    return j + 1
 
 
 def _err(message: str) -> Conflict:
@@ -165,17 +214,26 @@ class Gather:
         emit: the event log's ``emit``.
         at_one_instant: runs a sample's reads as one instant's (the controller computes
             each CS's positions once for all of them); plain call if None.
+        plan: makes the batch plan of a ``GATHER``'s sources (:mod:`.gather_readers`);
+            None: every source is read through card memory at each sample.
     """
+
+    #: True: one wake-up per sample, reads through card memory (the reference the batched
+    #: samples are pinned to, ``tests/sim/pmac/test_gather_batches.py``).
+    per_cycle = False
 
     def __init__(self, env: simpy.Environment, clock: ServoClock, ivar: Callable[[int], float],
                  memory: MVariables, emit: Callable[..., Any],
-                 at_one_instant: Callable[[Callable[[], Any]], Any] | None = None) -> None:
+                 at_one_instant: Callable[[Callable[[], Any]], Any] | None = None,
+                 plan: Callable[[tuple[Source, ...], int], Plan] | None = None) -> None:
         self._env = env
         self._at_one_instant = at_one_instant or (lambda read: read())
         self._clock = clock
+        self._period_s = clock.period_s
         self._ivar = ivar
         self._memory = memory
         self._emit = emit
+        self._make_plan = plan
         #: Long words reserved by DEFINE GATHER; None: no buffer.
         self.words: int | None = None
         self.running = False
@@ -184,10 +242,18 @@ class Gather:
         self._wrap = False
         self._capacity = 0
         self._longs = 1
-        self._slots: list[tuple[int, tuple[int, ...]]] = []  # (cycle, values) by memory slot
+        #: (cycle, values) by memory slot
+        self._slots: list[tuple[int, tuple[Any, ...]]] = []
         self._stored = 0  # samples stored since GATHER (beyond capacity when wrapped)
         self._next_k = 0
         self._wake: Wake | None = None
+        #: Samples recorded but not yet computed, oldest first: (first sample number, first
+        #: cycle, count, the plan's key, or the rows read through card memory).
+        self._batches: deque[list[Any]] = deque()
+        self._plan: Plan | None = None
+        self._eid = 0  # queue tie-break of the next (virtual) sample or trigger poll
+        self._armed = False  # GATHER TRIGGER waiting for its trigger
+        self._level = 0  # the trigger input at the last poll
 
     # -- buffer -----------------------------------------------------------------------------
 
@@ -195,21 +261,24 @@ class Gather:
         """``DEFINE GATHER`` of ``words`` long words (the caller checks memory)."""
         self._refuse_while_running("DEFINE GATHER")
         self.words = words
-        self._slots = []
-        self._stored = 0
-        self._sources = ()
+        self._clear()
 
     def delete(self) -> None:
         """``DELETE GATHER``."""
         self._refuse_while_running("DELETE GATHER")
         self.words = None
+        self._clear()
+
+    def _clear(self) -> None:
         self._slots = []
+        self._batches.clear()
         self._stored = 0
         self._sources = ()
 
     def detach(self) -> None:
         """Power-down: a pending sample does nothing."""
         cancel(self._wake)
+        clear_pre_step(self._env)
         self.running = False
 
     def _refuse_while_running(self, what: str) -> None:
@@ -227,8 +296,11 @@ class Gather:
                 out.append(decode_source(n, self._ivar(5000 + n)))
         return tuple(out)
 
-    def start(self) -> None:
-        """``GATHER``: latch the set-up and take the first sample at the next servo cycle.
+    def start(self, trigger: bool = False) -> None:
+        """``GATHER``: latch the set-up and take the first sample at the next servo cycle;
+        with ``trigger`` (``GATHER TRIGGER``) at the first servo cycle from the next on that
+        finds the trigger input (:data:`TRIGGER_INPUT`) high after one that found it low
+        (or after the command found it low) ``[INF]``.
 
         Raises:
             Conflict: ERR003 — no buffer, already gathering, nothing selected, a source
@@ -252,15 +324,36 @@ class Gather:
         self._period = int(self._ivar(5049))
         self._wrap = int(self._ivar(5000)) in (1, 3)
         self._slots = []
+        self._batches.clear()
         self._stored = 0
         self.running = True
         self._next_k = self._clock.after(self._env.now)
-        self._emit("gather", state="started", sources=[s.name for s in sources],
-                   period=self._period, capacity=self._capacity)
+        self._armed = trigger and self._capacity > 0
+        if self._armed:
+            self._level = self._trigger_input()
+            self._emit("gather", state="armed", input=TRIGGER_INPUT_NAME)
+        else:
+            self._started()
         if self._capacity == 0:
             self._stop("full")
             return
-        self._wake = wake_at(self._env, self._clock.t(self._next_k), self._sample, self._wake)
+        if self.per_cycle:
+            self._wake = wake_at(self._env, self._clock.t(self._next_k),
+                                 self._poll if self._armed else self._sample, self._wake)
+            return
+        make_plan = self._make_plan
+        self._plan = make_plan(sources, self._period) if make_plan is not None else None
+        self._eid = next_eid(self._env)  # where the first sample's wake-up would queue
+        pre_step(self._env, self._before_event)
+
+    def _started(self) -> None:
+        self._armed = False
+        self._emit("gather", state="started", sources=[s.name for s in self._sources],
+                   period=self._period, capacity=self._capacity)
+
+    def _trigger_input(self) -> int:
+        space, address, bit = TRIGGER_INPUT
+        return self._memory.word(space, address) >> bit & 1
 
     def end(self) -> None:
         """``ENDGATHER``: stop; what was gathered stays for ``LIST GATHER``."""
@@ -270,18 +363,40 @@ class Gather:
 
     def _stop(self, reason: str) -> None:
         self.running = False
+        self._armed = False
+        clear_pre_step(self._env)
         self._emit("gather", state="stopped", reason=reason, samples=min(self._stored,
                                                                          self._capacity))
 
-    def _sample(self, _event: Any) -> None:
-        if not self.running:
-            return
+    def _read(self) -> tuple[int, ...]:
+        """The selected sources now, through card memory (the per-cycle reads)."""
         memory = self._memory
         sources = self._sources
         values: tuple[int, ...] = self._at_one_instant(lambda: tuple(
             memory.long(s.address) if s.bits == 48 else memory.word(s.space, s.address)
             for s in sources
         ))
+        return values
+
+    def _poll(self, _event: Any) -> None:
+        """The per-cycle reference of an armed ``GATHER TRIGGER``: the trigger input read at
+        every servo cycle; the cycle that finds it risen takes the first sample."""
+        if not self.running:
+            return
+        level = self._trigger_input()
+        if level and not self._level:
+            self._started()
+            self._sample(_event)
+            return
+        self._level = level
+        self._next_k += 1
+        self._wake = wake_at(self._env, self._clock.t(self._next_k), self._poll, self._wake)
+
+    def _sample(self, _event: Any) -> None:
+        """The per-cycle reference: one wake-up per sample (:attr:`per_cycle`)."""
+        if not self.running:
+            return
+        values = self._read()
         k = self._next_k
         slot = self._stored % self._capacity
         if slot < len(self._slots):
@@ -298,10 +413,116 @@ class Gather:
         self._next_k = k + self._period
         self._wake = wake_at(self._env, self._clock.t(self._next_k), self._sample, self._wake)
 
+    def _before_event(self, t_e: float, priority: int, eid: int) -> None:
+        """Record the samples whose wake-ups a per-cycle sampler would process before the
+        event at queue key ``(t_e, priority, eid)``: the pending one if it orders first,
+        then every later one strictly before ``t_e`` (their wake-ups would be queued after
+        the event was). Nothing but time changes in between, so one capture per source
+        serves the whole batch (:mod:`.gather_readers`)."""
+        k = self._next_k
+        t = k * self._period_s  # clock.t(k)
+        if t > t_e or (t == t_e and (priority < NORMAL or (priority == NORMAL
+                                                           and eid < self._eid))):
+            return
+        if self._armed:
+            # The polls of the trigger input before the event all read what it holds now.
+            level = self._trigger_input()
+            if not (level and not self._level):
+                self._level = level
+                self._next_k = k + _count_before(self._period_s, k, 1, t_e)
+                self._eid = next_eid(self._env)
+                return
+            set_now(self._env, t)
+            self._started()  # the first poll finds it risen: that cycle's sample is next
+        period = self._period
+        n = 1
+        if period > 0:
+            n = _count_before(self._period_s, k, period, t_e)
+        if not self._wrap:
+            n = min(n, self._capacity - self._stored)
+        self._record(k, n)
+        if period == 0 or (self._stored >= self._capacity and not self._wrap):
+            set_now(self._env, (k + (n - 1) * period) * self._period_s)  # the last sample's
+            self._stop("single" if period == 0 else "full")
+            return
+        self._next_k = k + n * period
+        self._eid = next_eid(self._env)
+
+    def _record(self, k: int, n: int) -> None:
+        """Samples ``k``, ``k + period`` .. (``n`` of them) as one batch: the plan's key (merged
+        into the last batch when that ends just before with the same key), or, when some
+        source has no batch form now, every sample read through card memory at its instant
+        (those of the batch a wrapped buffer keeps)."""
+        env, clock, period = self._env, self._clock, self._period
+        first = self._stored
+        self._stored = first + n
+        plan = self._plan
+        batches = self._batches
+        key = plan.key() if plan is not None else None
+        if batches:
+            last = batches[-1]
+            if last[3] is key and key is not None and last[0] + last[2] == first \
+                    and last[1] + last[2] * period == k:
+                last[2] += n  # same key object: nothing changed since that batch
+                if self._wrap:
+                    self._prune()
+                return
+        if plan is not None and key is not None and not plan.per_sample(key):
+            batches.append([first, k, n, key, []])
+        else:
+            skip = max(0, n - self._capacity) if self._wrap else 0
+            rows: list[tuple[int, ...]] = [()] * skip
+            for j in range(skip, n):
+                set_now(env, clock.t(k + j * period))
+                rows.append(self._read())
+            batches.append([first, k, n, None, rows])
+        if self._wrap:
+            self._prune()
+
+    def _prune(self) -> None:
+        """Forget batches a wrapped buffer has overwritten entirely."""
+        if self._wrap:
+            oldest = self._stored - self._capacity
+            batches = self._batches
+            while batches and batches[0][0] + batches[0][2] <= oldest:
+                batches.popleft()
+
+    def _materialize(self) -> None:
+        """Compute the recorded batches into their slots (those a wrapped buffer still
+        holds)."""
+        batches = self._batches
+        if not batches:
+            return
+        capacity, period, plan = self._capacity, self._period, self._plan
+        slots = self._slots
+        oldest = self._stored - capacity if self._wrap else 0
+        if self._stored > capacity and len(slots) < capacity:
+            slots.extend([(0, ())] * (capacity - len(slots)))
+        kept = [(first, k, max(0, oldest - first), n, key, rows)
+                for first, k, n, key, rows in batches]
+        batches.clear()
+        keyed = [(key, k, j0, n) for _, k, j0, n, key, _ in kept if key is not None]
+        computed = iter(plan.evaluate(keyed) if plan is not None and keyed else [])
+        for first, k, j0, n, key, rows in kept:
+            values = next(computed) if key is not None else rows[j0:]
+            cycles = range(k + j0 * period, k + n * period, period) if period else [k] * (n - j0)
+            pairs = list(zip(cycles, values, strict=True))
+            at = (first + j0) % capacity  # the slots they go to: at.., wrapping at capacity
+            while pairs:
+                room = capacity - at
+                part, pairs = pairs[:room], pairs[room:]
+                end = at + len(part)
+                if at == len(slots):
+                    slots.extend(part)
+                else:
+                    slots[at:end] = part
+                at = 0
+
     # -- reading ----------------------------------------------------------------------------
 
     def recording(self) -> Recording:
         """The samples in time order (wrapped: the newest ``capacity`` of them)."""
+        self._materialize()
         slots = self._slots
         if self._stored > self._capacity:
             head = self._stored % self._capacity
@@ -332,6 +553,7 @@ class Gather:
         """
         if self.words is None:
             raise _err("no gather buffer is defined (DEFINE GATHER)")
+        self._materialize()
         tokens: list[str] = []
         for _, values in self._slots:  # memory order (wrapped: slot 0 on, not time order)
             w = self.words24(values)

@@ -270,13 +270,67 @@ def test_an_m_variable_address_is_a_gather_source(rig):
     assert values[0] == 0 and values[-1] == 42 and values == sorted(values)
 
 
-@pytest.mark.parametrize("text", ["GATHER TRIGGER", "GAT TRIGGER"])
-def test_gather_trigger_is_answered_not_simulated(rig, text):
+@pytest.mark.parametrize("text", ["GATHER TRIGGER", "GAT TRIGGER", "gather trigger"])
+def test_gather_trigger_waits_for_the_trigger_input_to_rise(memory_rig, text):
+    """``GATHER TRIGGER`` (TSRM on-line ``GATHER``; the page was not found, the trigger is
+    ``[INF]``, docs/pmac.md): armed at the command, nothing gathered while the trigger input
+    (Y:$078800 bit 0) stays low; the servo cycle that finds it risen takes the first sample,
+    then every I5049 cycles as ``GATHER``."""
+    rig = memory_rig
+    rig.ok("I5001=$001000 I5050=1 I5049=2")
     rig.ok("DEFINE GATHER 100")
-    reply = rig.cmd(text)
-    assert reply.error == "ERR003"
-    assert rig.c._terminal.detail[0] == "not_simulated"
-    assert not rig.c.gather.running
+    since = rig.c.log.last_seq
+    rig.ok(text)
+    (_, armed), = gather_events(rig, since)
+    assert armed == {"state": "armed", "input": "Y:$078800,0"}
+    assert rig.c.gather.running
+    rig.run_for(20 * rig.period)
+    assert rig.c.gather.recording().cycles == ()
+    rig.ok("WY:$078800,$10")  # another input: no trigger
+    rig.run_for(5 * rig.period)
+    assert rig.c.gather.recording().cycles == ()
+    rig.ok("WY:$078800,$11")
+    t_edge = rig.c.env.now
+    rig.run_for(10 * rig.period)
+    rig.ok("ENDGATHER")
+    events = gather_events(rig, since)
+    k_start, started = events[1]
+    assert started == {"state": "started", "sources": ["I5001"], "period": 2,
+                       "capacity": 100}
+    rec = rig.c.gather.recording()
+    # the write is answered on a servo cycle; that cycle's interrupt (after the write in
+    # queue order) or the next one finds the input high
+    assert k_start - rig.cyc(t_edge) in (0, 1)
+    assert rec.cycles[0] == k_start
+    assert list(rec.cycles) == list(range(k_start, rec.cycles[-1] + 1, 2))
+    assert set(rec.values) == {(0x123456,)}
+
+
+def test_gather_trigger_needs_a_rising_edge_and_endgather_disarms_it(memory_rig):
+    """An input already high at ``GATHER TRIGGER`` does not trigger until it has been low
+    ``[INF]``; ``ENDGATHER`` while armed stops with no sample, and the buffer may be
+    deleted then (TSRM p315: gathering is no longer in progress)."""
+    rig = memory_rig
+    rig.ok("I5001=$001000 I5050=1 I5049=1")
+    rig.ok("DEFINE GATHER 100")
+    rig.ok("WY:$078800,1")
+    rig.ok("GATHER TRIGGER")
+    rig.run_for(10 * rig.period)
+    assert rig.c.gather.recording().cycles == ()
+    assert rig.cmd("DELETE GATHER").error == "ERR003"  # armed: in progress
+    rig.ok("WY:$078800,0")
+    rig.run_for(3 * rig.period)
+    rig.ok("WY:$078800,1")
+    rig.run_for(3 * rig.period)
+    assert len(rig.c.gather.recording().cycles) >= 2
+    rig.ok("ENDGATHER")
+    rig.ok("GATHER TRIGGER")
+    rig.run_for(5 * rig.period)
+    since = rig.c.log.last_seq
+    rig.ok("ENDGATHER")
+    (_, stopped), = gather_events(rig, since)
+    assert stopped == {"state": "stopped", "reason": "endgather", "samples": 0}
+    rig.ok("DELETE GATHER")
 
 
 @pytest.mark.parametrize("text", ["END GATHER", "END Gat", "end gather", "ENDGATHER", "ENDG"])
