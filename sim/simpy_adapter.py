@@ -18,8 +18,8 @@ import simpy
 from simpy.events import NORMAL, URGENT, EventPriority
 
 __all__ = [
-    "NORMAL", "URGENT", "Wake", "cancel", "pending", "push_at", "supersede", "triggered_at",
-    "wake_at",
+    "NORMAL", "URGENT", "Due", "Wake", "cancel", "pending", "push_at", "succeed_at", "supersede",
+    "triggered_at", "urgent_at", "wake_at",
 ]  # fmt: skip
 
 Callback = Callable[[Any], None]
@@ -103,3 +103,43 @@ def triggered_at(env: simpy.Environment, t: float, fn: Callback,
     ev.callbacks.append(fn)
     push_at(env, t, ev, priority)
     return ev
+
+
+class _UrgentWake(simpy.events.Event):
+    """An already-triggered ``URGENT`` event processed at the absolute instant ``t``."""
+
+    _value = None
+    _ok = True
+
+    def __init__(self, env: simpy.Environment, t: float, fn: Callback) -> None:
+        self.env = env
+        self.callbacks = [fn]
+        heappush(env._queue, (t, URGENT, next(env._eid), self))
+
+
+def urgent_at(env: simpy.Environment, t: float, fn: Callback) -> None:
+    """Call ``fn(event)`` at the instant ``t`` with ``URGENT`` priority: what
+    :func:`triggered_at` does with its default priority, in one allocation and no
+    call beyond it (the Trio servo interrupt, once per servo period that does something)."""
+    _UrgentWake(env, t, fn)
+
+
+class Due(simpy.events.Event):
+    """An already-triggered event processed at the absolute instant ``t``, for a process to
+    yield: ``env.timeout(t - now)`` in one call (same queue entry: ``NORMAL``, next ``eid``)."""
+
+    _value = None
+    _ok = True
+
+    def __init__(self, env: simpy.Environment, t: float) -> None:
+        self.env = env
+        self.callbacks = []
+        heappush(env._queue, (t, NORMAL, next(env._eid), self))
+
+
+def succeed_at(env: simpy.Environment, event: simpy.events.Event, t: float) -> None:
+    """Trigger the pending ``event`` (value None) so that it is processed at the instant ``t``
+    (``NORMAL``): what its ``succeed()`` does for the present instant."""
+    event._ok = True
+    event._value = None
+    heappush(env._queue, (t, NORMAL, next(env._eid), event))

@@ -66,6 +66,7 @@ when moves start, and a period is scheduled only when a buffer can move on.
 
 from __future__ import annotations
 
+import math
 from collections import deque
 from collections.abc import Callable
 from typing import Any
@@ -73,7 +74,7 @@ from typing import Any
 import simpy
 
 from ...events import EventLog
-from ...simpy_adapter import URGENT, triggered_at
+from ...simpy_adapter import urgent_at
 from ...timing import ServoClock
 from ..card.basic_errors import BasicError
 from ..card.scaling import nearest_edge
@@ -98,7 +99,7 @@ def schedule_at(env: simpy.Environment, t: float, callback: Callable[[Any], None
     offers relative delays, and ``now + (t - now)`` can miss ``t`` by a rounding step; the
     event is therefore pushed at ``t`` itself so every servo instant is exactly ``k * period``.
     """
-    triggered_at(env, t, callback, URGENT)
+    urgent_at(env, t, callback)
 
 
 class Waiter:
@@ -233,7 +234,7 @@ class MotionBuffers(AxisGuards):
         if p in self.process_buffer:
             return None
         self._pb_put(p, move)
-        self._tick_at(self.clock.after(self.env.now))
+        self._tick_at(self.clock.after(self.env._now))
         return "process_buffer"
 
     def place_or_wait(self, move: Move, on_placed: OnPlaced) -> Placed | Waiter:
@@ -271,7 +272,7 @@ class MotionBuffers(AxisGuards):
     def _reschedule_end(self, m: Move, now_k: int) -> None:
         """The move's profile changed at period ``now_k``: end it where the profile ends."""
         assert m.profile is not None
-        if m.profile.duration == float("inf"):
+        if m.profile.duration == math.inf:
             if m.end_tick is not None:
                 old = self._ending.get(m.end_tick)
                 if old and m in old:
@@ -409,10 +410,11 @@ class MotionBuffers(AxisGuards):
     # -- the servo period ------------------------------------------------------------------
 
     def _tick_at(self, k: int) -> None:
-        if k in self._ticks:
+        ticks = self._ticks
+        if k in ticks:
             return
-        self._ticks.add(k)
-        schedule_at(self.env, self.clock.t(k), lambda _ev: self._servo(k))
+        ticks.add(k)
+        urgent_at(self.env, self.clock.t(k), lambda _ev: self._servo(k))  # schedule_at
 
     def _kick(self) -> None:
         """Something may move on at the next servo period: make sure that period runs."""
@@ -572,7 +574,8 @@ class MotionBuffers(AxisGuards):
             self._tick_at(k + 1)
 
     def _begin(self, m: Move, k: int) -> None:
-        axes = [self.axes[a] for a in m.axes]
+        ms = m.axes
+        axes = [self.axes[ms[0]]] if len(ms) == 1 else [self.axes[a] for a in ms]
         prev = self._merged_from.pop(m, None) if self._merged_from else None
         if prev is None:
             m.begin(k, self.clock.t(k), axes)
@@ -581,9 +584,9 @@ class MotionBuffers(AxisGuards):
         prof = m.profile
         assert prof is not None
         emit = self.log.emit
-        for a in m.axes:
+        for a in ms:
             emit("move_start", axis=a, mtype=m.mtype)
-        if prof.duration != float("inf"):
+        if prof.duration != math.inf:
             if prev is None:
                 self._end_at(m, k + max(1, self.clock.cycles(prof.duration)))
             else:
@@ -593,7 +596,7 @@ class MotionBuffers(AxisGuards):
             self._try_merge(base.ntype)
         if type(m) is not Move and m.needs_tick():
             self._links[m] = None
-        self._guard_move(m, k)
+        self._guard_move(m, k, axes)
 
     def _link_successor(self, m: Move) -> LinkedMove | None:
         """The CAMBOX / MOVELINK waiting in NTYPE behind the CAMBOX / MOVELINK ``m`` that ended
