@@ -69,6 +69,7 @@ from __future__ import annotations
 import math
 from collections import deque
 from collections.abc import Callable
+from functools import partial
 from typing import Any
 
 import simpy
@@ -225,16 +226,18 @@ class MotionBuffers(AxisGuards):
 
     # -- placement -------------------------------------------------------------------------
 
-    def place(self, move: Move) -> Placed | None:
+    def place(self, move: Move, next_tick: int | None = None) -> Placed | None:
         """Write ``move`` into its process buffer (PMOVE = 1), or None when that is full.
 
-        The next servo interrupt transfers it to NTYPE / MTYPE (see the module docstring).
+        The next servo interrupt transfers it to NTYPE / MTYPE (see the module docstring);
+        ``next_tick``: that interrupt's period when the caller knows it (a servo period
+        placing a waiting move: the following one).
         """
         p = move.process
         if p in self.process_buffer:
             return None
         self._pb_put(p, move)
-        self._tick_at(self.clock.after(self.env._now))
+        self._tick_at(self.clock.after(self.env._now) if next_tick is None else next_tick)
         return "process_buffer"
 
     def place_or_wait(self, move: Move, on_placed: OnPlaced) -> Placed | Waiter:
@@ -414,7 +417,7 @@ class MotionBuffers(AxisGuards):
         if k in ticks:
             return
         ticks.add(k)
-        urgent_at(self.env, self.clock.t(k), lambda _ev: self._servo(k))  # schedule_at
+        urgent_at(self.env, self.clock.t(k), partial(self._servo, k))  # schedule_at
 
     def _kick(self) -> None:
         """Something may move on at the next servo period: make sure that period runs."""
@@ -444,7 +447,9 @@ class MotionBuffers(AxisGuards):
             return True
         return any(q and p not in self.process_buffer for p, q in self._waiters.items())
 
-    def _servo(self, k: int) -> None:
+    def _servo(self, k: int, _event: Any = None) -> None:
+        """Servo period ``k`` (the interrupt's event ``_event``): the steps of the module
+        docstring."""
         self._ticks.discard(k)
         if self._dead:
             return
@@ -502,7 +507,8 @@ class MotionBuffers(AxisGuards):
         # 3. the MTYPE moves advance: a software limit hit now ramps its move down; those whose
         # profile is complete end now (a CAMBOX or MOVELINK when its link axis has covered the
         # link distance)
-        self._guards_due(k)
+        if self._limit_at or self._limit_watch or self._fe_watch:  # a guard armed (guards.py)
+            self._guards_due(k)
         if self._links:
             t = self.clock.t(k)
             for lm in list(self._links):
@@ -564,7 +570,7 @@ class MotionBuffers(AxisGuards):
                     w = q.popleft()
                     if not w.alive:
                         continue
-                    placed = self.place(w.move)
+                    placed = self.place(w.move, k + 1)
                     assert placed is not None
                     w.alive = False
                     w.on_placed(placed)
