@@ -18,8 +18,8 @@ are taken over a window, after a warm-up, in which every one of them is streamin
 The load generator is this process (asyncio, one connection per controller); the service runs
 in its own process (``served.py``) with ``MOTIONSIM_MAX_CONTROLLERS`` raised to fit them.
 
-    .venv/bin/python bench/bench_many_controllers.py [--controllers 100] [--batch 100]
-        [--warmup 3] [--window 10]
+    .venv/bin/python bench/bench_many_controllers.py [--controllers 100] [--batch 50]
+        [--warmup 3] [--window 15]
 
 Writes ``bench/results/many_controllers.json``.
 """
@@ -86,11 +86,14 @@ async def _run(url: str, tag: str, n: int, batch: int, warmup_s: float,
     clients = [httpx.AsyncClient(base_url=url, trust_env=False, timeout=600, limits=limits)
                for _ in range(n)]
     try:
-        bases = [await _make(http, f"{tag}{i}") for i, http in enumerate(clients)]
+        bases = await asyncio.gather(*(_make(http, f"{tag}{i}")
+                                       for i, http in enumerate(clients)))
         start, stop = asyncio.Event(), asyncio.Event()
         tasks = [asyncio.create_task(_stream(http, base, batch, start, stop))
                  for http, base in zip(clients, bases, strict=True)]
-        await asyncio.sleep(0.2)
+        # every connection used just before the start (none idles into the server's
+        # keep-alive timeout while the others are made)
+        await asyncio.gather(*(http.get("/health") for http in clients))
         start.set()
         await asyncio.sleep(warmup_s)
         w0 = time.perf_counter()
@@ -119,9 +122,9 @@ async def _run(url: str, tag: str, n: int, batch: int, warmup_s: float,
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--controllers", type=int, default=100)
-    ap.add_argument("--batch", type=int, default=100)
+    ap.add_argument("--batch", type=int, default=50)
     ap.add_argument("--warmup", type=float, default=3.0, help="seconds before the window")
-    ap.add_argument("--window", type=float, default=10.0, help="seconds measured")
+    ap.add_argument("--window", type=float, default=15.0, help="seconds measured")
     args = ap.parse_args()
     os.environ["MOTIONSIM_MAX_CONTROLLERS"] = str(max(64, args.controllers + 8))
     with served.motionsim() as url:
