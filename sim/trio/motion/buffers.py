@@ -237,7 +237,9 @@ class MotionBuffers(AxisGuards):
         if p in self.process_buffer:
             return None
         self._pb_put(p, move)
-        self._tick_at(self.clock.after(self.env._now) if next_tick is None else next_tick)
+        k = self.clock.after(self.env._now) if next_tick is None else next_tick
+        if k not in self._ticks:  # (most often that period runs already: no call)
+            self._tick_at(k)
         return "process_buffer"
 
     def place_or_wait(self, move: Move, on_placed: OnPlaced) -> Placed | Waiter:
@@ -576,7 +578,7 @@ class MotionBuffers(AxisGuards):
                     w.on_placed(placed)
                 if not q:
                     del self._waiters[p]
-        if self._can_progress():
+        if k + 1 not in self._ticks and self._can_progress():
             self._tick_at(k + 1)
 
     def _begin(self, m: Move, k: int) -> None:
@@ -648,7 +650,8 @@ class MotionBuffers(AxisGuards):
                 old.remove(m)
         m.end_tick = k
         self._ending.setdefault(k, []).append(m)
-        self._tick_at(k)
+        if k not in self._ticks:
+            self._tick_at(k)
 
 
 __all__ = ["MotionBuffers", "Waiter", "schedule_at"]
