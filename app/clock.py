@@ -15,8 +15,10 @@ Both share :meth:`Clock.sync` (bring ``env`` to "now" before a command is applie
 a virtual clock) and :meth:`Clock.wake` (the schedule may have changed — a no-op for a virtual
 clock), which is all :class:`motionsim.app.registry.ControllerHandle` needs.
 
-No clock ever runs the simulation for long without yielding: work is done in **slices** of at
-most ``SLICE_S`` wall seconds (:func:`run_env_to` with ``wall_end``), and the ``async`` ways
+No clock ever runs the simulation for long without yielding: work is done in **slices** of
+``SLICE_S`` wall seconds (:func:`run_env_to` with ``wall_end``; a virtual clock's slice also
+does ``SLICE_S`` of CPU work, :func:`_cpu_end`, so that a slice the OS pre-empted is not cut
+short), and the ``async`` ways
 in (:meth:`VirtualClock.advance_async`, :meth:`VirtualClock.run_until_async`,
 :meth:`VirtualClock.run_until_reply_async`, the realtime task) give the event loop back between
 slices, so ``/health``, other controllers and other clients are served while one controller
@@ -94,13 +96,16 @@ def drain(steps: Generator[None, None, T]) -> T:
             return stop.value
 
 
-async def drain_async(steps: Generator[None, None, T]) -> T:
-    """Run a sliced computation, giving the event loop a turn between slices.
+async def drain_async(steps: Generator[None, None, T], started: bool = False) -> T:
+    """Run a sliced computation, giving the event loop a turn between slices (``started``:
+    its first slice has run already, the loop's turn comes first).
 
     Cancelling the awaiting task (a client that went away) stops it at a slice boundary: the
     environment is consistent there, the clock stays where it got to.
     """
     try:
+        if started:
+            await loop_turns()
         while True:
             try:
                 next(steps)
@@ -124,12 +129,13 @@ def reply_steps(env: simpy.Environment, reply: Reply, max_s: float,
     deadline = env.now + max_s
     limit = _limit(deadline)
     while True:
-        slice_end = _wall_end(slice_s)
+        slice_end, cpu_end = _wall_end(slice_s), _cpu_end(slice_s)
         steps = 0
         while not reply.done and env.peek() <= limit:
             env.step()
             steps += 1
-            if steps % _WALL_CHECK_STEPS == 0 and time.monotonic() > slice_end:
+            if (steps % _WALL_CHECK_STEPS == 0 and time.monotonic() > slice_end
+                    and time.thread_time() > cpu_end):
                 break
         if reply.done or env.peek() > limit:
             break
@@ -158,12 +164,26 @@ def _wall_end(slice_s: float = SLICE_S) -> float:
     return time.monotonic() + slice_s
 
 
+def _cpu_end(slice_s: float = SLICE_S) -> float:
+    """The event-loop thread's CPU time at which a virtual clock's slice has done its share.
+
+    A virtual clock's slice ends once both ``slice_s`` of wall time and ``slice_s`` of this
+    thread's CPU time have passed: a slice the OS pre-empted (a loaded machine) still does
+    its share of the simulation before the loop's turn, instead of ending at once when it
+    is resumed. So controllers advancing side by side each get the same share of the
+    service, whatever the machine does meanwhile (issue 35: 100 controllers streaming at
+    once, the slowest within 20 % of the fastest). The CPU clock is read only once the wall
+    budget is spent."""
+    return time.thread_time() + slice_s
+
+
 def run_env_to(env: simpy.Environment, target: float, max_steps: int | None = None,
-               wall_end: float | None = None) -> bool:
+               wall_end: float | None = None, cpu_end: float | None = None) -> bool:
     """Process every event scheduled at or before ``target``, then set ``env.now`` to it.
 
     Returns False when ``max_steps`` events were processed, or the monotonic instant
-    ``wall_end`` passed, and more are due (the caller yields to the event loop and calls
+    ``wall_end`` passed (and, if given, the thread CPU time ``cpu_end``: see
+    :func:`_cpu_end`), and more are due (the caller yields to the event loop and calls
     again); True when ``env.now == target`` (or later).
     """
     steps = 0
@@ -172,7 +192,8 @@ def run_env_to(env: simpy.Environment, target: float, max_steps: int | None = No
         if max_steps is not None and steps >= max_steps:
             return False
         if (wall_end is not None and steps % _WALL_CHECK_STEPS == 0 and steps
-                and time.monotonic() > wall_end):
+                and time.monotonic() > wall_end
+                and (cpu_end is None or time.thread_time() > cpu_end)):
             return False
         env.step()
         steps += 1
@@ -287,7 +308,8 @@ class VirtualClock(Clock):
         if seconds == 0:
             return
         target = self.env.now + seconds
-        while not run_env_to(self.env, target, wall_end=_wall_end(self.slice_s)):
+        while not run_env_to(self.env, target, wall_end=_wall_end(self.slice_s),
+                             cpu_end=_cpu_end(self.slice_s)):
             yield
 
     def run_until_steps(
@@ -319,12 +341,13 @@ class VirtualClock(Clock):
         unlisten = log.listen(listener)
         try:
             while True:
-                slice_end = _wall_end(self.slice_s)
+                slice_end, cpu_end = _wall_end(self.slice_s), _cpu_end(self.slice_s)
                 steps = 0
                 while not found and env.peek() <= limit:
                     env.step()
                     steps += 1
-                    if steps % _WALL_CHECK_STEPS == 0 and time.monotonic() > slice_end:
+                    if (steps % _WALL_CHECK_STEPS == 0 and time.monotonic() > slice_end
+                            and time.thread_time() > cpu_end):
                         break
                 if found or env.peek() > limit:
                     break

@@ -11,10 +11,11 @@ controller that no longer exists, and no call answers 200 about it afterwards.
 from __future__ import annotations
 
 import asyncio
-from collections.abc import Awaitable
+from collections.abc import Awaitable, Generator
 from typing import TypeVar
 
 from ..sim.errors import MotionSimError
+from .clock import drain_async
 
 T = TypeVar("T")
 
@@ -62,6 +63,26 @@ class InFlight:
             raise
         finally:
             self._tasks.discard(task)  # type: ignore[arg-type]
+
+    async def run_sliced(self, steps: Generator[None, None, T]) -> T:
+        """:func:`~motionsim.app.clock.drain_async` of ``steps`` as :meth:`run` awaits it,
+        with its first slice run at once: a computation that ends within its first slice (a
+        terminal reply the next background cycle gives, the usual case) needs no task and no
+        turn of the event loop; one that goes on continues as a task :meth:`close` can cancel,
+        after the turns the loop gets between any two slices. Nothing can cancel a slice
+        while it runs, so deleting the controller ends the call at the same slice boundary.
+
+        Raises:
+            ControllerDeleted: as :meth:`run`.
+        """
+        if self.closed:
+            steps.close()
+            raise self._deleted()
+        try:
+            next(steps)
+        except StopIteration as stop:
+            return stop.value  # type: ignore[no-any-return]
+        return await self.run(drain_async(steps, started=True))
 
     async def close(self) -> None:
         """The controller is deleted: cancel every waiting call and let each one stop."""

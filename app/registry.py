@@ -25,7 +25,6 @@ from .clock import (
     DrivenClock,
     RealtimeClock,
     VirtualClock,
-    drain_async,
     make_clock,
     reply_steps,
 )
@@ -153,7 +152,7 @@ class ControllerHandle:
         clock = self.clock
         if isinstance(clock, RealtimeClock):
             raise Conflict("a realtime clock is not stepped by its callers")
-        await self.inflight.run(drain_async(reply_steps(clock.env, reply, max_s, clock.slice_s)))
+        await self.inflight.run_sliced(reply_steps(clock.env, reply, max_s, clock.slice_s))
 
     async def advance(self, seconds: float, holder: str | None = None) -> None:
         """Virtual: run forward by ``seconds`` (in slices). Host-paced: holder ``holder``

@@ -169,7 +169,7 @@ def main() -> None:
               "getresponse_10_connections": results["connections_10"]["per_s"]
               / reference["connections_10"]["per_s"]}
     print(f"ratio     : {ratios['getresponse']:.3f} of the bare echo server, 1 connection "
-          f"(target >= 0.5); {ratios['getresponse_10_connections']:.3f} with 10")
+          f"(target >= 0.7); {ratios['getresponse_10_connections']:.3f} with 10")
     path = write("wire", figures={**results, "loop": loop_name},
                  references={"bare_echo": reference}, ratios=ratios)
     print(f"wrote {path.relative_to(ROOT)}")

@@ -1,6 +1,6 @@
 """cProfile of the in-process paths behind the bench targets: where each one's time goes.
 
-    .venv/bin/python bench/profiles.py [core|pvt|trio|trio_compile|parse|wire|fanout ...]
+    .venv/bin/python bench/profiles.py [core|pvt|trio|trio_compile|parse|wire|session|fanout ...]
 
 For each workload (all by default) prints the share of profiled time by module (self time,
 summed per file) and the functions with the most self time. The shape of a profile holds on a
@@ -105,6 +105,28 @@ def _wire() -> None:
         asyncio.run(main())
 
 
+def _session() -> None:
+    """3 000 GETRESPONSE "I16" through a PMAC Ethernet session with no socket (what the
+    server does per round trip between reading the request and writing the reply; ``wire``
+    profiles it with the sockets, mostly waiting)."""
+    from motionsim.api.pmac_ethernet.protocol import getresponse
+    from motionsim.api.pmac_ethernet.server import PmacSession
+
+    from bench.bench_wire import _controller
+
+    async def main() -> None:
+        handle, _ = _controller()
+        await handle.command("I3=2 I6=1")
+        session = PmacSession(handle, "tcp:profile")
+        packet = getresponse("I16")
+        for _ in range(3000):
+            session.receive(packet)
+            async for _out in session.replies():
+                pass
+
+    asyncio.run(main())
+
+
 def _fanout(profile: cProfile.Profile) -> None:
     import motionsim.app.embedded as embedded
     from motionsim.app.kinds import register_kind
@@ -135,7 +157,7 @@ def _fanout(profile: cProfile.Profile) -> None:
 
 WORKLOADS: dict[str, Callable[..., None]] = {
     "core": _core, "pvt": _pvt, "trio": _trio, "trio_compile": _trio_compile, "parse": _parse,
-    "wire": _wire, "fanout": _fanout}
+    "wire": _wire, "session": _session, "fanout": _fanout}
 
 
 def _short(path: str) -> str:

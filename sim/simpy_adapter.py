@@ -18,8 +18,9 @@ import simpy
 from simpy.events import NORMAL, URGENT, EventPriority
 
 __all__ = [
-    "NORMAL", "URGENT", "Wake", "cancel", "clear_pre_step", "next_eid", "pending", "pre_step",
-    "push_at", "set_now", "supersede", "triggered_at", "wake_at",
+    "NORMAL", "URGENT", "Due", "Wake", "cancel", "clear_pre_step", "next_eid", "pending",
+    "pre_step", "push_at", "set_now", "succeed_at", "supersede", "triggered_at", "urgent_at",
+    "wake_at",
 ]  # fmt: skip
 
 Callback = Callable[[Any], None]
@@ -148,3 +149,43 @@ def set_now(env: simpy.Environment, t: float) -> None:
 def clear_pre_step(env: simpy.Environment) -> None:
     """Remove the :func:`pre_step` hook (none installed: nothing to do)."""
     env.__dict__.pop("step", None)
+
+
+class _UrgentWake(simpy.events.Event):
+    """An already-triggered ``URGENT`` event processed at the absolute instant ``t``."""
+
+    _value = None
+    _ok = True
+
+    def __init__(self, env: simpy.Environment, t: float, fn: Callback) -> None:
+        self.env = env
+        self.callbacks = [fn]
+        heappush(env._queue, (t, URGENT, next(env._eid), self))
+
+
+def urgent_at(env: simpy.Environment, t: float, fn: Callback) -> None:
+    """Call ``fn(event)`` at the instant ``t`` with ``URGENT`` priority: what
+    :func:`triggered_at` does with its default priority, in one allocation and no
+    call beyond it (the Trio servo interrupt, once per servo period that does something)."""
+    _UrgentWake(env, t, fn)
+
+
+class Due(simpy.events.Event):
+    """An already-triggered event processed at the absolute instant ``t``, for a process to
+    yield: ``env.timeout(t - now)`` in one call (same queue entry: ``NORMAL``, next ``eid``)."""
+
+    _value = None
+    _ok = True
+
+    def __init__(self, env: simpy.Environment, t: float) -> None:
+        self.env = env
+        self.callbacks = []
+        heappush(env._queue, (t, NORMAL, next(env._eid), self))
+
+
+def succeed_at(env: simpy.Environment, event: simpy.events.Event, t: float) -> None:
+    """Trigger the pending ``event`` (value None) so that it is processed at the instant ``t``
+    (``NORMAL``): what its ``succeed()`` does for the present instant."""
+    event._ok = True
+    event._value = None
+    heappush(env._queue, (t, NORMAL, next(env._eid), event))

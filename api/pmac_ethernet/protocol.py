@@ -104,6 +104,9 @@ class VR(IntEnum):
     IPADDRESS = 0xE0
 
 
+#: The Request byte's value -> its VR (``VR(code)`` without the enum's call per request).
+_VR_OF: Final = {int(v): v for v in VR}
+
 #: Requests followed by a ``wLength``-byte payload when sent as VR_DOWNLOAD.
 _CARRIES_DATA: Final = frozenset(
     {
@@ -291,6 +294,8 @@ def write_buffer_status(error: str | None = None, line: int = 0) -> bytes:
 
 def illegal_character(line: str) -> int | None:
     """0-based column of the first byte above 127 in ``line`` (ERR004), or None."""
+    if line.isascii():
+        return None
     for i, ch in enumerate(line):
         if ord(ch) > 127:
             return i
@@ -302,9 +307,12 @@ def split_lines(payload: bytes) -> tuple[str, ...]:
     optional and empty lines between terminators are dropped, except that a payload of only
     terminators (the EPICS driver's ``"\\n"`` probe) is one empty command line."""
     text = payload.decode("latin-1")
-    parts = re.split(r"[\r\n\x00]+", text)
+    parts = _LINE_ENDS.split(text)
     lines = tuple(p for p in parts if p != "")
     return lines if lines else ("",)
+
+
+_LINE_ENDS = re.compile(r"[\r\n\x00]+")
 
 
 # -- the connection ----------------------------------------------------------------------
@@ -379,10 +387,9 @@ class PmacEthernetCodec:
     def _check(self, rtype: int, code: int, length: int) -> VR:
         if rtype not in (VR_UPLOAD, VR_DOWNLOAD):
             raise ProtocolError(f"RequestType 0x{rtype:02X} is neither VR_DOWNLOAD nor VR_UPLOAD")
-        try:
-            request = VR(code)
-        except ValueError:
-            raise ProtocolError(f"unknown Request code 0x{code:02X}") from None
+        request = _VR_OF.get(code)
+        if request is None:
+            raise ProtocolError(f"unknown Request code 0x{code:02X}")
         if rtype == VR_UPLOAD and request in _DOWNLOAD_ONLY:
             raise ProtocolError(f"{request.name} must be sent as VR_DOWNLOAD (0x40)")
         if rtype == VR_DOWNLOAD and request in _CARRIES_DATA and length > MAX_PAYLOAD:

@@ -185,7 +185,7 @@ class Axis:
         """The demand of the axis' own moves at ``t`` (default now), as of the last servo
         cycle: what its moves start from (ADDAX adds to it, :meth:`position`)."""
         m = self.mtype
-        if m is None:
+        if m is None or m.start_tick is None:  # idle, or the move is only just loading
             return self.pos
         tau = self._tau(m, self.env.now if t is None else t)
         if tau is None:

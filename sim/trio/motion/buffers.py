@@ -66,14 +66,16 @@ when moves start, and a period is scheduled only when a buffer can move on.
 
 from __future__ import annotations
 
+import math
 from collections import deque
 from collections.abc import Callable
+from functools import partial
 from typing import Any
 
 import simpy
 
 from ...events import EventLog
-from ...simpy_adapter import URGENT, triggered_at
+from ...simpy_adapter import urgent_at
 from ...timing import ServoClock
 from ..card.basic_errors import BasicError
 from ..card.scaling import nearest_edge
@@ -98,7 +100,7 @@ def schedule_at(env: simpy.Environment, t: float, callback: Callable[[Any], None
     offers relative delays, and ``now + (t - now)`` can miss ``t`` by a rounding step; the
     event is therefore pushed at ``t`` itself so every servo instant is exactly ``k * period``.
     """
-    triggered_at(env, t, callback, URGENT)
+    urgent_at(env, t, callback)
 
 
 class Waiter:
@@ -224,16 +226,20 @@ class MotionBuffers(AxisGuards):
 
     # -- placement -------------------------------------------------------------------------
 
-    def place(self, move: Move) -> Placed | None:
+    def place(self, move: Move, next_tick: int | None = None) -> Placed | None:
         """Write ``move`` into its process buffer (PMOVE = 1), or None when that is full.
 
-        The next servo interrupt transfers it to NTYPE / MTYPE (see the module docstring).
+        The next servo interrupt transfers it to NTYPE / MTYPE (see the module docstring);
+        ``next_tick``: that interrupt's period when the caller knows it (a servo period
+        placing a waiting move: the following one).
         """
         p = move.process
         if p in self.process_buffer:
             return None
         self._pb_put(p, move)
-        self._tick_at(self.clock.after(self.env.now))
+        k = self.clock.after(self.env._now) if next_tick is None else next_tick
+        if k not in self._ticks:  # (most often that period runs already: no call)
+            self._tick_at(k)
         return "process_buffer"
 
     def place_or_wait(self, move: Move, on_placed: OnPlaced) -> Placed | Waiter:
@@ -271,7 +277,7 @@ class MotionBuffers(AxisGuards):
     def _reschedule_end(self, m: Move, now_k: int) -> None:
         """The move's profile changed at period ``now_k``: end it where the profile ends."""
         assert m.profile is not None
-        if m.profile.duration == float("inf"):
+        if m.profile.duration == math.inf:
             if m.end_tick is not None:
                 old = self._ending.get(m.end_tick)
                 if old and m in old:
@@ -409,10 +415,11 @@ class MotionBuffers(AxisGuards):
     # -- the servo period ------------------------------------------------------------------
 
     def _tick_at(self, k: int) -> None:
-        if k in self._ticks:
+        ticks = self._ticks
+        if k in ticks:
             return
-        self._ticks.add(k)
-        schedule_at(self.env, self.clock.t(k), lambda _ev: self._servo(k))
+        ticks.add(k)
+        urgent_at(self.env, self.clock.t(k), partial(self._servo, k))  # schedule_at
 
     def _kick(self) -> None:
         """Something may move on at the next servo period: make sure that period runs."""
@@ -442,7 +449,9 @@ class MotionBuffers(AxisGuards):
             return True
         return any(q and p not in self.process_buffer for p, q in self._waiters.items())
 
-    def _servo(self, k: int) -> None:
+    def _servo(self, k: int, _event: Any = None) -> None:
+        """Servo period ``k`` (the interrupt's event ``_event``): the steps of the module
+        docstring."""
         self._ticks.discard(k)
         if self._dead:
             return
@@ -500,7 +509,8 @@ class MotionBuffers(AxisGuards):
         # 3. the MTYPE moves advance: a software limit hit now ramps its move down; those whose
         # profile is complete end now (a CAMBOX or MOVELINK when its link axis has covered the
         # link distance)
-        self._guards_due(k)
+        if self._limit_at or self._limit_watch or self._fe_watch:  # a guard armed (guards.py)
+            self._guards_due(k)
         if self._links:
             t = self.clock.t(k)
             for lm in list(self._links):
@@ -562,17 +572,18 @@ class MotionBuffers(AxisGuards):
                     w = q.popleft()
                     if not w.alive:
                         continue
-                    placed = self.place(w.move)
+                    placed = self.place(w.move, k + 1)
                     assert placed is not None
                     w.alive = False
                     w.on_placed(placed)
                 if not q:
                     del self._waiters[p]
-        if self._can_progress():
+        if k + 1 not in self._ticks and self._can_progress():
             self._tick_at(k + 1)
 
     def _begin(self, m: Move, k: int) -> None:
-        axes = [self.axes[a] for a in m.axes]
+        ms = m.axes
+        axes = [self.axes[ms[0]]] if len(ms) == 1 else [self.axes[a] for a in ms]
         prev = self._merged_from.pop(m, None) if self._merged_from else None
         if prev is None:
             m.begin(k, self.clock.t(k), axes)
@@ -581,9 +592,9 @@ class MotionBuffers(AxisGuards):
         prof = m.profile
         assert prof is not None
         emit = self.log.emit
-        for a in m.axes:
+        for a in ms:
             emit("move_start", axis=a, mtype=m.mtype)
-        if prof.duration != float("inf"):
+        if prof.duration != math.inf:
             if prev is None:
                 self._end_at(m, k + max(1, self.clock.cycles(prof.duration)))
             else:
@@ -593,7 +604,7 @@ class MotionBuffers(AxisGuards):
             self._try_merge(base.ntype)
         if type(m) is not Move and m.needs_tick():
             self._links[m] = None
-        self._guard_move(m, k)
+        self._guard_move(m, k, axes)
 
     def _link_successor(self, m: Move) -> LinkedMove | None:
         """The CAMBOX / MOVELINK waiting in NTYPE behind the CAMBOX / MOVELINK ``m`` that ended
@@ -639,7 +650,8 @@ class MotionBuffers(AxisGuards):
                 old.remove(m)
         m.end_tick = k
         self._ending.setdefault(k, []).append(m)
-        self._tick_at(k)
+        if k not in self._ticks:
+            self._tick_at(k)
 
 
 __all__ = ["MotionBuffers", "Waiter", "schedule_at"]

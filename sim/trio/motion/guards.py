@@ -75,12 +75,13 @@ class AxisGuards:
         if self._fe_watch:
             self._fe_due(k)
 
-    def _guard_move(self, m: Move, k: int) -> None:
-        """``m`` started at period ``k``: arm its limits, watch the FE of its lagging axes."""
+    def _guard_move(self, m: Move, k: int, axes: list[Axis]) -> None:
+        """``m`` started at period ``k`` on ``axes`` (its axes, in order): arm its limits,
+        watch the FE of its lagging axes."""
         self._arm_limits(m, k)
-        for a in m.axes:
-            if self.axes[a].fe_lag > 0.0:
-                self._fe_watch.add(a)
+        for ax in axes:
+            if ax.fe_lag > 0.0:
+                self._fe_watch.add(ax.n)
 
     def limits_changed(self, axis: int) -> None:
         """FS_LIMIT / RS_LIMIT of ``axis`` written: look at its executing move again."""

@@ -431,7 +431,7 @@ class Context:
         """The axes a command drives: the BASE group (or ``AXIS(n)`` then the rest of it),
         continued in ascending axis order if the command needs more axes."""
         if size == 1:
-            return (self.base_axis(axis),)
+            return (self.base[0] if axis is None else self.axis_number(axis),)  # base_axis
         if axis is None:
             axes = list(self.base)
         else:
@@ -448,7 +448,12 @@ class Context:
         times UNITS) is refused: ``MOVE(1e38)`` cannot be counted ``[INF]``."""
         bits = self.ctrl.model.word_bits
         limit = EDGES_MAX[bits]
-        units = max(abs(self.ctrl.axes[a].units) for a in axes)
+        ctrl_axes = self.ctrl.axes
+        units = 0.0
+        for n in axes:
+            u = abs(ctrl_axes[n].units)
+            if u > units:
+                units = u
         for a in args:
             if abs(a) * units > limit:
                 raise BasicError(msg.EDGES_RANGE.format(name=kind, value=a, edges=a * units,

@@ -38,6 +38,7 @@ from typing import TYPE_CHECKING, Any
 
 import simpy
 
+from ...simpy_adapter import Due, Wake, succeed_at
 from ..card.basic_errors import RUN_ERROR_STOPPED, BasicError, error_line
 from ..language.compiler import HALT, Block, Code, Poll, Sleep, WaitFor
 from ..language.functions import Suspend, in_function
@@ -64,6 +65,11 @@ class BasicProcess:
         self._pending: dict[int, str] = {}  # channel -> text of a line not yet ended
         self.ctx = Context(ctrl, number, self._output)
         self._withdraw: Any = None
+        #: a move line waiting for its placement: the event the program resumes on, and the
+        #: line's statement time still to run once placed (see _blocked)
+        self._awaiting: simpy.Event | None = None
+        self._await_s = 0.0
+        self._texts: dict[int, str] = {}  # blocked_on texts by pc
         self.sim = ctrl.env.process(self._run())
 
     # -- output ----------------------------------------------------------------------------
@@ -103,8 +109,13 @@ class BasicProcess:
                         pc = r
                     elif r.__class__ is Block:
                         self.line = lines[pc]
-                        yield from self._blocked(r.move, code.text(pc))
+                        ev = self._blocked(r.move, pc, dt if cost else 0.0)
                         pc += 1
+                        if ev is not None:
+                            yield ev
+                            if cost:
+                                continue  # the statement's time ran in the wait (_unblocked)
+                            self._running()
                     elif r is HALT:
                         break
                     elif r.__class__ is Sleep:
@@ -119,7 +130,7 @@ class BasicProcess:
                     else:
                         pc += 1
                     if cost:
-                        yield env.timeout(dt)
+                        yield Due(env, env._now + dt)  # env.timeout(dt), one call less
                 self.line = lines[min(pc, n - 1)] if n else 0
                 self._finish(None)
                 return
@@ -189,19 +200,49 @@ class BasicProcess:
                            if target < len(self.code.lines) else line)
         return target
 
-    def _blocked(self, move: Any, text: str):
-        env, log = self.ctrl.env, self.ctrl.log
+    def _blocked(self, move: Any, pc: int, cost_s: float) -> simpy.Event | None:
+        """The move line at ``pc`` found its process buffer full: wait for the servo period
+        that places ``move`` (None: placed at once, no wait). The process reports ``blocked``
+        now and ``running`` when the move is placed; the line's statement time ``cost_s``
+        runs from that instant, so with a cost the returned event is the end of it and
+        :meth:`_unblocked` reports ``running`` on the way (one resumption of the program
+        instead of two; the same instants and the same order of events as a resumption at
+        the placement followed by a statement timeout)."""
+        env = self.ctrl.env
         ev = env.event()
-        placed = self.ctrl.buffers.place_or_wait(move, ev.succeed)
+        placed = self.ctrl.buffers.place_or_wait(move, self._placed if cost_s else ev.succeed)
         if not isinstance(placed, Waiter):
-            return
+            return None
         self._withdraw = placed.cancel
+        self._awaiting, self._await_s = ev, cost_s
+        text = self._texts.get(pc)
+        if text is None:
+            text = self._texts[pc] = self.code.text(pc)
         self.state, self.blocked_on = "blocked", text
-        log.emit("process", process=self.number, state="blocked", line=self.line, blocked_on=text)
-        yield ev
+        self.ctrl.log.emit("process", process=self.number, state="blocked", line=self.line,
+                           blocked_on=text)
+        return ev
+
+    def _placed(self, _where: str) -> None:
+        """The blocked move was placed (in a servo period): the program would resume now, at
+        this place in the instant's order of events — :meth:`_unblocked` runs there."""
+        Wake(self.ctrl.env, self.ctrl.env._now, self._unblocked)
+
+    def _unblocked(self, _event: Any) -> None:
+        """Where the program resumes after its move was placed: ``running``, then the line's
+        statement time, at whose end the program goes on (unless it was stopped meanwhile)."""
+        ev = self._awaiting
+        if ev is None:
+            return
+        self._running()
+        env = self.ctrl.env
+        succeed_at(env, ev, env._now + self._await_s)
+
+    def _running(self) -> None:
         self._withdraw = None
+        self._awaiting = None
         self.state, self.blocked_on = "running", None
-        log.emit("process", process=self.number, state="running", line=self.line)
+        self.ctrl.log.emit("process", process=self.number, state="running", line=self.line)
 
     def _poll(self, r: Poll):
         env, clock = self.ctrl.env, self.ctrl.clock
@@ -213,6 +254,7 @@ class BasicProcess:
                 return
 
     def _withdraw_wait(self) -> None:
+        self._awaiting = None
         if self._withdraw is not None:
             self._withdraw()
             self._withdraw = None
