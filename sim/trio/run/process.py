@@ -166,7 +166,10 @@ class BasicProcess:
         try:
             if r.__class__ is Block:
                 self.line = self.code.lines[pc]
-                yield from self._blocked(r.move, sus.text)
+                ev = self._blocked(r.move, pc, 0.0, sus.text)  # its time: when it runs again
+                if ev is not None:
+                    yield ev
+                    self._running()
             elif r.__class__ is Sleep:
                 yield env.timeout(r.seconds)
             elif r.__class__ is WaitFor:
@@ -200,14 +203,16 @@ class BasicProcess:
                            if target < len(self.code.lines) else line)
         return target
 
-    def _blocked(self, move: Any, pc: int, cost_s: float) -> simpy.Event | None:
+    def _blocked(self, move: Any, pc: int, cost_s: float,
+                 text: str | None = None) -> simpy.Event | None:
         """The move line at ``pc`` found its process buffer full: wait for the servo period
         that places ``move`` (None: placed at once, no wait). The process reports ``blocked``
         now and ``running`` when the move is placed; the line's statement time ``cost_s``
         runs from that instant, so with a cost the returned event is the end of it and
         :meth:`_unblocked` reports ``running`` on the way (one resumption of the program
         instead of two; the same instants and the same order of events as a resumption at
-        the placement followed by a statement timeout)."""
+        the placement followed by a statement timeout). ``text``: what it is blocked on, when
+        not the line at ``pc`` (a library function's move line)."""
         env = self.ctrl.env
         ev = env.event()
         placed = self.ctrl.buffers.place_or_wait(move, self._placed if cost_s else ev.succeed)
@@ -215,9 +220,10 @@ class BasicProcess:
             return None
         self._withdraw = placed.cancel
         self._awaiting, self._await_s = ev, cost_s
-        text = self._texts.get(pc)
         if text is None:
-            text = self._texts[pc] = self.code.text(pc)
+            text = self._texts.get(pc)
+            if text is None:
+                text = self._texts[pc] = self.code.text(pc)
         self.state, self.blocked_on = "blocked", text
         self.ctrl.log.emit("process", process=self.number, state="blocked", line=self.line,
                            blocked_on=text)
