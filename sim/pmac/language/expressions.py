@@ -167,10 +167,25 @@ class Expr:
     fn: Fn = field(compare=False, repr=False)
     const: float | None = None
 
-    def __init__(self, text: str, fn: Fn, const: float | None = None) -> None:
+    def __init__(self, text: str, fn: Fn | None, const: float | None = None) -> None:
         self.text = text
-        self.fn = fn
+        if fn is not None:
+            self.fn = fn
         self.const = const
+
+    def __getattr__(self, name: str) -> Fn:
+        """A constant's ``fn`` is made when first asked for (:func:`constant` leaves it
+        unset: most constants are only ever read through ``const``, and a closure per
+        streamed word was a tenth of a line's parse)."""
+        if name == "fn":
+            const = self.const
+            if const is not None:
+                def fn(_v: Any, _c: int) -> float:
+                    return const
+
+                self.fn = fn
+                return fn
+        raise AttributeError(name)
 
     def __call__(self, vars_: Any, cs: int) -> float:
         return self.const if self.const is not None else self.fn(vars_, cs)
@@ -201,7 +216,7 @@ def too_deep(text: str) -> int | None:
 def constant(value: float, text: str | None = None) -> Expr:
     """An expression that is just a number."""
     v = float(value)
-    return Expr(text if text is not None else repr(v), lambda _v, _c: v, v)
+    return Expr(text if text is not None else repr(v), None, v)  # fn: made when asked for
 
 
 def binary(op: str, left: Expr, right: Expr) -> Expr:
