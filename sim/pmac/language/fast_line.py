@@ -123,10 +123,11 @@ def fast_compile(text: str) -> ProgramLine | None:
                 kind = _KIND[word]
             # ex.constant(float(num), num), without the call (the property test pins it);
             # ``-n`` is what ex.negate(ex.constant(n)) builds: text "-n", value -n.
-            e = expr("-" + num, None, -float(num)) if neg else expr(num, None, float(num))
+            v = -float(num) if neg else float(num)
+            e = expr("-" + num if neg else num, None, v)
             if kind == 0:
                 axes.append((word, e))
-                simple.append((word, e.const))
+                simple.append((word, v))
             elif kind == 1:
                 vectors.append((word, e))
             elif kind == 2:
