@@ -60,6 +60,9 @@ from .sync_queue import segment_start
 if TYPE_CHECKING:
     from ...simpy_adapter import Callback
 
+#: The fields of ``move_start`` / ``move_end`` (:meth:`motionsim.sim.events.EventLog.emit_row`).
+_CS_N = ("cs", "n")
+
 #: Move kinds cut into Isx13 segments in segmentation mode (LINEAR and CIRCLE, DELAY as a
 #: zero-distance LINEAR move ``[INF]``; TSRM p177).
 _SEGMENTED = frozenset({LINEAR, DELAY})
@@ -100,11 +103,11 @@ class Execution(CoordState):
         prev = self.current
         env = self._env
         t = env._now
-        emit = self._emit
+        row = self._row
         cs = self.cs
         n = m.n
         if prev is not None:
-            emit("move_end", cs=cs, n=prev.n)
+            row("move_end", _CS_N, (cs, prev.n))
             prev.prev = None  # keep only one step of history
             m.prev = prev
             b = prev.b_end
@@ -122,7 +125,7 @@ class Execution(CoordState):
             self._seg_t0 = t  # a sequence from rest: its segments start now
         if m.sync:
             self.sync_queue.started(m.sync, self._sync_ready(m, t))
-        emit("move_start", cs=cs, n=n)
+        row("move_start", _CS_N, (cs, n))
         m.b_end = b + m.tm
         self.current = m
         if self.on_move_start is not None:  # a kinematic CS (sim.pmac.kinematics)

@@ -57,6 +57,7 @@ class CoordState:
         self._period: float = ctl.scheduler.period_s
         log: EventLog = ctl.log
         self._emit: Callable[..., object] = log.emit
+        self._row = log.emit_row  # the per-line move_start / move_end (the hot path)
 
         # -- the program: where lines come from, its state (:mod:`.states`) --------------------
         self.rotary: RotaryBuffer | None = None
