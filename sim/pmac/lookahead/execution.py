@@ -136,7 +136,7 @@ class Execution(CoordState):
         if self._plan_due is None and not (self.blocked or self.quitting or self.single_step):
             # = self._plan_at_rti_after(t) with the cached I8 + 1 (the per-line path)
             tp = self._plan_due = first_rti_after(t, p, self._rti)
-            self._plan_wake = wake_at(env, tp, self._plan_cb, self._plan_wake)
+            self._plan_wake = wake_at(env, tp, self._plan_fn, self._plan_wake)
         prof = PROFILES[m.kind]
         if prof.breaks:
             m.b_start = t
@@ -267,7 +267,7 @@ class Execution(CoordState):
         # calls: this is once per streamed line
         th = servo_at_or_after(m.b_end - ta_n / 2, p)
         pend = self._pending
-        self._pending = supersede(self._env, th if th > now else now, self._start_next, pend)
+        self._pending = supersede(self._env, th if th > now else now, self._start_fn, pend)
 
     def _after(self, t: float, fn: Callback) -> None:
         """Call ``fn(event)`` at ``t`` (now if that is past), superseding (cancelling) the
