@@ -225,6 +225,13 @@ def binary(op: str, left: Expr, right: Expr) -> Expr:
     text = f"{left.text}{op}{right.text}"
     if left.const is not None and right.const is not None:
         return constant(f(left.const, right.const), text)
+    lc, rc = left.const, right.const
+    if rc is not None:  # ``P1+1.5``: the constant side read as its value (no fn made for it)
+        lf = left.fn
+        return Expr(text, lambda v, c: f(lf(v, c), rc))
+    if lc is not None:
+        rf = right.fn
+        return Expr(text, lambda v, c: f(lc, rf(v, c)))
     lf, rf = left.fn, right.fn
     return Expr(text, lambda v, c: f(lf(v, c), rf(v, c)))
 
@@ -275,7 +282,9 @@ def negate(inner: Expr) -> Expr:
 
 
 def paren(inner: Expr) -> Expr:
-    return Expr(f"({inner.text})", inner.fn, inner.const)
+    if inner.const is not None:
+        return Expr(f"({inner.text})", None, inner.const)  # (fn made when asked for)
+    return Expr(f"({inner.text})", inner.fn)
 
 
 def variable(kind: str, index: Expr) -> Expr:
