@@ -154,7 +154,11 @@ class Execution(CoordState):
                 self._blend_into(m, nxt)
                 return
         if prof.decide_at_end:  # the next move is needed only at this one's end (PVT)
-            self._after(self.sched.servo_at_or_after(m.b_end - m.ta / 2), self._decide)
+            # (= self._after(self.sched.servo_at_or_after(...), self._decide): per PVT line)
+            now = env._now
+            th = servo_at_or_after(m.b_end - m.ta / 2, p)
+            self._pending = supersede(env, th if th > now else now, self._decide_fn,
+                                      self._pending)
             return
         self._decide(None)
 

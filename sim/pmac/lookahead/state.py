@@ -51,6 +51,7 @@ class CoordState:
 
         def _plan_cb(self, _ev: object) -> None: ...
         def _start_next(self, _ev: object = None) -> None: ...
+        def _decide(self, _ev: object) -> None: ...
 
     def __init__(self, ctl: PmacController, cs: int) -> None:
         # -- wiring: the card this CS belongs to ----------------------------------------------
@@ -157,6 +158,7 @@ class CoordState:
         #: measurable on the streaming path): the planning pass and the hand-off.
         self._plan_fn: Callable[[object], None] = self._plan_cb
         self._start_fn: Callable[[object], None] = self._start_next
+        self._decide_fn: Callable[[object], None] = self._decide  # (a PVT segment's hand-off)
 
         # -- the time base (:mod:`.timebase`): ``%`` and ``H`` --------------------------------
         #: The actual ``%`` (the CS time base, what ``%`` reports), see ``set_feed_override``.
