@@ -161,8 +161,14 @@ def _scan(data: Any) -> tuple[int, tuple[tuple[Any, ...], _NonFinite] | None]:
         deepest = max(deepest, len(path) + 1)
         if deepest > MAX_DEPTH:
             return deepest, bad
-        stack.extend((child, (*path, key)) for key, child in children)
+        for key, child in children:  # (a scalar neither nests nor is non-finite: not stacked)
+            if isinstance(child, _CONTAINERS):
+                stack.append((child, (*path, key)))
     return deepest, bad
+
+
+#: What :func:`_scan` looks into: nesting and the non-finite number markers.
+_CONTAINERS = (dict, list, _NonFinite)
 
 
 class BodyGuard:

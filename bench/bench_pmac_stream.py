@@ -11,7 +11,7 @@ The same host then streams 5 ms PVT segments (``X{i}:{v}`` after ``PVT5``): its 
 PVT / LINEAR ratio (target ≥ 0.8, same run) are printed too.
 
 Prints simulated lines per wall second, the bare SimPy reference loop's rate
-(:func:`bench.reference_loop.reference_rate`, same run) and their ratio (target ≥ 0.35), plus
+(:func:`bench.reference_loop.reference_rate`, same run) and their ratio (target ≥ 0.5), plus
 resident memory at 10 % and at the end of the stream (flat = no growth with line count).
 Writes ``bench/results/pmac_stream.json``.
 
@@ -74,6 +74,7 @@ def stream(n_lines: int, words: int = 600, mode: str = "linear") -> dict:
     t0 = time.perf_counter()
     c.env.run()
     wall = time.perf_counter() - t0
+    rss_end = rss_mb()  # the stream's, before reading the log below makes its events' dicts
     ends = c.log.events("move_end")
     return {
         "lines": n_lines,
@@ -85,7 +86,7 @@ def stream(n_lines: int, words: int = 600, mode: str = "linear") -> dict:
         "max_used_words": max_used[0],
         "rss_start_mb": rss_start,
         "rss_10pct_mb": marks.get("rss_10pct_mb"),
-        "rss_end_mb": rss_mb(),
+        "rss_end_mb": rss_end,
     }
 
 
@@ -116,7 +117,7 @@ def main() -> None:
           f"last move_end n = {pvt['last_move_end_n']:,}; PVT / LINEAR = "
           f"{res['pvt_to_linear']:.3f}, target >= 0.8)")
     print(f"reference   : {ref:>10,.0f} lines/s  (bare SimPy loop, best of {repeat})")
-    print(f"ratio       : {res['ratio']:.3f}  (target >= 0.35)")
+    print(f"ratio       : {res['ratio']:.3f}  (target >= 0.5)")
     print(f"memory      : {res['rss_start_mb']:.1f} MB before, {res['rss_10pct_mb']:.1f} MB at "
           f"10 % (event ring full), {res['rss_end_mb']:.1f} MB at end; "
           f"max {res['max_used_words']} of 600 words used; last move_end n = "

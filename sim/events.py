@@ -173,6 +173,14 @@ class ReadResult:
 Listener = Callable[[Event], None]
 
 
+def _event(rec: tuple[Any, ...]) -> Event:
+    """The :class:`Event` of a ring record: ``(seq, t, type, fields)`` or, from
+    :meth:`EventLog.emit_row`, ``(seq, t, type, keys, values)``."""
+    if len(rec) == 4:
+        return Event(*rec)
+    return Event(rec[0], rec[1], rec[2], dict(zip(rec[3], rec[4], strict=True)))
+
+
 class EventLog:
     """Append-only, bounded, sequence-numbered log of one controller's events.
 
@@ -194,31 +202,55 @@ class EventLog:
         self.capacity = capacity
         #: The held events, grown to ``capacity`` as they come (an idle controller's log
         #: holds nothing: 100 000 empty slots were 0.8 MB a controller), then a ring.
-        self._ring: list[tuple[int, float, str, dict[str, Any]]] = []
+        #: A record is ``(seq, t, type, fields)`` (:meth:`emit`) or ``(seq, t, type, keys,
+        #: values)`` (:meth:`emit_row`); :func:`_event` makes the :class:`Event` of either.
+        self._ring: list[tuple[Any, ...]] = []
         self._last = 0
         self._listeners: list[Listener] = []
         self._wakers: list[Callable[[], None]] = []
+        #: Someone listens or waits: ``bool(self._listeners or self._wakers)``, kept by
+        #: :meth:`listen`, its unsubscribe, :meth:`wake_on_next` and :meth:`_tell`.
+        self._told = False
 
     # -- writing -------------------------------------------------------------------------
 
     def emit(self, type_: str, /, **fields: Any) -> int:
         """Append an event stamped with the current simulated time; return its ``seq``."""
-        seq = self._last + 1
-        self._last = seq
+        self._last = seq = self._last + 1
         rec = (seq, self._env._now, type_, fields)  # _now: no property call (hot path)
         if seq <= self.capacity:
             self._ring.append(rec)  # seq - 1 == len(ring): the ring still growing
         else:
             self._ring[(seq - 1) % self.capacity] = rec
+        if self._told:  # (one test for the usual case: nobody listening or waiting)
+            self._tell(rec)
+        return seq
+
+    def emit_row(self, type_: str, keys: tuple[str, ...], values: tuple[Any, ...], /) -> int:
+        """:meth:`emit` of the fields ``dict(zip(keys, values))``, stored as the two tuples:
+        the dict is made only when the event is read (the per-line events of a stream, most
+        of which nobody reads before the ring drops them). The same event, byte for byte."""
+        self._last = seq = self._last + 1
+        rec = (seq, self._env._now, type_, keys, values)
+        if seq <= self.capacity:
+            self._ring.append(rec)
+        else:
+            self._ring[(seq - 1) % self.capacity] = rec
+        if self._told:
+            self._tell(rec)
+        return seq
+
+    def _tell(self, rec: tuple[Any, ...]) -> None:
+        """The listeners and the one-shot wakers of :meth:`emit`'s new event ``rec``."""
         if self._listeners:
-            event = Event(*rec)
+            event = _event(rec)
             for listener in tuple(self._listeners):
                 listener(event)
         if self._wakers:
             wakers, self._wakers = self._wakers, []
             for wake in wakers:
                 wake()
-        return seq
+        self._told = bool(self._listeners or self._wakers)
 
     # -- reading -------------------------------------------------------------------------
 
@@ -273,7 +305,7 @@ class EventLog:
                 break
             rec = ring[(seq - 1) % cap]
             if wanted is None or rec[2] in wanted:
-                out.append(Event(*rec))
+                out.append(_event(rec))
             nxt = seq
             seq += 1
         return ReadResult(out, gap, nxt)
@@ -297,16 +329,19 @@ class EventLog:
     def listen(self, listener: Listener) -> Callable[[], None]:
         """Call ``listener`` synchronously with every new event; returns an unsubscribe."""
         self._listeners.append(listener)
+        self._told = True
 
         def unsubscribe() -> None:
             if listener in self._listeners:
                 self._listeners.remove(listener)
+                self._told = bool(self._listeners or self._wakers)
 
         return unsubscribe
 
     def wake_on_next(self, wake: Callable[[], None]) -> None:
         """Call ``wake()`` once, at the next emitted event (a cheap no-polling wake-up)."""
         self._wakers.append(wake)
+        self._told = True
 
     # -- export --------------------------------------------------------------------------
 

@@ -532,23 +532,27 @@ class PmacController(Controller):
             rot = c.rotary
         texts = lines if type(lines) is list else list(lines)
         cache = _LINE_CACHE
-        pre = precompiled or {}
         if first_seq is None and len(texts) == 1:
             # The streaming case: one line, no sequence numbers.
             text = texts[0]
             line = cache.get(text) if type(text) is str else None
-            unseen = line is None
             if line is None:
-                line = (pre.get(text) if type(text) is str else None) or self._compile(text, 0)
-            if not rot.fits(line.words):
-                raise rot.no_room(line.words)
-            rot.store(line)
-            if unseen:
+                line = (
+                    precompiled.get(text) if precompiled and type(text) is str else None
+                ) or self._compile(text, 0)
+                if not rot.fits(line.words):
+                    raise rot.no_room(line.words)
+                rot.store(line)
                 self._remember(texts, [line])
+            else:
+                if not rot.fits(line.words):
+                    raise rot.no_room(line.words)
+                rot.store(line)
             c.lines_arrived()  # (it wants more with 2 calculated in the special lookahead)
             return _new_result(
                 LoadResult, (1, 1, len(rot.pending), rot.size_words - rot.used_words, rot.breq)
             )
+        pre = precompiled or {}
         compiled: list[ProgramLine] = []
         fresh: list[int] = []
         for i, text in enumerate(texts):

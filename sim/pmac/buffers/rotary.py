@@ -39,6 +39,12 @@ from .line_numbers import LineNumbering
 from .program import ProgramLine, rotary_check
 from .program_run import ProgramRun
 
+#: The fields of the per-line events (:meth:`motionsim.sim.events.EventLog.emit_row`), in
+#: the order of ``EVENT_FIELDS``.
+_LOADED = ("cs", "n", "text", "words", "lines_ahead")
+_BREQ = ("cs", "level")
+_CS_N = ("cs", "n")
+
 
 class RotaryBuffer:
     """The rotary buffer of coordinate system ``cs``, ``size_words`` long.
@@ -80,6 +86,9 @@ class RotaryBuffer:
         "_programs",
         "_run",
         "_given",
+        "_row",
+        "_low",
+        "_high",
     )
 
     def __init__(
@@ -111,6 +120,9 @@ class RotaryBuffer:
         # (sim/pmac/buffers/line_numbers.py).
         self.numbering = LineNumbering()
         self._emit = log.emit
+        self._row = log.emit_row  # the per-line events: line_loaded, breq, line_calculated
+        self._low = (cs, False)  # the two breq events' values
+        self._high = (cs, True)
         self._thresholds = thresholds
         self._rise: list[Callable[[], Any]] = []
         self._vars = vars_
@@ -169,7 +181,7 @@ class RotaryBuffer:
         self.breq = level
         if level and self._lost():
             return
-        self._emit("breq", cs=self.cs, level=level)
+        self._row("breq", _BREQ, self._high if level else self._low)
         if level and self._rise:
             waiters, self._rise = self._rise, []
             for cb in waiters:
@@ -208,24 +220,24 @@ class RotaryBuffer:
         """
         if line.flow is not None:
             rotary_check(line)
-        n = self.n_loaded + 1
-        self.n_loaded = n
-        self.pending.append((n, line))
-        self.used_words += line.words
-        ahead = len(self.pending)
-        emit = self._emit
-        cs = self.cs
-        emit("line_loaded", cs=cs, n=n, text=line.text, words=line.words, lines_ahead=ahead)
+        self.n_loaded = n = self.n_loaded + 1
+        pending = self.pending
+        pending.append((n, line))
+        words = line.words
+        self.used_words += words
+        ahead = len(pending)
+        row = self._row
+        row("line_loaded", _LOADED, (self.cs, n, line.text, words, ahead))
         if self.breq:
             self.breq = False
-            emit("breq", cs=cs, level=False)
+            row("breq", _BREQ, self._low)
         if self._ver != self._vars.version:
             self._limits()
         if ahead < self._i17:
             self.breq = True  # the rising half of the pulse: an interrupt to the host
             if self._faults is not None and self._lost():
                 return n  # the rise happened but was never signalled (an injected fault)
-            emit("breq", cs=cs, level=True)
+            row("breq", _BREQ, self._high)
             if self._rise:
                 waiters, self._rise = self._rise, []
                 for cb in waiters:
@@ -312,7 +324,7 @@ class RotaryBuffer:
         if n is None:
             n, line = self.pending.popleft()
             self.calculated.append((n, line.words))
-        self._emit("line_calculated", cs=self.cs, n=n)
+        self._row("line_calculated", _CS_N, (self.cs, n))
         if self._ver != self._vars.version:
             self._limits()
         if len(self.pending) < self._i16:

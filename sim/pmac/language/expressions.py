@@ -167,10 +167,25 @@ class Expr:
     fn: Fn = field(compare=False, repr=False)
     const: float | None = None
 
-    def __init__(self, text: str, fn: Fn, const: float | None = None) -> None:
+    def __init__(self, text: str, fn: Fn | None, const: float | None = None) -> None:
         self.text = text
-        self.fn = fn
+        if fn is not None:
+            self.fn = fn
         self.const = const
+
+    def __getattr__(self, name: str) -> Fn:
+        """A constant's ``fn`` is made when first asked for (:func:`constant` leaves it
+        unset: most constants are only ever read through ``const``, and a closure per
+        streamed word was a tenth of a line's parse)."""
+        if name == "fn":
+            const = self.const
+            if const is not None:
+                def fn(_v: Any, _c: int) -> float:
+                    return const
+
+                self.fn = fn
+                return fn
+        raise AttributeError(name)
 
     def __call__(self, vars_: Any, cs: int) -> float:
         return self.const if self.const is not None else self.fn(vars_, cs)
@@ -201,7 +216,7 @@ def too_deep(text: str) -> int | None:
 def constant(value: float, text: str | None = None) -> Expr:
     """An expression that is just a number."""
     v = float(value)
-    return Expr(text if text is not None else repr(v), lambda _v, _c: v, v)
+    return Expr(text if text is not None else repr(v), None, v)  # fn: made when asked for
 
 
 def binary(op: str, left: Expr, right: Expr) -> Expr:
@@ -210,6 +225,13 @@ def binary(op: str, left: Expr, right: Expr) -> Expr:
     text = f"{left.text}{op}{right.text}"
     if left.const is not None and right.const is not None:
         return constant(f(left.const, right.const), text)
+    lc, rc = left.const, right.const
+    if rc is not None:  # ``P1+1.5``: the constant side read as its value (no fn made for it)
+        lf = left.fn
+        return Expr(text, lambda v, c: f(lf(v, c), rc))
+    if lc is not None:
+        rf = right.fn
+        return Expr(text, lambda v, c: f(lc, rf(v, c)))
     lf, rf = left.fn, right.fn
     return Expr(text, lambda v, c: f(lf(v, c), rf(v, c)))
 
@@ -260,7 +282,9 @@ def negate(inner: Expr) -> Expr:
 
 
 def paren(inner: Expr) -> Expr:
-    return Expr(f"({inner.text})", inner.fn, inner.const)
+    if inner.const is not None:
+        return Expr(f"({inner.text})", None, inner.const)  # (fn made when asked for)
+    return Expr(f"({inner.text})", inner.fn)
 
 
 def variable(kind: str, index: Expr) -> Expr:

@@ -108,11 +108,12 @@ def fast_compile(text: str) -> ProgramLine | None:
         return ProgramLine(text, 1, (), 0)
     if items[0][5]:
         return _assignment(text)
-    constant = ex.constant
+    expr = ex.Expr
     ops: list[tuple[Any, ...]] = []
     modal: list[tuple[Any, ...]] = []
     axes: list[tuple[Any, ...]] = []
     vectors: list[tuple[Any, ...]] = []
+    simple: list[tuple[str, float]] = []  # the axis words' values (the short cuts, below)
     moves = 0
     for word, neg, num, mode, circle, other in items:
         if word:
@@ -120,11 +121,13 @@ def fast_compile(text: str) -> ProgramLine | None:
             if kind is None:  # lower or mixed case
                 word = word.upper()
                 kind = _KIND[word]
-            v = float(num)
+            # ex.constant(float(num), num), without the call (the property test pins it);
             # ``-n`` is what ex.negate(ex.constant(n)) builds: text "-n", value -n.
-            e = constant(-v, "-" + num) if neg else constant(v, num)
+            v = -float(num) if neg else float(num)
+            e = expr("-" + num if neg else num, None, v)
             if kind == 0:
                 axes.append((word, e))
+                simple.append((word, v))
             elif kind == 1:
                 vectors.append((word, e))
             elif kind == 2:
@@ -149,9 +152,8 @@ def fast_compile(text: str) -> ProgramLine | None:
     if axes or vectors:
         move = (OP_MOVE, tuple(axes), tuple(vectors), ())
         if not ops and not modal and not vectors:  # the planners' short cuts (see ProgramLine)
-            simple = tuple([(a, e.const) for a, e in axes])
-            simple_pvt = tuple([(a, e.const, 0.0) for a, e in axes])
-            return ProgramLine(text, len(items), (move,), moves + 1, simple, simple_pvt)
+            simple_pvt = tuple([(a, v, 0.0) for a, v in simple])
+            return ProgramLine(text, len(items), (move,), moves + 1, tuple(simple), simple_pvt)
         ops.extend(modal)
         ops.append(move)
         moves += 1

@@ -62,6 +62,9 @@ from .sync_queue import segment_start
 if TYPE_CHECKING:
     from ...simpy_adapter import Callback
 
+#: The fields of ``move_start`` / ``move_end`` (:meth:`motionsim.sim.events.EventLog.emit_row`).
+_CS_N = ("cs", "n")
+
 #: Move kinds cut into Isx13 segments in segmentation mode (LINEAR and CIRCLE, DELAY as a
 #: zero-distance LINEAR move ``[INF]``; TSRM p177).
 _SEGMENTED = frozenset({LINEAR, DELAY})
@@ -102,11 +105,11 @@ class Execution(CoordState):
         prev = self.current
         env = self._env
         t = env._now
-        emit = self._emit
+        row = self._row
         cs = self.cs
         n = m.n
         if prev is not None:
-            emit("move_end", cs=cs, n=prev.n)
+            row("move_end", _CS_N, (cs, prev.n))
             prev.prev = None  # keep only one step of history
             m.prev = prev
             b = prev.b_end
@@ -124,7 +127,7 @@ class Execution(CoordState):
             self._seg_t0 = t  # a sequence from rest: its segments start now
         if m.sync:
             self.sync_queue.started(m.sync, self._sync_ready(m, t))
-        emit("move_start", cs=cs, n=n)
+        row("move_start", _CS_N, (cs, n))
         m.b_end = b + m.tm
         self.current = m
         if self.on_move_start is not None:  # a kinematic CS (sim.pmac.kinematics)
@@ -135,7 +138,7 @@ class Execution(CoordState):
         if self._plan_due is None and not (self.blocked or self.quitting or self.single_step):
             # = self._plan_at_rti_after(t) with the cached I8 + 1 (the per-line path)
             tp = self._plan_due = first_rti_after(t, p, self._rti)
-            self._plan_wake = wake_at(env, tp, self._plan_cb, self._plan_wake)
+            self._plan_wake = wake_at(env, tp, self._plan_fn, self._plan_wake)
         prof = PROFILES[m.kind]
         if prof.breaks:
             m.b_start = t
@@ -153,7 +156,11 @@ class Execution(CoordState):
                 self._blend_into(m, nxt)
                 return
         if prof.decide_at_end:  # the next move is needed only at this one's end (PVT)
-            self._after(self.sched.servo_at_or_after(m.b_end - m.ta / 2), self._decide)
+            # (= self._after(self.sched.servo_at_or_after(...), self._decide): per PVT line)
+            now = env._now
+            th = servo_at_or_after(m.b_end - m.ta / 2, p)
+            self._pending = supersede(env, th if th > now else now, self._decide_fn,
+                                      self._pending)
             return
         self._decide(None)
 
@@ -266,7 +273,7 @@ class Execution(CoordState):
         # calls: this is once per streamed line
         th = servo_at_or_after(m.b_end - ta_n / 2, p)
         pend = self._pending
-        self._pending = supersede(self._env, th if th > now else now, self._start_next, pend)
+        self._pending = supersede(self._env, th if th > now else now, self._start_fn, pend)
 
     def _after(self, t: float, fn: Callback) -> None:
         """Call ``fn(event)`` at ``t`` (now if that is past), superseding (cancelling) the

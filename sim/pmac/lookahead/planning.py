@@ -144,7 +144,7 @@ class Planning(CoordState):
         """Set the "plan the next move" flag: planning at the first RTI strictly after ``t``
         (cycles divisible by I8+1; TUM p236)."""
         tp = self._plan_due = self.sched.next_rti_after(t)
-        self._plan_wake = wake_at(self._env, tp, self._plan_cb, self._plan_wake)
+        self._plan_wake = wake_at(self._env, tp, self._plan_fn, self._plan_wake)
 
     # -- planning (RTI) -------------------------------------------------------------------
 

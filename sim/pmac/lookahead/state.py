@@ -47,6 +47,12 @@ SPLINES = frozenset({"SPLINE1", "SPLINE2"})
 class CoordState:
     """Everything a coordinate system knows, by concern (see the module docstring)."""
 
+    if TYPE_CHECKING:  # the wake-up callbacks of the parts (:mod:`.planning`, :mod:`.execution`)
+
+        def _plan_cb(self, _ev: object) -> None: ...
+        def _start_next(self, _ev: object = None) -> None: ...
+        def _decide(self, _ev: object) -> None: ...
+
     def __init__(self, ctl: PmacController, cs: int) -> None:
         # -- wiring: the card this CS belongs to ----------------------------------------------
         self.ctl = ctl
@@ -57,6 +63,7 @@ class CoordState:
         self._period: float = ctl.scheduler.period_s
         log: EventLog = ctl.log
         self._emit: Callable[..., object] = log.emit
+        self._row = log.emit_row  # the per-line move_start / move_end (the hot path)
 
         # -- the program: where lines come from, its state (:mod:`.states`) --------------------
         self.rotary: RotaryBuffer | None = None
@@ -147,6 +154,11 @@ class CoordState:
         self.sync_queue = SyncQueue(ctl.env, ctl.scheduler, ctl.vars, cs)
         #: Called ``(move, t)`` as each move starts, in a kinematic CS (sim.pmac.kinematics).
         self.on_move_start: Callable[[Move, float], None] | None = None
+        #: The per-line wake-ups' callbacks, bound once (a bound method made per wake-up is
+        #: measurable on the streaming path): the planning pass and the hand-off.
+        self._plan_fn: Callable[[object], None] = self._plan_cb
+        self._start_fn: Callable[[object], None] = self._start_next
+        self._decide_fn: Callable[[object], None] = self._decide  # (a PVT segment's hand-off)
 
         # -- the time base (:mod:`.timebase`): ``%`` and ``H`` --------------------------------
         #: The actual ``%`` (the CS time base, what ``%`` reports), see ``set_feed_override``.
