@@ -82,6 +82,9 @@ TRIO_CONFIG: dict[str, Bound] = {
 #: Trio axis parameters (speed, accel, decel, creep, units) and move arguments.
 TRIO_RATE = Bound(0, 1e12, "units (per s, per s^2)", low_open=True)  # [INF]
 TRIO_DISTANCE = Bound(-1e12, 1e12, "user units")  # [INF]
+#: UNITS, encoder edges per user unit: at least 1e-9, so that a distance held in whole edges
+#: (REP_DIST, ...) reads back finite in user units; a denormal UNITS made them infinite [INF].
+TRIO_UNITS = Bound(1e-9, 1e12, "edges per user unit")  # [INF]
 
 
 def describe(table: dict[str, Bound]) -> str:
@@ -90,4 +93,5 @@ def describe(table: dict[str, Bound]) -> str:
 
 
 __all__ = ["ADVANCE_SECONDS", "CLOCK_FACTOR", "FINITE", "PMAC_CONFIG", "PMAC_CPU_COST",
-           "TIMEOUT_SECONDS", "TRIO_CONFIG", "TRIO_DISTANCE", "TRIO_RATE", "Bound", "describe"]
+           "TIMEOUT_SECONDS", "TRIO_CONFIG", "TRIO_DISTANCE", "TRIO_RATE", "TRIO_UNITS", "Bound",
+           "describe"]

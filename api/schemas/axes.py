@@ -6,7 +6,7 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from ...sim.bounds import TRIO_DISTANCE, TRIO_RATE
+from ...sim.bounds import TRIO_DISTANCE, TRIO_RATE, TRIO_UNITS
 from .common import int_in
 
 
@@ -45,7 +45,8 @@ class AxisPatch(BaseModel):
     speed: float | None = Field(None, gt=0, le=TRIO_RATE.high, allow_inf_nan=False)
     accel: float | None = Field(None, gt=0, le=TRIO_RATE.high, allow_inf_nan=False)
     decel: float | None = Field(None, gt=0, le=TRIO_RATE.high, allow_inf_nan=False)
-    units: float | None = Field(None, gt=0, le=TRIO_RATE.high, allow_inf_nan=False)
+    units: float | None = Field(None, ge=TRIO_UNITS.low, le=TRIO_UNITS.high,
+                                allow_inf_nan=False)
     creep: float | None = Field(None, gt=0, le=TRIO_RATE.high, allow_inf_nan=False)
     merge: float | None = Field(None, allow_inf_nan=False, description="non-zero = ON")
     sramp: float | None = Field(None, ge=0, le=250, allow_inf_nan=False, description="ms")

@@ -6,15 +6,22 @@ from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from ...sim.bounds import PMAC_CONFIG, PMAC_CPU_COST, TRIO_CONFIG, TRIO_RATE, describe
+from ...sim.bounds import (
+    PMAC_CONFIG,
+    PMAC_CPU_COST,
+    TRIO_CONFIG,
+    TRIO_RATE,
+    TRIO_UNITS,
+    describe,
+)
 from .clock import ClockIn, ClockOut
 
 CONFIG_DOC = (
     "the kind's initial settings; unknown keys and values outside these bounds are 422. "
     f"PMAC: {describe(PMAC_CONFIG)}; cpu_<task>_us: {PMAC_CPU_COST.describe()}; "
     "iN (I-variables): finite. "
-    f"Trio: {describe(TRIO_CONFIG)}; speed, accel, decel, creep, units: "
-    f"{TRIO_RATE.describe()}.")
+    f"Trio: {describe(TRIO_CONFIG)}; speed, accel, decel, creep: "
+    f"{TRIO_RATE.describe()}; units: {TRIO_UNITS.describe()}.")
 
 
 class ControllerOut(BaseModel):

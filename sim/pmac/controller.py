@@ -200,7 +200,8 @@ class PmacController(Controller):
         self.gather = Gather(self.env, self.scheduler.clock, self.vars.I, self.vars.mvars,
                              self.log.emit, self._at_one_instant,
                              lambda sources, period: Plan(
-                                 self, [(s.space, s.address, s.bits) for s in sources], period))
+                                 self, [(s.space, s.address, s.bits) for s in sources], period,
+                                 motor_position_at))
         #: ``DEFINE COMP`` tables by owning motor (:mod:`.card.comp_tables`).
         self.comp_tables: dict[int, comp_tables.CompTable] = {}
         self.programs = MotionPrograms()

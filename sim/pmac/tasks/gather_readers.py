@@ -49,8 +49,12 @@ class Plan:
     (``space`` ``D`` / ``L`` for a 48-bit source)."""
 
     def __init__(self, ctl: PmacController, sources: list[tuple[str, int, int]],
-                 period: int = 1) -> None:
+                 period: int, position_at: Callable[[Any, float], float]) -> None:
+        """``position_at(spec, t)``: a motor's position at ``t`` from its
+        :meth:`PmacController.motor_position_spec` (the controller's ``motor_position_at``,
+        handed down: the motion core sits above this tier)."""
         self._ctl = ctl
+        self._position_at = position_at
         self._period = period
         memory = ctl.vars.mvars
         regs = memory.registers
@@ -141,8 +145,7 @@ class Plan:
     def rows(self, key: Key) -> Callable[[int, float], Row]:
         """``row(k, t)``: the raw values at servo cycle ``k`` (instant ``t``) of a batch with
         this key; None for a source without a batch form in it."""
-        from ..controller import motor_position_at
-
+        motor_position_at = self._position_at
         ctl = self._ctl
         period_s = ctl.scheduler.period_s
         clock = ctl.scheduler.clock

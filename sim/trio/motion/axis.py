@@ -33,7 +33,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from ...bounds import TRIO_RATE
+from ...bounds import TRIO_RATE, TRIO_UNITS
 from ...errors import InvalidValue
 from ...timing import ServoClock
 from ..card import scaling
@@ -135,6 +135,13 @@ class Axis:
                         f"SRAMP AXIS({self.n}) must be 0..{SRAMP_MAX_MS:g} ms, got {value!r}",
                         field=key,
                     )
+                continue
+            if key == "units":
+                try:
+                    TRIO_UNITS.check(value, key)
+                except InvalidValue:
+                    raise InvalidValue(f"UNITS AXIS({self.n}) must be {TRIO_UNITS.describe()}, "
+                                       f"got {value!r}", field=key) from None
                 continue
             low_ok = key in _ZERO_OK and isinstance(value, (int, float)) and value == 0
             if not low_ok and (

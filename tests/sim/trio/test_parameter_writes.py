@@ -63,3 +63,24 @@ def test_a_program_writes_endmove_before_its_first_move():
     c.run_program("HOME")
     run_to(c, 1.0)
     assert c.get_variable("VR(0)") == 60.0
+
+
+def test_a_units_too_small_for_a_distance_held_in_edges_is_refused_and_changes_nothing():
+    """A distance held in whole edges reads back as count / UNITS (Trio KB, module docstring):
+    a denormal UNITS would make REP_DIST infinite and every DPOS read fail, so UNITS below
+    1e-9 is refused, from BASIC (the card's out-of-range error) and from the API alike
+    (sim/bounds.py TRIO_UNITS)."""
+    c = make()
+    c.terminal("UNITS=1000")
+    r = c.terminal("UNITS=1e-320")
+    assert r.error is not None and "Parameter out of range: UNITS" in r.error
+    assert ask(c, "UNITS") == "1000.0000" and ask(c, "DPOS") == "0.0000"
+    try:
+        c.set_axis(1, units=5e-324, speed=5e-324)
+    except Exception as exc:  # noqa: BLE001 - the type is the API's 422
+        assert type(exc).__name__ == "InvalidValue" and exc.details == {"field": "units"}
+    else:
+        raise AssertionError("a denormal UNITS was accepted")
+    assert c.axis(1)["units"] == 1.0 and c.axis(1)["speed"] != 5e-324
+    c.terminal("UNITS=1e-9")  # the smallest accepted: REP_DIST still reads back finite
+    assert c.terminal("? REP_DIST").error is None and c.terminal("? DPOS").error is None
