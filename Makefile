@@ -29,9 +29,13 @@ $(TEST_STAMP): pyproject.toml $(VENV_STAMP)
 run: $(RUN_STAMP)
 	$(BIN)/motionsim serve
 
+# The suite on every core (pytest-xdist): a test file's tests run in order in one worker
+# (`--dist loadfile`), so a module's own fixtures and order hold. TEST_WORKERS=0 runs it in
+# one process, as `pytest` alone does.
+TEST_WORKERS ?= auto
 test: $(TEST_STAMP)
 	$(BIN)/ruff check .
-	$(BIN)/pytest
+	$(BIN)/pytest -n $(TEST_WORKERS) --dist loadfile
 
 # The image and docker-compose.yml on a real Docker engine (tools/docker_test.py): the base image
 # made from Debian packages if missing, the build, the image's health check, then compose's

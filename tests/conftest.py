@@ -52,3 +52,20 @@ async def rest_client(app: FastAPI) -> AsyncIterator[httpx.AsyncClient]:
 async def api(make_app) -> AsyncIterator[httpx.AsyncClient]:
     async with rest_client(make_app()) as client:
         yield client
+
+
+# -- the fuzz targets' case counts (tests/fuzz/conftest.py), across pytest-xdist workers ------
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_testnodedown(node, error) -> None:  # noqa: ANN001 - pytest-xdist hook
+    """A worker finished: add the fuzz cases it ran to this (controlling) process' counts."""
+    from tests.fuzz.conftest import COUNTS
+
+    COUNTS.update(getattr(node, "workeroutput", {}).get("fuzz_counts", {}))
+
+
+def pytest_terminal_summary(terminalreporter) -> None:  # noqa: ANN001 - pytest hook
+    from tests.fuzz.conftest import summary
+
+    summary(terminalreporter)

@@ -3,7 +3,8 @@
 ``make test`` runs each target with the small ``test`` profile; ``make fuzz`` sets
 ``MOTIONSIM_FUZZ=1`` for the ``fuzz`` profile (``MOTIONSIM_FUZZ_EXAMPLES`` per target, default
 20 000: with the seven targets over 10^5 cases). Every target counts the inputs it ran
-(:func:`counted`); the totals are printed at the end and written to ``fuzz-counts.json``.
+(:func:`counted`); the totals are printed at the end and written to ``fuzz-counts.json``
+(with ``make test``'s workers, each worker's counts are added up in the controlling process).
 """
 
 from __future__ import annotations
@@ -31,7 +32,16 @@ def counted(target: str) -> None:
     COUNTS[target] += 1
 
 
-def pytest_terminal_summary(terminalreporter) -> None:  # noqa: ANN001 - pytest hook
+def pytest_sessionfinish(session) -> None:  # noqa: ANN001 - pytest hook
+    """In a pytest-xdist worker: hand this worker's counts to the controlling process
+    (tests/conftest.py ``pytest_testnodedown`` adds them up there)."""
+    out = getattr(session.config, "workeroutput", None)
+    if out is not None:
+        out["fuzz_counts"] = dict(COUNTS)
+
+
+def summary(terminalreporter) -> None:  # noqa: ANN001 - pytest's reporter
+    """The counts at the end of the run (tests/conftest.py ``pytest_terminal_summary``)."""
     if not COUNTS:
         return
     total = sum(COUNTS.values())
