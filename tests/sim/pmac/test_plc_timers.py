@@ -68,3 +68,12 @@ def test_tsrm_p176_a_cs_not_activated_by_i68_holds_its_timer(make_rig):
 def test_tsrm_p176_timer_written_with_a_fraction_is_a_whole_number(rig):
     rig.ok("I5111=10.6")
     assert rig.ok("I5111") in ("11", "10")
+
+
+def test_each_timer_write_is_a_timer_event_with_the_stored_value(rig):
+    """API.md event table: a write of Isx11 / Isx12 is a ``timer`` event naming the variable
+    and the whole number of servo cycles stored (TSRM p176: the register holds an integer)."""
+    rig.ok("I5111=100.4")
+    rig.ok("I6612=-7")
+    assert [(f["var"], f["value"]) for _, _, f in rig.events("timer")] == [
+        ("I5111", 100.0), ("I6612", -7.0)]

@@ -1,0 +1,69 @@
+"""The kinematic buffers beside the PROGs (TSRM p379 OPEN FORWARD / OPEN INVERSE) and the
+refusals of the kinematics commands (ERR007 with a buffer open, ERR001 while a CS runs; TSRM
+p269-270, p379). Virtual time."""
+
+from __future__ import annotations
+
+
+def _enter(rig, opener: str, line: str) -> None:
+    rig.ok(f"{opener} CLEAR")
+    rig.ok(line)
+    rig.ok("CLOSE")
+
+
+def _err(rig, line: str) -> str:
+    reply = rig.cmd(line)
+    assert reply.error is not None, line
+    return str(reply.error)
+
+
+def test_tsrm_p379_each_cs_has_its_own_forward_and_inverse_buffer_apart_from_the_progs(rig):
+    """One forward and one inverse buffer per coordinate system (CS 1 ... 16), none shared
+    with another CS's, the other kind's or a motion program's (PROG 1 ... 17 here)."""
+    css, progs = (1, 2, 15, 16), (1, 2, 15, 16, 17)
+    for cs in css:
+        _enter(rig, f"&{cs} OPEN FORWARD", f"Q{cs}=1")
+        _enter(rig, f"&{cs} OPEN INVERSE", f"P{cs}=2")
+    for p in progs:
+        _enter(rig, f"OPEN PROG {p}", f"P{100 + p}=3")
+    for cs in css:
+        assert rig.ok(f"&{cs} LIST FORWARD") == f"Q{cs}=1\rRET"
+        assert rig.ok(f"&{cs} LIST INVERSE") == f"P{cs}=2\rRET"
+    for p in progs:
+        assert rig.ok(f"LIST PROG {p}") == f"P{100 + p}=3\rRET"
+
+
+def test_tsrm_p379_open_forward_is_err007_while_the_rotary_buffer_is_open(rig):
+    port = rig.c.open_port("host")
+    rig.ok("&1 DEFINE ROT 100")
+    rig.ok("&1 B0")
+    rig.ok("OPEN ROT", port)
+    assert "ERR007" in _err(rig, "&1 OPEN FORWARD")
+    assert "ERR007" in _err(rig, "&1 OPEN INVERSE")
+
+
+def test_tsrm_p270_undefine_all_names_the_first_running_cs(rig):
+    """``UNDEFINE ALL`` while CS 1 and CS 2 both run a program: ERR001, and the message names
+    CS 1, the lowest-numbered running CS ``[INF]``."""
+    _enter(rig, "OPEN PROG 1", "LINEAR INC TA10 TS0 TM2000 X1")
+    rig.ok("&1 #1->1000X")
+    rig.ok("&2 #3->1000X")
+    rig.ok("&1 B1 R")
+    rig.ok("&2 B1 R")
+    rig.run_for(0.1)
+    for line, cs in (("UNDEFINE ALL", 1), ("&2 UNDEFINE", 2), ("&1 PMATCH", 1)):
+        reply = rig.cmd(line)
+        assert reply.error == "ERR001", line
+        assert reply.detail is not None and f"CS {cs} is running" in reply.detail[1], line
+
+
+def test_tsrm_p270_undefine_of_an_offset_axis_leaves_the_motor_where_it_is(rig):
+    """``UNDEFINE`` commands no motion: a motor of an axis defined with an offset
+    (``#1->1000X+500``) keeps its position when the definition goes."""
+    rig.ok("&1 #1->1000X+500")
+    rig.ok("#1J=2000")
+    rig.run_until_idle(3)
+    assert rig.ok("#1P") == "2000"
+    rig.ok("&1 UNDEFINE")
+    rig.run_for(0.2)
+    assert rig.ok("#1P") == "2000"
