@@ -13,6 +13,7 @@ from __future__ import annotations
 import re
 
 import pytest
+from motionsim.sim.pmac.host import not_simulated
 from motionsim.sim.pmac.language.keywords import lexer_pattern
 
 
@@ -38,3 +39,28 @@ def test_tum_p376_enable_plcc_is_simulated(rig):
     reply = rig.cmd("ENABLE PLCC 3")
     assert (reply.error, reply.detail) == (None, None)
     assert rig.c.plcs.compiled[3].enabled
+
+
+#: Valid commands (TSRM on-line and program command lists) that motionsim does not simulate,
+#: written out by hand, and the name the terminal gives each: the object forms come after a
+#: simulated object of the same command (DEFINE ROTARY, OPEN PROG, LIST PLC ...).
+NOT_SIMULATED = [
+    ("DEFINE CCBUF 1", "DEFINE CCBUF"), ("DEF TCOMP", "DEFINE TCOMP"),
+    ("DEFINE BLCOMP", "DEFINE BLCOMP"), ("DELETE CCBUF", "DELETE CCBUF"),
+    ("DELETE TEMPS", "DELETE TEMPS"), ("OPEN BINARY ROTARY", "OPEN BINARY"),
+    ("OPEN SERVO", "OPEN SERVO"), ("LIST LDS", "LIST LDS"), ("LIST LINK", "LIST LINK"),
+    ("LIST TCOMP", "LIST TCOMP"), ("LIST COMP", "LIST COMP"),
+    ("LIST LOOKAHEAD", "LIST LOOKAHEAD"), ("GATHER TRIGGER", "GATHER TRIGGER"),
+    ("NOFRAX2", "NOFRAX2"), ("NOFRAX", "NOFRAX"),
+]
+
+
+@pytest.mark.parametrize(("text", "name"), NOT_SIMULATED)
+def test_which_names_each_not_simulated_command_by_its_longest_form(text, name):
+    assert not_simulated.which(text, 1) == name
+
+
+def test_tum_p376_enable_plcc_without_a_list_is_a_parse_error_not_a_missing_feature(rig):
+    reply = rig.cmd("ENABLE PLCC")
+    assert reply.error == "ERR003"
+    assert reply.detail is not None and reply.detail[0] == "parse_error"
