@@ -49,15 +49,18 @@ def _refused(bound: bounds.Bound, value: object, field: str) -> None:
                          ids=[row[0] for row in TABLE])
 def test_each_bound_accepts_its_range_and_refuses_beyond_it(name, bound, low, high, low_open,
                                                             integer):
-    step = 1 if integer else max(abs(high), abs(low), 1.0) * 1e-9
+    # the nearest numbers beyond each end (whole numbers: one beyond)
+    below = low - 1 if integer else math.nextafter(low, -math.inf)
+    above = high + 1 if integer else math.nextafter(high, math.inf)
     if low_open:
         _refused(bound, low, name)
-        assert bound.check(low + step, name) == low + step
+        just_in = low + 1 if integer else math.nextafter(low, math.inf)
+        assert bound.check(just_in, name) == just_in
     else:
         assert bound.check(low, name) == float(low)
-    _refused(bound, low - step, name)
+    _refused(bound, below, name)
     assert bound.check(high, name) == float(high)
-    _refused(bound, high + step, name)
+    _refused(bound, above, name)
     middle = low + 1.5 if low + 1.5 < high else (low + high) / 2
     if integer:
         _refused(bound, low + 1.5, name)
@@ -73,3 +76,10 @@ def test_the_description_shows_an_open_low_end_and_whole_numbers():
     assert bounds.PMAC_CONFIG["i10"].describe() == "0 < x <= 8388607 1/8388608 ms"
     assert bounds.ADVANCE_SECONDS.describe() == "0 <= x <= 1000000 s simulated"
     assert bounds.TRIO_CONFIG["servo_period_ms"].describe() == "0.05 <= x <= 10 ms"
+
+
+def test_finite_takes_any_finite_number_of_either_sign():
+    for value in (-1e308, -1.0, 0, 2.5, 1e308):
+        assert bounds.FINITE.check(value, "x") == float(value)
+    for bad in (math.inf, -math.inf, math.nan, True, "1"):
+        _refused(bounds.FINITE, bad, "x")
