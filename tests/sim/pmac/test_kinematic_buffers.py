@@ -67,3 +67,24 @@ def test_tsrm_p270_undefine_of_an_offset_axis_leaves_the_motor_where_it_is(rig):
     rig.ok("&1 UNDEFINE")
     rig.run_for(0.2)
     assert rig.ok("#1P") == "2000"
+
+
+def test_tsrm_p379_lines_added_to_a_forward_program_run_at_the_next_pmatch(rig):
+    """``OPEN FORWARD`` without ``CLEAR`` adds lines after the stored ones (as for a PROG);
+    the next ``PMATCH`` runs the longer program (TUM p267: PMATCH runs the forward program)."""
+    rig.ok("&1 #1->I #2->I")
+    for opener, lines in (("OPEN FORWARD", ["Q7=(P1+P2)/2000", "Q8=(P2-P1)/1000"]),
+                          ("OPEN INVERSE", ["P1=(Q7-Q8/2)*1000", "P2=(Q7+Q8/2)*1000"])):
+        rig.ok(f"&1 {opener} CLEAR")
+        for line in lines:
+            rig.ok(line)
+        rig.ok("CLOSE")
+    rig.ok("I5150=1")
+    rig.ok("&1 PMATCH")
+    assert rig.ok("&1 Q7 Q8") == "0\r0"
+    rig.ok("&1 OPEN FORWARD")
+    rig.ok("Q7=Q7+10")
+    rig.ok("CLOSE")
+    assert rig.ok("&1 LIST FORWARD").split("\r")[-2] == "Q7=Q7+10"
+    rig.ok("&1 PMATCH")
+    assert rig.ok("&1 Q7 Q8") == "10\r0"
