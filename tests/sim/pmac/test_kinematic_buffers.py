@@ -4,6 +4,9 @@ p269-270, p379). Virtual time."""
 
 from __future__ import annotations
 
+import pytest
+from motionsim.sim.pmac.kinematics.subroutine import MAX_STEPS
+
 
 def _enter(rig, opener: str, line: str) -> None:
     rig.ok(f"{opener} CLEAR")
@@ -88,3 +91,49 @@ def test_tsrm_p379_lines_added_to_a_forward_program_run_at_the_next_pmatch(rig):
     assert rig.ok("&1 LIST FORWARD").split("\r")[-2] == "Q7=Q7+10"
     rig.ok("&1 PMATCH")
     assert rig.ok("&1 Q7 Q8") == "10\r0"
+    assert rig.c.positions(1) == {"X": 10.0, "Y": 0.0}  # the axes from Q7, Q8 (TUM p259)
+
+
+def _forward_cs(rig, forward: list[str]) -> None:
+    rig.ok("&1 #1->I #2->I")
+    rig.ok("&1 OPEN FORWARD CLEAR")
+    for line in forward:
+        rig.ok(line)
+    rig.ok("CLOSE")
+    rig.ok("I5150=1")
+
+
+def test_tum_p259_a_forward_program_with_gosub_returns_after_its_call(rig):
+    """GOSUB / RETURN inside a kinematic program (the program's own N labels, PSRM p309):
+    the lines after the GOSUB run once the subroutine returns."""
+    _forward_cs(rig, ["Q8=1", "GOSUB100", "Q8=Q8+1", "RETURN", "N100 Q7=5", "RETURN"])
+    rig.ok("&1 PMATCH")
+    assert rig.ok("&1 Q7 Q8") == "5\r2"
+    assert rig.c.positions(1) == {"X": 5.0, "Y": 2.0}
+
+
+def test_tum_p259_a_forward_program_may_write_its_outputs_indirectly(rig):
+    """``Q(Q20)`` / ``P(Q21)`` forms: the output written through an index counts as written."""
+    _forward_cs(rig, ["Q20=7 Q21=30", "P(Q21)=4", "Q(Q20)=P30+1", "Q8=P(Q21)*2"])
+    rig.ok("&1 PMATCH")
+    assert rig.ok("&1 Q7 Q8") == "5\r8"
+    assert rig.c.positions(1) == {"X": 5.0, "Y": 8.0}
+
+
+@pytest.mark.parametrize(("extra", "fails"), [(0, False), (1, True)])
+def test_a_forward_program_of_max_steps_statements_runs_and_one_more_fails(rig, extra, fails):
+    """A kinematic run gives up after MAX_STEPS (5000) statements ``[INF]``: a straight
+    program of exactly 5000 runs; one of 5001 is a ``kinematics`` failure event and leaves
+    the axes unmatched."""
+    add = " ".join(["Q20=Q20+1"] * 10)
+    last = " ".join(["Q20=Q20+1"] * (7 + extra) + ["Q8=Q20"])
+    _forward_cs(rig, ["Q7=1 Q20=0", *[add] * 499, last])
+    assert MAX_STEPS == 5000
+    rig.ok("&1 PMATCH")
+    failures = [f for _, _, f in rig.events("kinematics") if f.get("error")]
+    if fails:
+        assert failures and "5001 statements" in failures[0]["error"]
+        assert rig.c.positions(1) == {}
+    else:
+        assert failures == []
+        assert rig.c.positions(1) == {"X": 1.0, "Y": 4997.0}
