@@ -1,0 +1,40 @@
+"""``motionsim check`` report details: the count of lines refused after a failed OPEN in the
+singular, an OPEN named only in a comment is no OPEN, and a Trio ``REM`` line is all comment
+(TSRM: ERR005 "command allowed only with a buffer open"; Trio BASIC: REM starts a remark)."""
+
+from __future__ import annotations
+
+from motionsim.app.cli import cli
+from motionsim.sim.pmac.card.error_codes import MEANINGS
+from typer.testing import CliRunner
+
+RUNNER = CliRunner()
+
+
+def _run(*args: str):
+    return RUNNER.invoke(cli, ["check", *args])
+
+
+def test_one_more_line_refused_after_a_failed_open_is_singular(tmp_path):
+    path = tmp_path / "prog.pmc"
+    path.write_text("&1 OPEN ROT\nINC\nX1\nCLOSE\n")
+    lines = _run(str(path)).output.splitlines()
+    assert lines[1:] == [f"{path}:2:1: error: ERR005 {MEANINGS['ERR005']}",
+                         "  … and 1 more line refused because OPEN at line 1 failed"]
+
+
+def test_an_open_in_a_comment_of_a_refused_line_is_not_a_failed_open(tmp_path):
+    path = tmp_path / "plc.pmc"
+    path.write_text("ENABLE PLC 99 ; OPEN it later\nX5\n")
+    lines = _run(str(path)).output.splitlines()
+    assert lines == [
+        f"{path}:1:12: error: ERR003 {MEANINGS['ERR003']}: no PLC 99 (0..31)",
+        f"{path}:2:1: error: ERR005 {MEANINGS['ERR005']}"]  # its own error, no OPEN cause
+
+
+def test_an_indented_rem_line_is_a_remark_whatever_words_it_holds(tmp_path):
+    path = tmp_path / "main.bas"
+    path.write_text("  REM TRON here\nTRON\n")
+    lines = _run("--model", "mc4xx", str(path)).output.splitlines()
+    assert lines == [f"{path}:2:1: warning: not_simulated TRON is a Trio BASIC command that "
+                     "is not simulated"]
