@@ -32,9 +32,11 @@ def test_an_open_in_a_comment_of_a_refused_line_is_not_a_failed_open(tmp_path):
         f"{path}:2:1: error: ERR005 {MEANINGS['ERR005']}"]  # its own error, no OPEN cause
 
 
-def test_an_indented_rem_line_is_a_remark_whatever_words_it_holds(tmp_path):
+def test_an_indented_rem_line_is_a_remark_whatever_words_or_bytes_it_holds(tmp_path):
+    """No not_simulated warning for the TRON in the remark, and no encoding finding for its
+    byte above 0x7F (only program text must be ASCII)."""
     path = tmp_path / "main.bas"
-    path.write_text("  REM TRON here\nTRON\n")
+    path.write_text("  REM TRON here, 5 \u00b5m\nTRON\n", encoding="latin-1")
     lines = _run("--model", "mc4xx", str(path)).output.splitlines()
     assert lines == [f"{path}:2:1: warning: not_simulated TRON is a Trio BASIC command that "
                      "is not simulated"]
