@@ -31,3 +31,11 @@ def test_the_command_line_runs_again_as_process_0_line_0_when_its_move_is_buffer
         (0.0035, {"process": 0, "state": "blocked", "line": 0,
                   "blocked_on": "VR(1)=2: MOVE(10) AXIS(0)"}),
         (0.023, {"process": 0, "state": "running", "line": 0})]
+
+
+def test_a_command_line_of_300_statements_runs_them_all(trio):
+    """A long command line (300 ``VR(n)=n`` statements, more ops than CPython caches small
+    ints for) runs to its end and answers nothing."""
+    reply = trio.terminal(": ".join(f"VR({n})={n}" for n in range(300)))
+    assert (reply.error, reply.reply) == (None, "")
+    assert trio.terminal("PRINT VR(299), VR(150)").reply == "299.0000\t150.0000"
