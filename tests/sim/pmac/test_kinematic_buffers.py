@@ -137,3 +137,11 @@ def test_a_forward_program_of_max_steps_statements_runs_and_one_more_fails(rig, 
     else:
         assert failures == []
         assert rig.c.positions(1) == {"X": 1.0, "Y": 4997.0}
+
+
+def test_tum_p259_a_goto_in_a_forward_program_does_not_return(rig):
+    """GOTO jumps without a return address (PSRM GOTO / GOSUB): the RETURN after its target
+    ends the program; the lines skipped never run."""
+    _forward_cs(rig, ["Q8=1", "GOTO10", "Q8=99", "RETURN", "N10 Q7=5", "RETURN"])
+    rig.ok("&1 PMATCH")
+    assert rig.ok("&1 Q7 Q8") == "5\r1"
