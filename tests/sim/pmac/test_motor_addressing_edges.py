@@ -43,3 +43,24 @@ def test_motor_addressing_acts_on_line_while_the_port_holds_a_plc_open(rig):
     rig.ok("#2", port)
     rig.ok("CLOSE", port)
     assert rig.ok("P", port) == "1500"
+
+
+def test_tsrm_motor_numbers_1_to_32_take_a_definition_33_is_err003(rig):
+    assert rig.cmd("#32->1000X").error is None
+    assert rig.cmd("#33->1000X").error == "ERR003"
+    assert rig.cmd("#0->1000X").error == "ERR003"
+
+
+def test_spec_12_4_an_indirect_query_below_0_is_err003(rig):
+    assert rig.cmd("P(P1-1)").error == "ERR003"
+    assert rig.cmd("P(P1+8192)").error == "ERR003"
+    assert rig.ok("P(P1+8191)") == "0"
+
+
+def test_tsrm_i9_an_address_i_variable_reads_in_decimal_with_i9_0_hex_with_i9_2(rig):
+    """I9 bit 1 (TSRM I9): address I-variables (Ixx03 here) are reported in hex when set."""
+    assert rig.ok("I103") == "$3502"
+    rig.ok("I9=0")
+    assert rig.ok("I103") == "13570"
+    rig.ok("I9=2")
+    assert rig.ok("I103") == "$3502"
