@@ -145,3 +145,22 @@ def test_tum_p259_a_goto_in_a_forward_program_does_not_return(rig):
     _forward_cs(rig, ["Q8=1", "GOTO10", "Q8=99", "RETURN", "N10 Q7=5", "RETURN"])
     rig.ok("&1 PMATCH")
     assert rig.ok("&1 Q7 Q8") == "5\r1"
+
+
+def test_tum_p258_each_kinematic_cs_drives_only_its_own_i_motors(rig):
+    """CS 1 (#1->I) and CS 2 (#2->I) each with its own forward / inverse: a move in CS 2 runs
+    CS 2's inverse for motor 2 alone; motor 1 of CS 1 stays, no kinematics error."""
+    for cs, m in ((1, 1), (2, 2)):
+        rig.ok(f"&{cs} #{m}->I")
+        for opener, line in (("OPEN FORWARD", f"Q7=P{m}/1000"), ("OPEN INVERSE", f"P{m}=Q7*1000")):
+            rig.ok(f"&{cs} {opener} CLEAR")
+            rig.ok(line)
+            rig.ok("CLOSE")
+        rig.ok(f"I5{cs}50=1 I5{cs}13=10")
+    rig.ok("OPEN PROG 1 CLEAR")
+    rig.ok("LINEAR ABS TA50 TS0 TM200 X1")
+    rig.ok("CLOSE")
+    rig.ok("&2 B1 R")
+    rig.run_until_idle()
+    assert [f for _, _, f in rig.events("kinematics") if f.get("error")] == []
+    assert rig.ok("#2P #1P").split("\r") == ["1000", "0"]
