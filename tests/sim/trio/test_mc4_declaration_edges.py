@@ -32,3 +32,18 @@ def test_an_element_of_an_undeclared_name_is_no_array():
     err = refused("nothing(1) = 2\n")
     assert isinstance(err, ParseError)
     assert "NOTHING is not an array (DIM NOTHING(n) AS ... declares one)" in err.message
+
+
+def test_a_for_loop_whose_start_is_past_its_end_runs_no_pass():
+    """FOR v = start TO end [STEP inc]: with a positive step and start > end, or a negative
+    step and start < end, the body does not run (the loop ends before its first pass
+    ``[INF]``); a negative step counting down runs each pass."""
+    from tests.sim.trio.conftest import make, run_to
+
+    c = make()
+    c.store_program("F", "VR(1)=0\nFOR i = 5 TO 1\nVR(1)=VR(1)+1\nNEXT i\n"
+                         "FOR j = 1 TO 5 STEP -1\nVR(1)=VR(1)+10\nNEXT j\n"
+                         "FOR k = 3 TO 1 STEP -1\nVR(2)=VR(2)+1\nNEXT k\n")
+    c.run_program("F", 1)
+    run_to(c, 0.2)
+    assert c.vr[1:3] == [0.0, 3.0]
