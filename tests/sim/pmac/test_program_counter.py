@@ -4,6 +4,7 @@
 
 from __future__ import annotations
 
+import pytest
 from motionsim.sim.pmac.host.listing import entries
 
 from tests.sim.pmac.test_fixed_programs import load as load_prog
