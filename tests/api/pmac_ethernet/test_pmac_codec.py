@@ -181,6 +181,10 @@ def test_port_write_builds_a_line_until_cr_and_port_read_returns_bytes() -> None
     ))
     assert reqs == [PortWrite(ord("P")), PortWrite(ord("R")), PortWrite(13)]
     assert [codec.port_write(r.char) for r in reqs] == [None, None, "PR"]
+    # a C client's htons(wValue) puts the character in the high byte: taken from there too
+    swapped = feed(codec, b"".join(
+        pack_request(VR_DOWNLOAD, VR.PMAC_PORT, value=ord(c) << 8) for c in "PR\r"))
+    assert swapped == [PortWrite(ord("P")), PortWrite(ord("R")), PortWrite(13)]
     codec.queue(b"7\r\x06")
     assert feed(codec, pack_request(VR_UPLOAD, VR.PMAC_PORT)) == [PortRead()]
     assert [codec.reply(PortRead()) for _ in range(4)] == [b"7", b"\r", b"\x06", EMPTY]

@@ -159,3 +159,31 @@ def test_list_plcc_is_err003_naming_that_the_card_keeps_no_source(rig):
     assert reply.error == "ERR003"
     assert "no source" in reply.detail[1] and "column 6" in reply.detail[1]
 
+
+
+def test_delete_plcc_of_the_plcc_open_for_entry_is_err007_naming_it(rig):
+    """``DELETE PLCC n`` while PLCC n is open for entry on another port: ERR007, the message
+    names the PLCC ``[INF]``, and the PLCC stays open and stored."""
+    port = rig.c.open_port("editor")
+    rig.ok("OPEN PLCC 3 CLEAR", port)
+    rig.ok("P1=1", port)
+    reply = rig.cmd("DELETE PLCC 3")
+    assert reply.error == "ERR007"
+    assert reply.detail == ("conflict", "PLCC 3 is open for entry")
+    rig.ok("CLOSE", port)
+    assert [ln for ln in rig.c.plcs.compiled[3].program.lines] == ["P1=1"]
+
+
+def test_the_plcc_open_for_entry_is_listed_open_and_plc_n_is_not(rig):
+    """``OPEN PLCC 2`` on a port: the compiled list shows PLCC 2 ``open``; the interpreted
+    list has no PLC 2 (PLCC 2 is not PLC 2); closing a port that holds no PLC changes
+    nothing, and closing the editing port drops the entry."""
+    port = rig.c.open_port("editor")
+    rig.ok("OPEN PLCC 2 CLEAR", port)
+    rig.ok("P1=1", port)
+    assert [(p["plc"], p["state"]) for p in rig.c.plcs.to_list(compiled=True)] == [(2, "open")]
+    assert rig.c.plcs.to_list() == []
+    rig.c.close_port(rig.c.open_port("idle"))  # no PLC open there
+    assert [p["state"] for p in rig.c.plcs.to_list(compiled=True)] == ["open"]
+    rig.c.close_port(port)
+    assert rig.c.plcs.editing() is None and rig.c.buffer_holder is None

@@ -68,3 +68,41 @@ def test_tsrm_p176_a_cs_not_activated_by_i68_holds_its_timer(make_rig):
 def test_tsrm_p176_timer_written_with_a_fraction_is_a_whole_number(rig):
     rig.ok("I5111=10.6")
     assert rig.ok("I5111") in ("11", "10")
+
+
+def test_each_timer_write_is_a_timer_event_with_the_stored_value(rig):
+    """API.md event table: a write of Isx11 / Isx12 is a ``timer`` event naming the variable
+    and the whole number of servo cycles stored (TSRM p176: the register holds an integer)."""
+    rig.ok("I5111=100.4")
+    rig.ok("I6612=-7")
+    assert [(f["var"], f["value"]) for _, _, f in rig.events("timer")] == [
+        ("I5111", 100.0), ("I6612", -7.0)]
+
+
+def test_tsrm_p176_a_held_timer_keeps_its_top_value_and_clamps_above_it(rig):
+    """With I68=0 only CS 1 is activated, so CS 2's Isx11 holds what was written: the
+    largest 24-bit value, 8 388 607, and a larger write stored as that."""
+    rig.ok("I68=0")
+    rig.ok("I5211=8388607")
+    rig.run_for(rig.period * 20)
+    assert rig.ok("I5211") == "8388607"
+    rig.ok("I5211=9000000")
+    assert rig.ok("I5211") == "8388607"
+
+
+def test_tsrm_p176_i68_decides_which_cs_timers_count(rig):
+    """I68=11: CSs 1..12 are activated: CS 12's timer counts down, CS 13's holds."""
+    rig.ok("I68=11")
+    rig.ok("I6211=1000 I6311=1000")
+    rig.run_for(rig.period * 50)
+    assert int(rig.ok("I6211")) < 1000
+    assert rig.ok("I6311") == "1000"
+
+
+def test_i5011_is_no_timer(rig):
+    """Isx11 / Isx12 exist for CS 1..16 only: I5011 is an ordinary I-variable (it keeps its
+    value)."""
+    rig.ok("I5011=100")
+    rig.run_for(rig.period * 40)
+    assert rig.ok("I5011") == "$64"
+    assert rig.events("timer") == []

@@ -4,6 +4,7 @@
 
 from __future__ import annotations
 
+import pytest
 from motionsim.sim.pmac.host.listing import entries
 
 from tests.sim.pmac.test_fixed_programs import load as load_prog
@@ -142,3 +143,16 @@ def test_pe_follows_the_executing_move_into_a_called_program(rig):
             done = len(starts)
             seen.append((starts[-1][2]["n"], rig.ok("&1PE")))
     assert seen == [(2, "P3:1"), (1, "P7:0"), (2, "P7:1"), (4, "P3:3")]
+
+
+@pytest.mark.parametrize("texts", [("X1",), ("X1", "X2 Y3"), ("X1", "X2 Y3", "DWELL10")])
+def test_a_line_past_the_end_is_the_closing_ret(texts):
+    """``line_offset`` of any line past the last is the word of the card's closing RET,
+    one word after the last line's words (the listing's stored offsets)."""
+    from motionsim.sim.pmac.host import listing
+    from motionsim.sim.pmac.host.program_counter import line_offset
+
+    offsets = listing.stored_offsets(texts)
+    assert [line_offset(texts, n) for n in range(1, len(texts) + 1)] == list(offsets[:-1])
+    for n in (len(texts) + 1, len(texts) + 2, len(texts) + 9):
+        assert line_offset(texts, n) == offsets[-1]

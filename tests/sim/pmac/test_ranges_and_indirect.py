@@ -104,3 +104,10 @@ def test_spec_12_4_range_assignment_in_a_motion_program_runs_with_the_program(ri
     rig.ok("&1 B7 R")
     rig.run_until_idle()
     assert rig.ok("P10..12 Q70 Q80 Q90 Q71").split("\r") == ["5"] * 3 + ["6"] * 3 + ["0"]
+
+
+def test_psrm_p252_a_dotted_range_sets_its_two_ends_and_nothing_beyond(rig):
+    rig.ok("P10..12=4")
+    assert rig.ok("P9..13").split("\r") == ["0", "4", "4", "4", "0"]
+    rig.ok("P20..20=5")  # a range of one variable
+    assert rig.ok("P19..21").split("\r") == ["0", "5", "0"]

@@ -162,3 +162,15 @@ def test_a_lag_set_while_the_axis_moves_is_watched_from_then_on():
     c.set_axis(0, fe_lag=0.002)  # FE 2 at 1000 units/s: beyond FE_LIMIT
     run_to(c, 0.5)
     assert [round(t, 6) for t, _f in fields(c, "following_error")] == [0.031]
+
+
+def test_motion_errors_of_two_axes_set_one_bit_each_and_error_axis_names_the_first():
+    """MOTION_ERROR holds one bit per axis in error (bit n for axis n), ERROR_AXIS the first
+    axis that erred (spec §10.4): axes 2 and 3 trip their FE_LIMIT one after the other."""
+    c = make(fe_lag=0.002)
+    for line in ("WDOG=ON", "SERVO AXIS(2)=ON", "SERVO AXIS(3)=ON", "FE_LIMIT AXIS(2)=1.5",
+                 "FE_LIMIT AXIS(3)=1.8", "MOVE(100) AXIS(2)", "MOVE(100) AXIS(3)"):
+        assert c.terminal(line).error is None, line
+    run_to(c, 0.5)
+    assert [f["axis"] for _t, f in fields(c, "motion_error")] == [2, 3]  # once each
+    assert num(c, "MOTION_ERROR") == 12.0 and num(c, "ERROR_AXIS") == 2.0

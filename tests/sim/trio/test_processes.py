@@ -221,3 +221,19 @@ def test_reset_clears_programs_and_buffers(trio):
     seq = trio.log.last_seq
     run_to(trio, 0.5)
     assert all(e.type != "move_start" for e in trio.log.read(seq).events)
+
+
+def test_a_program_of_only_a_remark_runs_and_stops_at_line_0():
+    """A program with no statement (one remark line): its process runs and stops at once,
+    reporting line 0 (no statement line) in both process events and the process resource."""
+    from tests.sim.trio.conftest import fields, make, run_to
+
+    c = make()
+    c.store_program("E", "' just a remark\n")
+    c.run_program("E", 3)
+    run_to(c, 0.1)
+    assert [f for _t, f in fields(c, "process") if f["process"] == 3] == [
+        {"process": 3, "state": "running", "line": 0},
+        {"process": 3, "state": "stopped", "line": 0}]
+    assert c.processes() == [
+        {"process": 3, "program": "E", "state": "stopped", "line": 0, "pmove": 0}]

@@ -192,3 +192,14 @@ def test_a_64_bit_mc4xx_holds_the_software_limits_power_up_values_exactly(name, 
     assert c.terminal(f"?{name}").reply == text
     c.terminal(f"{name}=200000001")
     assert c.terminal(f"?{name}").reply == "200000001.0000"
+
+
+def test_rep_dist_is_held_in_edges_so_a_new_units_rescales_it():
+    """TKB-REP: REP_DIST is stored as INT(value x UNITS): written as 100 with UNITS 1, it
+    reads 10 after UNITS = 10 (the same 100 edges)."""
+    from tests.sim.trio.conftest import make
+
+    c = make()
+    for line in ("UNITS=1", "REP_DIST=100", "UNITS=10"):
+        assert c.terminal(line).error is None, line
+    assert c.terminal("? REP_DIST").reply == "10.0000"
