@@ -4,7 +4,7 @@ Installed with motionsim (entry point ``pytest11``), so a test just asks for it:
 
     def test_my_streamer(motionsim):
         motionsim.define_rotary("pmac", 1, 600)
-        motionsim.host_paced("pmac", "streamer")   # time waits for the host's first call
+        motionsim.host_paced("pmac", "streamer", "main")  # time waits for both: see below
         done = pool.submit(my_host, motionsim.host("pmac", "streamer", register=False))
         motionsim.advance("pmac", 60.0)            # runs while the host waits, holds while it acts
         motionsim.release("pmac", "streamer")
@@ -17,7 +17,9 @@ free 127.0.0.1 port, on a **virtual** clock, with the default controllers ``pmac
 ``url`` and ``ports`` (protocol -> TCP port of the PMAC Ethernet / Trio telnet listeners).
 
 A host in its own thread (or process) runs deterministically against virtual time on a
-**host-paced** clock: ``motionsim.host_paced("pmac", "streamer")`` registers the holder, and
+**host-paced** clock: ``motionsim.host_paced("pmac", "streamer", "main")`` registers the
+holders — the host, and ``main``, the holder the test's own ``advance`` waits as, so time
+stands still until the test advances whatever the machine's load — and
 ``motionsim.host("pmac", "streamer", register=False)`` gives the thread a
 :class:`motionsim.app.client.PacedHost` (``wait_for`` an event, ``sleep``). Holders still
 registered at teardown are released, so such threads end cleanly.

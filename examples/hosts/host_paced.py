@@ -29,7 +29,8 @@ def run(ms: MotionSimClient, delay_s: float = 0.0, sim_s: float = SIM_S,
     """Stream for ``sim_s`` simulated seconds; the controller's whole event log."""
     ms.create_controller("pmac", id="pmac", clock="virtual", config={"i16": I16, "i17": I17})
     ms.define_rotary("pmac", 1, 600)
-    ms.host_paced("pmac", "streamer", reaction_s=reaction_s)  # time waits for the streamer
+    # time waits for the streamer and for main (this thread) until main's advance
+    ms.host_paced("pmac", "streamer", "main", reaction_s=reaction_s)
     streamer = PacedStreamerThread(ms.host("pmac", "streamer", register=False), delay_s)
     streamer.start()
     try:
