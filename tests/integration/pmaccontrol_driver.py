@@ -40,20 +40,30 @@ def main() -> None:
             app.processEvents()
             time.sleep(0.01)
 
+    def pump_until(done, max_s: float = 30.0) -> None:
+        """Pump until ``done()`` holds (at most ``max_s``): a loaded machine only takes
+        longer, it cannot make the GUI miss what it shows."""
+        end = time.monotonic() + max_s
+        while not done() and time.monotonic() < end:
+            app.processEvents()
+            time.sleep(0.01)
+
     def table() -> list[list[str | None]]:
         t = win.table
         return [[t.item(r, c).text() if t.item(r, c) is not None else None
                  for c in range(3)] for r in range(t.rowCount())]
 
     win.remoteConnect()
-    pump(2.0)
+    pump_until(lambda: win.table.rowCount() == 8 and all(None not in row for row in table()))
+    pump(0.5)
     out: dict = {"title": win.windowTitle(), "rows": win.table.rowCount(), "before": table()}
     wall0, cpu0 = time.monotonic(), _cpu_s()
     pump(2.0)
     out["cpu_share"] = (_cpu_s() - cpu0) / (time.monotonic() - wall0)
     win.lneJogDist.setText("1000")
     win.jogPos()
-    pump(3.0)
+    pump_until(lambda: table()[0][0] == "1000.0")
+    pump(0.5)  # the next polls: the position stays where the jog ended
     out["after"] = table()
     out["shell"] = win.txtShell.toPlainText()
     win.killMotor()
