@@ -53,6 +53,25 @@ def update_readme(text: str) -> None:
     readme.write_text(f"{head}{START}\n{text}\n{END}{tail}")
 
 
+def _machine_text(machines: list[dict]) -> str:
+    """The rest of the table's heading: the platform and Python the figures were taken on,
+    the dates, and the range of the 1-minute load beside the benches (a high load means the
+    figures were taken beside other work)."""
+    parts = []
+    for key in ("platform", "python"):
+        seen = sorted({str(m[key]) for m in machines if m.get(key)})
+        if seen:
+            parts.append(("Python " if key == "python" else "") + " / ".join(seen))
+    dates = sorted(str(m["date"])[:16].replace("T", " ") for m in machines if m.get("date"))
+    if dates:
+        parts.append(f"{dates[0]}" + (f" to {dates[-1]}" if dates[-1] != dates[0] else "")
+                     + " UTC")
+    loads = [float(m["load_1min"]) for m in machines if m.get("load_1min") is not None]
+    if loads:
+        parts.append(f"1-minute load {min(loads):.1f}-{max(loads):.1f}")
+    return "".join(f", {p}" for p in parts)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--readme", action="store_true", help="rewrite README's Performance table")
@@ -66,7 +85,7 @@ def main() -> None:
         machines = [json.loads(p.read_text()).get("machine", {}) for p in RESULTS.glob("*.json")]
         shas = ", ".join(sorted({m["git_sha"] for m in machines if m.get("git_sha")})) or "?"
         cpus = max((m.get("cpus") or 0 for m in machines), default=0)
-        note = f"Last `make bench`: commit {shas}, {cpus} CPUs."
+        note = f"Last `make bench`: commit {shas}, {cpus} CPUs{_machine_text(machines)}."
         update_readme(f"{note}\n\n{table(lines)}")
         print("README.md Performance section updated")
 
