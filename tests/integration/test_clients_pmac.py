@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import json
 import os
-import random
 import re
 import socket
 import subprocess
@@ -28,27 +27,11 @@ from pathlib import Path
 import httpx
 import pytest
 
+from tests.ports import free_port
 from tests.processes import stop
 
 ROOT = Path(__file__).resolve().parents[2]
 START_TIMEOUT_S = 30.0
-
-
-def free_port() -> int:
-    """A free 127.0.0.1 port for a server the test starts with it, taken below Linux's
-    ephemeral range (32768-60999): a port the kernel handed out and took back could be given
-    to some outgoing connection before the server binds it ("address already in use"); one
-    below the range is only ever taken by an explicit bind."""
-    rng = random.SystemRandom()
-    for _ in range(200):
-        port = rng.randrange(20000, 32768)
-        with socket.socket() as s:
-            try:
-                s.bind(("127.0.0.1", port))
-            except OSError:
-                continue
-            return port
-    raise RuntimeError("no free port in 20000-32767")
 
 
 class Service:
