@@ -213,7 +213,7 @@ def var_query(c: Call, stmt: st.VarQuery) -> None:
     vars_ = c.ctl.vars
     i9 = int(vars_.I(9))
     numbers = stmt.numbers()
-    if any(not 0 <= n < 8192 for n in numbers):
+    if any(not 0 <= n < N_VARS for n in numbers):
         raise CommandError("ERR003")
     for n in numbers:
         raw = vars_.read(stmt.kind, n, c.state["cs"])
@@ -221,13 +221,20 @@ def var_query(c: Call, stmt: st.VarQuery) -> None:
         c.out.append(f"{stmt.kind}{n}={value}" if i9 & 1 else value)
 
 
+def _variable_number(kind: str, index: float) -> int:
+    """The number an on-line indirect reference ``P(expr)`` names: ERR003 outside 0..8191
+    (spec §12.4), for a query and an assignment alike."""
+    n = int(index)
+    if not 0 <= n < N_VARS:
+        raise InvalidValue(f"{kind}({n}): no such variable (0..8191)", pmac_error="ERR003")
+    return n
+
+
 def indirect_query(c: Call, stmt: ranges.IndirectQuery) -> None:
     """``{kind}({expr})``: the value of the variable whose number the expression gives."""
     vars_ = c.ctl.vars
     cs = c.state["cs"]
-    n = int(stmt.index(vars_, cs))
-    if not 0 <= n < N_VARS:
-        raise InvalidValue(f"{stmt.kind}({n}): no such variable (0..8191)", pmac_error="ERR003")
+    n = _variable_number(stmt.kind, stmt.index(vars_, cs))
     raw = vars_.read(stmt.kind, n, cs)
     i9 = int(vars_.I(9))
     value = format_ivar(n, raw, i9) if stmt.kind == "I" else format_value(raw)
@@ -248,11 +255,13 @@ def m_definition_query(c: Call, stmt: st.MDefinitionQuery) -> None:
 
 
 def assign(c: Call, stmt: st.Assign) -> None:
-    """``P1=5`` with buffers closed acts at once; a synchronous ``==`` needs a buffer."""
+    """``P1=5`` with buffers closed acts at once; a synchronous ``==`` needs a buffer; an
+    indirect target outside 0..8191 is ERR003, as its query is (the value is not evaluated
+    into a write)."""
     if stmt.synchronous:
         raise CommandError("ERR005")
     ctl, cs = c.ctl, c.state["cs"]
-    n = int(stmt.target.index(ctl.vars, cs))
+    n = _variable_number(stmt.target.kind, stmt.target.index(ctl.vars, cs))
     ctl.vars.write(stmt.target.kind, n, stmt.value(ctl.vars, cs), cs)
 
 

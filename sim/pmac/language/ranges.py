@@ -17,8 +17,6 @@ from dataclasses import dataclass
 
 from .expressions import Expr
 
-N_VARS = 8192
-
 
 @dataclass(frozen=True, slots=True)
 class RangeAssign:

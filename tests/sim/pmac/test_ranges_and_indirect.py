@@ -38,6 +38,20 @@ def test_spec_12_4_indirect_number_out_of_range_is_err003(rig):
     assert reply.error == "ERR003"
 
 
+@pytest.mark.parametrize("kind", ["P", "Q", "I"])
+def test_spec_12_4_indirect_assignment_out_of_range_is_err003_like_its_query(rig, kind):
+    """The on-line ``P(expr)=v`` names the variable its query names: one below 0 or above
+    8191 is ERR003 for both, and nothing is written."""
+    rig.ok("P1=0 P8191=7")
+    for index in ("P1-1", "P1+8192"):
+        assert rig.cmd(f"{kind}({index})=5").error == "ERR003"
+        assert rig.cmd(f"{kind}({index})").error == "ERR003"
+    assert rig.ok("P8191") == "7"
+    rig.ok("I9=0")  # I8191 is an address I-variable: decimal, not I9 bit 1's hex
+    rig.ok(f"{kind}(P1+8191)=3")  # the last number is in range
+    assert rig.ok(f"{kind}8191") == "3"
+
+
 def test_tsrm_p328_range_query_with_count_and_step(rig):
     rig.ok("I130=5 I230=6 I330=7 I430=8")
     assert rig.ok("I130,4,100").split("\r") == ["5", "6", "7", "8"]

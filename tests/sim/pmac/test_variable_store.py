@@ -65,9 +65,13 @@ def test_number_0_is_a_variable_like_the_others(rig):
 
 
 def test_an_indirect_number_outside_0_to_8191_reads_0_and_writes_nothing(rig):
-    """[INF] (variables.py): an I/P/Q/M number computed out of range is dropped, no error."""
+    """[INF] (variables.py): an I/P/Q/M number computed out of range reads 0 inside an
+    expression; as the target of an on-line assignment it is ERR003 (spec §12.4), and
+    nothing is written either way."""
     rig.ok("P8191=6 P0=7 P1=-1 P2=8192")
-    rig.ok("P(P1)=9 P(P2)=9 P3=P(P1)+P(P2)")
+    assert rig.cmd("P(P1)=9").error == "ERR003"
+    assert rig.cmd("P(P2)=9").error == "ERR003"
+    rig.ok("P3=P(P1)+P(P2)")
     assert rig.ok("P8191").strip() == "6" and rig.ok("P0").strip() == "7"
     assert rig.ok("P3").strip() == "0"
 
