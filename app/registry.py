@@ -18,6 +18,7 @@ from typing import Any, TypeVar
 from ..sim.controller import Controller, Port, Reply
 from ..sim.errors import Conflict, InvalidValue, NotFound
 from ..sim.events import Event
+from ..sim.simpy_adapter import cancel, wake_at
 from .clock import (
     RUN_UNTIL_WALL_S,
     Clock,
@@ -134,16 +135,32 @@ class ControllerHandle:
         clock.wake()
         if wait_s <= 0 or clock.paused:
             return _answered(reply)
+        return await self._await_realtime_reply(reply, wait_s)
+
+    async def _await_realtime_reply(self, reply: Reply, wait_s: float) -> Reply:
+        """A realtime clock's terminal wait: until the reply is done or ``wait_s`` of
+        *simulated* time has passed since the command, whichever is first (at most
+        ``realtime_reply_cap_s`` of wall time). A reply done later than ``wait_s`` simulated
+        after the command is answered pending, as on a virtual clock — the kind announces it
+        as a ``terminal_reply`` event by the same simulated rule (the PMAC's ``terminal``) —
+        so how late the machine woke this coroutine cannot change the answer."""
+        env = self.controller.env
+        t0 = env.now
         done = asyncio.get_running_loop().create_future()
 
-        def _done(_: Reply) -> None:
+        def _done(_: object) -> None:
             if not done.done():
                 done.set_result(None)
 
         reply.add_done_callback(_done)
-        cap = min(self.realtime_reply_cap_s, wait_s / clock.factor)
-        with contextlib.suppress(TimeoutError):
-            await self.inflight.run(asyncio.wait_for(done, timeout=cap))
+        given_up = wake_at(env, t0 + wait_s, _done)
+        try:
+            with contextlib.suppress(TimeoutError):
+                await self.inflight.run(asyncio.wait_for(done, timeout=self.realtime_reply_cap_s))
+        finally:
+            cancel(given_up)
+        if reply.done and reply.t_done is not None and reply.t_done - t0 > wait_s + 1e-9:
+            reply.answered_pending = True  # done too late: the host is told "pending"
         return _answered(reply)
 
     async def run_until_reply(self, reply: Reply, max_s: float) -> None:

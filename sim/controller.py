@@ -46,7 +46,8 @@ class Reply:
         self.detail: tuple[str, str] | None = None
         self.done = False
         self.t_done: float | None = None
-        #: the host was answered "pending" before this completed: a kind announces the
+        #: the host was answered "pending": before this completed, or (a realtime clock) it
+        #: completed later than the terminal's simulated wait; a kind announces the
         #: completion as a ``terminal_reply`` event (API.md, "The terminal")
         self.answered_pending = False
         self._callbacks: list[Callable[[Reply], None]] = []

@@ -25,11 +25,12 @@ async def post_terminal(body: TerminalIn, handle: HandleDep) -> dict:
     reply = await handle.command(body.command)
     unread = getattr(handle.controller, "unread_output", None)
     output = handle.apply(unread, "rest") if unread is not None else []
-    if not reply.done:
+    if not reply.done or reply.answered_pending:
         out: dict = {"reply": "", "error": None, "pending": True}
     else:
         out = {"reply": reply.reply, "error": reply.error, "pending": False}
-    if reply.done and reply.error is not None:  # explained for people; success stays 3 fields
+    # an error explained for people; success stays 3 fields
+    if out["pending"] is False and reply.error is not None:
         detail = getattr(reply, "detail", None)
         out["error_meaning"] = meaning(reply.error)
         out["not_simulated"] = detail is not None and detail[0] == "not_simulated"

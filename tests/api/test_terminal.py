@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import asyncio
+import time
 
 import pytest
 
@@ -88,8 +89,9 @@ async def test_realtime_terminal_awaits_the_reply(api):
 
 
 async def test_realtime_terminal_gives_up_after_1s_simulated_and_the_reply_comes_as_an_event(api):
-    # factor 2: the terminal gives up 0.5 s wall after the command, SLOW answers 0.5 s later;
-    # at factor 20 (50 ms between the two) a loaded machine's late wake-up saw the reply done
+    """The give-up is decided in simulated time (the command's instant + 1 s): SLOW answers
+    2 s after the command, so the POST says pending however late the machine wakes it (a
+    loaded machine once saw the reply done when the wait was a wall-clock one)."""
     await api.post("/controllers", json={"id": "rt", "kind": "dummy",
                                          "clock": {"mode": "realtime", "factor": 2}})
     r = await api.post("/controllers/rt/terminal", json={"command": "SLOW"})
@@ -98,6 +100,27 @@ async def test_realtime_terminal_gives_up_after_1s_simulated_and_the_reply_comes
                        json={"event": {"type": "terminal_reply", "command": "SLOW"},
                              "timeout_s": 10})
     assert r.json()["matched"]["reply"] == "slow"
+
+
+async def test_a_realtime_reply_later_than_1s_simulated_is_pending_even_when_the_wait_woke_late(
+        api, monkeypatch):
+    """A stalled event loop (here: the clock's catch-up runs past both instants before the
+    waiting POST is resumed) cannot turn a reply that came 2 s after the command into an
+    answered one: it is pending, and announced as a ``terminal_reply`` event (API.md: every
+    reply answered pending arrives as that event)."""
+    await api.post("/controllers", json={"id": "rt", "kind": "dummy",
+                                         "clock": {"mode": "realtime", "factor": 50}})
+    real_wait_for = asyncio.wait_for
+
+    async def stalled(awaitable, timeout):  # the loop frozen for 0.2 s wall (10 s simulated)
+        time.sleep(0.2)
+        return await real_wait_for(awaitable, timeout)
+
+    monkeypatch.setattr(asyncio, "wait_for", stalled)
+    r = await api.post("/controllers/rt/terminal", json={"command": "SLOW"})
+    assert r.json() == {"reply": "", "error": None, "pending": True}
+    ev = (await api.get("/controllers/rt/events", params={"type": "terminal_reply"})).json()
+    assert [e["reply"] for e in ev["events"]] == ["slow"]
 
 
 async def test_paused_realtime_terminal_returns_pending_at_once(api):
