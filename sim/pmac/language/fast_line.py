@@ -62,8 +62,8 @@ _LETTERS = "XYZABCUVWIJKRF"
 if any(len(g) > 1 and g[0].upper() in _LETTERS and g[1] in " -.0123456789" for g in _LEXER_WORDS):
     raise RuntimeError("fast_line: a lexer word continues an axis letter with a number or blank")
 _ITEM = (
-    r"\s*(?:(" + _whole("DWELL", "DWE", "DELAY", "DLY", "TA", "TS", "TM") + "|[" + _LETTERS
-    + r"])\s*(-?)\s*(" + _NUM + r")"
+    r"\s*(?:([" + _LETTERS + "]|" + _whole("DWELL", "DWE", "DELAY", "DLY", "TA", "TS", "TM")
+    + r")\s*(-?)\s*(" + _NUM + r")"
     r"|(" + _whole("LINEAR", "LIN", "RAPID", "RPD", "INC", "ABS") + r")(?!\s*\()"
     r"|(?:" + _whole("CIRCLE", "CIR") + r")\s*([12])(?![\d.])"
     r"|(\S))"  # anything else: the line takes the general path
@@ -109,25 +109,33 @@ def fast_compile(text: str) -> ProgramLine | None:
     if items[0][5]:
         return _assignment(text)
     expr = ex.Expr
+    new = _new
+    kind_of = _KIND.get
     ops: list[tuple[Any, ...]] = []
     modal: list[tuple[Any, ...]] = []
     axes: list[tuple[Any, ...]] = []
     vectors: list[tuple[Any, ...]] = []
     simple: list[tuple[str, float]] = []  # the axis words' values (the short cuts, below)
+    simple_pvt: list[tuple[str, float, float]] = []  # the same with no end velocities
     moves = 0
     for word, neg, num, mode, circle, other in items:
         if word:
-            kind = _KIND.get(word)
+            kind = kind_of(word)
             if kind is None:  # lower or mixed case
                 word = word.upper()
                 kind = _KIND[word]
-            # ex.constant(float(num), num), without the call (the property test pins it);
-            # ``-n`` is what ex.negate(ex.constant(n)) builds: text "-n", value -n.
+            # ex.constant(float(num), num), without the calls (the property test pins it):
+            # the object made and its two slots stored here, no ``__init__`` frame (its
+            # ``fn`` is left unset, as constant() leaves it); ``-n`` is what
+            # ex.negate(ex.constant(n)) builds: text "-n", value -n.
             v = -float(num) if neg else float(num)
-            e = expr("-" + num if neg else num, None, v)
+            e = new(expr)
+            e.text = "-" + num if neg else num
+            e.const = v
             if kind == 0:
                 axes.append((word, e))
                 simple.append((word, v))
+                simple_pvt.append((word, v, 0.0))
             elif kind == 1:
                 vectors.append((word, e))
             elif kind == 2:
@@ -152,21 +160,50 @@ def fast_compile(text: str) -> ProgramLine | None:
     if axes or vectors:
         move = (OP_MOVE, tuple(axes), tuple(vectors), ())
         if not ops and not modal and not vectors:  # the planners' short cuts (see ProgramLine)
-            simple_pvt = tuple([(a, v, 0.0) for a, v in simple])
-            return ProgramLine(text, len(items), (move,), moves + 1, tuple(simple), simple_pvt)
+            return _line(text, len(items), (move,), moves + 1, tuple(simple), tuple(simple_pvt))
         ops.extend(modal)
         ops.append(move)
         moves += 1
     else:
         ops.extend(modal)
-    return ProgramLine(text, len(items), tuple(ops), moves)
+    return _line(text, len(items), tuple(ops), moves, None, None)
+
+
+#: ``object.__new__``: a class's instance with none of its slots set.
+_new = object.__new__
+
+
+def _line(
+    text: str, words: int, ops: tuple[tuple[Any, ...], ...], moves: int,
+    simple: tuple[tuple[str, float], ...] | None,
+    simple_pvt: tuple[tuple[str, float, float], ...] | None,
+) -> ProgramLine:
+    """``ProgramLine(text, words, ops, moves, simple, simple_pvt)`` (no control flow), its
+    slots stored here without the ``__init__`` frame (the property test pins it)."""
+    line = _new(ProgramLine)
+    line.text = text
+    line.words = words
+    line.ops = ops
+    line.moves = moves
+    line.simple = simple
+    line.simple_pvt = simple_pvt
+    line.flow = None
+    return line
+
+
+def _constant(value: float, text: str) -> ex.Expr:
+    """``ex.constant(value, text)`` (``value`` a float already), made as the words' are: no
+    ``Expr.__init__`` frame (the property test pins it)."""
+    e = _new(ex.Expr)
+    e.text = text
+    e.const = value
+    return e
 
 
 def _operand(var: str, number: str, num: str) -> ex.Expr:
     if var:
-        n = int(number)
-        return ex.variable(var.upper(), ex.constant(float(n), number))
-    return ex.constant(float(num), num)
+        return ex.variable(var.upper(), _constant(float(int(number)), number))
+    return _constant(float(num), num)
 
 
 def _assignment(text: str) -> ProgramLine | None:
@@ -185,8 +222,8 @@ def _assignment(text: str) -> ProgramLine | None:
         value = ex.negate(value)
     if binop:
         value = ex.binary(binop, value, _operand(var2, n2, num2))
-    target = ex.constant(float(int(index)), index)
-    return ProgramLine(text, 1, ((OP_ASSIGN, kind, target, op, value),), 0)
+    target = _constant(float(int(index)), index)
+    return _line(text, 1, ((OP_ASSIGN, kind, target, op, value),), 0, None, None)
 
 
 __all__ = ["fast_compile"]

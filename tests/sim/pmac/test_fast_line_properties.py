@@ -100,6 +100,25 @@ def test_assignment_line_compiles_exactly_as_the_general_parser(text):
     _check_same(text)
 
 
+_AXIS_WORD = st.tuples(
+    _GAP, st.sampled_from(["X", "Y", "Z", "A", "B", "C", "U", "V", "W", "x", "w", "I", "F"]),
+    _GAP, st.sampled_from(["", "", "-", "- ", "+"]), _NUMBERS,
+).map("".join)
+
+
+@settings(max_examples=1000, deadline=None)
+@given(st.lists(_AXIS_WORD, min_size=1, max_size=4), _GAP)
+@example(["X1.5", " Y-2"], "")
+@example(["x 1 ", "y-.5", "Z007"], " ")
+@example(["X1", "Y2", "Z3", "A4"], "")
+@example(["X1.2.3"], "")
+@example(["X1.", "Y2"], "")
+def test_axis_word_line_compiles_exactly_as_the_general_parser(words, tail):
+    """Lines of nothing but axis words (the commonest streamed line, the planners' short
+    cuts), with odd numbers, signs and spacing."""
+    _check_same("".join(words) + tail)
+
+
 @settings(max_examples=500, deadline=None)
 @given(st.text(alphabet="XYZIJKRFTADWELINCBS-.0123456789 ():=;$", max_size=20))
 def test_any_character_mix_compiles_or_fails_exactly_as_the_general_parser(text):
