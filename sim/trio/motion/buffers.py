@@ -92,6 +92,12 @@ Placed = str  # "mtype" | "ntype" | "process_buffer"
 MERGEABLE = frozenset({"MOVE", "MOVEABS", "MOVECIRC", "MHELICAL"})
 OnPlaced = Callable[[Placed], None]
 
+#: The fields of the per-move events, in order (stored by
+#: :meth:`motionsim.sim.events.EventLog.emit_row`: the dict is made when the event is read).
+AXIS_KEYS = ("axis", "mtype", "ntype")
+PROCESS_BUFFER_KEYS = ("process", "axis", "mtype")
+MOVE_KEYS = ("axis", "mtype")  # move_start, move_end
+
 
 def schedule_at(env: simpy.Environment, t: float, callback: Callable[[Any], None]) -> None:
     """Run ``callback`` at the absolute simulated instant ``t``, before normal events at ``t``.
@@ -130,6 +136,7 @@ class MotionBuffers(AxisGuards):
         self.env = env
         self.clock = clock
         self.log = log
+        self._row = log.emit_row  # the per-move events (the hot path)
         self.axes = axes
         self.process_buffer: dict[int, Move] = {}
         self._waiters: dict[int, deque[Waiter]] = {}
@@ -167,12 +174,8 @@ class MotionBuffers(AxisGuards):
 
     def _changed(self, ax: Axis) -> None:
         m, nm = ax.mtype, ax.ntype
-        self.log.emit(
-            "axis",
-            axis=ax.n,
-            mtype=m.mtype if m is not None else 0,
-            ntype=nm.mtype if nm is not None else 0,
-        )
+        self._row("axis", AXIS_KEYS,
+                  (ax.n, m.mtype if m is not None else 0, nm.mtype if nm is not None else 0))
         if self._watchers:
             self._check_watchers()
 
@@ -210,14 +213,14 @@ class MotionBuffers(AxisGuards):
         self.process_buffer[p] = m
         for a in m.axes:
             self.axes[a].queued += 1
-        self.log.emit("process_buffer", process=p, axis=m.axes[0], mtype=m.mtype)
+        self._row("process_buffer", PROCESS_BUFFER_KEYS, (p, m.axes[0], m.mtype))
 
     def _pb_take(self, p: int, emit: bool = True) -> Move:
         m = self.process_buffer.pop(p)
         for a in m.axes:
             self.axes[a].queued -= 1
         if emit:
-            self.log.emit("process_buffer", process=p, axis=m.axes[0], mtype=0)
+            self._row("process_buffer", PROCESS_BUFFER_KEYS, (p, m.axes[0], 0))
         return m
 
     def pmove(self, process: int) -> int:
@@ -478,7 +481,7 @@ class MotionBuffers(AxisGuards):
                             all(axes[a].mtype is None and axes[a].ntype is None for a in ms)):
                         # NTYPE and MTYPE free: sequenced and loaded in this same interrupt;
                         # the zero-length stay in NTYPE is not reported as a change
-                        self.log.emit("process_buffer", process=p, axis=m.axes[0], mtype=0)
+                        self._row("process_buffer", PROCESS_BUFFER_KEYS, (p, m.axes[0], 0))
                         self._active[m] = None
                         for a in m.axes:
                             axes[a].mtype = m
@@ -489,7 +492,7 @@ class MotionBuffers(AxisGuards):
                     for a in m.axes:
                         axes[a].buffer(m)
                         self._changed(axes[a])
-                    self.log.emit("process_buffer", process=p, axis=m.axes[0], mtype=0)
+                    self._row("process_buffer", PROCESS_BUFFER_KEYS, (p, m.axes[0], 0))
                     if axes[m.axes[0]].merge and axes[m.axes[0]].ntype is m:
                         self._try_merge(m)
         # 2. move loading: NTYPE -> MTYPE, the move starts now
@@ -535,7 +538,7 @@ class MotionBuffers(AxisGuards):
                 e = f * u
                 ax.pos = f if e % 1.0 == 0.0 else nearest_edge(f, u)  # at rest on a whole edge
                 ax.mtype = None
-                self.log.emit("move_end", axis=a, mtype=m.mtype)
+                self._row("move_end", MOVE_KEYS, (a, m.mtype))
             linked_next = None if type(m) is Move else self._link_successor(m)
             if linked_next is not None or (
                     nxt is not None and m.profile is not None and axes[m.axes[0]].ntype is nxt):
@@ -591,9 +594,9 @@ class MotionBuffers(AxisGuards):
             m.begin(k, prev[0], axes, prev[1])
         prof = m.profile
         assert prof is not None
-        emit = self.log.emit
+        row = self._row
         for a in ms:
-            emit("move_start", axis=a, mtype=m.mtype)
+            row("move_start", MOVE_KEYS, (a, m.mtype))
         if prof.duration != math.inf:
             if prev is None:
                 self._end_at(m, k + max(1, self.clock.cycles(prof.duration)))

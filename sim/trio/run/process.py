@@ -48,6 +48,11 @@ from .context import Context
 if TYPE_CHECKING:
     from ..controller import TrioController
 
+#: The fields of a ``process`` event reporting ``running`` / ``blocked`` (stored by
+#: :meth:`motionsim.sim.events.EventLog.emit_row`: once or twice per move line that waits).
+RUNNING_KEYS = ("process", "state", "line")
+BLOCKED_KEYS = ("process", "state", "line", "blocked_on")
+
 
 class BasicProcess:
     """Program ``program`` running as process ``number``."""
@@ -225,8 +230,8 @@ class BasicProcess:
             if text is None:
                 text = self._texts[pc] = self.code.text(pc)
         self.state, self.blocked_on = "blocked", text
-        self.ctrl.log.emit("process", process=self.number, state="blocked", line=self.line,
-                           blocked_on=text)
+        self.ctrl.log.emit_row("process", BLOCKED_KEYS,
+                               (self.number, "blocked", self.line, text))
         return ev
 
     def _placed(self, _where: str) -> None:
@@ -248,7 +253,7 @@ class BasicProcess:
         self._withdraw = None
         self._awaiting = None
         self.state, self.blocked_on = "running", None
-        self.ctrl.log.emit("process", process=self.number, state="running", line=self.line)
+        self.ctrl.log.emit_row("process", RUNNING_KEYS, (self.number, "running", self.line))
 
     def _poll(self, r: Poll):
         env, clock = self.ctrl.env, self.ctrl.clock
