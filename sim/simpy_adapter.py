@@ -18,7 +18,8 @@ import simpy
 from simpy.events import NORMAL, URGENT, EventPriority
 
 __all__ = [
-    "NORMAL", "URGENT", "Due", "Wake", "cancel", "clear_pre_step", "next_eid", "pending",
+    "NORMAL", "URGENT", "Due", "Wake", "cancel", "clear_pre_step", "next_eid", "nothing_due_by",
+    "pending",
     "pre_step", "push_at", "set_now", "succeed_at", "supersede", "triggered_at", "urgent_at",
     "wake_at",
 ]  # fmt: skip
@@ -92,6 +93,13 @@ def supersede(env: simpy.Environment, t: float, fn: Callback, old: Wake | None) 
 def pending(event: simpy.events.Event | None) -> bool:
     """``event`` is queued and will still call something (not processed, not cancelled)."""
     return event is not None and bool(event.callbacks)
+
+
+def nothing_due_by(env: simpy.Environment, t: float) -> bool:
+    """No event is queued at or before the instant ``t``: an event pushed now at ``t`` would be
+    the next one ``env`` processes (whatever its priority), unless another is pushed first."""
+    queue = env._queue
+    return not queue or queue[0][0] > t
 
 
 def triggered_at(env: simpy.Environment, t: float, fn: Callback,
