@@ -18,10 +18,9 @@ import simpy
 from simpy.events import NORMAL, URGENT, EventPriority
 
 __all__ = [
-    "NORMAL", "URGENT", "Due", "Wake", "cancel", "clear_pre_step", "next_eid", "nothing_due_by",
-    "pending",
-    "pre_step", "push_at", "set_now", "succeed_at", "supersede", "triggered_at", "urgent_at",
-    "wake_at",
+    "NORMAL", "URGENT", "Due", "UrgentWake", "Wake", "cancel", "clear_pre_step", "next_eid",
+    "nothing_due_by", "pending", "pre_step", "push_at", "set_now", "succeed_at", "supersede",
+    "triggered_at", "urgent_at", "wake_at",
 ]  # fmt: skip
 
 Callback = Callable[[Any], None]
@@ -159,8 +158,11 @@ def clear_pre_step(env: simpy.Environment) -> None:
     env.__dict__.pop("step", None)
 
 
-class _UrgentWake(simpy.events.Event):
-    """An already-triggered ``URGENT`` event processed at the absolute instant ``t``."""
+class UrgentWake(simpy.events.Event):
+    """An already-triggered ``URGENT`` event processed at the absolute instant ``t``, calling
+    ``fn(event)``: what :func:`triggered_at` does with its default priority, in one
+    allocation and no call beyond it (the Trio servo interrupt, once per servo period that
+    does something). :func:`urgent_at` is this class."""
 
     _value = None
     _ok = True
@@ -171,11 +173,9 @@ class _UrgentWake(simpy.events.Event):
         heappush(env._queue, (t, URGENT, next(env._eid), self))
 
 
-def urgent_at(env: simpy.Environment, t: float, fn: Callback) -> None:
-    """Call ``fn(event)`` at the instant ``t`` with ``URGENT`` priority: what
-    :func:`triggered_at` does with its default priority, in one allocation and no
-    call beyond it (the Trio servo interrupt, once per servo period that does something)."""
-    _UrgentWake(env, t, fn)
+#: ``urgent_at(env, t, fn)``: call ``fn(event)`` at the instant ``t`` with ``URGENT`` priority
+#: (an :class:`UrgentWake`, the class itself: constructing it queues it).
+urgent_at = UrgentWake
 
 
 class Due(simpy.events.Event):

@@ -508,7 +508,7 @@ class MotionBuffers(AxisGuards):
                 if (axes[ms[0]].ntype is None if len(ms) == 1
                         else all(axes[a].ntype is None for a in ms)) or (
                         self.depth > 1 and all(axes[a].buffered() < self.depth for a in ms)):
-                    self._pb_take(p, emit=False)
+                    self._pb_take(p, False)
                     if (axes[ms[0]].mtype is None and axes[ms[0]].ntype is None
                             if len(ms) == 1 else
                             all(axes[a].mtype is None and axes[a].ntype is None for a in ms)):
@@ -602,8 +602,9 @@ class MotionBuffers(AxisGuards):
         # 4. processes waiting at a move line: their move goes into the freed buffer
         if self._waiters:
             pb = self.process_buffer
-            for p in sorted(self._waiters):
-                q = self._waiters[p]
+            waiters = self._waiters
+            for p in sorted(waiters) if len(waiters) > 1 else list(waiters):
+                q = waiters[p]
                 while q and p not in pb:
                     w = q.popleft()
                     if not w.alive:
@@ -616,7 +617,7 @@ class MotionBuffers(AxisGuards):
                     else:
                         w.on_placed(placed)
                 if not q:
-                    del self._waiters[p]
+                    del waiters[p]
         if k + 1 not in self._ticks and self._can_progress():
             self._tick_at(k + 1)
         if self._resumes:
@@ -691,8 +692,7 @@ class MotionBuffers(AxisGuards):
                 old.remove(m)
         m.end_tick = k
         self._ending.setdefault(k, []).append(m)
-        if k not in self._ticks:
-            self._tick_at(k)
+        self._tick_at(k)
 
 
 __all__ = ["MotionBuffers", "Waiter", "schedule_at"]
