@@ -166,6 +166,8 @@ class UrgentWake(simpy.events.Event):
 
     _value = None
     _ok = True
+    #: What the caller attached for its callback to read (the Trio servo period's index).
+    k: int
 
     def __init__(self, env: simpy.Environment, t: float, fn: Callback) -> None:
         self.env = env
