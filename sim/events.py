@@ -252,6 +252,12 @@ class EventLog:
                 wake()
         self._told = bool(self._listeners or self._wakers)
 
+    @property
+    def observed(self) -> bool:
+        """Someone listens (:meth:`listen`) or waits (:meth:`wake_on_next`): each event is
+        told to them as it is emitted."""
+        return self._told
+
     # -- reading -------------------------------------------------------------------------
 
     @property

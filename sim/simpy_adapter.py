@@ -18,9 +18,9 @@ import simpy
 from simpy.events import NORMAL, URGENT, EventPriority
 
 __all__ = [
-    "NORMAL", "URGENT", "Due", "Wake", "cancel", "clear_pre_step", "next_eid", "pending",
-    "pre_step", "push_at", "set_now", "succeed_at", "supersede", "triggered_at", "urgent_at",
-    "wake_at",
+    "NORMAL", "URGENT", "Due", "UrgentWake", "Wake", "cancel", "clear_pre_step", "next_eid",
+    "nothing_due_by", "pending", "pre_step", "push_at", "set_now", "succeed_at", "supersede",
+    "triggered_at", "urgent_at", "wake_at",
 ]  # fmt: skip
 
 Callback = Callable[[Any], None]
@@ -94,6 +94,13 @@ def pending(event: simpy.events.Event | None) -> bool:
     return event is not None and bool(event.callbacks)
 
 
+def nothing_due_by(env: simpy.Environment, t: float) -> bool:
+    """No event is queued at or before the instant ``t``: an event pushed now at ``t`` would be
+    the next one ``env`` processes (whatever its priority), unless another is pushed first."""
+    queue = env._queue
+    return not queue or queue[0][0] > t
+
+
 def triggered_at(env: simpy.Environment, t: float, fn: Callback,
                  priority: EventPriority = URGENT) -> simpy.events.Event:
     """A plain SimPy event, already succeeded, that calls ``fn`` at the instant ``t``
@@ -151,11 +158,16 @@ def clear_pre_step(env: simpy.Environment) -> None:
     env.__dict__.pop("step", None)
 
 
-class _UrgentWake(simpy.events.Event):
-    """An already-triggered ``URGENT`` event processed at the absolute instant ``t``."""
+class UrgentWake(simpy.events.Event):
+    """An already-triggered ``URGENT`` event processed at the absolute instant ``t``, calling
+    ``fn(event)``: what :func:`triggered_at` does with its default priority, in one
+    allocation and no call beyond it (the Trio servo interrupt, once per servo period that
+    does something). :func:`urgent_at` is this class."""
 
     _value = None
     _ok = True
+    #: What the caller attached for its callback to read (the Trio servo period's index).
+    k: int
 
     def __init__(self, env: simpy.Environment, t: float, fn: Callback) -> None:
         self.env = env
@@ -163,11 +175,9 @@ class _UrgentWake(simpy.events.Event):
         heappush(env._queue, (t, URGENT, next(env._eid), self))
 
 
-def urgent_at(env: simpy.Environment, t: float, fn: Callback) -> None:
-    """Call ``fn(event)`` at the instant ``t`` with ``URGENT`` priority: what
-    :func:`triggered_at` does with its default priority, in one allocation and no
-    call beyond it (the Trio servo interrupt, once per servo period that does something)."""
-    _UrgentWake(env, t, fn)
+#: ``urgent_at(env, t, fn)``: call ``fn(event)`` at the instant ``t`` with ``URGENT`` priority
+#: (an :class:`UrgentWake`, the class itself: constructing it queues it).
+urgent_at = UrgentWake
 
 
 class Due(simpy.events.Event):

@@ -10,10 +10,12 @@ from motionsim.sim.simpy_adapter import (
     URGENT,
     clear_pre_step,
     next_eid,
+    nothing_due_by,
     pre_step,
     push_at,
     set_now,
     triggered_at,
+    urgent_at,
     wake_at,
 )
 
@@ -84,3 +86,16 @@ def test_pre_step_sees_each_events_queue_key_before_it_runs_until_cleared():
     assert seen == [("hook", (1.0, URGENT)), ("moved", 0.5), ("u", 1.0),
                     ("hook", (1.0, NORMAL)), ("a", 1.0), ("hook", (2.0, URGENT)),
                     ("b", 3.0)]
+
+
+def test_nothing_due_by_looks_at_the_first_queued_instant_whatever_its_priority():
+    """``nothing_due_by(env, t)``: no event at or before ``t`` is queued, so one pushed at ``t``
+    is the next processed (the Trio resumption inside the servo interrupt relies on it)."""
+    env = simpy.Environment()
+    assert nothing_due_by(env, 0.0)
+    wake_at(env, 0.002, lambda ev: None)
+    assert nothing_due_by(env, 0.001) and not nothing_due_by(env, 0.002)
+    urgent_at(env, 0.001, lambda ev: None)  # URGENT at 1 ms: due by 1 ms
+    assert not nothing_due_by(env, 0.001) and nothing_due_by(env, 0.0009)
+    env.step()
+    assert env.now == 0.001 and nothing_due_by(env, 0.001)

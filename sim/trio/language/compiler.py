@@ -284,7 +284,16 @@ class _Compiler(Declarations, Branches, Structure, Functions):
         axis = self.num(st.axis) if st.axis is not None else None
         lines = self.program.lines
         text = lines[st.line - 1].strip() if 0 < st.line <= len(lines) else kind
-        if len(args) == 1 and axis is not None:
+        if (len(args) == 1 and axis is not None and st.args[0].__class__ is s.Num
+                and st.axis.__class__ is s.Num):
+            # MOVE(1) AXIS(0): the literals' readers read once (a literal's reader only
+            # returns its value)
+            values, at = (args[0](None),), axis(None)
+
+            def op(c: Any) -> Any:
+                return c.issue(kind, values, at, text)
+
+        elif len(args) == 1 and axis is not None:
             (a0,) = args
 
             def op(c: Any) -> Any:

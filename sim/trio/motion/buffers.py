@@ -69,13 +69,12 @@ from __future__ import annotations
 import math
 from collections import deque
 from collections.abc import Callable
-from functools import partial
 from typing import Any
 
 import simpy
 
 from ...events import EventLog
-from ...simpy_adapter import urgent_at
+from ...simpy_adapter import Wake, nothing_due_by, urgent_at
 from ...timing import ServoClock
 from ..card.basic_errors import BasicError
 from ..card.scaling import nearest_edge
@@ -92,6 +91,12 @@ Placed = str  # "mtype" | "ntype" | "process_buffer"
 MERGEABLE = frozenset({"MOVE", "MOVEABS", "MOVECIRC", "MHELICAL"})
 OnPlaced = Callable[[Placed], None]
 
+#: The fields of the per-move events, in order (stored by
+#: :meth:`motionsim.sim.events.EventLog.emit_row`: the dict is made when the event is read).
+AXIS_KEYS = ("axis", "mtype", "ntype")
+PROCESS_BUFFER_KEYS = ("process", "axis", "mtype")
+MOVE_KEYS = ("axis", "mtype")  # move_start, move_end
+
 
 def schedule_at(env: simpy.Environment, t: float, callback: Callable[[Any], None]) -> None:
     """Run ``callback`` at the absolute simulated instant ``t``, before normal events at ``t``.
@@ -106,12 +111,13 @@ def schedule_at(env: simpy.Environment, t: float, callback: Callable[[Any], None
 class Waiter:
     """A move waiting for its process buffer to free; ``cancel()`` withdraws it."""
 
-    __slots__ = ("move", "on_placed", "alive")
+    __slots__ = ("move", "on_placed", "alive", "resume")
 
-    def __init__(self, move: Move, on_placed: OnPlaced) -> None:
+    def __init__(self, move: Move, on_placed: OnPlaced, resume: bool = False) -> None:
         self.move = move
         self.on_placed = on_placed
         self.alive = True
+        self.resume = resume  # on_placed resumes a program: called with None (_resume_placed)
 
     def cancel(self) -> None:
         self.alive = False
@@ -119,6 +125,11 @@ class Waiter:
 
 class MotionBuffers(AxisGuards):
     """Move buffers of all axes and process buffers of all processes of one controller."""
+
+    #: A program resumed by the placement of its blocked move (:meth:`_resume_placed`) goes on
+    #: inside the servo interrupt's own SimPy event when nothing else can come
+    #: between (False: always through a wake-up of its own; the differential test runs both).
+    resume_in_interrupt = True
 
     def __init__(
         self,
@@ -130,6 +141,7 @@ class MotionBuffers(AxisGuards):
         self.env = env
         self.clock = clock
         self.log = log
+        self._row = log.emit_row  # the per-move events (the hot path)
         self.axes = axes
         self.process_buffer: dict[int, Move] = {}
         self._waiters: dict[int, deque[Waiter]] = {}
@@ -139,6 +151,7 @@ class MotionBuffers(AxisGuards):
         self._ticks: set[int] = set()
         self._merged_from: dict[Move, tuple[float, float]] = {}  # next move: (t0, v0)
         self._watchers: list[tuple[Callable[[], bool], Callable[[], None]]] = []
+        self._resumes: list[Callable[[Any], None]] = []  # see _resume_placed
         self._dead = False
         self._next_id = 0
         #: moves looked at every servo period: CAMBOX / MOVELINK ending by link distance, a
@@ -151,6 +164,7 @@ class MotionBuffers(AxisGuards):
         self.depth = 1
         for ax in axes:
             ax.on_profile_change = self._profile_changed
+        self._on_servo = self._servo  # bound once: the servo interrupt's callback
 
     def new_id(self) -> int:
         self._next_id += 1
@@ -167,12 +181,8 @@ class MotionBuffers(AxisGuards):
 
     def _changed(self, ax: Axis) -> None:
         m, nm = ax.mtype, ax.ntype
-        self.log.emit(
-            "axis",
-            axis=ax.n,
-            mtype=m.mtype if m is not None else 0,
-            ntype=nm.mtype if nm is not None else 0,
-        )
+        self._row("axis", AXIS_KEYS,
+                  (ax.n, m.mtype if m is not None else 0, nm.mtype if nm is not None else 0))
         if self._watchers:
             self._check_watchers()
 
@@ -210,19 +220,42 @@ class MotionBuffers(AxisGuards):
         self.process_buffer[p] = m
         for a in m.axes:
             self.axes[a].queued += 1
-        self.log.emit("process_buffer", process=p, axis=m.axes[0], mtype=m.mtype)
+        self._row("process_buffer", PROCESS_BUFFER_KEYS, (p, m.axes[0], m.mtype))
 
     def _pb_take(self, p: int, emit: bool = True) -> Move:
         m = self.process_buffer.pop(p)
         for a in m.axes:
             self.axes[a].queued -= 1
         if emit:
-            self.log.emit("process_buffer", process=p, axis=m.axes[0], mtype=0)
+            self._row("process_buffer", PROCESS_BUFFER_KEYS, (p, m.axes[0], 0))
         return m
 
     def pmove(self, process: int) -> int:
         """PMOVE: 1 while ``process``' process buffer holds a move."""
         return 1 if process in self.process_buffer else 0
+
+    def _resume_placed(self) -> None:
+        """The end of a servo period: call the ``on_placed`` of the waiters placed in it that
+        resume a program (``place_or_wait(..., resume=True)``), with None, where wake-ups
+        queued at this instant would.
+
+        The wake-ups are queued here, in the order of placement (what the period does after
+        step 4 queues nothing at this instant, so the order of events is the same as with a
+        wake-up queued at each placement). When there is one, nothing else is due at this
+        instant and nobody follows the log event by event (:attr:`EventLog.observed`), that
+        wake-up would be the next event processed: it is called at once instead — the same
+        events in the same order, one SimPy event less per blocked move line. (A driver
+        stepping the environment event by event sees the program go on in the interrupt's
+        own step.)"""
+        fns, self._resumes = self._resumes, []
+        env = self.env
+        now = env._now
+        if (len(fns) == 1 and self.resume_in_interrupt and not self.log.observed
+                and nothing_due_by(env, now)):
+            fns[0](None)
+            return
+        for fn in fns:
+            Wake(env, now, fn)
 
     # -- placement -------------------------------------------------------------------------
 
@@ -242,18 +275,21 @@ class MotionBuffers(AxisGuards):
             self._tick_at(k)
         return "process_buffer"
 
-    def place_or_wait(self, move: Move, on_placed: OnPlaced) -> Placed | Waiter:
+    def place_or_wait(self, move: Move, on_placed: OnPlaced,
+                      resume: bool = False) -> Placed | Waiter:
         """Place ``move`` now, or queue it behind its process buffer (FIFO per process).
 
         ``on_placed(level)`` is called in the servo period where the process buffer frees and
-        the move is placed; the returned :class:`Waiter` can be cancelled before that.
+        the move is placed; the returned :class:`Waiter` can be cancelled before that. With
+        ``resume`` it resumes a waiting program instead: called with None where a wake-up
+        queued at the placement would be (:meth:`_resume_placed`).
         """
         q = self._waiters.get(move.process)
         if not q and move.process not in self.process_buffer:
             placed = self.place(move)
             if placed is not None:
                 return placed
-        w = Waiter(move, on_placed)
+        w = Waiter(move, on_placed, resume)
         self._waiters.setdefault(move.process, deque()).append(w)
         return w
 
@@ -419,7 +455,8 @@ class MotionBuffers(AxisGuards):
         if k in ticks:
             return
         ticks.add(k)
-        urgent_at(self.env, self.clock.t(k), partial(self._servo, k))  # schedule_at
+        # schedule_at; the period rides on the event (no partial: one allocation less)
+        urgent_at(self.env, self.clock.t(k), self._on_servo).k = k
 
     def _kick(self) -> None:
         """Something may move on at the next servo period: make sure that period runs."""
@@ -449,9 +486,10 @@ class MotionBuffers(AxisGuards):
             return True
         return any(q and p not in self.process_buffer for p, q in self._waiters.items())
 
-    def _servo(self, k: int, _event: Any = None) -> None:
-        """Servo period ``k`` (the interrupt's event ``_event``): the steps of the module
-        docstring."""
+    def _servo(self, event: Any) -> None:
+        """Servo period ``k`` (the interrupt's event, queued by :meth:`_tick_at`, carries
+        it): the steps of the module docstring."""
+        k: int = event.k
         self._ticks.discard(k)
         if self._dead:
             return
@@ -472,13 +510,13 @@ class MotionBuffers(AxisGuards):
                 if (axes[ms[0]].ntype is None if len(ms) == 1
                         else all(axes[a].ntype is None for a in ms)) or (
                         self.depth > 1 and all(axes[a].buffered() < self.depth for a in ms)):
-                    self._pb_take(p, emit=False)
+                    self._pb_take(p, False)
                     if (axes[ms[0]].mtype is None and axes[ms[0]].ntype is None
                             if len(ms) == 1 else
                             all(axes[a].mtype is None and axes[a].ntype is None for a in ms)):
                         # NTYPE and MTYPE free: sequenced and loaded in this same interrupt;
                         # the zero-length stay in NTYPE is not reported as a change
-                        self.log.emit("process_buffer", process=p, axis=m.axes[0], mtype=0)
+                        self._row("process_buffer", PROCESS_BUFFER_KEYS, (p, m.axes[0], 0))
                         self._active[m] = None
                         for a in m.axes:
                             axes[a].mtype = m
@@ -489,7 +527,7 @@ class MotionBuffers(AxisGuards):
                     for a in m.axes:
                         axes[a].buffer(m)
                         self._changed(axes[a])
-                    self.log.emit("process_buffer", process=p, axis=m.axes[0], mtype=0)
+                    self._row("process_buffer", PROCESS_BUFFER_KEYS, (p, m.axes[0], 0))
                     if axes[m.axes[0]].merge and axes[m.axes[0]].ntype is m:
                         self._try_merge(m)
         # 2. move loading: NTYPE -> MTYPE, the move starts now
@@ -535,7 +573,7 @@ class MotionBuffers(AxisGuards):
                 e = f * u
                 ax.pos = f if e % 1.0 == 0.0 else nearest_edge(f, u)  # at rest on a whole edge
                 ax.mtype = None
-                self.log.emit("move_end", axis=a, mtype=m.mtype)
+                self._row("move_end", MOVE_KEYS, (a, m.mtype))
             linked_next = None if type(m) is Move else self._link_successor(m)
             if linked_next is not None or (
                     nxt is not None and m.profile is not None and axes[m.axes[0]].ntype is nxt):
@@ -566,8 +604,9 @@ class MotionBuffers(AxisGuards):
         # 4. processes waiting at a move line: their move goes into the freed buffer
         if self._waiters:
             pb = self.process_buffer
-            for p in sorted(self._waiters):
-                q = self._waiters[p]
+            waiters = self._waiters
+            for p in sorted(waiters) if len(waiters) > 1 else list(waiters):
+                q = waiters[p]
                 while q and p not in pb:
                     w = q.popleft()
                     if not w.alive:
@@ -575,11 +614,16 @@ class MotionBuffers(AxisGuards):
                     placed = self.place(w.move, k + 1)
                     assert placed is not None
                     w.alive = False
-                    w.on_placed(placed)
+                    if w.resume:
+                        self._resumes.append(w.on_placed)
+                    else:
+                        w.on_placed(placed)
                 if not q:
-                    del self._waiters[p]
+                    del waiters[p]
         if k + 1 not in self._ticks and self._can_progress():
             self._tick_at(k + 1)
+        if self._resumes:
+            self._resume_placed()
 
     def _begin(self, m: Move, k: int) -> None:
         ms = m.axes
@@ -591,9 +635,9 @@ class MotionBuffers(AxisGuards):
             m.begin(k, prev[0], axes, prev[1])
         prof = m.profile
         assert prof is not None
-        emit = self.log.emit
+        row = self._row
         for a in ms:
-            emit("move_start", axis=a, mtype=m.mtype)
+            row("move_start", MOVE_KEYS, (a, m.mtype))
         if prof.duration != math.inf:
             if prev is None:
                 self._end_at(m, k + max(1, self.clock.cycles(prof.duration)))
@@ -650,8 +694,7 @@ class MotionBuffers(AxisGuards):
                 old.remove(m)
         m.end_tick = k
         self._ending.setdefault(k, []).append(m)
-        if k not in self._ticks:
-            self._tick_at(k)
+        self._tick_at(k)
 
 
 __all__ = ["MotionBuffers", "Waiter", "schedule_at"]

@@ -64,7 +64,11 @@ def ends_inside(m: Move, axes: list[Axis]) -> bool:
     prof = m.profile
     if m.circ or prof is None or prof.length == math.inf:
         return False
-    for e, a in zip(m.end_pos, m.axes, strict=True):
+    ms = m.axes
+    if len(ms) == 1:  # (the usual move: no zip)
+        st = axes[ms[0]].stored.values
+        return st["RS_LIMIT"] <= m.end_pos[0] <= st["FS_LIMIT"]
+    for e, a in zip(m.end_pos, ms, strict=True):
         st = axes[a].stored.values
         if not st["RS_LIMIT"] <= e <= st["FS_LIMIT"]:
             return False

@@ -127,7 +127,8 @@ class Move:
                 self.end_pos = tuple([p + d for p, d in zip(p0, deltas, strict=True)])
             if kind == "DATUM":
                 speed = base.creep
-            self._plan(length, speed, base.accel, base.decel, sramp_s)
+            self.length = length  # (_plan, one call less on the usual path)
+            self._profile(length, speed, base.accel, base.decel, sramp_s)
         elif kind == "FORWARD" or kind == "REVERSE":
             self.unit = (1.0,) if kind == "FORWARD" else (-1.0,)
             self.profile = endless(speed, base.accel, sramp_s)

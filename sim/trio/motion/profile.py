@@ -31,6 +31,7 @@ Positions are computed from the profile when asked (no event per servo period).
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -40,6 +41,10 @@ Segment = tuple[float, float, float, float, float]  # tau0, s0, v0, a0, jerk
 @dataclass(slots=True)
 class Profile:
     """Distance along the path as a function of time since the move started.
+
+    Nothing changes a profile's segments once made (a re-plan, a merge or a CANCEL makes a new
+    profile), so profiles may share one list (:func:`trapezoid` does). A profile's identity
+    tells a re-planned move from the plan it had (``guards.py``): every move gets its own.
 
     Attributes:
         segments: ``(tau0, s0, v0, a0, jerk)`` in time order.
@@ -190,9 +195,19 @@ def _solve(f, lo: float, hi: float) -> float:
 
 
 def trapezoid(length: float, speed: float, accel: float, decel: float) -> Profile:
-    """The move of ``length`` (>= 0) at ``speed`` with ``accel`` / ``decel`` ramps."""
+    """The move of ``length`` (>= 0) at ``speed`` with ``accel`` / ``decel`` ramps: a new
+    :class:`Profile` of :func:`_trapezoid`'s segments, planned once for each set of
+    arguments (the last 4 096: a program repeating a move plans it once)."""
+    return Profile(*_trapezoid(length, speed, accel, decel))
+
+
+@functools.lru_cache(maxsize=4096, typed=True)
+def _trapezoid(length: float, speed: float, accel: float,
+               decel: float) -> tuple[list[Segment], float, float]:
+    """The segments, duration and length of :func:`trapezoid` (the segments shared by the
+    profiles made of them, never changed)."""
     if length <= 0.0:
-        return Profile([(0.0, 0.0, 0.0, 0.0, 0.0)], 0.0, 0.0)
+        return [(0.0, 0.0, 0.0, 0.0, 0.0)], 0.0, 0.0
     d_acc = speed * speed / (2.0 * accel)
     d_dec = speed * speed / (2.0 * decel)
     if d_acc + d_dec <= length:
@@ -208,7 +223,7 @@ def trapezoid(length: float, speed: float, accel: float, decel: float) -> Profil
     if t_cruise > 0.0:
         segs.append((t_acc, d_acc, v, 0.0, 0.0))
     segs.append((t_acc + t_cruise, d_acc + v * t_cruise, v, -decel, 0.0))
-    return Profile(segs, t_acc + t_cruise + t_dec, length)
+    return segs, t_acc + t_cruise + t_dec, length
 
 
 def plan(length: float, speed: float, accel: float, decel: float, *, sramp_s: float = 0.0,

@@ -38,7 +38,7 @@ from typing import TYPE_CHECKING, Any
 
 import simpy
 
-from ...simpy_adapter import Due, Wake, succeed_at
+from ...simpy_adapter import Due, succeed_at
 from ..card.basic_errors import RUN_ERROR_STOPPED, BasicError, error_line
 from ..language.compiler import HALT, Block, Code, Poll, Sleep, WaitFor
 from ..language.functions import Suspend, in_function
@@ -47,6 +47,11 @@ from .context import Context
 
 if TYPE_CHECKING:
     from ..controller import TrioController
+
+#: The fields of a ``process`` event reporting ``running`` / ``blocked`` (stored by
+#: :meth:`motionsim.sim.events.EventLog.emit_row`: once or twice per move line that waits).
+RUNNING_KEYS = ("process", "state", "line")
+BLOCKED_KEYS = ("process", "state", "line", "blocked_on")
 
 
 class BasicProcess:
@@ -215,7 +220,9 @@ class BasicProcess:
         not the line at ``pc`` (a library function's move line)."""
         env = self.ctrl.env
         ev = env.event()
-        placed = self.ctrl.buffers.place_or_wait(move, self._placed if cost_s else ev.succeed)
+        buffers = self.ctrl.buffers
+        placed = (buffers.place_or_wait(move, self._unblocked, True) if cost_s
+                  else buffers.place_or_wait(move, ev.succeed))
         if not isinstance(placed, Waiter):
             return None
         self._withdraw = placed.cancel
@@ -225,17 +232,13 @@ class BasicProcess:
             if text is None:
                 text = self._texts[pc] = self.code.text(pc)
         self.state, self.blocked_on = "blocked", text
-        self.ctrl.log.emit("process", process=self.number, state="blocked", line=self.line,
-                           blocked_on=text)
+        self.ctrl.log.emit_row("process", BLOCKED_KEYS,
+                               (self.number, "blocked", self.line, text))
         return ev
 
-    def _placed(self, _where: str) -> None:
-        """The blocked move was placed (in a servo period): the program would resume now, at
-        this place in the instant's order of events — :meth:`_unblocked` runs there."""
-        Wake(self.ctrl.env, self.ctrl.env._now, self._unblocked)
-
     def _unblocked(self, _event: Any) -> None:
-        """Where the program resumes after its move was placed: ``running``, then the line's
+        """Where the program resumes after its move was placed, at this place in the instant's
+        order of events (``MotionBuffers._resume_placed``): ``running``, then the line's
         statement time, at whose end the program goes on (unless it was stopped meanwhile)."""
         ev = self._awaiting
         if ev is None:
@@ -248,7 +251,7 @@ class BasicProcess:
         self._withdraw = None
         self._awaiting = None
         self.state, self.blocked_on = "running", None
-        self.ctrl.log.emit("process", process=self.number, state="running", line=self.line)
+        self.ctrl.log.emit_row("process", RUNNING_KEYS, (self.number, "running", self.line))
 
     def _poll(self, r: Poll):
         env, clock = self.ctrl.env, self.ctrl.clock
