@@ -13,12 +13,15 @@ def uvicorn_config(app: Any, settings: Settings, *, graceful_s: float) -> Any:
     import uvicorn
 
     from ..api.http_limits import HttpLimits, uvicorn_limits
+    from ..api.ws_protocol import FramedWebSocketProtocol
 
     limits = HttpLimits(max_connections=settings.http_max_connections,
                         header_timeout_s=settings.http_header_timeout_s,
                         max_header_bytes=settings.http_max_header_bytes,
                         keep_alive_s=settings.http_keep_alive_s)
-    return uvicorn.Config(app, log_level="warning", ws_per_message_deflate=False,
+    # the event stream's fan-out writes ready-made frames (motionsim.api.ws_protocol)
+    return uvicorn.Config(app, log_level="warning", ws=FramedWebSocketProtocol,
+                          ws_per_message_deflate=False,
                           lifespan="on", timeout_graceful_shutdown=graceful_s,
                           **uvicorn_limits(limits))
 

@@ -34,6 +34,8 @@ from ...sim.errors import InvalidValue, NotFound
 from ..decoded_json import DecodedJsonRoute
 from ..deps import HandleDep
 from ..schemas.events import EventsPage, StreamQuery, stream_query
+from ..ws_fanout import stream_live
+from ..ws_protocol import EXTENSION
 
 router = APIRouter(tags=["events"], route_class=DecodedJsonRoute)
 
@@ -132,6 +134,9 @@ async def stream_events(websocket: WebSocket, controller_id: str) -> None:
     deleted: asyncio.Future[None] = loop.create_future()
     cancel = handle.on_close(lambda: deleted.done() or deleted.set_result(None))
     hello = [json.dumps(epoch_message(cursor.log, cursor.reset))]
+    # served by uvicorn through motionsim's protocol: once caught up, the log's fan-out
+    # writes this subscriber's frames (the same messages; see motionsim.api.ws_fanout)
+    write_frames = websocket.scope.get("extensions", {}).get(EXTENSION)
     try:
         while not disconnected.done():
             texts = hello + cursor.read_text()
@@ -147,6 +152,8 @@ async def stream_events(websocket: WebSocket, controller_id: str) -> None:
                 break
             if cursor.behind:
                 await asyncio.sleep(0)  # more held: let others run, then continue
+            elif write_frames is not None:
+                await stream_live(cursor, write_frames, batch, disconnected, deleted)
             else:
                 await cursor.wait(disconnected, deleted)
     except (WebSocketDisconnect, RuntimeError, ConnectionError):
