@@ -42,6 +42,19 @@ BATCH = 256
 WriteFrames = Callable[[bytes], bool]
 
 
+def messages(texts: list[str], batch: bool) -> list[str]:
+    """The stream's messages for ``texts`` (one read of a cursor): one each, or with
+    ``batch`` one array of them (byte for byte ``json.dumps`` of the list of messages)."""
+    if batch:
+        return ["[" + ", ".join(texts) + "]"] if texts else []
+    return texts
+
+
+def frames(texts: list[str], batch: bool) -> bytes:
+    """:func:`messages` as the bytes of their text frames (nothing for no texts)."""
+    return b"".join([text_frame(m) for m in messages(texts, batch)])
+
+
 class Live:
     """A caught-up subscriber: its cursor, how to write to it, and how to wake its task."""
 
@@ -104,13 +117,7 @@ class Fanout:
             done = built.get(key)
             if done is None:
                 texts = cursor.read_text()  # up to ``last``: at most a batch, checked above
-                if not texts:
-                    data = b""
-                elif sub.batch:  # byte for byte the task's message: json.dumps of the list
-                    data = text_frame("[" + ", ".join(texts) + "]")
-                else:
-                    data = b"".join([text_frame(t) for t in texts])
-                done = built[key] = (data, cursor.since)
+                done = built[key] = (frames(texts, sub.batch), cursor.since)
                 cursor.since = since  # moved on below, once written
             data, after = done
             if data and not sub.write(data):
@@ -157,4 +164,4 @@ async def stream_live(cursor: Cursor, write: WriteFrames, batch: bool,
             other.remove_done_callback(sub.wake)
 
 
-__all__ = ["BATCH", "Fanout", "Live", "fanout_of", "stream_live"]
+__all__ = ["BATCH", "Fanout", "Live", "fanout_of", "frames", "messages", "stream_live"]

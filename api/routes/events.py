@@ -34,7 +34,7 @@ from ...sim.errors import InvalidValue, NotFound
 from ..decoded_json import DecodedJsonRoute
 from ..deps import HandleDep
 from ..schemas.events import EventsPage, StreamQuery, stream_query
-from ..ws_fanout import stream_live
+from ..ws_fanout import frames, messages, stream_live
 from ..ws_protocol import EXTENSION
 
 router = APIRouter(tags=["events"], route_class=DecodedJsonRoute)
@@ -141,11 +141,10 @@ async def stream_events(websocket: WebSocket, controller_id: str) -> None:
         while not disconnected.done():
             texts = hello + cursor.read_text()
             hello = []
-            if batch:
-                if texts:  # byte for byte json.dumps of the list of messages
-                    await websocket.send_text("[" + ", ".join(texts) + "]")
-            else:
-                for text in texts:
+            # written at once when the client's buffer is under its high-water mark;
+            # otherwise through ASGI, which waits for it to drain
+            if texts and (write_frames is None or not write_frames(frames(texts, batch))):
+                for text in messages(texts, batch):
                     await websocket.send_text(text)
             if deleted.done():
                 await websocket.close(code=CLOSE_DELETED, reason="controller deleted")
