@@ -6,7 +6,9 @@ The WebSocket (same path; not in ``/openapi.json``) sends first every held event
 subscriber only falls behind in the ring, never blocks the simulation or the other subscribers, and
 when the ring has moved past it, it receives ``{"type": "gap", "from": SEQ, "to": SEQ}`` and
 continues. Its first message is ``{"type": "epoch", ...}`` (the log's incarnation, see
-:func:`motionsim.app.bus.epoch_message`).
+:func:`motionsim.app.bus.epoch_message`). Served by uvicorn, a subscriber that has caught up is
+written by its log's fan-out (:mod:`motionsim.api.ws_fanout`: the same messages, framed once
+for all).
 
 A WebSocket that cannot be served is accepted and then closed with a code and a reason a real
 client sees (a close before the handshake would reach it as a bare HTTP 403): 4404 unknown
@@ -136,7 +138,7 @@ async def stream_events(websocket: WebSocket, controller_id: str) -> None:
     hello = [json.dumps(epoch_message(cursor.log, cursor.reset))]
     # served by uvicorn through motionsim's protocol: once caught up, the log's fan-out
     # writes this subscriber's frames (the same messages; see motionsim.api.ws_fanout)
-    write_frames = websocket.scope.get("extensions", {}).get(EXTENSION)
+    write_frames = (websocket.scope.get("extensions") or {}).get(EXTENSION)  # may be None
     try:
         while not disconnected.done():
             texts = hello + cursor.read_text()
