@@ -226,7 +226,7 @@ async def _serve(app: Any, settings: Any, sock: socket.socket, recorder: Any) ->
     """Start the protocol listeners, then serve HTTP on ``sock``; the exit code."""
     import uvicorn
 
-    from .http_server import uvicorn_config
+    from .http_server import freeze_startup_heap, uvicorn_config
     from .listeners import ListenerError, start_listeners
 
     app.state.ready = False
@@ -244,6 +244,7 @@ async def _serve(app: Any, settings: Any, sock: socket.socket, recorder: Any) ->
     server = uvicorn.Server(config)
     host = f"[{settings.host}]" if ":" in settings.host else settings.host
     print(f"motionsim listening http://{host}:{settings.port}", flush=True)
+    freeze_startup_heap()
     await server.serve(sockets=[sock])
     return 0 if server.started else 3
 

@@ -11,6 +11,7 @@ locks); the caller talks to it over HTTP / WebSocket / TCP like any client.
 from __future__ import annotations
 
 import asyncio
+import gc
 import threading
 from typing import Any
 
@@ -41,7 +42,7 @@ class EmbeddedService:
         import uvicorn
 
         from ..api.main import create_app
-        from .http_server import uvicorn_config
+        from .http_server import freeze_startup_heap, uvicorn_config
 
         sock = bind_tcp(self.settings.host, self.settings.port)
         self.port = sock.getsockname()[1]
@@ -65,6 +66,7 @@ class EmbeddedService:
                 sock.close()
                 raise
             self._ready.set()
+            freeze_startup_heap()
             await self._server.serve(sockets=[sock])
 
         def run() -> None:
@@ -95,6 +97,9 @@ class EmbeddedService:
         if self._thread is not None:
             self._thread.join(timeout)
             self._thread = None
+            # the process is the caller's (a test session): what start froze may be freed
+            # again once it is garbage (another embedded service only loses the speed-up)
+            gc.unfreeze()
 
     def __enter__(self) -> EmbeddedService:
         return self.start()

@@ -6,7 +6,9 @@ The WebSocket (same path; not in ``/openapi.json``) sends first every held event
 subscriber only falls behind in the ring, never blocks the simulation or the other subscribers, and
 when the ring has moved past it, it receives ``{"type": "gap", "from": SEQ, "to": SEQ}`` and
 continues. Its first message is ``{"type": "epoch", ...}`` (the log's incarnation, see
-:func:`motionsim.app.bus.epoch_message`).
+:func:`motionsim.app.bus.epoch_message`). Served by uvicorn, a subscriber that has caught up is
+written by its log's fan-out (:mod:`motionsim.api.ws_fanout`: the same messages, framed once
+for all).
 
 A WebSocket that cannot be served is accepted and then closed with a code and a reason a real
 client sees (a close before the handshake would reach it as a bare HTTP 403): 4404 unknown
@@ -34,6 +36,8 @@ from ...sim.errors import InvalidValue, NotFound
 from ..decoded_json import DecodedJsonRoute
 from ..deps import HandleDep
 from ..schemas.events import EventsPage, StreamQuery, stream_query
+from ..ws_fanout import frames, messages, stream_live
+from ..ws_protocol import EXTENSION
 
 router = APIRouter(tags=["events"], route_class=DecodedJsonRoute)
 
@@ -132,21 +136,25 @@ async def stream_events(websocket: WebSocket, controller_id: str) -> None:
     deleted: asyncio.Future[None] = loop.create_future()
     cancel = handle.on_close(lambda: deleted.done() or deleted.set_result(None))
     hello = [json.dumps(epoch_message(cursor.log, cursor.reset))]
+    # served by uvicorn through motionsim's protocol: once caught up, the log's fan-out
+    # writes this subscriber's frames (the same messages; see motionsim.api.ws_fanout)
+    write_frames = (websocket.scope.get("extensions") or {}).get(EXTENSION)  # may be None
     try:
         while not disconnected.done():
             texts = hello + cursor.read_text()
             hello = []
-            if batch:
-                if texts:  # byte for byte json.dumps of the list of messages
-                    await websocket.send_text("[" + ", ".join(texts) + "]")
-            else:
-                for text in texts:
+            # written at once when the client's buffer is under its high-water mark;
+            # otherwise through ASGI, which waits for it to drain
+            if texts and (write_frames is None or not write_frames(frames(texts, batch))):
+                for text in messages(texts, batch):
                     await websocket.send_text(text)
             if deleted.done():
                 await websocket.close(code=CLOSE_DELETED, reason="controller deleted")
                 break
             if cursor.behind:
                 await asyncio.sleep(0)  # more held: let others run, then continue
+            elif write_frames is not None:
+                await stream_live(cursor, write_frames, batch, disconnected, deleted)
             else:
                 await cursor.wait(disconnected, deleted)
     except (WebSocketDisconnect, RuntimeError, ConnectionError):
