@@ -52,7 +52,9 @@ class FramedWebSocketProtocol(WebSocketsSansIOProtocol):
         ASGI, which waits for the buffer to drain, so a slow client never makes the server
         buffer more than one write beyond the mark.
         """
-        if (self.disconnected or self.close_sent or not self.handshake_complete
+        # ``disconnected`` is uvicorn 0.5x's flag; earlier releases (from 0.35, the first
+        # with this protocol) only close the transport, which ``is_closing`` sees
+        if (getattr(self, "disconnected", False) or self.close_sent or not self.handshake_complete
                 or self.initial_response is not None or not self.writable.is_set()
                 or self.conn.state is not State.OPEN or self.transport.is_closing()):
             return False
