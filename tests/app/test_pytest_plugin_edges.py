@@ -67,3 +67,28 @@ def test_a_controller_id_names_its_test_cut_to_48_characters(pytester):
     """)
     result = pytester.runpytest_inprocess("-p", "no:cacheprovider")
     result.assert_outcomes(passed=1)
+
+
+def test_a_host_still_waiting_when_its_test_ends_is_released_not_cut_off(pytester):
+    """The ``motionsim`` fixture's teardown releases every holder of a host-paced clock
+    (API.md ``DELETE /controllers/{id}/clock/holders/{name}``), so a host thread still
+    waiting in ``run-until`` gets ``released`` and stops, instead of dying on the service's
+    closed connection. (The streamer is released first, while ``main`` still keeps time
+    still: its wait ends ``released``, not at its simulated deadline.)"""
+    pytester.makepyfile("""
+        HOSTS = []
+
+        def test_leaves_a_host_waiting(motionsim):
+            motionsim.host_paced("pmac")
+            host = motionsim.host("pmac", "streamer")
+            motionsim.hold("pmac", "main")  # main acts from here on: time stands still
+            HOSTS.append((host, host.start(lambda h: h.wait_for("breq", 60.0, cs=1))))
+            assert [h["name"] for h in motionsim.clock("pmac").holders] == ["streamer", "main"]
+
+        def test_its_wait_ended_released():
+            host, future = HOSTS[0]
+            assert future.result(timeout=60) is None
+            assert host.outcome == "released" and host.released
+    """)
+    result = pytester.runpytest_inprocess("-p", "no:cacheprovider")
+    result.assert_outcomes(passed=2)
