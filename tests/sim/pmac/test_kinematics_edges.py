@@ -155,17 +155,6 @@ def test_tum_p265_a_move_starting_in_a_segment_after_the_first_second_interpolat
     assert _late_blend_start(make_rig, False) == _late_blend_start(make_rig, True)
 
 
-def test_tum_p265_q10_is_0_when_the_inverse_runs_whatever_it_held(rig):
-    """The inverse program is entered with Q10 = 0 (not PVT: no velocities wanted, TUM p265),
-    whatever a program or host left in it."""
-    _cs(rig, 1, ["Q7=P1/1000"], ["P1=Q7*1000+Q10*500"], {1: "I"})
-    rig.ok("&1 Q10=3")
-    _program(rig, 1, "LINEAR ABS TA10 TS0 TM200 X2")
-    rig.ok("&1 B1 R")
-    rig.run_for(1.0)
-    assert rig.ok("#1P") == "2000"
-
-
 @pytest.mark.parametrize(("p1", "fails"), [
     ("140737488355327", False), ("99999999999999", False), ("-140737488355327", False),
     ("140737488355328", True), ("-140737488355328", True), ("281474976710656", True),
