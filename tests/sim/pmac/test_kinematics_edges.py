@@ -173,3 +173,48 @@ def test_tum_p265_an_inverse_result_at_or_beyond_2_to_the_47_is_a_run_time_error
     assert bool(errors) == fails, errors
     if fails:
         assert "P1 = " in errors[0]
+
+
+def test_tum_p259_pmatch_without_kinematics_inverts_each_axis_definition(rig):
+    """Isx50 = 0: PMATCH inverts the axis definitions, axis = (motor - offset) / scale
+    (TUM p259, p267): ``#3->500Z+200`` at 1450 counts is Z 2.5; ``#4->-1X`` at 3 is X -3;
+    ``#5->Y`` (scale 1) at 7 is Y 7; a ``#6->I`` motor, with kinematics off, sets no axis."""
+    rig.ok("&1 #3->500Z+200 #4->-1X #5->Y #6->I")
+    rig.ok("I5150=0")
+    rig.ok("#3J=1450 #4J=3 #5J=7")
+    rig.run_for(3.0)
+    assert rig.ok("#3P #4P #5P") == "1450\r3\r7"
+    rig.ok("&1 PMATCH")
+    (pmatch,) = rig.events("pmatch")
+    assert pmatch[2]["axes"] == {"Z": 2.5, "X": -3.0, "Y": 7.0}
+    assert rig.ok("#3P #4P #5P") == "1450\r3\r7"  # the motors stay where they are
+
+
+def test_tum_p265_another_cs_asked_meanwhile_does_not_change_the_segment_a_move_starts_in(
+        make_rig):
+    """A move of CS 1 starting inside a segment (as test_kinematics' 1953.6-count case), with
+    a second kinematic CS at rest asked between that start and CS 1's question: CS 1's answer
+    is the one it gets with nobody asking in between (its segment interpolates from the path
+    executed)."""
+
+    def run(asks):
+        rig = make_rig()
+        _cs(rig, 1, ["Q7=P1/1000"], ["P1=Q7*1000"], {1: "I"})
+        _cs(rig, 2, ["Q7=P2/2000"], ["P2=Q7*2000"], {2: "I"})
+        _program(rig, 1, "LINEAR ABS TA10 TS0 TM205", "X2", "X-1", "X3")
+        rig.ok("&2 PMATCH")  # CS 2's axes from its motors: its inverse drives them now
+        rig.ok("&1 B1 R")
+        replies = []
+        for t, question in asks:
+            rig.c.env.run(until=t)
+            replies.append(rig.cmd(question))
+        (start,) = [k * rig.period for k, _, f in rig.events("move_start") if f["n"] == 3]
+        t0 = rig.c.coord_systems[1]._seg_t0
+        return start, t0 + math.floor((start - t0) / 0.01) * 0.01, replies
+
+    start, seg, _ = run([(0.5, "#1P")])
+    t_cs2, t_cs1 = start + (seg + 0.01 - start) / 3, start + 2 * (seg + 0.01 - start) / 3
+    _, _, (cs2, alone) = run([(t_cs2, "#2P"), (t_cs1, "#1P")])
+    assert cs2.reply == "0" and start < cs2.t_done < alone.t_done < seg + 0.01
+    _, _, (asked,) = run([(t_cs1, "#1P")])
+    assert asked.t_done == alone.t_done and asked.reply == alone.reply
