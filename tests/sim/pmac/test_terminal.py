@@ -287,6 +287,7 @@ def test_tsrm_p23_every_variable_number_0_to_8191_is_queried_and_8192_is_err003(
     assert rig.ok("P0 P8191") == "4\r2"
     assert rig.ok("P0..1") == "4\r0"
     assert rig.cmd("P8192").error == "ERR003"
+    assert rig.cmd("P8193").error == "ERR003"
 
 
 def test_i9_bit0_reports_an_indirect_query_as_the_whole_statement(rig):
@@ -327,3 +328,24 @@ def test_the_stop_commands_act_on_line_while_the_port_holds_a_plc_open(make_rig,
     assert error is None
     assert (at, states) == _stop_run(make_rig(), command, plc_open=False)[1:]
     assert at["X"] < 3.0 and states[-1] != "running"  # the program did not run to its end
+
+
+def test_tsrm_p259_addressing_and_definition_reports_before_a_failing_command_still_act(rig):
+    """``#n`` and ``M{n}->`` are reports (TSRM p259: left to right, spec §2.3 ``[INF]``): on a
+    line that fails later they still act / answer (``#`` alone names the addressed motor)."""
+    assert rig.cmd("#3 P1=(3 P2").error == "ERR003"
+    assert rig.ok("#") == "3"
+    rig.ok("M1->Y:$78802,8")
+    reply = rig.cmd("M1-> P1=(3 P2")
+    assert (reply.reply, reply.error) == ("Y:$78802,8", "ERR003")
+
+
+def test_i9_bit0_reports_m_and_l_definitions_as_whole_statements(rig):
+    """PSRM I9 / TSRM p328 (spec §2.3): ``M1->`` answers the definition alone with I9 bit 0
+    = 0, the whole statement with bit 1 (``L35->`` the same, PUM-V p238 PLCC L-variables)."""
+    rig.ok("M1->Y:$78802,8")
+    rig.ok("L35->Y:$078802,2,1")
+    rig.ok("I9=0")
+    assert (rig.ok("M1->"), rig.ok("L35->")) == ("Y:$78802,8", "Y:$78802,2")
+    rig.ok("I9=1")
+    assert (rig.ok("M1->"), rig.ok("L35->")) == ("M1->Y:$78802,8", "L35->Y:$78802,2")
