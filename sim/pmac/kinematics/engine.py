@@ -231,7 +231,8 @@ class Kinematics:
         self._last = (cs, t, c.current, at)
         return at.get(motor, 0.0)
 
-    def _motors_at(self, cs: int, c: Any, t: float) -> dict[int, float]:
+    def _settings(self, cs: int) -> tuple[bool, float]:
+        """``(Isx50 = 1, Isx13 in seconds)`` of ``cs``, cached until a variable changes."""
         v = self.ctl.vars
         if v.version != self._ver:
             self._ver = v.version
@@ -239,14 +240,21 @@ class Kinematics:
         isx_ = self._isx.get(cs)
         if isx_ is None:
             isx_ = self._isx[cs] = (int(v.I(isx(cs, 50))) == 1, v.I(isx(cs, 13)) / 1000.0)
+        return isx_
+
+    @staticmethod
+    def _segment_start(t0: float, ts: float, t: float) -> float:
+        """The Isx13 segment instant at or before ``t`` of segments starting at ``t0``."""
+        return t0 + math.floor((t - t0) / ts + 1e-9) * ts
+
+    def _motors_at(self, cs: int, c: Any, t: float) -> dict[int, float]:
+        isx_ = self._settings(cs)
         if cs not in self._matched or not isx_[0]:
             return {}
         ts = isx_[1]
         if ts <= 0 or c.current is None:
             return self._point(cs, t)
-        t0 = c._seg_t0
-        k = math.floor((t - t0) / ts + 1e-9)
-        ta = t0 + k * ts
+        ta = self._segment_start(c._seg_t0, ts, t)
         a = self._point(cs, ta)
         frac = (t - ta) / ts
         if frac < 1e-9:
@@ -255,7 +263,20 @@ class Kinematics:
         return {n: x + (b.get(n, x) - x) * frac for n, x in a.items()}
 
     def _move_started(self, cs: int, m: Any, t: float) -> None:
-        """A move of ``cs`` starts executing: its end point must have an inverse solution."""
+        """A move of ``cs`` starts executing at ``t``; called just before it becomes the CS's
+        current move. The segment instant at or before ``t`` lies on the path executed so far:
+        its inverse result is computed now, from that path, so a motor position asked later in
+        this segment interpolates from where the motors were, not from the new move's profile
+        read before its start (a position no longer depends on whether it was asked before).
+        Segment results after ``t`` computed from the old path are dropped. The move's end
+        point must have an inverse solution."""
+        c = self.ctl.coord_systems[cs]
+        if c.current is not None and cs in self._matched:
+            on, ts = self._settings(cs)
+            if on and ts > 0:
+                ta = self._segment_start(c._seg_t0, ts, t)
+                if ta < t - 1e-12:
+                    self._point(cs, ta)
         cache = self._cache
         stale = [k for k in cache if k[0] == cs and k[1] >= t - 1e-12]
         for k in stale:

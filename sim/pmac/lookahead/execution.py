@@ -129,9 +129,9 @@ class Execution(CoordState):
             self.sync_queue.started(m.sync, self._sync_ready(m, t))
         row("move_start", _CS_N, (cs, n))
         m.b_end = b + m.tm
-        self.current = m
         if self.on_move_start is not None:  # a kinematic CS (sim.pmac.kinematics)
-            self.on_move_start(m, t)
+            self.on_move_start(m, t)  # before m is current: the path so far is prev's
+        self.current = m
         if self._ver != self.vars.version:
             self._refresh()
         p = self._period

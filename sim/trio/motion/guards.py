@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING, Any
 
 from ...events import EventLog
 from ...timing import ServoClock
+from ..card.axis_status import FE_LIMIT_BIT
 from . import limits
 from .axis import Axis
 from .datum import DatumMove
@@ -32,8 +33,6 @@ from .linked import LinkedMove
 from .moves import Move
 from .profile import Profile
 
-#: AXISSTATUS bit 8: the following error exceeded FE_LIMIT (spec §1.6).
-FE_LIMIT_BIT = 1 << 8
 #: The deceleration of a move stopped where it is (the drive is off): within one period.
 AT_ONCE = 1e15
 

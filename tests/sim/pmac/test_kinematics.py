@@ -201,3 +201,56 @@ def test_tum_p265_an_iterative_inverse_drives_the_motors(rig):
     rig.ok("&1 B1 R")
     rig.run_until_idle()
     assert rig.ok("#1P #2P") == "2000\r2000"  # cube root of 8, in counts
+
+
+def _one_motor_cs(rig, cs, motor, counts_per_unit):
+    """CS ``cs``: motor ``motor`` (``#n->I``) at ``counts_per_unit`` x X (TSRM p181 Isx50)."""
+    rig.ok(f"&{cs} #{motor}->I")
+    rig.ok(f"&{cs} OPEN FORWARD CLEAR")
+    rig.ok(f"Q7=P{motor}/{counts_per_unit}")
+    rig.ok("CLOSE")
+    rig.ok(f"&{cs} OPEN INVERSE CLEAR")
+    rig.ok(f"P{motor}=Q7*{counts_per_unit}")
+    rig.ok("CLOSE")
+    rig.ok(f"I5{cs}50=1 I5{cs}13=10")
+
+
+def test_two_kinematic_cs_each_hold_their_own_motors_at_rest(rig):
+    """Each CS's inverse program gives the positions of its own ``#n->I`` motors (TUM p262):
+    CS 1 drives motor 2, CS 2 motor 1; at rest both sit where their own inverse puts them."""
+    _one_motor_cs(rig, 1, 2, 1000)
+    _one_motor_cs(rig, 2, 1, 2000)
+    _program(rig, "LINEAR ABS TA10 TS0 TM200 X2")
+    rig.ok("OPEN PROG 2 CLEAR")
+    rig.ok("LINEAR ABS TA10 TS0 TM300 X3")
+    rig.ok("CLOSE")
+    rig.ok("&1 B1 R &2 B2 R")
+    rig.run_for(1.0)
+    assert rig.ok("#1P #2P") == "6000\r2000"
+
+
+def _position_after_a_blend_start(rig, ask_before):
+    """Motor 1's reported position a little after the third move of a blended sequence
+    starts (inside the Isx13 segment it starts in), asked before that start too or not."""
+    _one_motor_cs(rig, 1, 1, 1000)
+    _program(rig, "LINEAR ABS TA10 TS0 TM205", "X2", "X-1", "X3")
+    rig.ok("&1 B1 R")
+    rig.c.env.run(until=0.2105)
+    if ask_before:
+        rig.ok("#1P")
+    rig.c.env.run(until=0.2155)
+    reply = rig.cmd("#1P")
+    (start,) = [k for k, _, f in rig.events("move_start") if f["n"] == 3]
+    assert 0.2105 < start * rig.period < reply.t_done  # between the two questions
+    return reply.reply
+
+
+def test_tum_p265_a_segment_a_move_starts_in_interpolates_from_the_path_executed(make_rig):
+    """With Isx13 > 0 the inverse runs at each segment instant of the path executed then and
+    the motors are interpolated in between (TUM p265; spec §12.6 ``[INF]`` linearly). A move
+    (``X-1``, 205 ms moves, 10 ms segments) that starts inside a segment does not change the
+    segment's first instant, which lay on the move before: 1902.45 counts there, 1969.51 at
+    the next instant (the blend into ``X-1``), 1953.6 at 0.2156 s — whether or not the
+    position was asked before the move started (a report never changes a later one)."""
+    assert _position_after_a_blend_start(make_rig(), ask_before=False) == "1953.6"
+    assert _position_after_a_blend_start(make_rig(), ask_before=True) == "1953.6"

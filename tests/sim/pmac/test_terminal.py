@@ -248,3 +248,104 @@ def test_i9_bit0_reports_variables_as_whole_statements(rig):
     assert rig.ok("P7") == "P7=1.5"
     rig.ok("I9=2")
     assert rig.ok("P7") == "1.5"
+
+
+def test_tsrm_p259_reports_before_an_unfinished_expression_are_answered(rig):
+    """Commands run left to right (TSRM p259, spec §2.3 ``[INF]``): ``I10 P1=(3 P2`` fails at
+    ``P2`` (the parenthesis is still open), and the text before it, ``I10 P1=(3``, fails too —
+    at ``P1=(3``; the report before both, ``I10``, is answered, then ERR003, and ``P1`` is
+    not written (a malformed line changes nothing)."""
+    rig.ok("P1=7")
+    for line, reports in [("I10 P1=(3 P2", "3713707"), ("I10 I9 P1=SIN( P2=1", "3713707\r2"),
+                          ("I10 P1=3+ P2=1", "3713707")]:
+        reply = rig.cmd(line)
+        assert (reply.reply, reply.error) == (reports, "ERR003"), line
+        assert reply.detail[0] == "parse_error"
+    assert rig.ok("P1 P2") == "7\r0"
+
+
+def test_a_refused_plc_line_says_why_for_people(rig):
+    """With a PLC open a line the PLC cannot store answers ERR003 (TSRM I6 table) and the
+    REST terminal says why: the parse error and its column, or the valid Turbo PMAC command
+    motionsim does not simulate (``DISPLAY``, the LCD display's PLC command, spec §12)."""
+    rig.ok("OPEN PLC 1 CLEAR")
+    reply = rig.cmd("IF((P1>-20) AND (P1<20))")
+    assert reply.error == "ERR003"
+    assert reply.detail[0] == "parse_error" and reply.detail[1].endswith("(column 4)")
+    reply = rig.cmd('DISPLAY 0 "X"')
+    assert reply.error == "ERR003"
+    assert reply.detail[0] == "not_simulated" and reply.detail[1].startswith("DISPLAY ")
+    rig.ok("P1=1")
+    rig.ok("CLOSE")
+    assert rig.c.plcs.plc(1).program.lines == ("P1=1",)
+
+
+def test_tsrm_p23_every_variable_number_0_to_8191_is_queried_and_8192_is_err003(rig):
+    """TSRM p23 (spec §3): I, P, Q and M variables are numbered 0..8191; a query beyond is
+    ERR003."""
+    rig.ok("P0=4 P8191=2")
+    assert rig.ok("P0 P8191") == "4\r2"
+    assert rig.ok("P0..1") == "4\r0"
+    assert rig.cmd("P8192").error == "ERR003"
+    assert rig.cmd("P8193").error == "ERR003"
+
+
+def test_i9_bit0_reports_an_indirect_query_as_the_whole_statement(rig):
+    """PSRM I9 / TSRM p328 (spec §2.3): bit 0 = 1 reports the variable as a statement, for
+    ``P(expression)`` (TUM p243) as for ``P2``; I9 alone decides it, whatever I8 holds."""
+    rig.ok("P1=1 P2=5")
+    assert rig.ok("P(P1+1)") == "5"
+    rig.ok("I9=1")
+    assert rig.ok("P(P1+1)") == "P2=5"
+    rig.ok("I8=0 I9=3")
+    assert rig.ok("P(P1+1)") == "P2=5"
+
+
+def _stop_run(rig, command, plc_open):
+    rig.ok("&1 #1->1000X")
+    rig.ok("OPEN PROG 1 CLEAR")
+    rig.ok("LINEAR INC TA10 TS0 TM500 X1 X1 X1")
+    rig.ok("CLOSE")
+    rig.ok("&1 B1 R")
+    rig.run_for(0.2)
+    rig.ok("OPEN PLC 1 CLEAR" if plc_open else "I10")  # one background cycle either way
+    reply = rig.cmd(command)
+    rig.run_for(2.0)
+    if plc_open:
+        rig.ok("CLOSE")
+        assert rig.c.plcs.plc(1).program is None  # nothing stored in the PLC
+    states = [f["state"] for _, _, f in rig.events("program")]
+    return reply.error, rig.c.positions(1), states
+
+
+@pytest.mark.parametrize("command", ["&1/", "&1\\", "&1H", "&1Q", "&1A"])
+def test_the_stop_commands_act_on_line_while_the_port_holds_a_plc_open(make_rig, command):
+    """``/`` (stop at the end of the move, TUM p217), ``\\`` (quick stop; outside lookahead
+    it acts as ``H``, TSRM p177), ``H``, ``Q``, ``A`` have no PLC-program form: with a PLC
+    open for entry they act on-line ``[INF]`` (seed 000), as with no buffer open, so a host
+    can stop a CS while it enters a PLC."""
+    error, at, states = _stop_run(make_rig(), command, plc_open=True)
+    assert error is None
+    assert (at, states) == _stop_run(make_rig(), command, plc_open=False)[1:]
+    assert at["X"] < 3.0 and states[-1] != "running"  # the program did not run to its end
+
+
+def test_tsrm_p259_addressing_and_definition_reports_before_a_failing_command_still_act(rig):
+    """``#n`` and ``M{n}->`` are reports (TSRM p259: left to right, spec §2.3 ``[INF]``): on a
+    line that fails later they still act / answer (``#`` alone names the addressed motor)."""
+    assert rig.cmd("#3 P1=(3 P2").error == "ERR003"
+    assert rig.ok("#") == "3"
+    rig.ok("M1->Y:$78802,8")
+    reply = rig.cmd("M1-> P1=(3 P2")
+    assert (reply.reply, reply.error) == ("Y:$78802,8", "ERR003")
+
+
+def test_i9_bit0_reports_m_and_l_definitions_as_whole_statements(rig):
+    """PSRM I9 / TSRM p328 (spec §2.3): ``M1->`` answers the definition alone with I9 bit 0
+    = 0, the whole statement with bit 1 (``L35->`` the same, PUM-V p238 PLCC L-variables)."""
+    rig.ok("M1->Y:$78802,8")
+    rig.ok("L35->Y:$078802,2,1")
+    rig.ok("I9=0")
+    assert (rig.ok("M1->"), rig.ok("L35->")) == ("Y:$78802,8", "Y:$78802,2")
+    rig.ok("I9=1")
+    assert (rig.ok("M1->"), rig.ok("L35->")) == ("M1->Y:$78802,8", "L35->Y:$78802,2")

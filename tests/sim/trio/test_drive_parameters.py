@@ -168,3 +168,24 @@ def test_docs_trio_md_lists_every_stored_parameter_and_set_up_command():
     missing = [n for n in [*(p.name for p in STORED), *COMMANDS, "LIMIT_BUFFERED", "FE",
                            "ENCODER"] if f"`{n}" not in doc]
     assert missing == []
+
+
+@pytest.mark.parametrize(("model", "accepted", "refused"), [
+    ("mc2xx", [1], [0, 2, 1.5]),
+    ("mc4xx", [1, 2, 64], [0, 65, 2.5, -1]),
+])
+def test_tj2h57_limit_buffered_takes_a_whole_number_of_moves_up_to_the_models_largest(
+        model, accepted, refused):
+    """LIMIT_BUFFERED (TJ2H-57) counts moves: 1..64 on the MC4xx (up to 64 buffers per axis,
+    TJ2P-20), 1 only on the MC2xx (NTYPE, TN20 ``[INF]``); a fraction of a move is refused,
+    as a number beyond the range, and the look-ahead keeps its size."""
+    c = make(model=model)
+    for n in accepted:
+        assert c.terminal(f"LIMIT_BUFFERED={n}").error is None, n
+        assert float(c.terminal("? LIMIT_BUFFERED").reply) == n
+        assert c.buffers.depth == n
+    for value in refused:
+        r = c.terminal(f"LIMIT_BUFFERED={value}")
+        assert r.error is not None and "LIMIT_BUFFERED" in r.error, value
+        assert float(c.terminal("? LIMIT_BUFFERED").reply) == accepted[-1]
+        assert c.buffers.depth == accepted[-1]

@@ -61,6 +61,17 @@ def test_fe_range_sets_the_warning_bit_while_the_error_is_beyond_it():
     assert int(num(c, "AXISSTATUS")) & 2 == 0
 
 
+def test_fe_range_0_sets_no_warning_bit_whatever_the_error():
+    """FE_RANGE = 0 (power-up, spec §10.11 [BK]) is no warning range: AXISSTATUS bit 1 stays
+    clear while the axis lags (FE 2), as it does with no lag."""
+    c = make(fe_lag=0.002)
+    assert num(c, "FE_RANGE") == 0.0
+    c.terminal("MOVE(100)")
+    run_to(c, 0.05)
+    assert num(c, "FE") == pytest.approx(2.0)
+    assert int(num(c, "AXISSTATUS")) & 2 == 0
+
+
 def _tripping(**config):
     c = make(fe_lag=0.002, **config)
     for line in ("SERVO=ON", "WDOG=ON", "FE_LIMIT=1.5"):
@@ -89,6 +100,27 @@ def test_fe_beyond_fe_limit_trips_the_axis_and_raises_a_motion_error():
     assert num(c, "MOTION_ERROR") == 0.0 and num(c, "ERROR_AXIS") == -1.0
     assert int(num(c, "AXISSTATUS")) & 256 == 0
     assert num(c, "WDOG") == 0.0  # the program switches the drives on again itself
+
+
+def test_an_axis_already_in_motion_error_raises_no_second_one_and_another_axis_adds_its_bit():
+    """A motion error is latched per axis until DATUM(0) (spec §10.4): axis 0 tripping again
+    (SERVO and WDOG switched on again, moved again) drops WDOG again but raises no second
+    motion error; axis 1 tripping then sets its own MOTION_ERROR bit (bit n for axis n
+    ``[BK]``), ERROR_AXIS staying the first axis in error."""
+    c = _tripping()
+    run_to(c, 0.5)
+    for line in ("SERVO=ON", "WDOG=ON", "MOVE(100)"):
+        assert c.terminal(line).error is None
+    run_to(c, 1.0)
+    assert [f["axis"] for _t, f in fields(c, "following_error")] == [0, 0]
+    assert [f["axis"] for _t, f in fields(c, "motion_error")] == [0]
+    assert num(c, "MOTION_ERROR") == 1.0 and num(c, "WDOG") == 0.0
+    for line in ("SERVO AXIS(1)=ON", "FE_LIMIT AXIS(1)=1.5", "WDOG=ON", "MOVE(100) AXIS(1)"):
+        assert c.terminal(line).error is None, line
+    run_to(c, 1.5)
+    assert [f["axis"] for _t, f in fields(c, "motion_error")] == [0, 1]
+    assert num(c, "MOTION_ERROR") == 3.0 and num(c, "ERROR_AXIS") == 0.0
+    assert num(c, "WDOG") == 0.0
 
 
 def test_with_servo_off_fe_is_not_compared_with_fe_limit():

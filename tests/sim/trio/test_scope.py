@@ -168,3 +168,13 @@ def test_scope_pos_is_the_table_entry_the_next_sample_goes_to(trio):
     assert c.terminal("PRINT SCOPE_POS").reply.strip() == "103.0000"
     run_to(c, 0.1)
     assert c.terminal("PRINT SCOPE_POS").reply.strip() == "110.0000"
+
+
+def test_serial_number_and_system_error_read_their_own_values_while_a_scope_runs(trio):
+    """SERIAL_NUMBER (a simulated board has none) and SYSTEM_ERROR (no system error is
+    modelled) read 0 ``[INF]``, spec §10.11 "system:" — not the SCOPE's next TABLE entry."""
+    c = trio
+    cmd(c, "SCOPE(ON, 1, 100, 120, VR(1), VR(2))")
+    assert c.terminal("PRINT SCOPE_POS").reply.strip() == "100.0000"
+    for name in ("SERIAL_NUMBER", "SYSTEM_ERROR"):
+        assert c.terminal(f"PRINT {name}").reply.strip() == "0.0000", name
