@@ -8,7 +8,6 @@ they are built here, once, and handed to ``motionsim.api.main.create_app``.
 
 from __future__ import annotations
 
-import asyncio
 import socket
 import sys
 from pathlib import Path
@@ -199,7 +198,9 @@ def serve(
                                          for h in app.state.registry})
         except (ValueError, OSError) as exc:  # a directory, a file that is not a transcript
             raise _fail(f"--record: {exc}", 2) from None
-    code = asyncio.run(_serve(app, settings, sock, recorder))
+    from .http_server import run_service
+
+    code = run_service(_serve(app, settings, sock, recorder), settings)
     if recorder is not None:
         recorder.close()
     if code:

@@ -49,6 +49,7 @@ import simpy
 from ..sim.controller import Reply
 from ..sim.errors import Conflict, InvalidValue
 from ..sim.events import Event, EventLog, wire_time
+from ..sim.simpy_adapter import step_due
 
 log = logging.getLogger("motionsim.clock")
 
@@ -188,15 +189,18 @@ def run_env_to(env: simpy.Environment, target: float, max_steps: int | None = No
     """
     steps = 0
     limit = _limit(target)
-    while env.peek() <= limit:
+    while True:
+        # the clocks are looked at every _WALL_CHECK_STEPS events (step_due: the steps between)
+        n = _WALL_CHECK_STEPS if max_steps is None else min(_WALL_CHECK_STEPS, max_steps - steps)
+        done = step_due(env, limit, n)
+        steps += done
+        if done < n or env.peek() > limit:
+            break  # nothing more due by the target
         if max_steps is not None and steps >= max_steps:
             return False
-        if (wall_end is not None and steps % _WALL_CHECK_STEPS == 0 and steps
-                and time.monotonic() > wall_end
+        if (wall_end is not None and time.monotonic() > wall_end
                 and (cpu_end is None or time.thread_time() > cpu_end)):
             return False
-        env.step()
-        steps += 1
     if target > env.now:
         env.run(until=target)
         if env.peek() <= env.now:

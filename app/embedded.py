@@ -10,7 +10,6 @@ locks); the caller talks to it over HTTP / WebSocket / TCP like any client.
 
 from __future__ import annotations
 
-import asyncio
 import gc
 import threading
 from typing import Any
@@ -42,7 +41,7 @@ class EmbeddedService:
         import uvicorn
 
         from ..api.main import create_app
-        from .http_server import freeze_startup_heap, uvicorn_config
+        from .http_server import freeze_startup_heap, run_service, uvicorn_config
 
         sock = bind_tcp(self.settings.host, self.settings.port)
         self.port = sock.getsockname()[1]
@@ -71,7 +70,7 @@ class EmbeddedService:
 
         def run() -> None:
             try:
-                asyncio.run(main())
+                run_service(main(), self.settings)
             except BaseException as exc:  # reported by start()
                 self._error = self._error or exc
                 self._ready.set()

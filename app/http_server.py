@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import asyncio
 import gc
-from typing import Any
+from collections.abc import Callable, Coroutine
+from typing import Any, TypeVar
 
 from .settings import Settings
 
@@ -27,6 +29,36 @@ def uvicorn_config(app: Any, settings: Settings, *, graceful_s: float) -> Any:
                           **uvicorn_limits(limits))
 
 
+T = TypeVar("T")
+
+
+def loop_factory(choice: str) -> Callable[[], asyncio.AbstractEventLoop] | None:
+    """The event loop the service runs on (setting ``event_loop``): ``"uvloop"`` (libuv:
+    its sockets, timers and polling in C — the loop uvicorn itself would pick), ``"asyncio"``
+    (the standard library's), ``"auto"`` = uvloop when it is installed (``uvicorn[standard]``
+    brings it). ``None``: the standard loop.
+
+    Raises:
+        ImportError: ``"uvloop"`` asked for and not installed.
+    """
+    if choice == "asyncio":
+        return None
+    try:
+        import uvloop
+    except ImportError:
+        if choice == "uvloop":
+            raise
+        return None
+    return uvloop.new_event_loop
+
+
+def run_service(main: Coroutine[Any, Any, T], settings: Settings) -> T:
+    """Run the service's coroutine ``main`` to its end on a new event loop of the kind
+    ``settings.event_loop`` names (:func:`loop_factory`), in the calling thread."""
+    with asyncio.Runner(loop_factory=loop_factory(settings.event_loop)) as runner:
+        return runner.run(main)
+
+
 def freeze_startup_heap() -> None:
     """Collect, then freeze (``gc.freeze``) the objects the start-up made — modules, the app,
     its routes and schemas, the controllers: hundreds of thousands, alive for the whole run.
@@ -41,4 +73,4 @@ def freeze_startup_heap() -> None:
     gc.freeze()
 
 
-__all__ = ["freeze_startup_heap", "uvicorn_config"]
+__all__ = ["freeze_startup_heap", "loop_factory", "run_service", "uvicorn_config"]

@@ -87,6 +87,9 @@ class Settings(BaseSettings):
         0, description="Trio Modbus TCP port; 0 (default) = disabled, None = 502")
     pmac_controller: str = "pmac"
     trio_controller: str = "trio"
+    event_loop: Literal["auto", "asyncio", "uvloop"] = Field(
+        "auto", description="the event loop serving HTTP, WebSocket and the TCP ports: uvloop "
+                            "(auto: when installed) or the standard library's asyncio")
     log_capacity: int = Field(100_000, ge=100_000,
                               description="events each controller's log holds")
     plugins: list[str] = Field(default_factory=list,

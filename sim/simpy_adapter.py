@@ -19,8 +19,8 @@ from simpy.events import NORMAL, URGENT, EventPriority
 
 __all__ = [
     "NORMAL", "URGENT", "Due", "UrgentWake", "Wake", "cancel", "clear_pre_step", "next_eid",
-    "nothing_due_by", "pending", "pre_step", "push_at", "set_now", "succeed_at", "supersede",
-    "triggered_at", "urgent_at", "wake_at",
+    "nothing_due_by", "pending", "pre_step", "push_at", "set_now", "step_due", "succeed_at",
+    "supersede", "triggered_at", "urgent_at", "wake_at",
 ]  # fmt: skip
 
 Callback = Callable[[Any], None]
@@ -99,6 +99,20 @@ def nothing_due_by(env: simpy.Environment, t: float) -> bool:
     the next one ``env`` processes (whatever its priority), unless another is pushed first."""
     queue = env._queue
     return not queue or queue[0][0] > t
+
+
+def step_due(env: simpy.Environment, limit: float, n: int) -> int:
+    """Process the events due at or before the instant ``limit``, oldest first, at most ``n``
+    of them; return how many were processed (fewer than ``n``: nothing more is due by
+    ``limit``). ``while env.peek() <= limit: env.step()`` without a method call per look:
+    the loop a virtual clock's slice runs, once per event. ``env.step`` is looked up for each
+    event, so a :func:`pre_step` hook installed or cleared by an event takes effect at once."""
+    queue = env._queue
+    k = 0
+    while k < n and queue and queue[0][0] <= limit:
+        env.step()
+        k += 1
+    return k
 
 
 def triggered_at(env: simpy.Environment, t: float, fn: Callback,

@@ -14,6 +14,7 @@ from motionsim.sim.simpy_adapter import (
     pre_step,
     push_at,
     set_now,
+    step_due,
     triggered_at,
     urgent_at,
     wake_at,
@@ -99,3 +100,27 @@ def test_nothing_due_by_looks_at_the_first_queued_instant_whatever_its_priority(
     assert not nothing_due_by(env, 0.001) and nothing_due_by(env, 0.0009)
     env.step()
     assert env.now == 0.001 and nothing_due_by(env, 0.001)
+
+
+def test_step_due_processes_at_most_n_events_due_by_the_limit_and_counts_them():
+    env = simpy.Environment()
+    seen: list[float] = []
+    for t in (1.0, 2.0, 2.0, 3.0):
+        wake_at(env, t, lambda ev: seen.append(env.now))
+    assert step_due(env, 2.0, 2) == 2  # n binds: the second event at 2.0 waits
+    assert seen == [1.0, 2.0]
+    assert step_due(env, 2.0, 10) == 1  # the limit binds: 3.0 is not due
+    assert seen == [1.0, 2.0, 2.0] and env.peek() == 3.0
+    assert step_due(env, 5.0, 0) == 0 and env.now == 2.0
+    assert step_due(env, 5.0, 10) == 1 and step_due(env, 5.0, 10) == 0  # queue empty
+
+
+def test_step_due_honours_a_pre_step_hook_installed_by_an_event_it_processes():
+    env = simpy.Environment()
+    keys: list[float] = []
+    wake_at(env, 1.0, lambda ev: pre_step(env, lambda t, p, e: keys.append(t)))
+    wake_at(env, 2.0, lambda ev: None)
+    wake_at(env, 3.0, lambda ev: clear_pre_step(env))
+    wake_at(env, 4.0, lambda ev: None)
+    assert step_due(env, 10.0, 10) == 4
+    assert keys == [2.0, 3.0]  # seen from the event after the one that installed it
