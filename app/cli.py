@@ -200,7 +200,7 @@ def serve(
             raise _fail(f"--record: {exc}", 2) from None
     from .http_server import run_service
 
-    code = run_service(_serve(app, settings, sock, recorder), settings)
+    code = run_service(_serve(app, settings, sock, recorder), settings.event_loop)
     if recorder is not None:
         recorder.close()
     if code:

@@ -49,7 +49,7 @@ import simpy
 from ..sim.controller import Reply
 from ..sim.errors import Conflict, InvalidValue
 from ..sim.events import Event, EventLog, wire_time
-from ..sim.simpy_adapter import step_due
+from ..sim.simpy_adapter import nothing_due_by, step_due
 
 log = logging.getLogger("motionsim.clock")
 
@@ -194,7 +194,7 @@ def run_env_to(env: simpy.Environment, target: float, max_steps: int | None = No
         n = _WALL_CHECK_STEPS if max_steps is None else min(_WALL_CHECK_STEPS, max_steps - steps)
         done = step_due(env, limit, n)
         steps += done
-        if done < n or env.peek() > limit:
+        if done < n or nothing_due_by(env, limit):
             break  # nothing more due by the target
         if max_steps is not None and steps >= max_steps:
             return False

@@ -70,7 +70,7 @@ class EmbeddedService:
 
         def run() -> None:
             try:
-                run_service(main(), self.settings)
+                run_service(main(), self.settings.event_loop)
             except BaseException as exc:  # reported by start()
                 self._error = self._error or exc
                 self._ready.set()

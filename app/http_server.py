@@ -52,10 +52,10 @@ def loop_factory(choice: str) -> Callable[[], asyncio.AbstractEventLoop] | None:
     return uvloop.new_event_loop
 
 
-def run_service(main: Coroutine[Any, Any, T], settings: Settings) -> T:
+def run_service(main: Coroutine[Any, Any, T], event_loop: str) -> T:
     """Run the service's coroutine ``main`` to its end on a new event loop of the kind
-    ``settings.event_loop`` names (:func:`loop_factory`), in the calling thread."""
-    with asyncio.Runner(loop_factory=loop_factory(settings.event_loop)) as runner:
+    ``event_loop`` (the setting) names (:func:`loop_factory`), in the calling thread."""
+    with asyncio.Runner(loop_factory=loop_factory(event_loop)) as runner:
         return runner.run(main)
 
 

@@ -18,9 +18,9 @@ async def _loop_type() -> type:
 
 def test_auto_and_uvloop_run_the_service_on_uvloop_and_asyncio_on_the_standard_loop():
     assert loop_factory("asyncio") is None
-    assert run_service(_loop_type(), Settings(event_loop="auto")) is uvloop.Loop
-    assert run_service(_loop_type(), Settings(event_loop="uvloop")) is uvloop.Loop
-    standard = run_service(_loop_type(), Settings(event_loop="asyncio"))
+    assert run_service(_loop_type(), Settings(event_loop="auto").event_loop) is uvloop.Loop
+    assert run_service(_loop_type(), "uvloop") is uvloop.Loop
+    standard = run_service(_loop_type(), "asyncio")
     assert standard is not uvloop.Loop and issubclass(standard, asyncio.BaseEventLoop)
 
 
